@@ -1,0 +1,43 @@
+# rattle: the two commands a person needs are `make demo` and `make test`.
+# Each installs the Debian packages listed in scripts/packages.txt when missing, configures and builds
+# into build/ (Release, -O2, -ffp-contract=off; executables in build/bin/), then runs.
+
+JOBS ?= $(shell nproc 2>/dev/null || echo 2)
+BUILD_DIR ?= build
+SANITIZE_DIR ?= build-sanitize
+CMAKE_FLAGS ?=
+
+.PHONY: all deps configure build demo test test-sanitize clean help
+
+all: build
+
+help:
+	@echo "make demo           build and run the demo (writes out/)"
+	@echo "make test           build and run every test"
+	@echo "make test-sanitize  the same tests built with ASan+UBSan in $(SANITIZE_DIR)/"
+	@echo "make clean          remove build trees and out/"
+
+deps:
+	@bash scripts/install-deps.sh
+
+configure: deps
+	@cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS) > /dev/null
+
+build: configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS)
+
+demo: build
+	@mkdir -p out
+	$(BUILD_DIR)/bin/bounce_in_box --svg out/bounce_in_box.svg
+
+test: build
+	@cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+
+test-sanitize: deps
+	@cmake -S . -B $(SANITIZE_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRATTLE_SANITIZE=ON $(CMAKE_FLAGS) > /dev/null
+	@cmake --build $(SANITIZE_DIR) -j $(JOBS)
+	@cd $(SANITIZE_DIR) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	  ctest --output-on-failure -j $(JOBS)
+
+clean:
+	rm -rf $(BUILD_DIR) $(SANITIZE_DIR) out

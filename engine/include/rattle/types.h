@@ -1,0 +1,108 @@
+// rattle: handles, definitions, events and statistics.
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
+#include "rattle/geometry.h"
+#include "rattle/vec2.h"
+
+namespace rattle {
+
+/// Thrown for invalid input: a definition, a value passed to a setter, a stale handle. The message names
+/// the field and the value. When it is thrown the world is unchanged.
+class Error : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+/// A body handle: a slot index and the slot's generation. Generation 0 is the null handle. When a body
+/// is destroyed its slot's generation changes, so old handles to it are detected and rejected.
+struct BodyId {
+  uint32_t index = 0;
+  uint32_t generation = 0;
+  bool isNull() const { return generation == 0; }
+  friend bool operator==(BodyId, BodyId) = default;
+};
+
+/// A fixture handle, like BodyId.
+struct FixtureId {
+  uint32_t index = 0;
+  uint32_t generation = 0;
+  bool isNull() const { return generation == 0; }
+  friend bool operator==(FixtureId, FixtureId) = default;
+};
+
+enum class BodyType : uint8_t {
+  Static,     ///< never moves; infinite mass
+  Dynamic,    ///< moves, bounces; one circle or several circles sharing one centre
+  Kinematic,  ///< moves with the velocity it is given, pushes dynamic bodies, is never pushed
+};
+
+/// How World::step advances time.
+enum class StepMode : uint8_t {
+  /// Each step: swept boxes through sort-and-sweep, then exact times of impact inside the step, in time
+  /// order. Nothing tunnels; a body may collide many times in one step.
+  Hybrid,
+};
+
+struct WorldDef {
+  StepMode mode = StepMode::Hybrid;
+  /// Collisions resolved in one step at most. When reached, the step stops resolving, moves every body to
+  /// the end of the step and says so in StepStats::eventBudgetReached.
+  int maxEventsPerStep = 1'000'000;
+};
+
+struct BodyDef {
+  BodyType type = BodyType::Static;
+  Vec2 position;          ///< world units
+  Vec2 velocity;          ///< world units per second; ignored (kept zero) for static bodies
+  uint64_t userData = 0;  ///< yours; never read by rattle
+};
+
+/// Which fixtures may touch. Two fixtures are tested against each other when each one's category is in
+/// the other's mask, and they are not members of the same nonzero group (a group of things that never
+/// meet, like a city's walls and trees).
+struct Filter {
+  uint32_t categoryBits = 0x0001;
+  uint32_t maskBits = 0xFFFFFFFF;
+  int32_t group = 0;
+};
+
+struct FixtureDef {
+  Geometry geometry = Circle{};
+  /// Mass per unit area. Must be > 0 on a dynamic body. Mass of a body = sum of density x area of its
+  /// physical (non-sensor) fixtures; a dynamic body whose fixtures have no area (points) gets mass 1.
+  double density = 1.0;
+  /// Bounciness in [0, 1]: 1 keeps all the normal speed, 0 keeps none. Two fixtures that touch use the
+  /// larger of their two restitutions.
+  double restitution = 0.0;
+  /// A sensor never changes motion; it is told when physical fixtures overlap it.
+  bool sensor = false;
+  Filter filter;
+};
+
+/// One collision resolved during a step.
+struct ContactEvent {
+  double time = 0;     ///< seconds from the start of the step, in [0, dt]
+  FixtureId fixtureA;  ///< the fixture with the lower index of the two
+  FixtureId fixtureB;
+  BodyId bodyA;
+  BodyId bodyB;
+  Vec2 point;          ///< world position of the contact at `time`
+  Vec2 normal;         ///< unit, from A toward B
+  double impulse = 0;  ///< >= 0; B received impulse * normal, A received -impulse * normal
+};
+
+/// What one step did.
+struct StepStats {
+  int candidatePairs = 0;     ///< fixture pairs the broad phase handed to the narrow phase
+  int timeOfImpactTests = 0;  ///< narrow-phase time-of-impact evaluations
+  int eventsProcessed = 0;    ///< collisions resolved
+  int staleEvents = 0;        ///< predictions discarded because a body's motion changed first
+  int requeries = 0;          ///< times a body's new path left its swept box and the broad phase was asked again
+  bool eventBudgetReached = false;
+};
+
+}  // namespace rattle

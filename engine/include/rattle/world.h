@@ -1,0 +1,76 @@
+// rattle: the world. Create bodies and fixtures, step, read the events.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "rattle/types.h"
+
+namespace rattle {
+
+class World {
+ public:
+  /// Throws rattle::Error when the definition is invalid.
+  explicit World(const WorldDef& def = {});
+  ~World();
+  World(World&&) noexcept;
+  World& operator=(World&&) noexcept;
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  // Bodies. Every function taking a handle throws rattle::Error for a null or stale handle.
+  BodyId createBody(const BodyDef& def);
+  /// Destroys the body and its fixtures. Ids of destroyed bodies are reused (latest freed first).
+  void destroyBody(BodyId body);
+  bool isValid(BodyId body) const;
+  BodyType type(BodyId body) const;
+  Vec2 position(BodyId body) const;
+  Vec2 velocity(BodyId body) const;
+  double mass(BodyId body) const;  ///< infinity for static and kinematic bodies
+  uint64_t userData(BodyId body) const;
+  void setPosition(BodyId body, Vec2 position);
+  /// Static bodies accept only zero.
+  void setVelocity(BodyId body, Vec2 velocity);
+  std::vector<FixtureId> fixtures(BodyId body) const;
+  int bodyCount() const;
+
+  // Fixtures.
+  FixtureId createFixture(BodyId body, const FixtureDef& def);
+  void destroyFixture(FixtureId fixture);
+  bool isValid(FixtureId fixture) const;
+  BodyId body(FixtureId fixture) const;
+  /// As stored: polygons wound counter-clockwise, coordinates relative to the body.
+  const Geometry& geometry(FixtureId fixture) const;
+  double density(FixtureId fixture) const;
+  double restitution(FixtureId fixture) const;
+  bool isSensor(FixtureId fixture) const;
+  Filter filter(FixtureId fixture) const;
+  void setDensity(FixtureId fixture, double density);
+  void setRestitution(FixtureId fixture, double restitution);
+  void setFilter(FixtureId fixture, const Filter& filter);
+
+  /// Advances the world by dt seconds (finite, >= 0).
+  void step(double dt);
+  /// Seconds simulated since the world was made.
+  double time() const;
+
+  /// The collisions of the last step, ordered by time; events at the same instant come in the order they
+  /// were resolved (by fixture ids, except where one collision causes the next at that instant).
+  /// Valid until the next step.
+  std::span<const ContactEvent> contactEvents() const;
+  const StepStats& stats() const;
+
+  /// A 64-bit hash of the exact bits of every live body's state (slot, generation, type, position,
+  /// velocity) in index order, and of the world's time. Equal hashes at every step mean a replay matches.
+  uint64_t stateHash() const;
+
+  const WorldDef& definition() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace rattle

@@ -1,0 +1,101 @@
+// Private: sort-and-sweep over swept boxes.
+//
+// Each step every fixture of a moving body gets the box of its whole path over the step (its swept box);
+// static fixtures keep their box. The proxies stay in one array sorted by the boxes' lower x edge; since
+// bodies move little from one step to the next the array is nearly sorted, and insertion sort finishes it
+// in close to linear time (the frame-to-frame coherence that makes sort-and-sweep fast). The sweep then
+// reports every pair whose boxes overlap and of which at least one moves.
+//
+// Mid-step, a collision can send a body along a path that leaves the swept box the sweep saw. Its box
+// then grows (never shrinks within a step) and `query` finds every proxy the grown box overlaps, using the
+// current, possibly grown, boxes of the others too, so no pair is lost whichever of two bodies grew last.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "rattle/geometry.h"
+
+namespace rattle::detail {
+
+class BroadPhase {
+ public:
+  void add(uint32_t fixture, const Box& box, bool moving);
+  void remove(uint32_t fixture);
+  bool contains(uint32_t fixture) const { return fixture < proxies_.size() && proxies_[fixture].present; }
+  const Box& box(uint32_t fixture) const { return proxies_[fixture].box; }
+  void setBox(uint32_t fixture, const Box& box) { proxies_[fixture].box = box; }
+  void setMoving(uint32_t fixture, bool moving) { proxies_[fixture].moving = moving; }
+
+  /// Sorts by lower x edge and calls report(a, b) for every overlapping pair of which one moves.
+  /// Then prepares `query` for this step's boxes.
+  template <class Report>
+  void findPairs(Report&& report);
+
+  /// Grows a moving proxy's box mid-step (the new box must contain the old one).
+  void grow(uint32_t fixture, const Box& grown);
+
+  /// Calls found(f) for every proxy whose current box overlaps `q`.
+  template <class Found>
+  void query(const Box& q, Found&& found) const;
+
+ private:
+  struct Proxy {
+    Box box;
+    bool moving = false;
+    bool present = false;
+    double sortedMinX = 0;  // the lower x edge this step's sweep sorted by
+  };
+  struct Entry {
+    double minX;  // lower x edge at the sweep
+    uint32_t fixture;
+  };
+  void sortByMinX();
+  void prepareQueries();
+
+  std::vector<Proxy> proxies_;   // indexed by fixture index
+  std::vector<uint32_t> order_;  // fixture indices, sorted by box.min.x at the last sweep
+  std::vector<Entry> moving_;    // moving proxies in sweep order
+  std::vector<Entry> static_;    // static proxies in sweep order
+  double movingReach_ = 0;       // max over moving proxies of (current max.x - sorted min.x)
+  double movingGrowLeft_ = 0;    // max over moving proxies of (sorted min.x - current min.x)
+};
+
+template <class Report>
+void BroadPhase::findPairs(Report&& report) {
+  sortByMinX();
+  const size_t n = order_.size();
+  for (size_t i = 0; i < n; ++i) {
+    const uint32_t fi = order_[i];
+    const Proxy& pi = proxies_[fi];
+    for (size_t j = i + 1; j < n; ++j) {
+      const uint32_t fj = order_[j];
+      const Proxy& pj = proxies_[fj];
+      if (pj.box.min.x > pi.box.max.x) break;
+      if (!pi.moving && !pj.moving) continue;
+      if (pj.box.min.y > pi.box.max.y || pi.box.min.y > pj.box.max.y) continue;
+      report(fi, fj);
+    }
+  }
+  prepareQueries();
+}
+
+template <class Found>
+void BroadPhase::query(const Box& q, Found&& found) const {
+  auto overlaps = [&](uint32_t f) { return proxies_[f].box.overlaps(q); };
+  // Moving proxies: any that overlaps q has sorted min.x in [q.min.x - reach, q.max.x + growLeft].
+  const double lo = q.min.x - movingReach_;
+  const double hi = q.max.x + movingGrowLeft_;
+  auto it = std::lower_bound(moving_.begin(), moving_.end(), lo, [](const Entry& e, double x) { return e.minX < x; });
+  for (; it != moving_.end() && it->minX <= hi; ++it) {
+    if (overlaps(it->fixture)) found(it->fixture);
+  }
+  // Static proxies never grow; a long wall may be wide, so scan all that start left of q's right edge.
+  for (const Entry& e : static_) {
+    if (e.minX > q.max.x) break;
+    if (overlaps(e.fixture)) found(e.fixture);
+  }
+}
+
+}  // namespace rattle::detail

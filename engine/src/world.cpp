@@ -1,0 +1,355 @@
+// The world's bookkeeping: creating, validating, destroying and reading bodies and fixtures.
+// Every mutating call validates everything first and changes nothing when it throws.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include "format.h"
+#include "world_impl.h"
+
+namespace rattle {
+
+using detail::BodySlot;
+using detail::FixtureSlot;
+using detail::str;
+
+namespace {
+
+// The message is built only when the check fails: creating a body must not pay for formatting.
+template <class Message>
+void require(bool ok, Message&& message) {
+  if (!ok) throw Error(message());
+}
+
+void checkFinite(Vec2 v, const char* field) {
+  require(isFinite(v), [&] { return std::string(field) + " = " + str(v) + ": must be finite"; });
+}
+
+void checkRestitution(double e, const char* field) {
+  require(std::isfinite(e) && e >= 0 && e <= 1,
+          [&] { return std::string(field) + " = " + str(e) + ": must be in [0, 1]"; });
+}
+
+// The centre of a circle-like geometry; dynamic bodies hold only those.
+std::optional<Vec2> centreOf(const Geometry& g) {
+  if (const auto* c = std::get_if<Circle>(&g)) return c->center;
+  if (const auto* p = std::get_if<Point>(&g)) return p->position;
+  return std::nullopt;
+}
+
+uint32_t nextGeneration(uint32_t g) { return g == UINT32_MAX ? 1 : g + 1; }
+
+}  // namespace
+
+// ---- Impl helpers ------------------------------------------------------------------------------------
+
+bool World::Impl::canCollide(uint32_t fa, uint32_t fb) const {
+  const FixtureSlot& a = fixtures[fa];
+  const FixtureSlot& b = fixtures[fb];
+  if (a.body == b.body || a.sensor || b.sensor) return false;
+  if (bodies[a.body].type != BodyType::Dynamic && bodies[b.body].type != BodyType::Dynamic) return false;
+  if (a.filter.group != 0 && a.filter.group == b.filter.group) return false;
+  return (a.filter.categoryBits & b.filter.maskBits) != 0 && (b.filter.categoryBits & a.filter.maskBits) != 0;
+}
+
+void World::Impl::recomputeMass(BodySlot& body) {
+  if (body.type != BodyType::Dynamic) {
+    body.mass = std::numeric_limits<double>::infinity();
+    body.inverseMass = 0;
+    return;
+  }
+  double mass = 0;
+  for (uint32_t f : body.fixtures) {
+    if (!fixtures[f].sensor) mass += fixtures[f].density * areaOf(fixtures[f].geometry);
+  }
+  // Like Box2D: a dynamic body with nothing that has area (points only) still needs a finite mass.
+  if (!(mass > 0)) mass = 1;
+  body.mass = mass;
+  body.inverseMass = 1 / mass;
+}
+
+// ---- World -------------------------------------------------------------------------------------------
+
+World::World(const WorldDef& def) : impl_(std::make_unique<Impl>()) {
+  require(def.mode == StepMode::Hybrid, [&] {
+    return std::string("WorldDef.mode = " + std::to_string(static_cast<int>(def.mode)) + ": not a StepMode");
+  });
+  require(def.maxEventsPerStep > 0, [&] {
+    return std::string("WorldDef.maxEventsPerStep = " + std::to_string(def.maxEventsPerStep) + ": must be > 0");
+  });
+  impl_->def = def;
+}
+
+World::~World() = default;
+World::World(World&&) noexcept = default;
+World& World::operator=(World&&) noexcept = default;
+
+const WorldDef& World::definition() const { return impl_->def; }
+
+namespace {
+
+BodySlot& lookUp(std::vector<BodySlot>& bodies, BodyId id) {
+  if (id.isNull()) throw Error("BodyId is null");
+  if (id.index >= bodies.size() || !bodies[id.index].alive || bodies[id.index].generation != id.generation) {
+    throw Error("BodyId {index " + std::to_string(id.index) + ", generation " + std::to_string(id.generation) +
+                "} is stale: that body was destroyed");
+  }
+  return bodies[id.index];
+}
+
+FixtureSlot& lookUp(std::vector<FixtureSlot>& fixtures, FixtureId id) {
+  if (id.isNull()) throw Error("FixtureId is null");
+  if (id.index >= fixtures.size() || !fixtures[id.index].alive || fixtures[id.index].generation != id.generation) {
+    throw Error("FixtureId {index " + std::to_string(id.index) + ", generation " + std::to_string(id.generation) +
+                "} is stale: that fixture was destroyed");
+  }
+  return fixtures[id.index];
+}
+
+}  // namespace
+
+BodyId World::createBody(const BodyDef& def) {
+  require(def.type == BodyType::Static || def.type == BodyType::Dynamic || def.type == BodyType::Kinematic, [&] {
+    return std::string("BodyDef.type = " + std::to_string(static_cast<int>(def.type)) + ": not a BodyType");
+  });
+  checkFinite(def.position, "BodyDef.position");
+  checkFinite(def.velocity, "BodyDef.velocity");
+  require(def.type != BodyType::Static || def.velocity == Vec2{},
+          [&] { return std::string("BodyDef.velocity = " + str(def.velocity) + ": a static body cannot move"); });
+
+  Impl& w = *impl_;
+  uint32_t index;
+  if (!w.freeBodies.empty()) {
+    index = w.freeBodies.back();
+    w.freeBodies.pop_back();
+  } else {
+    index = static_cast<uint32_t>(w.bodies.size());
+    w.bodies.emplace_back();
+  }
+  BodySlot& b = w.bodies[index];
+  const uint32_t generation = b.generation;
+  b = BodySlot{};
+  b.generation = generation;
+  b.alive = true;
+  b.type = def.type;
+  b.position = def.position;
+  b.velocity = def.velocity;
+  b.userData = def.userData;
+  w.recomputeMass(b);
+  ++w.liveBodies;
+  return BodyId{index, generation};
+}
+
+void World::destroyBody(BodyId id) {
+  Impl& w = *impl_;
+  BodySlot& b = lookUp(w.bodies, id);
+  for (uint32_t f : b.fixtures) {
+    w.broadPhase.remove(f);
+    FixtureSlot& fs = w.fixtures[f];
+    fs.alive = false;
+    fs.generation = nextGeneration(fs.generation);
+    fs.geometry = Point{};
+    w.freeFixtures.push_back(f);
+  }
+  b.fixtures.clear();
+  b.alive = false;
+  b.generation = nextGeneration(b.generation);
+  w.freeBodies.push_back(id.index);
+  --w.liveBodies;
+}
+
+bool World::isValid(BodyId id) const {
+  return !id.isNull() && id.index < impl_->bodies.size() && impl_->bodies[id.index].alive &&
+         impl_->bodies[id.index].generation == id.generation;
+}
+
+BodyType World::type(BodyId id) const { return lookUp(impl_->bodies, id).type; }
+Vec2 World::position(BodyId id) const { return lookUp(impl_->bodies, id).position; }
+Vec2 World::velocity(BodyId id) const { return lookUp(impl_->bodies, id).velocity; }
+double World::mass(BodyId id) const { return lookUp(impl_->bodies, id).mass; }
+uint64_t World::userData(BodyId id) const { return lookUp(impl_->bodies, id).userData; }
+int World::bodyCount() const { return impl_->liveBodies; }
+
+void World::setPosition(BodyId id, Vec2 position) {
+  BodySlot& b = lookUp(impl_->bodies, id);
+  checkFinite(position, "position");
+  b.position = position;
+  // Static proxies are not refreshed each step, so move their boxes now.
+  for (uint32_t f : b.fixtures) impl_->broadPhase.setBox(f, impl_->worldBox(f));
+}
+
+void World::setVelocity(BodyId id, Vec2 velocity) {
+  BodySlot& b = lookUp(impl_->bodies, id);
+  checkFinite(velocity, "velocity");
+  require(b.type != BodyType::Static || velocity == Vec2{},
+          [&] { return std::string("velocity = " + str(velocity) + ": a static body cannot move"); });
+  b.velocity = velocity;
+}
+
+std::vector<FixtureId> World::fixtures(BodyId id) const {
+  const BodySlot& b = lookUp(impl_->bodies, id);
+  std::vector<FixtureId> out;
+  for (uint32_t f : b.fixtures) out.push_back({f, impl_->fixtures[f].generation});
+  return out;
+}
+
+FixtureId World::createFixture(BodyId bodyId, const FixtureDef& def) {
+  Impl& w = *impl_;
+  BodySlot& body = lookUp(w.bodies, bodyId);
+  if (auto error = validationError(def.geometry)) throw Error("FixtureDef.geometry: " + *error);
+  if (body.type == BodyType::Dynamic) {
+    const auto centre = centreOf(def.geometry);
+    require(centre.has_value(), [&] {
+      return std::string(std::string("FixtureDef.geometry is a ") + nameOf(typeOf(def.geometry)) +
+                         ": a dynamic body holds only circles and points sharing one centre");
+    });
+    for (uint32_t f : body.fixtures) {
+      const Vec2 other = *centreOf(w.fixtures[f].geometry);
+      require(other == *centre, [&] {
+        return std::string("FixtureDef.geometry centre = " + str(*centre) + ": differs from the centre " + str(other) +
+                           " of the body's other fixtures (a dynamic body's circles share one centre)");
+      });
+    }
+    require(std::isfinite(def.density) && def.density > 0, [&] {
+      return std::string("FixtureDef.density = " + str(def.density) + ": must be finite and > 0 on a dynamic body");
+    });
+  } else {
+    require(std::isfinite(def.density) && def.density >= 0,
+            [&] { return std::string("FixtureDef.density = " + str(def.density) + ": must be finite and >= 0"); });
+  }
+  checkRestitution(def.restitution, "FixtureDef.restitution");
+  if (body.type == BodyType::Dynamic && !def.sensor) {
+    double mass = body.mass == std::numeric_limits<double>::infinity() ? 0 : body.mass;
+    require(std::isfinite(mass + def.density * areaOf(def.geometry)), [&] {
+      return std::string("FixtureDef.density = " + str(def.density) + ": gives the body an infinite mass");
+    });
+  }
+  const Box localBox = boxOf(def.geometry);
+  require(isFinite(localBox.min - body.position) && isFinite(localBox.max + body.position), [&] {
+    return std::string("FixtureDef.geometry: its box overflows at the body's position " + str(body.position));
+  });
+
+  uint32_t index;
+  if (!w.freeFixtures.empty()) {
+    index = w.freeFixtures.back();
+    w.freeFixtures.pop_back();
+  } else {
+    index = static_cast<uint32_t>(w.fixtures.size());
+    w.fixtures.emplace_back();
+  }
+  FixtureSlot& f = w.fixtures[index];
+  const uint32_t generation = f.generation;
+  f = FixtureSlot{};
+  f.generation = generation;
+  f.alive = true;
+  f.body = bodyId.index;
+  f.geometry = normalized(def.geometry);
+  f.localBox = localBox;
+  f.density = def.density;
+  f.restitution = def.restitution;
+  f.sensor = def.sensor;
+  f.filter = def.filter;
+  body.fixtures.push_back(index);
+  w.recomputeMass(body);
+  w.broadPhase.add(index, w.worldBox(index), body.type != BodyType::Static);
+  return FixtureId{index, generation};
+}
+
+void World::destroyFixture(FixtureId id) {
+  Impl& w = *impl_;
+  FixtureSlot& f = lookUp(w.fixtures, id);
+  BodySlot& body = w.bodies[f.body];
+  body.fixtures.erase(std::find(body.fixtures.begin(), body.fixtures.end(), id.index));
+  w.broadPhase.remove(id.index);
+  f.alive = false;
+  f.generation = nextGeneration(f.generation);
+  f.geometry = Point{};
+  w.freeFixtures.push_back(id.index);
+  w.recomputeMass(body);
+}
+
+bool World::isValid(FixtureId id) const {
+  return !id.isNull() && id.index < impl_->fixtures.size() && impl_->fixtures[id.index].alive &&
+         impl_->fixtures[id.index].generation == id.generation;
+}
+
+BodyId World::body(FixtureId id) const {
+  const FixtureSlot& f = lookUp(impl_->fixtures, id);
+  return BodyId{f.body, impl_->bodies[f.body].generation};
+}
+const Geometry& World::geometry(FixtureId id) const { return lookUp(impl_->fixtures, id).geometry; }
+double World::density(FixtureId id) const { return lookUp(impl_->fixtures, id).density; }
+double World::restitution(FixtureId id) const { return lookUp(impl_->fixtures, id).restitution; }
+bool World::isSensor(FixtureId id) const { return lookUp(impl_->fixtures, id).sensor; }
+Filter World::filter(FixtureId id) const { return lookUp(impl_->fixtures, id).filter; }
+
+void World::setDensity(FixtureId id, double density) {
+  Impl& w = *impl_;
+  FixtureSlot& f = lookUp(w.fixtures, id);
+  BodySlot& body = w.bodies[f.body];
+  if (body.type == BodyType::Dynamic) {
+    require(std::isfinite(density) && density > 0,
+            [&] { return std::string("density = " + str(density) + ": must be finite and > 0 on a dynamic body"); });
+  } else {
+    require(std::isfinite(density) && density >= 0,
+            [&] { return std::string("density = " + str(density) + ": must be finite and >= 0"); });
+  }
+  const double old = f.density;
+  f.density = density;
+  w.recomputeMass(body);
+  if (!std::isfinite(body.mass) && body.type == BodyType::Dynamic) {
+    f.density = old;
+    w.recomputeMass(body);
+    throw Error("density = " + str(density) + ": gives the body an infinite mass");
+  }
+}
+
+void World::setRestitution(FixtureId id, double restitution) {
+  FixtureSlot& f = lookUp(impl_->fixtures, id);
+  checkRestitution(restitution, "restitution");
+  f.restitution = restitution;
+}
+
+void World::setFilter(FixtureId id, const Filter& filter) { lookUp(impl_->fixtures, id).filter = filter; }
+
+void World::step(double dt) {
+  require(std::isfinite(dt) && dt >= 0,
+          [&] { return std::string("step: dt = " + str(dt) + ": must be finite and >= 0"); });
+  impl_->stepHybrid(dt);
+}
+
+double World::time() const { return impl_->time; }
+std::span<const ContactEvent> World::contactEvents() const { return impl_->contactEvents; }
+const StepStats& World::stats() const { return impl_->stats; }
+
+uint64_t World::stateHash() const {
+  // FNV-1a over the exact bytes, in slot order: independent of pointers and of any container's order.
+  uint64_t h = 0xcbf29ce484222325ull;
+  auto mix = [&h](uint64_t v) {
+    for (int i = 0; i < 8; ++i) {
+      h ^= (v >> (8 * i)) & 0xff;
+      h *= 0x100000001b3ull;
+    }
+  };
+  auto mixDouble = [&mix](double d) {
+    uint64_t bits;
+    std::memcpy(&bits, &d, sizeof bits);
+    mix(bits);
+  };
+  mixDouble(impl_->time);
+  for (uint32_t i = 0; i < impl_->bodies.size(); ++i) {
+    const BodySlot& b = impl_->bodies[i];
+    if (!b.alive) continue;
+    mix(i);
+    mix(b.generation);
+    mix(static_cast<uint64_t>(b.type));
+    mixDouble(b.position.x);
+    mixDouble(b.position.y);
+    mixDouble(b.velocity.x);
+    mixDouble(b.velocity.y);
+  }
+  return h;
+}
+
+}  // namespace rattle
