@@ -85,4 +85,23 @@ Geometry normalized(const Geometry& g);
 /// Distance from p to the closest point of the geometry (0 inside a polygon or circle).
 double distanceTo(const Geometry& g, Vec2 p);
 
+/// Whether two placed geometries intersect as closed sets (touching counts). Every pair of geometry
+/// types is answered: circles and points by distance, the rest by the separating-axis test.
+bool overlaps(const Geometry& a, Vec2 positionA, const Geometry& b, Vec2 positionB);
+
+/// Whether a placed geometry intersects a box (touching counts).
+bool overlapsBox(const Geometry& g, Vec2 position, const Box& box);
+
+/// Where a ray first meets a placed geometry.
+struct RayCastHit {
+  double fraction = 0;  ///< the hit is at origin + fraction * translation, fraction in [0, 1]
+  Vec2 point;
+  Vec2 normal;  ///< unit, on the side the ray came from
+};
+
+/// The first point of origin + t * translation, t in [0, 1], on the geometry. A ray starting inside a
+/// circle or polygon hits at fraction 0 with normal -translation/|translation|. Segment and polyline
+/// ends count for rays. A zero translation hits only if the origin is on the geometry.
+std::optional<RayCastHit> rayCast(const Geometry& g, Vec2 position, Vec2 origin, Vec2 translation);
+
 }  // namespace rattle

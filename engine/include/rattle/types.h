@@ -83,6 +83,23 @@ struct FixtureDef {
   Filter filter;
 };
 
+/// Which fixtures a query sees: a fixture is seen when its category is in the query's mask and the
+/// query's category is in the fixture's mask. Sensors are skipped unless asked for.
+struct QueryFilter {
+  uint32_t categoryBits = 0x0001;
+  uint32_t maskBits = 0xFFFFFFFF;
+  bool includeSensors = false;
+};
+
+/// A ray-cast hit against a fixture in the world.
+struct RayHit {
+  FixtureId fixture;
+  BodyId body;
+  Vec2 point;
+  Vec2 normal;          ///< unit, on the side the ray came from
+  double fraction = 0;  ///< along the ray's translation, in [0, 1]
+};
+
 /// One collision resolved during a step.
 struct ContactEvent {
   double time = 0;     ///< seconds from the start of the step, in [0, dt]

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -61,6 +62,14 @@ class World {
   /// Valid until the next step.
   std::span<const ContactEvent> contactEvents() const;
   const StepStats& stats() const;
+
+  // Queries: the world as it stands between steps. Results are sorted (rays by fraction, then fixture
+  // index; overlaps by fixture index), so they are the same on every run.
+  std::optional<RayHit> rayCastFirst(Vec2 origin, Vec2 translation, const QueryFilter& filter = {}) const;
+  std::vector<RayHit> rayCastAll(Vec2 origin, Vec2 translation, const QueryFilter& filter = {}) const;
+  std::vector<FixtureId> overlapBox(const Box& box, const QueryFilter& filter = {}) const;
+  std::vector<FixtureId> overlapCircle(Vec2 center, double radius, const QueryFilter& filter = {}) const;
+  std::vector<FixtureId> overlapPoint(Vec2 point, const QueryFilter& filter = {}) const;
 
   /// A 64-bit hash of the exact bits of every live body's state (slot, generation, type, position,
   /// velocity) in index order, and of the world's time. Equal hashes at every step mean a replay matches.

@@ -1,0 +1,2 @@
+// Geometry overlap tests and ray casts (being written).
+#include "rattle/geometry.h"

@@ -1,0 +1,2 @@
+// World queries (being written).
+#include "world_impl.h"
