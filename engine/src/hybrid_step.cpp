@@ -31,43 +31,89 @@ void World::Impl::addPair(uint32_t fa, uint32_t fb) {
   if (bodies[bb].type == BodyType::Dynamic) pairsOfBody[bb].push_back({fb, fa});
 }
 
+namespace {
+
+// The box around a path p + v h + a h^2/2, h in [0, T]: its ends, and on each axis the turning point
+// when it falls inside.
+Box pathBox(Vec2 p, Vec2 v, Vec2 a, double T) {
+  auto at = [&](double h) { return p + v * h + a * (0.5 * h * h); };
+  const Vec2 end = at(T);
+  Box box{{std::min(p.x, end.x), std::min(p.y, end.y)}, {std::max(p.x, end.x), std::max(p.y, end.y)}};
+  if (a.x != 0) {
+    const double h = -v.x / a.x;
+    if (h > 0 && h < T) {
+      const double x = at(h).x;
+      box.min.x = std::min(box.min.x, x);
+      box.max.x = std::max(box.max.x, x);
+    }
+  }
+  if (a.y != 0) {
+    const double h = -v.y / a.y;
+    if (h > 0 && h < T) {
+      const double y = at(h).y;
+      box.min.y = std::min(box.min.y, y);
+      box.max.y = std::max(box.max.y, y);
+    }
+  }
+  return box;
+}
+
+}  // namespace
+
 void World::Impl::predict(uint32_t own, uint32_t other, double now, double dt) {
   const BodySlot& a = bodyOf(own);
   const BodySlot& b = bodyOf(other);
   ++stats.timeOfImpactTests;
 
-  // Round-off guard (see LastContact): if every dynamic body of the pair was last resolved against this
-  // same pair at this same instant, the feature it touched cannot be approaching now.
-  int excluded = kNoFeature;
-  const uint32_t low = std::min(own, other), high = std::max(own, other);
-  auto resolvedHereNow = [&](const BodySlot& s) {
-    return s.type != BodyType::Dynamic ||
-           (s.last.time == now && s.last.fixtureLow == low && s.last.fixtureHigh == high);
-  };
-  if (a.last.time == now && resolvedHereNow(a) && resolvedHereNow(b)) excluded = a.last.feature;
+  int resolved = kNoFeature;
+  if (a.support.generation != 0 && a.support.fixture == other) {
+    // Sliding on this fixture: the face it slides on is a constraint; it only matters again if the
+    // body leaves it and comes back.
+    resolved = a.support.feature;
+  } else {
+    // Round-off guard (see LastContact): if every dynamic body of the pair was last resolved against
+    // this same pair at this same instant, the feature it touched cannot be approaching now.
+    const uint32_t low = std::min(own, other), high = std::max(own, other);
+    auto resolvedHereNow = [&](const BodySlot& s) {
+      return s.type != BodyType::Dynamic ||
+             (s.last.time == now && s.last.fixtureLow == low && s.last.fixtureHigh == high);
+    };
+    if (a.last.time == now && resolvedHereNow(a) && resolvedHereNow(b)) resolved = a.last.feature;
+  }
 
   const Vec2 pa = positionAt(a, now);
   const Vec2 pb = positionAt(b, now);
-  auto impact = timeOfImpact(fixtures[own].geometry, pa, fixtures[other].geometry, pb, a.velocity - b.velocity,
-                             dt - now, excluded);
+  const Motion relative{velocityAt(a, now) - velocityAt(b, now), a.acceleration - b.acceleration};
+  auto impact = timeOfImpact(fixtures[own].geometry, pa, fixtures[other].geometry, pb, relative, dt - now, resolved);
   if (!impact) return;
   // The impact's point is in the frame where `other` rests; in the world it has moved with b.
-  const double time = std::min(now + impact->time, dt);
-  queue.push_back(PredictedContact{time, own, other, impact->feature, a.collisionCount, b.collisionCount,
-                                   impact->point + b.velocity * impact->time, impact->normal});
+  const double h = impact->time;
+  const double time = std::min(now + h, dt);
+  const Vec2 travelOfB = velocityAt(b, now) * h + b.acceleration * (0.5 * h * h);
+  queue.push_back(PredictedContact{time, detail::EventKind::Contact, own, other, impact->feature, a.collisionCount,
+                                   b.collisionCount, impact->point + travelOfB, impact->normal});
   std::push_heap(queue.begin(), queue.end(), detail::later);
 }
 
-void World::Impl::repredict(uint32_t bodyIndex, double now, double dt) {
+void World::Impl::predictSlideEnd(uint32_t bodyIndex, double now, double dt) {
+  const BodySlot& b = bodies[bodyIndex];
+  if (b.support.generation == 0) return;
+  const auto t = slideEndTime(b, now, dt);
+  if (!t) return;
+  queue.push_back(PredictedContact{std::min(*t, dt), detail::EventKind::SlideEnd, b.fixtures.front(),
+                                   b.support.fixture, b.support.feature, b.collisionCount, 0, {}, {}});
+  std::push_heap(queue.begin(), queue.end(), detail::later);
+}
+
+void World::Impl::repredict(uint32_t bodyIndex, double now, double dt, bool forceRequery) {
   BodySlot& body = bodies[bodyIndex];
   auto& pairs = pairsOfBody[bodyIndex];
-  const Vec2 from = positionAt(body, now);
-  const Vec2 to = from + body.velocity * (dt - now);
-  const Box path{{std::min(from.x, to.x), std::min(from.y, to.y)}, {std::max(from.x, to.x), std::max(from.y, to.y)}};
+  const Box path = pathBox(positionAt(body, now), velocityAt(body, now), body.acceleration, dt - now);
   for (uint32_t f : body.fixtures) {
     const Box box{path.min + fixtures[f].localBox.min, path.max + fixtures[f].localBox.max};
-    if (broadPhase.box(f).contains(box)) continue;
-    // The new path leaves the swept box: grow it and ask the broad phase again.
+    if (!forceRequery && broadPhase.box(f).contains(box)) continue;
+    // The new path leaves the swept box (or the body just woke and the sweep skipped it as resting):
+    // grow the box and ask the broad phase again.
     ++stats.requeries;
     broadPhase.grow(f, unionOf(broadPhase.box(f), box));
     ++stampCounter;
@@ -83,37 +129,79 @@ void World::Impl::repredict(uint32_t bodyIndex, double now, double dt) {
   }
   // `pairs` may have grown above (addPair); index, do not iterate by reference.
   for (size_t i = 0; i < pairs.size(); ++i) predict(pairs[i].own, pairs[i].other, now, dt);
+  predictSlideEnd(bodyIndex, now, dt);
 }
 
 void World::Impl::advance(BodySlot& b, double t) {
   if (b.type != BodyType::Dynamic) return;  // kinematic paths are evaluated from the step start
   b.position = positionAt(b, t);
+  b.velocity = velocityAt(b, t);
   b.localTime = t;
 }
 
-void World::Impl::resolve(const PredictedContact& c) {
+void World::Impl::resolve(const PredictedContact& c, std::vector<uint32_t>& woken) {
   const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
   BodySlot& a = bodies[ia];
   BodySlot& b = bodies[ib];
   advance(a, c.time);
   advance(b, c.time);
+  const Vec2 n = c.normal;  // from b toward a
+  // A contact predicted as "pressing" (touching, not moving apart, pushed together by gravity) may read
+  // as slightly separating after round-off: treat it as touching.
+  const double vn = std::min(dot(a.velocity - b.velocity, n), 0.0);
 
-  // Impulse along the normal (Newton's restitution law): the normal speed after is -e times before.
-  // j = -(1 + e) vn / (1/ma + 1/mb); static and kinematic bodies have 1/m = 0.
-  const double vn = dot(a.velocity - b.velocity, c.normal);
+  // A sleeping body holds like a static one against soft hits; a harder hit, or a kinematic body,
+  // wakes it (and whatever it holds up) first.
+  const double restingSpeed = def.restingSpeed;
+  if (a.asleep && (b.type == BodyType::Kinematic || -vn > restingSpeed)) wakeUp(ia, woken);
+  if (b.asleep && (a.type == BodyType::Kinematic || -vn > restingSpeed)) wakeUp(ib, woken);
+  const double inverseA = a.asleep ? 0.0 : a.inverseMass;
+  const double inverseB = b.asleep ? 0.0 : b.inverseMass;
+  const double inverseSum = inverseA + inverseB;
+  if (!(inverseSum > 0)) return;
+
+  // Newton's restitution law along the normal: the separation speed after is e times the approach
+  // speed, with e the larger of the two fixtures' restitutions. j = (separation - vn) / (1/ma + 1/mb);
+  // static, kinematic and sleeping bodies have 1/m = 0.
   const double e = std::max(fixtures[c.a].restitution, fixtures[c.b].restitution);
-  const double j = -(1 + e) * vn / (a.inverseMass + b.inverseMass);
-  a.velocity += c.normal * (j * a.inverseMass);
-  b.velocity -= c.normal * (j * b.inverseMass);
+  double separation = -e * vn;
+  double j = (separation - vn) / inverseSum;
+  a.velocity += n * (j * inverseA);
+  b.velocity -= n * (j * inverseB);
+
+  // Resting (resting.cpp): only when gravity presses the two together, so that a slow bounce would
+  // turn into a Zeno sequence.
+  const bool pressing = dot(a.acceleration - b.acceleration, n) < 0;
+  if (restingSpeed > 0 && pressing && separation < restingSpeed) {
+    // The body that rests is the one that can move, against one that cannot.
+    const bool aRests = inverseA > 0 && inverseB == 0;
+    const bool bRests = inverseB > 0 && inverseA == 0;
+    const uint32_t rester = aRests ? ia : ib;
+    const uint32_t holderFixture = aRests ? c.b : c.a;
+    BodySlot& r = bodies[rester];
+    if ((aRests || bRests) && length(r.velocity) < restingSpeed && supportsAt(rester, c.time, supporters)) {
+      putToSleep(rester, supporters);
+    } else if ((aRests || bRests) && bodies[fixtures[holderFixture].body].type == BodyType::Static &&
+               isFlatFeature(holderFixture, c.feature) && aRests) {
+      startSliding(rester, holderFixture, c.feature, n);
+      j = -vn / inverseSum;
+    } else {
+      // Bounce off at restingSpeed at least: bounded bounce rate instead of a Zeno sequence.
+      const double extra = (restingSpeed - separation) / inverseSum;
+      a.velocity += n * (extra * inverseA);
+      b.velocity -= n * (extra * inverseB);
+      j += extra;
+      separation = restingSpeed;
+    }
+  }
 
   const detail::LastContact last{std::min(c.a, c.b), std::max(c.a, c.b), c.feature, c.time};
-  if (a.type == BodyType::Dynamic) {
-    ++a.collisionCount;
-    a.last = last;
-  }
-  if (b.type == BodyType::Dynamic) {
-    ++b.collisionCount;
-    b.last = last;
+  for (BodySlot* s : {&a, &b}) {
+    if (s->type != BodyType::Dynamic) continue;
+    ++s->collisionCount;
+    s->last = last;
+    // Leaving the face it slid on ends a slide.
+    if (s->support.generation != 0 && dot(s->velocity, s->support.normal) > 0) stopSliding(*s);
   }
 
   ContactEvent event;
@@ -126,7 +214,7 @@ void World::Impl::resolve(const PredictedContact& c) {
   event.fixtureB = {fb, fixtures[fb].generation};
   event.bodyA = {fixtures[fa].body, bodies[fixtures[fa].body].generation};
   event.bodyB = {fixtures[fb].body, bodies[fixtures[fb].body].generation};
-  event.normal = aIsLower ? -c.normal : c.normal;  // c.normal points from c.b toward c.a
+  event.normal = aIsLower ? -n : n;  // n points from c.b toward c.a
   contactEvents.push_back(event);
 }
 
@@ -137,18 +225,23 @@ void World::Impl::stepHybrid(double dt) {
   if (pairsOfBody.size() < bodies.size()) pairsOfBody.resize(bodies.size());
   if (stamp.size() < fixtures.size()) stamp.resize(fixtures.size(), 0);
 
-  // 1. Swept boxes.
+  // 1. Swept boxes. A sleeping body does not move this step: its proxies count as resting.
   for (uint32_t i = 0; i < bodies.size(); ++i) {
     BodySlot& b = bodies[i];
     if (!b.alive) continue;
     pairsOfBody[i].clear();
     b.localTime = 0;
     b.last = detail::LastContact{};
-    if (!moves(b)) continue;
-    const Vec2 to = b.position + b.velocity * dt;
-    const Box path{{std::min(b.position.x, to.x), std::min(b.position.y, to.y)},
-                   {std::max(b.position.x, to.x), std::max(b.position.y, to.y)}};
+    if (b.support.generation != 0 && (!fixtures[b.support.fixture].alive ||
+                                      fixtures[b.support.fixture].generation != b.support.generation)) {
+      stopSliding(b);
+    }
+    if (b.type == BodyType::Dynamic && !b.asleep && b.support.generation == 0) b.acceleration = def.gravity;
+    const bool moving = moves(b) && !b.asleep;
+    if (b.type == BodyType::Static) continue;
+    const Box path = moving ? pathBox(b.position, b.velocity, b.acceleration, dt) : Box{b.position, b.position};
     for (uint32_t f : b.fixtures) {
+      broadPhase.setMoving(f, moving);
       broadPhase.setBox(f, Box{path.min + fixtures[f].localBox.min, path.max + fixtures[f].localBox.max});
     }
   }
@@ -158,47 +251,93 @@ void World::Impl::stepHybrid(double dt) {
     if (!canCollide(fa, fb)) return;
     ++stats.candidatePairs;
     addPair(fa, fb);
-    // Predict with the dynamic body's circle first (the time-of-impact functions' moving side).
+    // Predict with a dynamic body's circle first (the time-of-impact functions' moving side).
     if (bodyOf(fa).type == BodyType::Dynamic) {
       predict(fa, fb, 0, dt);
     } else {
       predict(fb, fa, 0, dt);
     }
   });
+  for (uint32_t i = 0; i < bodies.size(); ++i) {
+    if (bodies[i].alive) predictSlideEnd(i, 0, dt);
+  }
 
   // 4. Events in time order.
+  std::vector<uint32_t> woken;
   while (!queue.empty()) {
     std::pop_heap(queue.begin(), queue.end(), detail::later);
     const PredictedContact c = queue.back();
     queue.pop_back();
-    const BodySlot& a = bodyOf(c.a);
+    BodySlot& a = bodyOf(c.a);
     const BodySlot& b = bodyOf(c.b);
+    if (c.kind == detail::EventKind::SlideEnd) {
+      if (a.collisionCount != c.countA || a.support.generation == 0) {
+        ++stats.staleEvents;
+        continue;
+      }
+      advance(a, c.time);
+      stopSliding(a);
+      ++a.collisionCount;
+      repredict(fixtures[c.a].body, c.time, dt);
+      continue;
+    }
     if (a.collisionCount != c.countA || b.collisionCount != c.countB) {
       ++stats.staleEvents;
       continue;
     }
-    // The prediction said "approaching"; if round-off in moving the bodies to this instant says
-    // otherwise, there is nothing to resolve.
-    if (!(dot(a.velocity - b.velocity, c.normal) < 0)) {
+    // The prediction said "approaching"; if round-off in moving the bodies to this instant says they
+    // separate, and nothing presses them together, there is nothing to resolve.
+    const Vec2 relativeVelocity = velocityAt(a, c.time) - velocityAt(b, c.time);
+    if (!(dot(relativeVelocity, c.normal) < 0) && !(dot(a.acceleration - b.acceleration, c.normal) < 0)) {
       ++stats.staleEvents;
       continue;
     }
     if (stats.eventsProcessed >= def.maxEventsPerStep) {
       stats.eventBudgetReached = true;
+      queue.push_back(c);
       break;
     }
-    resolve(c);
+    woken.clear();
+    resolve(c, woken);
     ++stats.eventsProcessed;
     const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
-    if (bodies[ia].type == BodyType::Dynamic) repredict(ia, c.time, dt);
-    if (bodies[ib].type == BodyType::Dynamic) repredict(ib, c.time, dt);
+    for (uint32_t w : woken) {
+      if (w != ia && w != ib) repredict(w, c.time, dt, true);
+    }
+    const bool aWoke = std::find(woken.begin(), woken.end(), ia) != woken.end();
+    const bool bWoke = std::find(woken.begin(), woken.end(), ib) != woken.end();
+    if (bodies[ia].type == BodyType::Dynamic) repredict(ia, c.time, dt, aWoke);
+    if (bodies[ib].type == BodyType::Dynamic) repredict(ib, c.time, dt, bWoke);
+  }
+
+  // Out of budget: a body with a collision still due is held where it is for the rest of the step
+  // (a fast body never passes through what it was about to hit); the others finish their paths.
+  if (stats.eventBudgetReached) {
+    for (const PredictedContact& c : queue) {
+      if (c.kind != detail::EventKind::Contact) continue;
+      BodySlot& a = bodyOf(c.a);
+      BodySlot& b = bodyOf(c.b);
+      if (a.collisionCount != c.countA || b.collisionCount != c.countB) continue;
+      for (BodySlot* s : {&a, &b}) {
+        if (s->type != BodyType::Dynamic) continue;
+        s->velocity = velocityAt(*s, s->localTime);
+        s->acceleration = {};
+        s->support.generation = 0;
+        s->localTime = dt;
+      }
+    }
   }
   queue.clear();
 
   // 5. Everyone to the end of the step.
   for (BodySlot& b : bodies) {
     if (!b.alive || !moves(b)) continue;
-    b.position = b.position + b.velocity * (dt - (b.type == BodyType::Dynamic ? b.localTime : 0.0));
+    if (b.type == BodyType::Dynamic) {
+      advance(b, dt);
+      if (b.asleep) ++stats.sleeping;
+    } else {
+      b.position = b.position + b.velocity * dt;
+    }
     b.localTime = 0;
   }
   time += dt;

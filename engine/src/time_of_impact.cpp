@@ -8,7 +8,12 @@
 
 #include <cmath>
 
+#include "polynomial.h"
+
 namespace rattle {
+
+using detail::Polynomial;
+
 namespace {
 
 // b^2 - a*c as Kahan's compensated 2x2 determinant: with w = a*c rounded, e = w - a*c is exact (one
@@ -22,15 +27,47 @@ double discriminant(double b, double a, double c) {
   return f + e;
 }
 
-// First time the distance between two centres, r + v t, closes to `reach` while approaching.
-// f(t) = |r + v t|^2 - reach^2 = A t^2 + 2 b t + c with A = v.v, b = r.v, c = r.r - reach^2.
-std::optional<double> timeToReach(Vec2 r, Vec2 v, double reach, double maxTime) {
+bool accelerates(const Motion& m) { return m.acceleration.x != 0 || m.acceleration.y != 0; }
+
+Vec2 travel(const Motion& m, double t) { return m.velocity * t + m.acceleration * (0.5 * t * t); }
+
+// The rules of Bannerman et al. (2014) for a gap function f (f < 0: overlapping) over [0, maxTime]:
+//  f(0) > 0: the first downward crossing;
+//  f(0) <= 0 and approaching (f'(0) < 0, or f'(0) = 0 with f''(0) < 0): now;
+//  f(0) <= 0 and separating: nothing until f' turns negative; if f <= 0 still then, that instant,
+//  otherwise the first downward crossing after it.
+// `justResolved`: this contact was resolved at this very instant, so it is separating whatever round-off
+// says about f(0) and f'(0); only the separating branch applies (a bounce under gravity comes back).
+std::optional<double> firstImpactOfGap(const Polynomial& f, double maxTime, bool justResolved) {
+  if (!justResolved) {
+    if (!(f.c[0] <= 0)) return detail::firstDownwardCrossing(f, 0, maxTime);
+    if (f.c[1] < 0 || (f.c[1] == 0 && f.c[2] < 0)) return 0.0;
+  }
+  const auto turn = detail::firstDownwardCrossing(f.derivative(), 0, maxTime);
+  if (!turn) return std::nullopt;
+  if (f(*turn) <= 0) return *turn;
+  return detail::firstDownwardCrossing(f, *turn, maxTime);
+}
+
+// First time the distance between two centres, r + v t + a t^2/2, closes to `reach` while approaching.
+std::optional<double> timeToReach(Vec2 r, const Motion& m, double reach, double maxTime, bool justResolved) {
+  const Vec2 v = m.velocity;
+  if (accelerates(m)) {
+    // f(t) = |r + v t + a t^2/2|^2 - reach^2, a quartic.
+    const Vec2 a = m.acceleration;
+    Polynomial f;
+    f.degree = 4;
+    f.c = {dot(r, r) - reach * reach, 2 * dot(r, v), dot(v, v) + dot(r, a), dot(v, a), 0.25 * dot(a, a)};
+    return firstImpactOfGap(f, maxTime, justResolved);
+  }
+  // Linear: f(t) = A t^2 + 2 b t + c with A = v.v, b = r.v, c = r.r - reach^2.
   const double c = dot(r, r) - reach * reach;
   const double b = dot(r, v);
   if (c <= 0) {
     // Touching or overlapping (by round-off, or because bodies were placed so): the sign of f'(0) = 2b
-    // decides. Approaching collides now; separating or sliding gets no event (Bannerman et al. 2014).
-    if (b < 0) return 0.0;
+    // decides. Approaching collides now; separating or sliding gets no event. A straight path that
+    // has just been resolved separates and never comes back.
+    if (b < 0 && !justResolved) return 0.0;
     return std::nullopt;
   }
   if (b >= 0) return std::nullopt;
@@ -44,11 +81,12 @@ std::optional<double> timeToReach(Vec2 r, Vec2 v, double reach, double maxTime) 
   return t;
 }
 
-Impact pointImpact(Vec2 center, Vec2 velocity, Vec2 target, double targetRadius, double t, int feature) {
-  Vec2 r = center + velocity * t - target;
+Impact pointImpact(Vec2 center, const Motion& m, Vec2 target, double targetRadius, double t, int feature) {
+  Vec2 r = center + travel(m, t) - target;
   double len = length(r);
   // Coincident centres happen only for two points; push back along the motion then.
-  Vec2 n = len > 0 ? r * (1.0 / len) : (length(velocity) > 0 ? -velocity * (1.0 / length(velocity)) : Vec2{1, 0});
+  Vec2 n = len > 0 ? r * (1.0 / len)
+                   : (length(m.velocity) > 0 ? -m.velocity * (1.0 / length(m.velocity)) : Vec2{1, 0});
   return Impact{t, target + n * targetRadius, n, feature};
 }
 
@@ -67,97 +105,101 @@ Edge edgeOf(Vec2 a, Vec2 b) {
   return Edge{a, u, Vec2{u.y, -u.x}, len};
 }
 
-// The circle against the inside of one edge, from the side `edge.n` points to. Linear: the signed
-// distance s(t) = n.(c - a) + (n.v) t reaches r at t = (s0 - r) / -(n.v). The impact counts only if the
-// contact point then lies on the edge (0 <= tau <= length): an edge's ends are not corners.
-std::optional<Impact> edgeImpact(const Circle& circle, Vec2 v, const Edge& edge, double maxTime, int feature) {
+// The circle against the face of one edge that `edge.n` points out of. The signed distance of the centre
+// from the edge's line is s(t) = s0 + vn t + an t^2/2; the gap s(t) - r is linear or quadratic. The
+// impact counts only if the contact point then lies on the edge (0 <= tau <= length): an edge's ends are
+// not corners. `front`: the centre starts on this face's side, so the overlap rules apply; otherwise only
+// a crossing from outside counts.
+std::optional<Impact> faceImpact(const Circle& circle, const Motion& m, const Edge& edge, bool front,
+                                 double maxTime, int feature, bool justResolved) {
   const Vec2 rel = circle.center - edge.a;
   const double s0 = dot(edge.n, rel);
-  const double vn = dot(edge.n, v);
-  if (!(vn < 0)) return std::nullopt;  // moving away from the line or along it
-  const double gap = s0 - circle.radius;
-  double t;
-  if (gap >= 0) {
-    t = gap / -vn;
-    if (!(t <= maxTime)) return std::nullopt;
-  } else if (s0 > -circle.radius) {
-    t = 0.0;  // overlapping the edge and approaching: collide now
+  Polynomial gap;
+  gap.degree = 2;
+  gap.c = {s0 - circle.radius, dot(edge.n, m.velocity), 0.5 * dot(edge.n, m.acceleration)};
+  std::optional<double> t;
+  if (front && s0 > -circle.radius) {
+    t = firstImpactOfGap(gap, maxTime, justResolved);
   } else {
-    return std::nullopt;  // the centre is a full radius behind the line: nothing to meet
+    // Centre a full radius behind the line (or on the segment's other side): only coming round to the
+    // front and then closing in counts.
+    t = detail::firstDownwardCrossing(gap, 0, maxTime);
   }
-  const double tau = dot(edge.u, rel) + dot(edge.u, v) * t;
+  if (!t) return std::nullopt;
+  const double tau = dot(edge.u, rel + travel(m, *t));
   if (tau < 0 || tau > edge.length) return std::nullopt;
-  return Impact{t, edge.a + edge.u * tau, edge.n, feature};
+  return Impact{*t, edge.a + edge.u * tau, edge.n, feature};
 }
 
 void keepEarlier(std::optional<Impact>& best, const std::optional<Impact>& candidate) {
   if (candidate && (!best || candidate->time < best->time)) best = candidate;
 }
 
-// A segment collides on both sides: face the side the centre is on. A centre exactly on the line is
-// moving along or away from it in the sense of f = s^2 - r^2 (f'(0) = 0): no event.
-std::optional<Impact> segmentImpact(const Circle& a, Vec2 v, Vec2 p0, Vec2 p1, double maxTime, int feature) {
+// A segment collides on both sides. The overlap rules apply on the side the centre is on; a centre
+// exactly on the line has f = s^2 - r^2 with f'(0) = 0 from velocity alone, and is left to the
+// crossing test. The other side matters only under acceleration: a body can pass beyond an end and
+// curve back onto the underside.
+std::optional<Impact> segmentImpact(const Circle& a, const Motion& m, Vec2 p0, Vec2 p1, double maxTime,
+                                    int feature, bool justResolved) {
   Edge edge = edgeOf(p0, p1);
   const double s0 = dot(edge.n, a.center - edge.a);
-  if (s0 == 0) return std::nullopt;
   if (s0 < 0) edge.n = -edge.n;
-  return edgeImpact(a, v, edge, maxTime, feature);
-}
-
-}  // namespace
-
-std::optional<Impact> timeOfImpactCircleCircle(const Circle& a, Vec2 velocity, const Circle& b, double maxTime,
-                                               int excludedFeature) {
-  if (excludedFeature == 0) return std::nullopt;
-  auto t = timeToReach(a.center - b.center, velocity, a.radius + b.radius, maxTime);
-  if (!t) return std::nullopt;
-  return pointImpact(a.center, velocity, b.center, b.radius, *t, 0);
-}
-
-std::optional<Impact> timeOfImpactCirclePoint(const Circle& a, Vec2 velocity, const Point& b, double maxTime,
-                                              int excludedFeature) {
-  if (excludedFeature == 0) return std::nullopt;
-  auto t = timeToReach(a.center - b.position, velocity, a.radius, maxTime);
-  if (!t) return std::nullopt;
-  return pointImpact(a.center, velocity, b.position, 0.0, *t, 0);
-}
-
-std::optional<Impact> timeOfImpactCircleSegment(const Circle& a, Vec2 velocity, const Segment& b, double maxTime,
-                                                int excludedFeature) {
-  if (excludedFeature == 0) return std::nullopt;
-  return segmentImpact(a, velocity, b.a, b.b, maxTime, 0);
-}
-
-std::optional<Impact> timeOfImpactCirclePolyline(const Circle& a, Vec2 velocity, const Polyline& b, double maxTime,
-                                                 int excludedFeature) {
-  const int n = static_cast<int>(b.points.size());
-  std::optional<Impact> best;
-  for (int i = 0; i + 1 < n; ++i) {
-    if (i == excludedFeature) continue;
-    keepEarlier(best, segmentImpact(a, velocity, b.points[i], b.points[i + 1], maxTime, i));
-  }
-  for (int k = 0; k < n; ++k) {
-    const int feature = n - 1 + k;
-    if (feature == excludedFeature) continue;
-    if (auto t = timeToReach(a.center - b.points[k], velocity, a.radius, maxTime))
-      keepEarlier(best, pointImpact(a.center, velocity, b.points[k], 0.0, *t, feature));
+  std::optional<Impact> best = faceImpact(a, m, edge, s0 != 0, maxTime, feature, justResolved);
+  if (accelerates(m) || s0 == 0) {
+    edge.n = -edge.n;
+    keepEarlier(best, faceImpact(a, m, edge, false, maxTime, feature, justResolved));
   }
   return best;
 }
 
-std::optional<Impact> timeOfImpactCirclePolygon(const Circle& a, Vec2 velocity, const Polygon& b, double maxTime,
-                                                int excludedFeature) {
+}  // namespace
+
+std::optional<Impact> timeOfImpactCircleCircle(const Circle& a, const Motion& motion, const Circle& b,
+                                               double maxTime, int resolvedFeature) {
+  auto t = timeToReach(a.center - b.center, motion, a.radius + b.radius, maxTime, resolvedFeature == 0);
+  if (!t) return std::nullopt;
+  return pointImpact(a.center, motion, b.center, b.radius, *t, 0);
+}
+
+std::optional<Impact> timeOfImpactCirclePoint(const Circle& a, const Motion& motion, const Point& b, double maxTime,
+                                              int resolvedFeature) {
+  auto t = timeToReach(a.center - b.position, motion, a.radius, maxTime, resolvedFeature == 0);
+  if (!t) return std::nullopt;
+  return pointImpact(a.center, motion, b.position, 0.0, *t, 0);
+}
+
+std::optional<Impact> timeOfImpactCircleSegment(const Circle& a, const Motion& motion, const Segment& b,
+                                                double maxTime, int resolvedFeature) {
+  return segmentImpact(a, motion, b.a, b.b, maxTime, 0, resolvedFeature == 0);
+}
+
+std::optional<Impact> timeOfImpactCirclePolyline(const Circle& a, const Motion& motion, const Polyline& b,
+                                                 double maxTime, int resolvedFeature) {
+  const int n = static_cast<int>(b.points.size());
+  std::optional<Impact> best;
+  for (int i = 0; i + 1 < n; ++i) {
+    keepEarlier(best, segmentImpact(a, motion, b.points[i], b.points[i + 1], maxTime, i, i == resolvedFeature));
+  }
+  for (int k = 0; k < n; ++k) {
+    const int feature = n - 1 + k;
+    if (auto t = timeToReach(a.center - b.points[k], motion, a.radius, maxTime, feature == resolvedFeature))
+      keepEarlier(best, pointImpact(a.center, motion, b.points[k], 0.0, *t, feature));
+  }
+  return best;
+}
+
+std::optional<Impact> timeOfImpactCirclePolygon(const Circle& a, const Motion& motion, const Polygon& b,
+                                                double maxTime, int resolvedFeature) {
   const int n = static_cast<int>(b.points.size());
   std::optional<Impact> best;
   for (int i = 0; i < n; ++i) {
-    if (i == excludedFeature) continue;
-    keepEarlier(best, edgeImpact(a, velocity, edgeOf(b.points[i], b.points[(i + 1) % n]), maxTime, i));
+    keepEarlier(best, faceImpact(a, motion, edgeOf(b.points[i], b.points[(i + 1) % n]), true, maxTime, i,
+                                 i == resolvedFeature));
   }
   for (int k = 0; k < n; ++k) {
     const int feature = n + k;
-    if (feature == excludedFeature) continue;
-    if (auto t = timeToReach(a.center - b.points[k], velocity, a.radius, maxTime))
-      keepEarlier(best, pointImpact(a.center, velocity, b.points[k], 0.0, *t, feature));
+    if (auto t = timeToReach(a.center - b.points[k], motion, a.radius, maxTime, feature == resolvedFeature))
+      keepEarlier(best, pointImpact(a.center, motion, b.points[k], 0.0, *t, feature));
   }
   return best;
 }
@@ -167,7 +209,7 @@ std::optional<Impact> timeOfImpactCirclePolygon(const Circle& a, Vec2 velocity, 
 namespace {
 
 using PairFunction = std::optional<Impact> (*)(const Geometry& a, Vec2 positionA, const Geometry& b, Vec2 positionB,
-                                               Vec2 relativeVelocity, double maxTime, int excludedFeature);
+                                               const Motion& relativeMotion, double maxTime, int resolvedFeature);
 
 // A circle-like geometry as a circle in world coordinates.
 Circle asCircle(const Geometry& g, Vec2 position) {
@@ -176,38 +218,35 @@ Circle asCircle(const Geometry& g, Vec2 position) {
 }
 
 // Circle (or point) A against geometry B of type Shape: the circle goes into B's frame, the answer back.
-template <class Shape, std::optional<Impact> (*Fn)(const Circle&, Vec2, const Shape&, double, int)>
-std::optional<Impact> circleVs(const Geometry& a, Vec2 positionA, const Geometry& b, Vec2 positionB, Vec2 v,
-                               double maxTime, int excludedFeature) {
+template <class Shape, std::optional<Impact> (*Fn)(const Circle&, const Motion&, const Shape&, double, int)>
+std::optional<Impact> circleVs(const Geometry& a, Vec2 positionA, const Geometry& b, Vec2 positionB, const Motion& m,
+                               double maxTime, int resolvedFeature) {
   Circle circle = asCircle(a, positionA);
   circle.center -= positionB;
-  auto impact = Fn(circle, v, std::get<Shape>(b), maxTime, excludedFeature);
+  auto impact = Fn(circle, m, std::get<Shape>(b), maxTime, resolvedFeature);
   if (impact) impact->point += positionB;
   return impact;
 }
 
-std::optional<Impact> circleVsPointShape(const Circle& a, Vec2 v, const Point& b, double maxTime, int excluded) {
-  return timeOfImpactCirclePoint(a, v, b, maxTime, excluded);
-}
 
 // The other order: B is the circle. Solve with the roles swapped and the motion reversed, then turn
 // the answer back: the normal is negated, and the contact point, found in the frame where A rests,
-// moves by A's travel v t into the frame where B rests.
+// moves by A's travel into the frame where B rests.
 template <PairFunction Fn>
-std::optional<Impact> swapped(const Geometry& a, Vec2 positionA, const Geometry& b, Vec2 positionB, Vec2 v,
-                              double maxTime, int excludedFeature) {
-  auto impact = Fn(b, positionB, a, positionA, -v, maxTime, excludedFeature);
+std::optional<Impact> swapped(const Geometry& a, Vec2 positionA, const Geometry& b, Vec2 positionB, const Motion& m,
+                              double maxTime, int resolvedFeature) {
+  auto impact = Fn(b, positionB, a, positionA, Motion{-m.velocity, -m.acceleration}, maxTime, resolvedFeature);
   if (impact) {
     impact->normal = -impact->normal;
-    impact->point += v * impact->time;
+    impact->point += travel(m, impact->time);
   }
   return impact;
 }
 
-std::optional<Impact> noImpact(const Geometry&, Vec2, const Geometry&, Vec2, Vec2, double, int) { return std::nullopt; }
+std::optional<Impact> noImpact(const Geometry&, Vec2, const Geometry&, Vec2, const Motion&, double, int) { return std::nullopt; }
 
 constexpr PairFunction kCircleCircle = circleVs<Circle, timeOfImpactCircleCircle>;
-constexpr PairFunction kCirclePoint = circleVs<Point, circleVsPointShape>;
+constexpr PairFunction kCirclePoint = circleVs<Point, timeOfImpactCirclePoint>;
 constexpr PairFunction kCircleSegment = circleVs<Segment, timeOfImpactCircleSegment>;
 constexpr PairFunction kCirclePolyline = circleVs<Polyline, timeOfImpactCirclePolyline>;
 constexpr PairFunction kCirclePolygon = circleVs<Polygon, timeOfImpactCirclePolygon>;
@@ -226,8 +265,8 @@ constexpr PairFunction kTable[kGeometryTypeCount][kGeometryTypeCount] = {
 }  // namespace
 
 std::optional<Impact> timeOfImpact(const Geometry& a, Vec2 positionA, const Geometry& b, Vec2 positionB,
-                                   Vec2 relativeVelocity, double maxTime, int excludedFeature) {
-  return kTable[a.index()][b.index()](a, positionA, b, positionB, relativeVelocity, maxTime, excludedFeature);
+                                   const Motion& relativeMotion, double maxTime, int resolvedFeature) {
+  return kTable[a.index()][b.index()](a, positionA, b, positionB, relativeMotion, maxTime, resolvedFeature);
 }
 
 }  // namespace rattle

@@ -78,6 +78,10 @@ World::World(const WorldDef& def) : impl_(std::make_unique<Impl>()) {
   require(def.maxEventsPerStep > 0, [&] {
     return std::string("WorldDef.maxEventsPerStep = " + std::to_string(def.maxEventsPerStep) + ": must be > 0");
   });
+  checkFinite(def.gravity, "WorldDef.gravity");
+  require(std::isfinite(def.restingSpeed) && def.restingSpeed >= 0, [&] {
+    return "WorldDef.restingSpeed = " + str(def.restingSpeed) + ": must be finite and >= 0";
+  });
   impl_->def = def;
 }
 
@@ -144,6 +148,10 @@ BodyId World::createBody(const BodyDef& def) {
 void World::destroyBody(BodyId id) {
   Impl& w = *impl_;
   BodySlot& b = lookUp(w.bodies, id);
+  // What it held up falls.
+  std::vector<uint32_t> woken;
+  for (uint32_t d : b.dependents) w.wakeUp(d, woken);
+  b.dependents.clear();
   for (uint32_t f : b.fixtures) {
     w.broadPhase.remove(f);
     FixtureSlot& fs = w.fixtures[f];
@@ -168,12 +176,24 @@ BodyType World::type(BodyId id) const { return lookUp(impl_->bodies, id).type; }
 Vec2 World::position(BodyId id) const { return lookUp(impl_->bodies, id).position; }
 Vec2 World::velocity(BodyId id) const { return lookUp(impl_->bodies, id).velocity; }
 double World::mass(BodyId id) const { return lookUp(impl_->bodies, id).mass; }
+bool World::isAsleep(BodyId id) const { return lookUp(impl_->bodies, id).asleep; }
+
+void World::wake(BodyId id) {
+  lookUp(impl_->bodies, id);
+  std::vector<uint32_t> woken;
+  impl_->wakeUp(id.index, woken);
+}
 uint64_t World::userData(BodyId id) const { return lookUp(impl_->bodies, id).userData; }
 int World::bodyCount() const { return impl_->liveBodies; }
 
 void World::setPosition(BodyId id, Vec2 position) {
   BodySlot& b = lookUp(impl_->bodies, id);
   checkFinite(position, "position");
+  std::vector<uint32_t> woken;
+  impl_->wakeUp(id.index, woken);
+  for (uint32_t d : b.dependents) impl_->wakeUp(d, woken);
+  b.dependents.clear();
+  b.support.generation = 0;
   b.position = position;
   // Static proxies are not refreshed each step, so move their boxes now.
   for (uint32_t f : b.fixtures) impl_->broadPhase.setBox(f, impl_->worldBox(f));
@@ -184,6 +204,9 @@ void World::setVelocity(BodyId id, Vec2 velocity) {
   checkFinite(velocity, "velocity");
   require(b.type != BodyType::Static || velocity == Vec2{},
           [&] { return std::string("velocity = " + str(velocity) + ": a static body cannot move"); });
+  std::vector<uint32_t> woken;
+  impl_->wakeUp(id.index, woken);
+  if (b.support.generation != 0) impl_->stopSliding(b);
   b.velocity = velocity;
 }
 

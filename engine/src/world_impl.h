@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "broad_phase.h"
@@ -23,13 +24,26 @@ struct LastContact {
   double time = -1;  // < 0: none this step
 };
 
+// A body resting on a flat feature of a static fixture: it slides along it (no friction) with gravity's
+// tangential part, and the feature is left out of its predictions until it slides off the end.
+struct Support {
+  uint32_t fixture = 0;
+  uint32_t generation = 0;  // 0: not sliding
+  int feature = -1;
+  Vec2 normal;
+};
+
 struct BodySlot {
   uint32_t generation = 1;
   bool alive = false;
   BodyType type = BodyType::Static;
-  Vec2 position;  // at localTime within the current step (0 between steps)
-  Vec2 velocity;
+  Vec2 position;      // at localTime within the current step (0 between steps)
+  Vec2 velocity;      // at localTime
+  Vec2 acceleration;  // gravity when awake and free, its tangential part when sliding, else zero
   double localTime = 0;
+  bool asleep = false;
+  Support support;
+  std::vector<uint32_t> dependents;  // sleeping bodies this one holds up (may hold stale entries)
   double mass = std::numeric_limits<double>::infinity();
   double inverseMass = 0;
   uint64_t userData = 0;
@@ -51,10 +65,14 @@ struct FixtureSlot {
   Filter filter;
 };
 
-// A predicted collision. `a` is the fixture whose body was moving forward (a dynamic circle), `b` the
-// other one; `normal` points from b toward a.
+enum class EventKind : uint8_t { Contact = 0, SlideEnd = 1 };
+
+// A predicted event. Contact: `a` is the fixture whose body was moving forward (a dynamic circle), `b`
+// the other one; `normal` points from b toward a. SlideEnd: `a` is a fixture of the sliding body, `b`
+// its support.
 struct PredictedContact {
   double time;
+  EventKind kind;
   uint32_t a, b;
   int feature;
   uint32_t countA, countB;
@@ -66,6 +84,7 @@ struct PredictedContact {
 // predictions compare equal and the processing order never depends on the heap's implementation.
 inline bool later(const PredictedContact& x, const PredictedContact& y) {
   if (x.time != y.time) return x.time > y.time;
+  if (x.kind != y.kind) return x.kind > y.kind;
   const uint32_t xl = std::min(x.a, x.b), yl = std::min(y.a, y.b);
   if (xl != yl) return xl > yl;
   const uint32_t xh = std::max(x.a, x.b), yh = std::max(y.a, y.b);
@@ -102,6 +121,7 @@ struct World::Impl {
   std::vector<detail::PredictedContact> queue;                  // binary heap ordered by detail::later
   std::vector<uint32_t> stamp;                                  // by fixture index, for de-duplication
   uint32_t stampCounter = 0;
+  std::vector<uint32_t> supporters;
 
   detail::BodySlot& bodyOf(uint32_t fixture) { return bodies[fixtures[fixture].body]; }
   const detail::BodySlot& bodyOf(uint32_t fixture) const { return bodies[fixtures[fixture].body]; }
@@ -110,14 +130,30 @@ struct World::Impl {
   bool canCollide(uint32_t fa, uint32_t fb) const;
   void recomputeMass(detail::BodySlot& body);
 
-  void stepHybrid(double dt);
+  // Motion inside a step: a parabola from the body's local time (a straight line without gravity).
+  Vec2 positionAt(const detail::BodySlot& b, double t) const {
+    const double h = t - b.localTime;
+    return b.position + b.velocity * h + b.acceleration * (0.5 * h * h);
+  }
+  Vec2 velocityAt(const detail::BodySlot& b, double t) const { return b.velocity + b.acceleration * (t - b.localTime); }
+
+  // resting.cpp
+  void putToSleep(uint32_t body, const std::vector<uint32_t>& supporters);
+  void wakeUp(uint32_t body, std::vector<uint32_t>& woken);
+  void startSliding(uint32_t body, uint32_t fixture, int feature, Vec2 normal);
+  void stopSliding(detail::BodySlot& b);
+  bool isFlatFeature(uint32_t fixture, int feature) const;
+  bool supportsAt(uint32_t body, double now, std::vector<uint32_t>& supporters) const;
+  std::optional<double> slideEndTime(const detail::BodySlot& b, double now, double dt) const;
+
   // hybrid_step.cpp
-  Vec2 positionAt(const detail::BodySlot& b, double t) const { return b.position + b.velocity * (t - b.localTime); }
+  void stepHybrid(double dt);
   void addPair(uint32_t fa, uint32_t fb);
   void predict(uint32_t own, uint32_t other, double now, double dt);
-  void repredict(uint32_t body, double now, double dt);
+  void predictSlideEnd(uint32_t body, double now, double dt);
+  void repredict(uint32_t body, double now, double dt, bool forceRequery = false);
   void advance(detail::BodySlot& b, double t);
-  void resolve(const detail::PredictedContact& c);
+  void resolve(const detail::PredictedContact& c, std::vector<uint32_t>& woken);
 };
 
 }  // namespace rattle

@@ -1,8 +1,11 @@
-// rattle: exact times of impact for linear relative motion, one function per pair of geometries.
+// rattle: exact times of impact, one function per pair of geometries.
 //
-// Every function answers: a circle A moves with constant velocity `velocity` relative to geometry B,
-// which is at rest; when, in [0, maxTime], does A first touch B while approaching it? Both are given
-// in the same frame. The answer follows Bannerman et al., "Stable algorithm for event detection in
+// Every function answers: a circle A moves relative to geometry B, which is at rest, along
+// c(t) = c + v t + a t^2 / 2; when, in [0, maxTime], does A first touch B while approaching it? Both
+// are given in the same frame. With a = 0 (no gravity, or two bodies under the same gravity) the
+// circle-circle and circle-point cases are quadratics and the edge cases linear; with a != 0 edges give
+// quadratics and circles and corners quartics, whose first root is found without closed forms (monotone
+// pieces between the derivative's roots, then a bracketed solver). The answer follows Bannerman et al., "Stable algorithm for event detection in
 // event-driven particle dynamics" (Comput. Part. Mech. 1, 191, 2014):
 //   - separated now: the first time the gap closes with A approaching; a tangent touch (a double root,
 //     e.g. a pass at exactly the sum of radii) is not an impact;
@@ -18,7 +21,15 @@
 
 namespace rattle {
 
-/// No feature excluded (see `excludedFeature` below).
+/// Relative motion: velocity and (constant) acceleration of A relative to B.
+struct Motion {
+  Vec2 velocity;
+  Vec2 acceleration;
+  Motion() = default;
+  Motion(Vec2 velocity_, Vec2 acceleration_ = {}) : velocity(velocity_), acceleration(acceleration_) {}  // NOLINT
+};
+
+/// No feature (see `resolvedFeature` below).
 inline constexpr int kNoFeature = -1;
 
 /// A predicted first contact.
@@ -31,29 +42,31 @@ struct Impact {
   int feature = 0;
 };
 
-// `excludedFeature`: a feature of B to ignore. The world passes the feature a pair has just been
-// resolved at, at the same instant, so that round-off cannot make it collide again at time 0.
+// `resolvedFeature`: a feature of B whose contact with A was resolved at this very instant. It is taken
+// to be separating whatever round-off says about the gap and its rate, so it gives no impact at time 0,
+// only a later one (a bounce under gravity comes back). The world passes it so that round-off cannot
+// make a pair collide again and again at the same instant.
 
-std::optional<Impact> timeOfImpactCircleCircle(const Circle& a, Vec2 velocity, const Circle& b, double maxTime,
-                                               int excludedFeature = kNoFeature);
-std::optional<Impact> timeOfImpactCirclePoint(const Circle& a, Vec2 velocity, const Point& b, double maxTime,
-                                              int excludedFeature = kNoFeature);
-std::optional<Impact> timeOfImpactCircleSegment(const Circle& a, Vec2 velocity, const Segment& b, double maxTime,
-                                                int excludedFeature = kNoFeature);
-std::optional<Impact> timeOfImpactCirclePolyline(const Circle& a, Vec2 velocity, const Polyline& b, double maxTime,
-                                                 int excludedFeature = kNoFeature);
+std::optional<Impact> timeOfImpactCircleCircle(const Circle& a, const Motion& motion, const Circle& b, double maxTime,
+                                               int resolvedFeature = kNoFeature);
+std::optional<Impact> timeOfImpactCirclePoint(const Circle& a, const Motion& motion, const Point& b, double maxTime,
+                                              int resolvedFeature = kNoFeature);
+std::optional<Impact> timeOfImpactCircleSegment(const Circle& a, const Motion& motion, const Segment& b, double maxTime,
+                                                int resolvedFeature = kNoFeature);
+std::optional<Impact> timeOfImpactCirclePolyline(const Circle& a, const Motion& motion, const Polyline& b, double maxTime,
+                                                 int resolvedFeature = kNoFeature);
 /// `b` must be wound counter-clockwise (see normalized()). A circle whose centre is already deep
 /// inside the polygon (more than its radius behind every edge) gets no impact.
-std::optional<Impact> timeOfImpactCirclePolygon(const Circle& a, Vec2 velocity, const Polygon& b, double maxTime,
-                                                int excludedFeature = kNoFeature);
+std::optional<Impact> timeOfImpactCirclePolygon(const Circle& a, const Motion& motion, const Polygon& b, double maxTime,
+                                                int resolvedFeature = kNoFeature);
 
 /// Dispatches to the function for the pair through one table. `a` and `b` are geometries placed at
-/// `positionA` and `positionB`; `relativeVelocity` is A's velocity minus B's. One of the two must be a
+/// `positionA` and `positionB`; `relativeMotion` is A's velocity and acceleration minus B's. One of the two must be a
 /// circle or a point (a point moves as a circle of radius 0); when only B is, the roles are swapped and
 /// the result still reads "normal from B toward A", with `feature` naming a part of A. Other pairs
 /// (no circle on either side) have no entry and give nothing. The returned point is where the two touch
 /// at `time`, in the frame in which B rests at `positionB`.
 std::optional<Impact> timeOfImpact(const Geometry& a, Vec2 positionA, const Geometry& b, Vec2 positionB,
-                                   Vec2 relativeVelocity, double maxTime, int excludedFeature = kNoFeature);
+                                   const Motion& relativeMotion, double maxTime, int resolvedFeature = kNoFeature);
 
 }  // namespace rattle

@@ -49,6 +49,17 @@ enum class StepMode : uint8_t {
 
 struct WorldDef {
   StepMode mode = StepMode::Hybrid;
+  /// Acceleration of every awake dynamic body, world units per second squared. Kinematic bodies ignore
+  /// it. Zero (the default) means straight paths and no parabolic solvers at all.
+  Vec2 gravity;
+  /// Under gravity, a contact that would leave a body bouncing off something that does not fall with it
+  /// (a static or kinematic body, or a sleeping one) slower than this, in world units per second, ends
+  /// the bouncing instead (see README, "Resting"), so a bouncing ball comes to rest in finitely many
+  /// events: it sleeps when it is slow and held (the up direction lies between the normals of what it
+  /// touches), slides along a flat static surface when it is still moving, and otherwise bounces off at
+  /// this speed. A sleeping body is woken by a hit faster than this, by its support waking, or by a
+  /// setter. Must be >= 0; 0 turns resting off.
+  double restingSpeed = 0.01;
   /// Collisions resolved in one step at most. When reached, the step stops resolving, moves every body to
   /// the end of the step and says so in StepStats::eventBudgetReached.
   int maxEventsPerStep = 1'000'000;
@@ -119,6 +130,9 @@ struct StepStats {
   int eventsProcessed = 0;    ///< collisions resolved
   int staleEvents = 0;        ///< predictions discarded because a body's motion changed first
   int requeries = 0;          ///< times a body's new path left its swept box and the broad phase was asked again
+  int sleeping = 0;            ///< dynamic bodies asleep at the end of the step
+  /// The step reached WorldDef::maxEventsPerStep. Bodies that still had a collision due were then held
+  /// where they were for the rest of the step rather than moved through what they would have hit.
   bool eventBudgetReached = false;
 };
 

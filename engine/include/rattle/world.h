@@ -30,6 +30,10 @@ class World {
   Vec2 position(BodyId body) const;
   Vec2 velocity(BodyId body) const;
   double mass(BodyId body) const;  ///< infinity for static and kinematic bodies
+  /// A dynamic body at rest (see WorldDef::restingSpeed): it does not move until something wakes it.
+  bool isAsleep(BodyId body) const;
+  /// Wakes a sleeping body (and the sleeping bodies it holds up). Setting a velocity or position does too.
+  void wake(BodyId body);
   uint64_t userData(BodyId body) const;
   void setPosition(BodyId body, Vec2 position);
   /// Static bodies accept only zero.

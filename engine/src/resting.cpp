@@ -1,0 +1,215 @@
+// Resting under gravity: sleeping, sliding, waking.
+//
+// A ball bouncing on a floor with restitution below 1 makes infinitely many bounces in finite time (a
+// Zeno sequence), and a body pressed against something that does not fall with it can otherwise only be
+// held by an endless stream of zero-speed collisions. Event-driven codes end this in one of a few ways
+// (NUMERICS.md: Luding & McNamara's TC model, a velocity threshold, DynamO's sleeping particles). rattle
+// uses a threshold, WorldDef::restingSpeed, and three outcomes for a contact that would bounce slower
+// than it against something that does not fall with the body:
+//  - sleep: the body is slow and held (the up direction lies within the cone of the normals of the
+//    static fixtures and sleeping bodies it touches): it stops and stays until woken;
+//  - slide: the body still moves and the contact is a flat face of a static fixture: it keeps its
+//    tangential velocity and slides with gravity's tangential part until it leaves the face;
+//  - otherwise it bounces off at restingSpeed, which bounds the bounce rate at g / (2 restingSpeed).
+#include <algorithm>
+#include <cmath>
+
+#include "polynomial.h"
+#include "world_impl.h"
+
+namespace rattle {
+
+using detail::BodySlot;
+
+namespace {
+
+struct Closest {
+  Vec2 point;
+  bool collidable;  // a segment's end is not a corner: it cannot hold anything up
+};
+
+Closest closestOnSegment(Vec2 a, Vec2 b, Vec2 p, bool endsCollide) {
+  const Vec2 d = b - a;
+  const double t = dot(p - a, d) / dot(d, d);
+  if (t <= 0) return {a, endsCollide};
+  if (t >= 1) return {b, endsCollide};
+  return {a + d * t, true};
+}
+
+// The closest point of a placed geometry to p, or nothing when p is inside it (a polygon or circle).
+std::optional<Closest> closestPoint(const Geometry& g, Vec2 position, Vec2 p) {
+  const Vec2 q = p - position;
+  std::optional<Closest> best;
+  auto keep = [&](Closest c) {
+    if (!best || lengthSquared(q - c.point) < lengthSquared(q - best->point)) best = c;
+  };
+  if (const auto* s = std::get_if<Point>(&g)) {
+    keep({s->position, true});
+  } else if (const auto* s = std::get_if<Circle>(&g)) {
+    const Vec2 r = q - s->center;
+    const double len = length(r);
+    if (len <= s->radius) return std::nullopt;
+    keep({s->center + r * (s->radius / len), true});
+  } else if (const auto* s = std::get_if<Segment>(&g)) {
+    keep(closestOnSegment(s->a, s->b, q, false));
+  } else if (const auto* s = std::get_if<Polyline>(&g)) {
+    for (size_t i = 0; i + 1 < s->points.size(); ++i) keep(closestOnSegment(s->points[i], s->points[i + 1], q, true));
+  } else if (const auto* s = std::get_if<Polygon>(&g)) {
+    const size_t n = s->points.size();
+    bool inside = true;
+    for (size_t i = 0; i < n; ++i) {
+      const Vec2 a = s->points[i], b = s->points[(i + 1) % n];
+      if (cross(b - a, q - a) < 0) inside = false;
+      keep(closestOnSegment(a, b, q, true));
+    }
+    if (inside) return std::nullopt;
+  }
+  if (best) best->point += position;
+  return best;
+}
+
+Vec2 centreOf(const Geometry& g) {
+  if (const auto* c = std::get_if<Circle>(&g)) return c->center;
+  return std::get<Point>(g).position;
+}
+
+double radiusOf(const Geometry& g) {
+  if (const auto* c = std::get_if<Circle>(&g)) return c->radius;
+  return 0;
+}
+
+// The end points of a flat feature (see Impact::feature), in the fixture's coordinates.
+bool flatFeature(const Geometry& g, int feature, Vec2& a, Vec2& b) {
+  if (const auto* s = std::get_if<Segment>(&g)) {
+    a = s->a;
+    b = s->b;
+    return feature == 0;
+  }
+  if (const auto* s = std::get_if<Polyline>(&g)) {
+    if (feature < 0 || feature + 1 >= static_cast<int>(s->points.size())) return false;
+    a = s->points[feature];
+    b = s->points[feature + 1];
+    return true;
+  }
+  if (const auto* s = std::get_if<Polygon>(&g)) {
+    const int n = static_cast<int>(s->points.size());
+    if (feature < 0 || feature >= n) return false;
+    a = s->points[feature];
+    b = s->points[(feature + 1) % n];
+    return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+bool World::Impl::isFlatFeature(uint32_t fixture, int feature) const {
+  Vec2 a, b;
+  return flatFeature(fixtures[fixture].geometry, feature, a, b);
+}
+
+bool World::Impl::supportsAt(uint32_t bodyIndex, double now, std::vector<uint32_t>& supporters) const {
+  const BodySlot& body = bodies[bodyIndex];
+  const Vec2 up = -def.gravity * (1.0 / length(def.gravity));
+  supporters.clear();
+  Vec2 normals[16];
+  int count = 0;
+  for (const auto& pair : pairsOfBody[bodyIndex]) {
+    const detail::FixtureSlot& own = fixtures[pair.own];
+    const detail::FixtureSlot& other = fixtures[pair.other];
+    if (own.sensor || other.sensor) continue;
+    const BodySlot& holder = bodies[other.body];
+    if (holder.type != BodyType::Static && !holder.asleep) continue;
+    const Vec2 centre = positionAt(body, now) + centreOf(own.geometry);
+    const double radius = radiusOf(own.geometry);
+    const auto closest = closestPoint(other.geometry, holder.position, centre);
+    if (!closest || !closest->collidable) continue;
+    const Vec2 r = centre - closest->point;
+    const double distance = length(r);
+    // Touching, within a relative tolerance: resting contacts are made exactly, up to round-off.
+    if (!(distance > 0) || distance - radius > 1e-7 * std::max(radius, 1e-9)) continue;
+    const Vec2 n = r * (1.0 / distance);
+    if (dot(n, up) <= 0) continue;  // beside or above: holds nothing up
+    if (count < 16) normals[count++] = n;
+    if (holder.type == BodyType::Dynamic &&
+        std::find(supporters.begin(), supporters.end(), other.body) == supporters.end()) {
+      supporters.push_back(other.body);
+    }
+  }
+  // Held when up lies within the cone of the normals: one normal straight up (a level floor), or two on
+  // either side of up (a cradle of two disks, a wedge).
+  for (int i = 0; i < count; ++i) {
+    if (dot(normals[i], up) >= 1 - 1e-12) return true;
+    for (int j = 0; j < count; ++j) {
+      if (cross(normals[i], up) >= 0 && cross(up, normals[j]) >= 0 && cross(normals[i], normals[j]) > 0) return true;
+    }
+  }
+  return false;
+}
+
+void World::Impl::putToSleep(uint32_t bodyIndex, const std::vector<uint32_t>& supporters) {
+  BodySlot& b = bodies[bodyIndex];
+  b.asleep = true;
+  b.velocity = {};
+  b.acceleration = {};
+  b.support.generation = 0;
+  ++b.collisionCount;
+  for (uint32_t s : supporters) bodies[s].dependents.push_back(bodyIndex);
+}
+
+void World::Impl::wakeUp(uint32_t bodyIndex, std::vector<uint32_t>& woken) {
+  // Iterative, in a fixed order: a tall pile wakes layer by layer without deep recursion.
+  std::vector<uint32_t> stack{bodyIndex};
+  while (!stack.empty()) {
+    const uint32_t i = stack.back();
+    stack.pop_back();
+    BodySlot& b = bodies[i];
+    if (!b.alive || !b.asleep) continue;
+    b.asleep = false;
+    b.acceleration = def.gravity;
+    ++b.collisionCount;
+    woken.push_back(i);
+    for (auto it = b.dependents.rbegin(); it != b.dependents.rend(); ++it) stack.push_back(*it);
+    b.dependents.clear();
+  }
+}
+
+void World::Impl::startSliding(uint32_t bodyIndex, uint32_t fixture, int feature, Vec2 normal) {
+  BodySlot& b = bodies[bodyIndex];
+  b.support = detail::Support{fixture, fixtures[fixture].generation, feature, normal};
+  b.velocity -= normal * dot(b.velocity, normal);
+  b.acceleration = def.gravity - normal * dot(def.gravity, normal);
+}
+
+void World::Impl::stopSliding(BodySlot& b) {
+  b.support.generation = 0;
+  if (!b.asleep) b.acceleration = def.gravity;
+}
+
+std::optional<double> World::Impl::slideEndTime(const BodySlot& b, double now, double dt) const {
+  const detail::FixtureSlot& face = fixtures[b.support.fixture];
+  Vec2 a, e;
+  flatFeature(face.geometry, b.support.feature, a, e);
+  const Vec2 origin = bodies[face.body].position + a;
+  const double len = length(e - a);
+  const Vec2 u = (e - a) * (1.0 / len);
+  const Vec2 centre = positionAt(b, now) + centreOf(fixtures[b.fixtures.front()].geometry);
+  const Vec2 v = velocityAt(b, now);
+  // tau(h) = u.(c - a) + (u.v) h + (u.g) h^2 / 2 leaves [0, len] at the first downward crossing of
+  // tau or of len - tau.
+  detail::Polynomial tau;
+  tau.degree = 2;
+  tau.c = {dot(u, centre - origin), dot(u, v), 0.5 * dot(u, b.acceleration)};
+  detail::Polynomial rest = tau;
+  for (double& c : rest.c) c = -c;
+  rest.c[0] += len;
+  auto low = detail::firstDownwardCrossing(tau, 0, dt - now);
+  auto high = detail::firstDownwardCrossing(rest, 0, dt - now);
+  if (tau.c[0] < 0 || rest.c[0] < 0) return now;  // already past an end
+  std::optional<double> h = low;
+  if (high && (!h || *high < *h)) h = high;
+  if (!h) return std::nullopt;
+  return now + *h;
+}
+
+}  // namespace rattle
