@@ -25,8 +25,6 @@ using rattle::WorldDef;
 
 using LD = long double;
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
 struct LVec {
   LD x = 0, y = 0;
 };
@@ -401,6 +399,7 @@ TEST(WorldGasProperty, RandomScenesMatchReferenceAndKeepInvariants) {
   const int referenceSteps = 10;  // 0.5 s compared with the reference
   const int totalSteps = 60;      // 3 s of invariant checks
   long long totalEvents = 0, comparedEvents = 0;
+  long double worstTimeDifference = 0;
   for (uint64_t seed = 1; seed <= kSeeds; ++seed) {
     const PropertyScene scene = propertyScene(seed);
     SCOPED_TRACE("seed " + std::to_string(seed) + ", " + std::to_string(scene.specs.size()) +
@@ -417,6 +416,7 @@ TEST(WorldGasProperty, RandomScenesMatchReferenceAndKeepInvariants) {
     bool stop = false;
     for (int step = 0; step < totalSteps && !stop; ++step) {
       world.step(dt);
+      EXPECT_FALSE(world.stats().eventBudgetReached) << "step " << step << " hit the event budget";
       const auto events = world.contactEvents();
       totalEvents += static_cast<long long>(events.size());
       double previousTime = 0;
@@ -450,11 +450,12 @@ TEST(WorldGasProperty, RandomScenesMatchReferenceAndKeepInvariants) {
           break;
         }
       const long double energy = kineticEnergy(world, disks);
-      if (scene.mode == 0)
+      if (scene.mode == 0) {
         EXPECT_LE(std::fabs(static_cast<double>((energy - e0) / e0)), 1e-12) << "after step " << step;
-      else
+      } else {
         EXPECT_LE(static_cast<double>(energy), static_cast<double>(previousEnergy * (1 + 1e-12L)))
             << "energy grew in step " << step;
+      }
       previousEnergy = energy;
       if (overlap > 1e-9 || penetration > 1e-9) stop = true;
 
@@ -470,6 +471,7 @@ TEST(WorldGasProperty, RandomScenesMatchReferenceAndKeepInvariants) {
             firstMismatch = i;
             break;
           }
+          worstTimeDifference = std::max(worstTimeDifference, std::fabs(e.time - r.time));
         }
         EXPECT_EQ(engineEvents.size(), referenceEvents.size());
         if (firstMismatch < common || engineEvents.size() != referenceEvents.size()) {
@@ -490,8 +492,9 @@ TEST(WorldGasProperty, RandomScenesMatchReferenceAndKeepInvariants) {
       }
     }
   }
-  std::printf("[ WorldGasProperty ] %d seeds: %lld contact events, %lld compared with the reference\n", kSeeds,
-              totalEvents, comparedEvents);
+  std::printf("[ WorldGasProperty ] %d seeds: %lld contact events, %lld compared with the reference "
+              "(largest time difference %.3Lg s)\n",
+              kSeeds, totalEvents, comparedEvents, worstTimeDifference);
   EXPECT_GT(comparedEvents, 20 * kSeeds);
 }
 
@@ -517,14 +520,15 @@ const char* nameOf(WallKind k) {
   }
 }
 
-// In the canonical frame every wall presents the line y = 10 (for |x| < 20 at least) to a disk coming
-// from below.
+// In the canonical frame every wall presents the line y = 10 (for |x| < 10^7) to a disk coming from
+// below. The flat part is long enough that a disk sliding along it for the whole test never reaches a
+// corner (corners are covered by the wedge tests below).
 rattle::Geometry canonicalWall(WallKind k, double angle) {
   std::vector<Vec2> pts;
   switch (k) {
     case WallKind::Segment: pts = {{-1e7, 10}, {1e7, 10}}; break;
-    case WallKind::Polyline: pts = {{-1e7, 30}, {-20, 10}, {20, 10}, {1e7, 30}}; break;
-    case WallKind::Polygon: pts = {{-20, 10}, {-20, 50}, {20, 50}, {20, 10}}; break;  // clockwise
+    case WallKind::Polyline: pts = {{-3e7, 30}, {-1e7, 10}, {1e7, 10}, {3e7, 30}}; break;
+    case WallKind::Polygon: pts = {{-1e7, 10}, {-1e7, 50}, {1e7, 50}, {1e7, 10}}; break;  // clockwise
   }
   for (Vec2& p : pts) p = rotate(p, angle);
   switch (k) {
@@ -545,7 +549,7 @@ TEST(WorldFastDisk, NeverCrossesThinWallAtAnyAngle) {
                        std::to_string(incidence) + " e " + std::to_string(e));
           ++scenes;
           World world;
-          const BodyId wall = world.createBody(BodyDef{.type = BodyType::Static});
+          const BodyId wall = world.createBody(bodyDef(BodyType::Static));
           FixtureDef wd;
           wd.geometry = canonicalWall(kind, angle);
           wd.restitution = 0.0;
@@ -579,7 +583,9 @@ TEST(WorldFastDisk, NeverCrossesThinWallAtAnyAngle) {
           for (int step = 0; step < 3; ++step) {
             const Vec2 p = rotate(world.position(d.body), -angle);
             EXPECT_LE(p.y, 9 + 1e-6) << "crossed or entered the wall: canonical position " << str(p);
-            if (e == 0 && std::fabs(p.x) < 15) EXPECT_NEAR(p.y, 9, 1e-6);
+            if (e == 0) {
+              EXPECT_NEAR(p.y, 9, 1e-6);
+            }
             world.step(dt);
             for (const ContactEvent& later : world.contactEvents())
               EXPECT_LE(later.impulse, 1e-9 * d.mass * speed) << "unexpected later contact";
@@ -588,36 +594,125 @@ TEST(WorldFastDisk, NeverCrossesThinWallAtAnyAngle) {
   EXPECT_EQ(scenes, 90);
 }
 
-TEST(WorldFastDisk, SlidesIntoPolylineWedgeAndStops) {
+struct WedgeScene {
+  World world;
+  BodyId wall;
+  Disk disk;
+  double angle;
   // A V-shaped polyline, opening up; a disk with restitution 0 falls at 10^6 radii per step onto the right
   // arm, slides down it into the wedge, hits the left arm and stops at (0, sqrt(2)) touching both arms.
-  for (double angle : {0.0, 0.4, 2.2, 4.0}) {
-    SCOPED_TRACE("angle " + std::to_string(angle));
-    World world;
-    const BodyId wall = world.createBody(BodyDef{.type = BodyType::Static});
+  explicit WedgeScene(double angle_) : angle(angle_) {
+    wall = world.createBody(bodyDef(BodyType::Static));
     FixtureDef wd;
     wd.geometry = rattle::Polyline{{rotate({-100, 100}, angle), {0, 0}, rotate({100, 100}, angle)}};
     world.createFixture(wall, wd);
-    const Disk d = addDisk(world, {rotate({5, 50}, angle), rotate({0, -1e6}, angle), 1.0, 1.0, 0.0});
-    world.step(1.0);
-    const auto events = world.contactEvents();
+    disk = addDisk(world, {rotate({5, 50}, angle), rotate({0, -1e6}, angle), 1.0, 1.0, 0.0});
+  }
+};
+
+TEST(WorldFastDisk, SlidesIntoPolylineWedgeAndStops) {
+  for (double angle : {0.0, 0.4, 2.2, 4.0}) {
+    SCOPED_TRACE("angle " + std::to_string(angle));
+    WedgeScene w(angle);
+    w.world.step(1.0);
+    const auto events = w.world.contactEvents();
     ASSERT_GE(events.size(), 2u);
     const LD s2 = std::sqrt(2.0L);
+    const double mainImpulse = w.disk.mass * 1e6 / std::sqrt(2.0);
     EXPECT_NEAR(events[0].time, static_cast<double>((45 - s2) / 1e6L), 1e-14);
     EXPECT_NEAR(events[1].time, static_cast<double>((45 - s2) / 1e6L + 1e-5L), 1e-14);
     EXPECT_VEC_NEAR(events[0].normal, rotateL({-1 / s2, 1 / s2}, angle), 1e-9);
     EXPECT_VEC_NEAR(events[1].normal, rotateL({1 / s2, 1 / s2}, angle), 1e-9);
-    for (size_t i = 2; i < events.size(); ++i) EXPECT_LE(events[i].impulse, 1e-6 * d.mass * 1e6);
-    EXPECT_LE(events.size(), 4u);
+    EXPECT_NEAR(events[0].impulse, mainImpulse, 1e-9 * mainImpulse);
+    EXPECT_NEAR(events[1].impulse, mainImpulse, 1e-9 * mainImpulse);
+    // Round-off may leave a residual approach worth a few negligible contacts at the same instant.
+    for (size_t i = 2; i < events.size(); ++i) EXPECT_LE(events[i].impulse, 1e-9 * mainImpulse);
+    EXPECT_LE(events.size(), 100u);
     for (int step = 0; step < 3; ++step) {
-      const Vec2 p = rotate(world.position(d.body), -angle);
+      const Vec2 p = rotate(w.world.position(w.disk.body), -angle);
       EXPECT_NEAR(p.x, 0, 1e-6) << str(p);
       EXPECT_NEAR(p.y, std::sqrt(2.0), 1e-6) << str(p);
       EXPECT_GE(p.y - std::fabs(p.x), std::sqrt(2.0) - 1e-6) << "entered an arm: " << str(p);
-      EXPECT_LE(rattle::length(world.velocity(d.body)), 1e-6);
-      world.step(1.0);
+      EXPECT_LE(rattle::length(w.world.velocity(w.disk.body)), 1e-6);
+      w.world.step(1.0);
+      for (const ContactEvent& later : w.world.contactEvents()) EXPECT_LE(later.impulse, 1e-9 * mainImpulse);
     }
   }
+}
+
+TEST(WorldFastDisk, DiskRestingInWedgeReportsNoFurtherContacts) {
+  // Once the disk of the test above has come to rest in the wedge, nothing approaches anything: a step
+  // should resolve no collision (a contact with a round-off impulse every step is a repeated collision).
+  for (double angle : {0.0, 0.4, 2.2, 4.0}) {
+    SCOPED_TRACE("angle " + std::to_string(angle));
+    WedgeScene w(angle);
+    w.world.step(1.0);
+    for (int step = 0; step < 3; ++step) {
+      w.world.step(1.0);
+      const auto events = w.world.contactEvents();
+      EXPECT_EQ(events.size(), 0u) << "step " << step + 1 << ": first impulse "
+                                   << (events.empty() ? 0.0 : events[0].impulse) << " at t = "
+                                   << (events.empty() ? 0.0 : events[0].time);
+    }
+  }
+}
+
+TEST(WorldFastDisk, DiskPassingConvexPolylineCornerTangentiallyIsNotDeflected) {
+  // A disk slides along the first segment of a polyline, touching it (exactly, or overlapping it by one
+  // ulp of round-off), towards a corner where the polyline bends away. At the corner the gap to the
+  // corner point only touches zero: a tangent pass, not an impact (time_of_impact.h). A round-off overlap
+  // of d must not turn into a real kick (which would be of order speed * sqrt(2 d / r)).
+  for (double y0 : {9.0, std::nextafter(9.0, 10.0), std::nextafter(std::nextafter(9.0, 10.0), 10.0)}) {
+    for (double e : {0.0, 1.0}) {
+      SCOPED_TRACE("y0 = 9 + " + std::to_string((y0 - 9) / 0x1p-49) + " ulp, e = " + std::to_string(e));
+      World world;
+      const BodyId wall = world.createBody(bodyDef(BodyType::Static));
+      FixtureDef wd;
+      wd.geometry = rattle::Polyline{{{-100, 10}, {0, 10}, {100, 30}}};
+      wd.restitution = e;
+      world.createFixture(wall, wd);
+      const double speed = 10;
+      const Disk d = addDisk(world, {{-50, y0}, {speed, 0}, 1.0, 1.0, e});
+      world.step(10.0);  // passes the corner at t = 5
+      for (const ContactEvent& ev : world.contactEvents())
+        EXPECT_LE(ev.impulse, 1e-12 * d.mass * speed)
+            << "contact at t = " << ev.time << " point " << str(ev.point) << " normal " << str(ev.normal);
+      const Vec2 v = world.velocity(d.body);
+      EXPECT_LE(std::fabs(v.y), 1e-12 * speed) << "deflected: velocity " << str(v);
+      EXPECT_NEAR(world.position(d.body).x, 50, 1e-9);
+    }
+  }
+}
+
+TEST(WorldFastDisk, DiskSlidingOffPolylineEndOfFlatPartIsNotDeflected) {
+  // The same, with the sliding set up by the engine itself: a disk with restitution 0 hits the flat part
+  // (y = 10, x in [-20, 20]) of a polyline, keeps only its tangential velocity, slides along y = 9 and
+  // passes under the corner at x = +-20, where the polyline bends up and away. Its normal velocity was
+  // zeroed exactly and must stay zero: passing the corner is a tangent touch, not an impact.
+  for (double speed : {10.0, 1e6})
+    for (double incidence : {0.6, 0.3, -0.5}) {
+      SCOPED_TRACE("speed " + std::to_string(speed) + " incidence " + std::to_string(incidence));
+      World world;
+      const BodyId wall = world.createBody(bodyDef(BodyType::Static));
+      FixtureDef wd;
+      wd.geometry = rattle::Polyline{{{-1e7, 30}, {-20, 10}, {20, 10}, {1e7, 30}}};
+      world.createFixture(wall, wd);
+      const Vec2 v0{speed * std::sin(incidence), speed * std::cos(incidence)};
+      const Disk d = addDisk(world, {{0, 0}, v0, 1.0, 1.0, 0.0});
+      world.step(100.0 / speed);  // reaches the corner at about 20 / (speed sin 0.3) < 70 / speed
+      const auto events = world.contactEvents();
+      ASSERT_GE(events.size(), 1u);
+      EXPECT_NEAR(events[0].time, 9 / v0.y, 1e-12 * 9 / v0.y);
+      EXPECT_NEAR(events[0].impulse, d.mass * v0.y, 1e-12 * d.mass * v0.y);
+      for (size_t i = 1; i < events.size(); ++i)
+        EXPECT_LE(events[i].impulse, 1e-12 * d.mass * speed)
+            << "contact at t = " << events[i].time << ", point " << str(events[i].point) << ", normal "
+            << str(events[i].normal) << ", impulse " << events[i].impulse;
+      const Vec2 v = world.velocity(d.body);
+      EXPECT_EQ(v.x, v0.x);
+      EXPECT_LE(std::fabs(v.y), 1e-12 * speed) << "deflected: velocity " << str(v);
+      EXPECT_NEAR(world.position(d.body).y, 9, 1e-9);
+    }
 }
 
 // A disk of radius 1 between walls at x = 0 and x = 3: its centre moves in [1, 2].
@@ -629,7 +724,7 @@ struct RattleScene {
   static constexpr double kVx = 50.3, kVy = 0.1, kX0 = 1.5, kY0 = 0.0;
 
   explicit RattleScene(const WorldDef& def = {}) : world(def) {
-    walls = world.createBody(BodyDef{.type = BodyType::Static});
+    walls = world.createBody(bodyDef(BodyType::Static));
     FixtureDef fd;
     fd.geometry = rattle::Segment{{0, -100}, {0, 100}};
     left = world.createFixture(walls, fd);
@@ -658,7 +753,9 @@ TEST(WorldFastDisk, RattleBetweenWallsMatchesUnfolding) {
   for (int k = 1; k <= bounces; ++k) {
     const ContactEvent& ev = events[static_cast<size_t>(k - 1)];
     SCOPED_TRACE("bounce " + std::to_string(k));
-    if (k > 1) EXPECT_GT(ev.time, events[static_cast<size_t>(k - 2)].time);
+    if (k > 1) {
+      EXPECT_GT(ev.time, events[static_cast<size_t>(k - 2)].time);
+    }
     EXPECT_NEAR(ev.time, static_cast<double>(RattleScene::bounceTime(k)), 1e-12);
     const bool rightWall = k % 2 == 1;
     EXPECT_EQ(ev.fixtureA, rightWall ? s.right : s.left);
@@ -679,11 +776,57 @@ TEST(WorldFastDisk, RattleBetweenWallsMatchesUnfolding) {
 }
 
 // ------------------------------------------------------------------------------------------------
+// Simultaneous collisions.
+
+TEST(WorldSimultaneous, ThreeDisksMeetingAtOnceSettle) {
+  // Two outer disks close in on a middle one from both sides and touch it at the same instant (t = 2).
+  // Treated as a sequence of binary collisions the velocities converge geometrically; in exact arithmetic
+  // the approach speeds fall below 1e-15 of the initial ones after 52 collisions (equal masses, e = 0),
+  // 3 (equal, e = 0.5 or 0.9), and 35251, 11936, 1537 (outer disks 1000 times heavier than the middle one,
+  // e = 0, 0.5, 0.9). Whatever the order, it must end well within the default budget, with no pair
+  // approaching, momentum (zero) kept and energy not gained; with e = 0 all three end at rest.
+  struct Case {
+    double outerDensity, middleDensity, e;
+    int maxEvents;
+  };
+  const Case cases[] = {{1, 1, 0.0, 2000},       {1, 1, 0.5, 100},        {1, 1, 0.9, 100},
+                        {1, 1, 1.0, 100},        {10, 0.01, 0.0, 100000}, {10, 0.01, 0.5, 100000},
+                        {10, 0.01, 0.9, 100000}, {10, 0.01, 1.0, 1000}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE("densities " + std::to_string(c.outerDensity) + "/" + std::to_string(c.middleDensity) +
+                 ", e = " + std::to_string(c.e));
+    World world;
+    const Disk a = addDisk(world, {{0, 0}, {1, 0}, 0.5, c.outerDensity, c.e});
+    const Disk b = addDisk(world, {{3, 0}, {0, 0}, 0.5, c.middleDensity, c.e});
+    const Disk d = addDisk(world, {{6, 0}, {-1, 0}, 0.5, c.outerDensity, c.e});
+    const std::vector<Disk> disks{a, b, d};
+    const long double e0 = kineticEnergy(world, disks);
+    world.step(5.0);
+    EXPECT_FALSE(world.stats().eventBudgetReached);
+    EXPECT_LE(world.stats().eventsProcessed, c.maxEvents);
+    ASSERT_FALSE(world.contactEvents().empty());
+    EXPECT_NEAR(world.contactEvents()[0].time, 2.0, 1e-12);
+    const double va = world.velocity(a.body).x, vb = world.velocity(b.body).x, vd = world.velocity(d.body).x;
+    const LongVec2 p = momentum(world, disks);
+    EXPECT_NEAR(static_cast<double>(p.x), 0.0, 1e-12 * 2 * a.mass);
+    EXPECT_LE(static_cast<double>(kineticEnergy(world, disks)), static_cast<double>(e0) * (1 + 1e-12));
+    EXPECT_GE(vb - va, -1e-12) << "a still approaches b";
+    EXPECT_GE(vd - vb, -1e-12) << "b still approaches d";
+    EXPECT_LE(maxRelativeOverlap(world, disks), 1e-9);
+    if (c.e == 0.0) {
+      EXPECT_NEAR(va, 0, 1e-12);
+      EXPECT_NEAR(vb, 0, 1e-12);
+      EXPECT_NEAR(vd, 0, 1e-12);
+    }
+  }
+}
+
+// ------------------------------------------------------------------------------------------------
 // A path changed mid-step must be checked against bodies outside the original swept box.
 
 TEST(WorldRequery, BounceBackHitsDiskOutsideSweptBox) {
   World world;
-  const BodyId wallBody = world.createBody(BodyDef{.type = BodyType::Static});
+  const BodyId wallBody = world.createBody(bodyDef(BodyType::Static));
   FixtureDef wd;
   wd.geometry = rattle::Segment{{10, -100}, {10, 100}};
   const FixtureId wall = world.createFixture(wallBody, wd);
@@ -718,7 +861,7 @@ TEST(WorldRequery, BounceBackHitsDiskOutsideSweptBox) {
 // The event budget.
 
 TEST(WorldEventBudget, RattleStopsAtBudgetAndReportsIt) {
-  RattleScene s(WorldDef{.maxEventsPerStep = 10});
+  RattleScene s(worldDefWithBudget(10));
   EXPECT_EQ(s.world.definition().maxEventsPerStep, 10);
   s.world.step(1.0);
   const auto& stats = s.world.stats();
@@ -732,10 +875,12 @@ TEST(WorldEventBudget, RattleStopsAtBudgetAndReportsIt) {
   const Vec2 p = s.world.position(s.disk.body), v = s.world.velocity(s.disk.body);
   EXPECT_TRUE(rattle::isFinite(p)) << str(p);
   EXPECT_TRUE(rattle::isFinite(v)) << str(v);
-  // After the 10th bounce (off the left wall) the disk moves right; the rest of the step is free flight.
-  EXPECT_DOUBLE_EQ(v.x, RattleScene::kVx);
-  EXPECT_NEAR(p.x, static_cast<double>(1 + RattleScene::kVx * (1 - RattleScene::bounceTime(10))), 1e-10);
-  EXPECT_NEAR(p.y, RattleScene::kVy, 1e-12);
+  // The disk still had a collision due: it is held where it was rather than moved through the right wall
+  // (types.h, StepStats::eventBudgetReached). Either way it must not leave the gap between the walls.
+  EXPECT_GE(p.x, 1.0 - 1e-9);
+  EXPECT_LE(p.x, 2.0 + 1e-9);
+  EXPECT_GE(p.y, 0.0);
+  EXPECT_LE(p.y, RattleScene::kVy + 1e-12);
 
   // The next step starts afresh (the flag is per step) and returns too.
   s.world.step(1.0);
@@ -749,6 +894,54 @@ TEST(WorldEventBudget, RattleStopsAtBudgetAndReportsIt) {
   full.world.step(1.0);
   EXPECT_FALSE(full.world.stats().eventBudgetReached);
   EXPECT_EQ(full.world.stats().eventsProcessed, 50);
+}
+
+TEST(WorldEventBudget, HeldBodyIsNotRunInto) {
+  // Budget 1, spent on an unrelated pair at t = 0.1. Disk B (starting at (5, 0.3), moving up) has a
+  // collision with C due at t = 0.47, so B is held. A runs along y = 0 to (5, 0): with B moving it would
+  // pass behind B, but B held at (5, 0.3) is in its way. A must not end inside (or pass through) B.
+  World world(worldDefWithBudget(1));
+  const Disk a = addDisk(world, {{0, 0}, {5, 0}, 0.5, 1.0, 1.0});
+  const Disk b = addDisk(world, {{5, 0.3}, {0, 10}, 0.5, 1.0, 1.0});
+  const Disk c = addDisk(world, {{5, 6}, {0, 0}, 0.5, 1.0, 1.0});
+  const Disk d = addDisk(world, {{100, 0}, {1, 0}, 0.5, 1.0, 1.0});
+  const Disk e = addDisk(world, {{101.2, 0}, {-1, 0}, 0.5, 1.0, 1.0});
+  const std::vector<Disk> disks{a, b, c, d, e};
+  world.step(1.0);
+  EXPECT_TRUE(world.stats().eventBudgetReached);
+  ASSERT_EQ(world.contactEvents().size(), 1u);
+  EXPECT_EQ(world.contactEvents()[0].bodyA, d.body);
+  EXPECT_LE(maxRelativeOverlap(world, disks), 1e-9)
+      << "A at " << str(world.position(a.body)) << ", B at " << str(world.position(b.body));
+  // Wherever B was held, A did not cross it: A is still on B's left or was stopped by it.
+  EXPECT_LE(world.position(a.body).x, world.position(b.body).x - std::sqrt(1 - 0.09) + 1e-9);
+}
+
+TEST(WorldEventBudget, GasCutShortByBudgetKeepsDisksApart) {
+  // A small budget in a busy gas: most steps are cut short. Bodies that still had a collision due are held
+  // (types.h, StepStats::eventBudgetReached), so no disk may end a step inside another or in a wall.
+  RandomDiskOptions o = thousandDiskOptions();
+  o.count = 300;
+  o.xmax = o.ymax = 30;
+  o.minSpeed = 2;
+  o.maxSpeed = 4;
+  const auto specs = randomDisks(o);
+  World world(worldDefWithBudget(25));
+  const ClosedBox box = makeClosedBox(world, 0, 0, 30, 30, 1.0);
+  const auto disks = addDisks(world, specs);
+  int cutShort = 0;
+  for (int step = 0; step < 40; ++step) {
+    world.step(0.25);
+    EXPECT_LE(world.stats().eventsProcessed, 25);
+    cutShort += world.stats().eventBudgetReached ? 1 : 0;
+    ASSERT_TRUE(allFinite(world, disks));
+    const double overlap = maxRelativeOverlap(world, disks);
+    const double penetration = maxRelativeWallPenetration(world, disks, box);
+    EXPECT_LE(overlap, 1e-9) << "after step " << step;
+    EXPECT_LE(penetration, 1e-9) << "after step " << step;
+    if (overlap > 1e-9 || penetration > 1e-9) break;
+  }
+  EXPECT_GT(cutShort, 30);
 }
 
 }  // namespace

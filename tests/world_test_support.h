@@ -26,6 +26,30 @@ using rattle::FixtureId;
 using rattle::Vec2;
 using rattle::World;
 
+/// Definitions without designated initializers (which GCC's -Wextra flags when fields are left out).
+inline BodyDef bodyDef(BodyType type, Vec2 position = {}, Vec2 velocity = {}, uint64_t userData = 0) {
+  BodyDef d;
+  d.type = type;
+  d.position = position;
+  d.velocity = velocity;
+  d.userData = userData;
+  return d;
+}
+
+inline rattle::Filter filterOf(uint32_t categoryBits = 0x0001, uint32_t maskBits = 0xFFFFFFFF, int32_t group = 0) {
+  rattle::Filter f;
+  f.categoryBits = categoryBits;
+  f.maskBits = maskBits;
+  f.group = group;
+  return f;
+}
+
+inline rattle::WorldDef worldDefWithBudget(int maxEventsPerStep) {
+  rattle::WorldDef d;
+  d.maxEventsPerStep = maxEventsPerStep;
+  return d;
+}
+
 /// A closed box: one static body at the origin holding four Segment fixtures on the inner walls.
 /// `walls` is ordered left (x = xmin), right (x = xmax), bottom (y = ymin), top (y = ymax).
 struct ClosedBox {
@@ -51,7 +75,7 @@ inline ClosedBox makeClosedBox(World& world, double xmin, double ymin, double xm
   box.ymin = ymin;
   box.xmax = xmax;
   box.ymax = ymax;
-  box.body = world.createBody(BodyDef{.type = BodyType::Static});
+  box.body = world.createBody(bodyDef(BodyType::Static));
   const Vec2 c00{xmin, ymin}, c10{xmax, ymin}, c11{xmax, ymax}, c01{xmin, ymax};
   const rattle::Segment segments[4] = {{c00, c01}, {c10, c11}, {c00, c10}, {c01, c11}};
   for (int i = 0; i < 4; ++i) {
@@ -136,7 +160,7 @@ inline std::vector<DiskSpec> randomDisks(const RandomDiskOptions& o) {
 
 inline Disk addDisk(World& world, const DiskSpec& s) {
   Disk d;
-  d.body = world.createBody(BodyDef{.type = BodyType::Dynamic, .position = s.position, .velocity = s.velocity});
+  d.body = world.createBody(bodyDef(BodyType::Dynamic, s.position, s.velocity));
   FixtureDef fd;
   fd.geometry = rattle::Circle{{0, 0}, s.radius};
   fd.density = s.density;

@@ -170,7 +170,8 @@ std::optional<std::string> validationError(const Geometry& g) {
                           }
                           const double area2 = twiceSignedArea(s.points);
                           if (!(std::fabs(area2) > 0) || !std::isfinite(area2))
-                            return "Polygon: degenerate, area = " + str(0.5 * area2);
+                            return "Polygon.points: degenerate, the " + std::to_string(n) +
+                                   " points enclose an area of " + str(0.5 * area2);
                           // Strictly convex and simple: every other point lies strictly on the inner side of every
                           // edge. O(n^2), which is nothing for the handful of points a convex piece has, and it also
                           // rejects self-intersecting orders (a pentagram turns left at every corner).

@@ -16,6 +16,7 @@
 // bodies that do not collide are moved once per step and times stay in [0, dt] where they are precise.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "rattle/time_of_impact.h"
 #include "world_impl.h"
@@ -100,8 +101,15 @@ void World::Impl::predictSlideEnd(uint32_t bodyIndex, double now, double dt) {
   if (b.support.generation == 0) return;
   const auto t = slideEndTime(b, now, dt);
   if (!t) return;
-  queue.push_back(PredictedContact{std::min(*t, dt), detail::EventKind::SlideEnd, b.fixtures.front(),
-                                   b.support.fixture, b.support.feature, b.collisionCount, 0, {}, {}});
+  queue.push_back(PredictedContact{std::min(*t, dt),
+                                   detail::EventKind::SlideEnd,
+                                   b.fixtures.front(),
+                                   b.support.fixture,
+                                   b.support.feature,
+                                   b.collisionCount,
+                                   0,
+                                   {},
+                                   {}});
   std::push_heap(queue.begin(), queue.end(), detail::later);
 }
 
@@ -139,6 +147,25 @@ void World::Impl::advance(BodySlot& b, double t) {
   b.localTime = t;
 }
 
+void World::Impl::absorb(const PredictedContact& c, double vn) {
+  BodySlot& a = bodyOf(c.a);
+  BodySlot& b = bodyOf(c.b);
+  advance(a, c.time);
+  advance(b, c.time);
+  const double inverseA = a.asleep ? 0.0 : a.inverseMass;
+  const double inverseB = b.asleep ? 0.0 : b.inverseMass;
+  if (!(inverseA + inverseB > 0)) return;
+  const double j = -vn / (inverseA + inverseB);
+  a.velocity += c.normal * (j * inverseA);
+  b.velocity -= c.normal * (j * inverseB);
+  const detail::LastContact last{std::min(c.a, c.b), std::max(c.a, c.b), c.feature, c.time};
+  for (BodySlot* s : {&a, &b}) {
+    if (s->type != BodyType::Dynamic) continue;
+    ++s->collisionCount;
+    s->last = last;
+  }
+}
+
 void World::Impl::resolve(const PredictedContact& c, std::vector<uint32_t>& woken) {
   const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
   BodySlot& a = bodies[ia];
@@ -163,7 +190,9 @@ void World::Impl::resolve(const PredictedContact& c, std::vector<uint32_t>& woke
   // Newton's restitution law along the normal: the separation speed after is e times the approach
   // speed, with e the larger of the two fixtures' restitutions. j = (separation - vn) / (1/ma + 1/mb);
   // static, kinematic and sleeping bodies have 1/m = 0.
-  const double e = std::max(fixtures[c.a].restitution, fixtures[c.b].restitution);
+  const double now = time + c.time;
+  const bool rapid = now - a.lastContactTime < def.collapseTime || now - b.lastContactTime < def.collapseTime;
+  const double e = rapid ? 1.0 : std::max(fixtures[c.a].restitution, fixtures[c.b].restitution);
   double separation = -e * vn;
   double j = (separation - vn) / inverseSum;
   a.velocity += n * (j * inverseA);
@@ -172,6 +201,7 @@ void World::Impl::resolve(const PredictedContact& c, std::vector<uint32_t>& woke
   // Resting (resting.cpp): only when gravity presses the two together, so that a slow bounce would
   // turn into a Zeno sequence.
   const bool pressing = dot(a.acceleration - b.acceleration, n) < 0;
+  BodySlot* slider = nullptr;  // a body that starts sliding on this contact keeps that slide
   if (restingSpeed > 0 && pressing && separation < restingSpeed) {
     // The body that rests is the one that can move, against one that cannot.
     const bool aRests = inverseA > 0 && inverseB == 0;
@@ -184,6 +214,7 @@ void World::Impl::resolve(const PredictedContact& c, std::vector<uint32_t>& woke
     } else if ((aRests || bRests) && bodies[fixtures[holderFixture].body].type == BodyType::Static &&
                isFlatFeature(holderFixture, c.feature) && aRests) {
       startSliding(rester, holderFixture, c.feature, n);
+      slider = &r;
       j = -vn / inverseSum;
     } else {
       // Bounce off at restingSpeed at least: bounded bounce rate instead of a Zeno sequence.
@@ -195,13 +226,26 @@ void World::Impl::resolve(const PredictedContact& c, std::vector<uint32_t>& woke
     }
   }
 
+  // With restitution 0 the normal speed after is zero only up to round-off; make sure it is not left
+  // approaching, since the pair is now taken to be separating (LastContact) until something changes.
+  for (int k = 0; k < 3; ++k) {
+    const double after = dot(a.velocity - b.velocity, n);
+    if (!(after < 0)) break;
+    const double extra = -after / inverseSum;
+    a.velocity += n * (extra * inverseA);
+    b.velocity -= n * (extra * inverseB);
+    j += extra;
+  }
+
   const detail::LastContact last{std::min(c.a, c.b), std::max(c.a, c.b), c.feature, c.time};
   for (BodySlot* s : {&a, &b}) {
     if (s->type != BodyType::Dynamic) continue;
     ++s->collisionCount;
     s->last = last;
-    // Leaving the face it slid on ends a slide.
-    if (s->support.generation != 0 && dot(s->velocity, s->support.normal) > 0) stopSliding(*s);
+    s->lastContactTime = now;
+    // Any other contact ends a slide: the body either leaves the face or is pushed into it, and then
+    // the face's own contact (touching and approaching: now) resolves that, resting rules included.
+    if (s->support.generation != 0 && s != slider) stopSliding(*s);
   }
 
   ContactEvent event;
@@ -226,18 +270,20 @@ void World::Impl::stepHybrid(double dt) {
   if (stamp.size() < fixtures.size()) stamp.resize(fixtures.size(), 0);
 
   // 1. Swept boxes. A sleeping body does not move this step: its proxies count as resting.
+  double speedScale = 0;
   for (uint32_t i = 0; i < bodies.size(); ++i) {
     BodySlot& b = bodies[i];
     if (!b.alive) continue;
     pairsOfBody[i].clear();
     b.localTime = 0;
     b.last = detail::LastContact{};
-    if (b.support.generation != 0 && (!fixtures[b.support.fixture].alive ||
-                                      fixtures[b.support.fixture].generation != b.support.generation)) {
+    if (b.support.generation != 0 &&
+        (!fixtures[b.support.fixture].alive || fixtures[b.support.fixture].generation != b.support.generation)) {
       stopSliding(b);
     }
     if (b.type == BodyType::Dynamic && !b.asleep && b.support.generation == 0) b.acceleration = def.gravity;
     const bool moving = moves(b) && !b.asleep;
+    if (moving) speedScale = std::max(speedScale, length(b.velocity) + length(b.acceleration) * dt);
     if (b.type == BodyType::Static) continue;
     const Box path = moving ? pathBox(b.position, b.velocity, b.acceleration, dt) : Box{b.position, b.position};
     for (uint32_t f : b.fixtures) {
@@ -245,6 +291,9 @@ void World::Impl::stepHybrid(double dt) {
       broadPhase.setBox(f, Box{path.min + fixtures[f].localBox.min, path.max + fixtures[f].localBox.max});
     }
   }
+
+  // Approach speeds below this are round-off: 1e-13 of the fastest speed in the world this step.
+  const double approachTolerance = 1e-13 * speedScale;
 
   // 2 and 3. Candidate pairs and their first predictions.
   broadPhase.findPairs([&](uint32_t fa, uint32_t fb) {
@@ -264,6 +313,7 @@ void World::Impl::stepHybrid(double dt) {
 
   // 4. Events in time order.
   std::vector<uint32_t> woken;
+  double budgetTime = dt;
   while (!queue.empty()) {
     std::pop_heap(queue.begin(), queue.end(), detail::later);
     const PredictedContact c = queue.back();
@@ -285,16 +335,37 @@ void World::Impl::stepHybrid(double dt) {
       ++stats.staleEvents;
       continue;
     }
-    // The prediction said "approaching"; if round-off in moving the bodies to this instant says they
-    // separate, and nothing presses them together, there is nothing to resolve.
+    // The prediction said "approaching". An approach no faster than round-off (below `tolerance`) with
+    // nothing pressing the two together is not a collision: it is absorbed (the tiny normal approach is
+    // removed, without an event) when the bodies still move, and ignored when they are at rest. Without
+    // this, bodies meeting at one instant with restitution below 1 (a light disk caught between two
+    // heavy ones, a disk driven into a wedge) trade ever smaller impulses forever.
     const Vec2 relativeVelocity = velocityAt(a, c.time) - velocityAt(b, c.time);
-    if (!(dot(relativeVelocity, c.normal) < 0) && !(dot(a.acceleration - b.acceleration, c.normal) < 0)) {
+    const double vn = dot(relativeVelocity, c.normal);
+    const bool pressing = dot(a.acceleration - b.acceleration, c.normal) < 0;
+    // Also round-off: an approach that closes no more than the round-off of the contact's coordinates
+    // within the whole step, which decides when everything is nearly at rest.
+    const double restTolerance =
+        8 * std::numeric_limits<double>::epsilon() * (std::fabs(c.point.x) + std::fabs(c.point.y)) / dt;
+    const double tolerance = approachTolerance + restTolerance;
+    if (!(vn < -tolerance) && !pressing) {
       ++stats.staleEvents;
+      // Absorbing is pointless (and would repeat forever) when vn is itself the round-off of the
+      // velocities, or when the two are at rest relative to each other.
+      const double speed = length(relativeVelocity);
+      if (vn < -16 * std::numeric_limits<double>::epsilon() * speed && speed > restTolerance &&
+          stats.eventsProcessed < def.maxEventsPerStep) {
+        absorb(c, vn);
+        ++stats.eventsProcessed;  // bounded by the budget like any other change of motion
+        for (uint32_t body : {fixtures[c.a].body, fixtures[c.b].body}) {
+          if (bodies[body].type == BodyType::Dynamic) repredict(body, c.time, dt);
+        }
+      }
       continue;
     }
     if (stats.eventsProcessed >= def.maxEventsPerStep) {
       stats.eventBudgetReached = true;
-      queue.push_back(c);
+      budgetTime = c.time;
       break;
     }
     woken.clear();
@@ -310,33 +381,18 @@ void World::Impl::stepHybrid(double dt) {
     if (bodies[ib].type == BodyType::Dynamic) repredict(ib, c.time, dt, bWoke);
   }
 
-  // Out of budget: a body with a collision still due is held where it is for the rest of the step
-  // (a fast body never passes through what it was about to hit); the others finish their paths.
-  if (stats.eventBudgetReached) {
-    for (const PredictedContact& c : queue) {
-      if (c.kind != detail::EventKind::Contact) continue;
-      BodySlot& a = bodyOf(c.a);
-      BodySlot& b = bodyOf(c.b);
-      if (a.collisionCount != c.countA || b.collisionCount != c.countB) continue;
-      for (BodySlot* s : {&a, &b}) {
-        if (s->type != BodyType::Dynamic) continue;
-        s->velocity = velocityAt(*s, s->localTime);
-        s->acceleration = {};
-        s->support.generation = 0;
-        s->localTime = dt;
-      }
-    }
-  }
   queue.clear();
 
-  // 5. Everyone to the end of the step.
+  // 5. Everyone to the end of the step; out of budget, to the instant the budget ran out, which is a
+  // state every resolved event is consistent with (nothing overlaps, nothing has passed through).
+  const double end = stats.eventBudgetReached ? budgetTime : dt;
   for (BodySlot& b : bodies) {
     if (!b.alive || !moves(b)) continue;
     if (b.type == BodyType::Dynamic) {
-      advance(b, dt);
+      advance(b, end);
       if (b.asleep) ++stats.sleeping;
     } else {
-      b.position = b.position + b.velocity * dt;
+      b.position = b.position + b.velocity * end;
     }
     b.localTime = 0;
   }

@@ -4,10 +4,11 @@
 // geometries that only touch overlap, and a ray that grazes one hits it.
 //
 // Frames. Overlap tests put both geometries in world coordinates (vertex + position: one rounding per
-// coordinate, the same whichever argument comes first), and the pair is always evaluated with the lower
-// GeometryType first. So overlaps(a, pa, b, pb) and overlaps(b, pb, a, pa) evaluate the very same
-// expressions and can never disagree. Ray casts instead move the ray into the geometry's frame
-// (origin - position, computed once), which costs nothing per vertex.
+// coordinate, the same whichever argument comes first; a disk's world centre is then taken into the other
+// geometry's frame for distanceTo). A pair is always evaluated with the lower GeometryType first, and the
+// tests for two geometries of the same type are symmetric expressions, so overlaps(a, pa, b, pb) and
+// overlaps(b, pb, a, pa) compute the same values and can never disagree. Ray casts instead move the ray
+// into the geometry's frame (origin - position, computed once), which costs nothing per vertex.
 //
 // Overlap kernels.
 //  - A point is a circle of radius 0, and a disk of radius r meets a closed set X exactly when
@@ -20,8 +21,10 @@
 //    of zero width: against a polygon the Minkowski difference has the polygon's edges plus the
 //    segment's direction, so the segment's normal is the one extra axis. Two parallel segments have a
 //    Minkowski difference that is itself a segment, and their normals cannot see a gap along their common
-//    line: segment-segment also tests both directions (a redundant axis never gives a wrong answer,
-//    because the projections of intersecting sets always overlap).
+//    line; the x and y axes (the two boxes) can, because a line that is not vertical projects monotonically
+//    onto x (and a vertical one onto y), so collinear segments are apart along their line exactly when
+//    their boxes are apart. Every test starts with the boxes: a redundant axis never gives a wrong answer
+//    (the projections of intersecting sets always overlap), and it is the cheapest rejection.
 //  - A polyline is the union of its closed segments.
 // Separation is decided only by a strict inequality (every vertex strictly beyond the axis' line), so
 // touching sets are never separated. Edge normals are left unnormalized: the sign of a projection is
@@ -96,9 +99,8 @@ bool polygonEdgeSeparates(Placed poly, double orient, Placed other) {
 }
 
 // Whether the line of segment `seg` (two placed points) has every vertex of `other` strictly on one side
-// of it; with `alongToo`, also whether they all lie strictly before the start or beyond the end when
-// projected on the segment's direction (the axis two parallel segments need).
-bool segmentSeparates(Placed seg, Placed other, bool alongToo) {
+// of it.
+bool segmentSeparates(Placed seg, Placed other) {
   const Vec2 a = seg[0];
   const Vec2 d = seg[1] - a;
   bool allLeft = true, allRight = true;
@@ -107,20 +109,11 @@ bool segmentSeparates(Placed seg, Placed other, bool alongToo) {
     allLeft = allLeft && side > 0;
     allRight = allRight && side < 0;
   }
-  if (allLeft || allRight) return true;
-  if (!alongToo) return false;
-  const double dd = dot(d, d);
-  bool allBefore = true, allBeyond = true;
-  for (size_t j = 0; j < other.count; ++j) {
-    const double s = dot(d, other[j] - a);
-    allBefore = allBefore && s < 0;
-    allBeyond = allBeyond && s > dd;
-  }
-  return allBefore || allBeyond;
+  return allLeft || allRight;
 }
 
-// Whether the boxes of two placed vertex lists are strictly apart: the x and y axes, a cheap first
-// rejection that is itself a valid separating axis test.
+// Whether the boxes of two placed vertex lists are strictly apart: the separating-axis test on the x and
+// y axes. Cheap, so it comes first everywhere; for two segments it is also the axis along their line.
 bool boxesApart(Placed a, Placed b) {
   double aMinX = a[0].x, aMaxX = aMinX, aMinY = a[0].y, aMaxY = aMinY;
   for (size_t i = 1; i < a.count; ++i) {
@@ -138,13 +131,15 @@ bool boxesApart(Placed a, Placed b) {
 }
 
 bool segmentSegment(Placed s, Placed t) {
+  // The boxes are not only a quick rejection here: they are the axes that see a gap between collinear
+  // segments.
   if (boxesApart(s, t)) return false;
-  return !segmentSeparates(s, t, true) && !segmentSeparates(t, s, true);
+  return !segmentSeparates(s, t) && !segmentSeparates(t, s);
 }
 
 bool segmentPolygon(Placed s, Placed poly, double orient) {
   if (boxesApart(s, poly)) return false;
-  return !segmentSeparates(s, poly, false) && !polygonEdgeSeparates(poly, orient, s);
+  return !segmentSeparates(s, poly) && !polygonEdgeSeparates(poly, orient, s);
 }
 
 bool polygonPolygon(Placed p, double op, Placed q, double oq) {
@@ -221,8 +216,8 @@ struct ScaledRay {
   Vec2 origin;
   Vec2 d;
   int exponent = 0;
-  bool zero = false;   // zero translation: only the origin is tested
-  Vec2 against;        // -translation / |translation|: the normal of a hit from inside or end-on
+  bool zero = false;  // zero translation: only the origin is tested
+  Vec2 against;       // -translation / |translation|: the normal of a hit from inside or end-on
 
   double fraction(double tau) const { return std::ldexp(tau, -exponent); }
 };
@@ -274,6 +269,23 @@ double discriminant(double b, double a, double c) {
   return f + e;
 }
 
+// |m|^2 - r^2, accurate even when the origin is near the surface and the difference cancels. Each square
+// is split into its rounded value and its exact rounding error (one fma each), the two large squares are
+// added with Knuth's TwoSum (which also yields its exact error), and the large terms then cancel exactly
+// (Sterbenz: |m|^2 and r^2 within a factor 2 of each other) before the small errors are added back
+// (Ogita, Rump, Oishi, "Accurate sum and dot product", SIAM J. Sci. Comput. 26, 2005). Plain
+// m.m - r*r would lose all its digits for an origin 1e-12 from a unit circle; this keeps them, so the
+// fraction of a ray starting just outside is right to a few ulps.
+double circleValue(Vec2 m, double r) {
+  const double px = m.x * m.x, ex = std::fma(m.x, m.x, -px);
+  const double py = m.y * m.y, ey = std::fma(m.y, m.y, -py);
+  const double pr = r * r, er = std::fma(r, r, -pr);
+  const double s = px + py;
+  const double bb = s - px;
+  const double es = (px - (s - bb)) + (py - bb);
+  return (s - pr) + (((es + ex) + ey) - er);
+}
+
 // |m + tau d|^2 = r^2 with m = o - c: A tau^2 + 2 b tau + c = 0, A = d.d, b = m.d, c = m.m - r^2.
 std::optional<LocalHit> rayCircle(const ScaledRay& ray, Vec2 center, double radius) {
   // A circle of radius 0 behaves as a point; the quadratic would reach the same answer only up to the
@@ -297,7 +309,7 @@ std::optional<LocalHit> rayCircle(const ScaledRay& ray, Vec2 center, double radi
   // Outside. |m + tau d| is convex in tau with its minimum at -b/A: b >= 0 means it never comes closer.
   if (!(b < 0)) return std::nullopt;
   const double a = dot(ray.d, ray.d);
-  const double c = dot(m, m) - radius * radius;
+  const double c = circleValue(m, radius);
   const double disc = discriminant(b, a, c);
   if (disc < 0) return std::nullopt;  // passes by; disc == 0 is a tangent graze, which hits (closed set)
   // The smaller root (-b - sqrt(disc)) / A cancels when c -> 0 (origin near the surface); its conjugate
@@ -429,12 +441,12 @@ bool overlapsBox(const Geometry& g, Vec2 position, const Box& box) {
   if (const auto* s = std::get_if<Segment>(&g)) {
     const Vec2 ends[2] = {s->a, s->b};
     const Placed seg{ends, 2, position};
-    return !boxesApart(seg, boxPlaced) && !segmentSeparates(seg, boxPlaced, false);
+    return !boxesApart(seg, boxPlaced) && !segmentSeparates(seg, boxPlaced);
   }
   if (const auto* l = std::get_if<Polyline>(&g)) {
     for (size_t i = 0; i + 1 < l->points.size(); ++i) {
       const Placed seg{l->points.data() + i, 2, position};
-      if (!boxesApart(seg, boxPlaced) && !segmentSeparates(seg, boxPlaced, false)) return true;
+      if (!boxesApart(seg, boxPlaced) && !segmentSeparates(seg, boxPlaced)) return true;
     }
     return false;
   }

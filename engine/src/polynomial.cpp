@@ -98,10 +98,14 @@ std::optional<double> firstDownwardCrossing(const Polynomial& poly, double lo, d
   for (int i = 0; i + 1 < n; ++i) {
     if (!(ts[i + 1] > ts[i])) continue;
     const double mid = ts[i] + 0.5 * (ts[i + 1] - ts[i]);
+    if (mid == ts[i] || mid == ts[i + 1]) continue;  // neighbouring doubles: no inside to read
     const bool negative = p(mid) < 0;
     if (negative && wasNonNegative) return ts[i];
     wasNonNegative = !negative;
   }
+  // A crossing at hi itself (or within an ulp of it) leaves no piece after it to read: p has come down
+  // to zero there and is falling.
+  if (wasNonNegative && p(hi) <= 0 && p.derivative()(hi) < 0) return nr > 0 ? roots[nr - 1] : hi;
   return std::nullopt;
 }
 

@@ -71,9 +71,13 @@ std::optional<double> timeToReach(Vec2 r, const Motion& m, double reach, double 
     return std::nullopt;
   }
   if (b >= 0) return std::nullopt;
-  const double disc = discriminant(b, dot(v, v), c);
-  // disc == 0 is a tangent touch, a double root: not an event.
-  if (!(disc > 0)) return std::nullopt;
+  const double A = dot(v, v);
+  const double disc = discriminant(b, A, c);
+  // disc = 0 is a tangent touch, a double root: not an event. So is a pass whose deepest overlap,
+  // -disc / A = min |r + v t|^2 - reach^2, is within round-off of zero (1e-12 reach^2, a depth of
+  // 5e-13 reach): it is what a body sliding along a surface by an ulp meets at the surface's corner,
+  // and resolving it would kick the body sideways by speed x sqrt(2 depth / reach).
+  if (!(disc > 1e-12 * A * reach * reach)) return std::nullopt;
   // The smaller root (-b - sqrt(disc)) / A cancels when c -> 0; its conjugate form has a sum of two
   // positive terms below: t = c / (-b + sqrt(disc)).
   const double t = c / (-b + std::sqrt(disc));
@@ -85,8 +89,7 @@ Impact pointImpact(Vec2 center, const Motion& m, Vec2 target, double targetRadiu
   Vec2 r = center + travel(m, t) - target;
   double len = length(r);
   // Coincident centres happen only for two points; push back along the motion then.
-  Vec2 n = len > 0 ? r * (1.0 / len)
-                   : (length(m.velocity) > 0 ? -m.velocity * (1.0 / length(m.velocity)) : Vec2{1, 0});
+  Vec2 n = len > 0 ? r * (1.0 / len) : (length(m.velocity) > 0 ? -m.velocity * (1.0 / length(m.velocity)) : Vec2{1, 0});
   return Impact{t, target + n * targetRadius, n, feature};
 }
 
@@ -110,8 +113,8 @@ Edge edgeOf(Vec2 a, Vec2 b) {
 // impact counts only if the contact point then lies on the edge (0 <= tau <= length): an edge's ends are
 // not corners. `front`: the centre starts on this face's side, so the overlap rules apply; otherwise only
 // a crossing from outside counts.
-std::optional<Impact> faceImpact(const Circle& circle, const Motion& m, const Edge& edge, bool front,
-                                 double maxTime, int feature, bool justResolved) {
+std::optional<Impact> faceImpact(const Circle& circle, const Motion& m, const Edge& edge, bool front, double maxTime,
+                                 int feature, bool justResolved) {
   const Vec2 rel = circle.center - edge.a;
   const double s0 = dot(edge.n, rel);
   Polynomial gap;
@@ -139,8 +142,8 @@ void keepEarlier(std::optional<Impact>& best, const std::optional<Impact>& candi
 // exactly on the line has f = s^2 - r^2 with f'(0) = 0 from velocity alone, and is left to the
 // crossing test. The other side matters only under acceleration: a body can pass beyond an end and
 // curve back onto the underside.
-std::optional<Impact> segmentImpact(const Circle& a, const Motion& m, Vec2 p0, Vec2 p1, double maxTime,
-                                    int feature, bool justResolved) {
+std::optional<Impact> segmentImpact(const Circle& a, const Motion& m, Vec2 p0, Vec2 p1, double maxTime, int feature,
+                                    bool justResolved) {
   Edge edge = edgeOf(p0, p1);
   const double s0 = dot(edge.n, a.center - edge.a);
   if (s0 < 0) edge.n = -edge.n;
@@ -154,8 +157,8 @@ std::optional<Impact> segmentImpact(const Circle& a, const Motion& m, Vec2 p0, V
 
 }  // namespace
 
-std::optional<Impact> timeOfImpactCircleCircle(const Circle& a, const Motion& motion, const Circle& b,
-                                               double maxTime, int resolvedFeature) {
+std::optional<Impact> timeOfImpactCircleCircle(const Circle& a, const Motion& motion, const Circle& b, double maxTime,
+                                               int resolvedFeature) {
   auto t = timeToReach(a.center - b.center, motion, a.radius + b.radius, maxTime, resolvedFeature == 0);
   if (!t) return std::nullopt;
   return pointImpact(a.center, motion, b.center, b.radius, *t, 0);
@@ -168,8 +171,8 @@ std::optional<Impact> timeOfImpactCirclePoint(const Circle& a, const Motion& mot
   return pointImpact(a.center, motion, b.position, 0.0, *t, 0);
 }
 
-std::optional<Impact> timeOfImpactCircleSegment(const Circle& a, const Motion& motion, const Segment& b,
-                                                double maxTime, int resolvedFeature) {
+std::optional<Impact> timeOfImpactCircleSegment(const Circle& a, const Motion& motion, const Segment& b, double maxTime,
+                                                int resolvedFeature) {
   return segmentImpact(a, motion, b.a, b.b, maxTime, 0, resolvedFeature == 0);
 }
 
@@ -188,8 +191,8 @@ std::optional<Impact> timeOfImpactCirclePolyline(const Circle& a, const Motion& 
   return best;
 }
 
-std::optional<Impact> timeOfImpactCirclePolygon(const Circle& a, const Motion& motion, const Polygon& b,
-                                                double maxTime, int resolvedFeature) {
+std::optional<Impact> timeOfImpactCirclePolygon(const Circle& a, const Motion& motion, const Polygon& b, double maxTime,
+                                                int resolvedFeature) {
   const int n = static_cast<int>(b.points.size());
   std::optional<Impact> best;
   for (int i = 0; i < n; ++i) {
@@ -198,8 +201,14 @@ std::optional<Impact> timeOfImpactCirclePolygon(const Circle& a, const Motion& m
   }
   for (int k = 0; k < n; ++k) {
     const int feature = n + k;
-    if (auto t = timeToReach(a.center - b.points[k], motion, a.radius, maxTime, feature == resolvedFeature))
-      keepEarlier(best, pointImpact(a.center, motion, b.points[k], 0.0, *t, feature));
+    auto t = timeToReach(a.center - b.points[k], motion, a.radius, maxTime, feature == resolvedFeature);
+    if (!t) continue;
+    // A corner is met from outside the polygon: the centre then lies outside one of the corner's two
+    // edges. A centre inside the polygon reaching a corner's distance is an overlap from within.
+    const Vec2 c = a.center + travel(motion, *t);
+    const Vec2 prev = b.points[(k + n - 1) % n], here = b.points[k], next = b.points[(k + 1) % n];
+    if (cross(here - prev, c - prev) >= 0 && cross(next - here, c - here) >= 0) continue;
+    keepEarlier(best, pointImpact(a.center, motion, b.points[k], 0.0, *t, feature));
   }
   return best;
 }
@@ -228,7 +237,6 @@ std::optional<Impact> circleVs(const Geometry& a, Vec2 positionA, const Geometry
   return impact;
 }
 
-
 // The other order: B is the circle. Solve with the roles swapped and the motion reversed, then turn
 // the answer back: the normal is negated, and the contact point, found in the frame where A rests,
 // moves by A's travel into the frame where B rests.
@@ -243,7 +251,9 @@ std::optional<Impact> swapped(const Geometry& a, Vec2 positionA, const Geometry&
   return impact;
 }
 
-std::optional<Impact> noImpact(const Geometry&, Vec2, const Geometry&, Vec2, const Motion&, double, int) { return std::nullopt; }
+std::optional<Impact> noImpact(const Geometry&, Vec2, const Geometry&, Vec2, const Motion&, double, int) {
+  return std::nullopt;
+}
 
 constexpr PairFunction kCircleCircle = circleVs<Circle, timeOfImpactCircleCircle>;
 constexpr PairFunction kCirclePoint = circleVs<Point, timeOfImpactCirclePoint>;

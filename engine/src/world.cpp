@@ -79,9 +79,10 @@ World::World(const WorldDef& def) : impl_(std::make_unique<Impl>()) {
     return std::string("WorldDef.maxEventsPerStep = " + std::to_string(def.maxEventsPerStep) + ": must be > 0");
   });
   checkFinite(def.gravity, "WorldDef.gravity");
-  require(std::isfinite(def.restingSpeed) && def.restingSpeed >= 0, [&] {
-    return "WorldDef.restingSpeed = " + str(def.restingSpeed) + ": must be finite and >= 0";
-  });
+  require(std::isfinite(def.restingSpeed) && def.restingSpeed >= 0,
+          [&] { return "WorldDef.restingSpeed = " + str(def.restingSpeed) + ": must be finite and >= 0"; });
+  require(std::isfinite(def.collapseTime) && def.collapseTime >= 0,
+          [&] { return "WorldDef.collapseTime = " + str(def.collapseTime) + ": must be finite and >= 0"; });
   impl_->def = def;
 }
 
@@ -189,6 +190,12 @@ int World::bodyCount() const { return impl_->liveBodies; }
 void World::setPosition(BodyId id, Vec2 position) {
   BodySlot& b = lookUp(impl_->bodies, id);
   checkFinite(position, "position");
+  for (uint32_t f : b.fixtures) {
+    const Box& local = impl_->fixtures[f].localBox;
+    require(isFinite(local.min + position) && isFinite(local.max + position), [&] {
+      return "position = " + str(position) + ": the body's fixtures would reach past the largest double";
+    });
+  }
   std::vector<uint32_t> woken;
   impl_->wakeUp(id.index, woken);
   for (uint32_t d : b.dependents) impl_->wakeUp(d, woken);
@@ -249,7 +256,7 @@ FixtureId World::createFixture(BodyId bodyId, const FixtureDef& def) {
     });
   }
   const Box localBox = boxOf(def.geometry);
-  require(isFinite(localBox.min - body.position) && isFinite(localBox.max + body.position), [&] {
+  require(isFinite(localBox.min + body.position) && isFinite(localBox.max + body.position), [&] {
     return std::string("FixtureDef.geometry: its box overflows at the body's position " + str(body.position));
   });
 

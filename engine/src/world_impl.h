@@ -42,6 +42,7 @@ struct BodySlot {
   Vec2 acceleration;  // gravity when awake and free, its tangential part when sliding, else zero
   double localTime = 0;
   bool asleep = false;
+  double lastContactTime = -std::numeric_limits<double>::infinity();  // world time of its last collision
   Support support;
   std::vector<uint32_t> dependents;  // sleeping bodies this one holds up (may hold stale entries)
   double mass = std::numeric_limits<double>::infinity();
@@ -154,6 +155,7 @@ struct World::Impl {
   void repredict(uint32_t body, double now, double dt, bool forceRequery = false);
   void advance(detail::BodySlot& b, double t);
   void resolve(const detail::PredictedContact& c, std::vector<uint32_t>& woken);
+  void absorb(const detail::PredictedContact& c, double vn);
 };
 
 }  // namespace rattle

@@ -28,8 +28,7 @@ void require(bool ok, Message&& message) {
 }
 
 void checkFinite(Vec2 v, const char* query, const char* argument) {
-  require(isFinite(v),
-          [&] { return std::string(query) + ": " + argument + " = " + str(v) + ": must be finite"; });
+  require(isFinite(v), [&] { return std::string(query) + ": " + argument + " = " + str(v) + ": must be finite"; });
 }
 
 void checkRay(Vec2 origin, Vec2 translation, const char* query) {
@@ -38,8 +37,8 @@ void checkRay(Vec2 origin, Vec2 translation, const char* query) {
   // Both finite but the end point overflows: the ray would run through infinity, where no test is
   // meaningful.
   require(isFinite(origin + translation), [&] {
-    return std::string(query) + ": translation = " + str(translation) + ": origin + translation overflows from origin = " +
-           str(origin);
+    return std::string(query) + ": translation = " + str(translation) +
+           ": origin + translation overflows from origin = " + str(origin);
   });
 }
 

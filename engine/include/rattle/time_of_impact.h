@@ -5,8 +5,8 @@
 // are given in the same frame. With a = 0 (no gravity, or two bodies under the same gravity) the
 // circle-circle and circle-point cases are quadratics and the edge cases linear; with a != 0 edges give
 // quadratics and circles and corners quartics, whose first root is found without closed forms (monotone
-// pieces between the derivative's roots, then a bracketed solver). The answer follows Bannerman et al., "Stable algorithm for event detection in
-// event-driven particle dynamics" (Comput. Part. Mech. 1, 191, 2014):
+// pieces between the derivative's roots, then a bracketed solver). The answer follows Bannerman et al., "Stable
+// algorithm for event detection in event-driven particle dynamics" (Comput. Part. Mech. 1, 191, 2014):
 //   - separated now: the first time the gap closes with A approaching; a tangent touch (a double root,
 //     e.g. a pass at exactly the sum of radii) is not an impact;
 //   - touching or overlapping by round-off and approaching: impact now (time 0);
@@ -53,8 +53,8 @@ std::optional<Impact> timeOfImpactCirclePoint(const Circle& a, const Motion& mot
                                               int resolvedFeature = kNoFeature);
 std::optional<Impact> timeOfImpactCircleSegment(const Circle& a, const Motion& motion, const Segment& b, double maxTime,
                                                 int resolvedFeature = kNoFeature);
-std::optional<Impact> timeOfImpactCirclePolyline(const Circle& a, const Motion& motion, const Polyline& b, double maxTime,
-                                                 int resolvedFeature = kNoFeature);
+std::optional<Impact> timeOfImpactCirclePolyline(const Circle& a, const Motion& motion, const Polyline& b,
+                                                 double maxTime, int resolvedFeature = kNoFeature);
 /// `b` must be wound counter-clockwise (see normalized()). A circle whose centre is already deep
 /// inside the polygon (more than its radius behind every edge) gets no impact.
 std::optional<Impact> timeOfImpactCirclePolygon(const Circle& a, const Motion& motion, const Polygon& b, double maxTime,

@@ -60,15 +60,22 @@ struct WorldDef {
   /// this speed. A sleeping body is woken by a hit faster than this, by its support waking, or by a
   /// setter. Must be >= 0; 0 turns resting off.
   double restingSpeed = 0.01;
-  /// Collisions resolved in one step at most. When reached, the step stops resolving, moves every body to
-  /// the end of the step and says so in StepStats::eventBudgetReached.
+  /// Inelastic collapse guard (the TC model of Luding & McNamara, Granular Matter 1, 113, 1998): a contact
+  /// of a body that already collided less than this many seconds ago is elastic (restitution 1). Dense
+  /// clusters with restitution below 1 otherwise collide infinitely often in finite time (McNamara &
+  /// Young 1992), like a row of disks on a floor. It never adds energy. Must be >= 0; 0 (the default)
+  /// turns it off.
+  double collapseTime = 0;
+  /// Collisions resolved in one step at most. When the next one would exceed it, at time t_b inside the
+  /// step, every body stays where it is at t_b for the rest of the step (the step then simulates only t_b
+  /// seconds of motion, so nothing passes through anything), and StepStats::eventBudgetReached says so.
   int maxEventsPerStep = 1'000'000;
 };
 
 struct BodyDef {
   BodyType type = BodyType::Static;
   Vec2 position;          ///< world units
-  Vec2 velocity;          ///< world units per second; ignored (kept zero) for static bodies
+  Vec2 velocity;          ///< world units per second; must be zero for a static body
   uint64_t userData = 0;  ///< yours; never read by rattle
 };
 
@@ -130,9 +137,8 @@ struct StepStats {
   int eventsProcessed = 0;    ///< collisions resolved
   int staleEvents = 0;        ///< predictions discarded because a body's motion changed first
   int requeries = 0;          ///< times a body's new path left its swept box and the broad phase was asked again
-  int sleeping = 0;            ///< dynamic bodies asleep at the end of the step
-  /// The step reached WorldDef::maxEventsPerStep. Bodies that still had a collision due were then held
-  /// where they were for the rest of the step rather than moved through what they would have hit.
+  int sleeping = 0;           ///< dynamic bodies asleep at the end of the step
+  /// The step reached WorldDef::maxEventsPerStep and stopped every body at that instant.
   bool eventBudgetReached = false;
 };
 
