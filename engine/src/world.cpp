@@ -6,6 +6,7 @@
 #include <string>
 
 #include "format.h"
+#include "predictive_step.h"
 #include "world_impl.h"
 
 namespace rattle {
@@ -72,7 +73,7 @@ void World::Impl::recomputeMass(BodySlot& body) {
 // ---- World -------------------------------------------------------------------------------------------
 
 World::World(const WorldDef& def) : impl_(std::make_unique<Impl>()) {
-  require(def.mode == StepMode::Hybrid, [&] {
+  require(def.mode == StepMode::Hybrid || def.mode == StepMode::Discrete || def.mode == StepMode::Predictive, [&] {
     return std::string("WorldDef.mode = " + std::to_string(static_cast<int>(def.mode)) + ": not a StepMode");
   });
   require(def.maxEventsPerStep > 0, [&] {
@@ -346,11 +347,22 @@ void World::setFilter(FixtureId id, const Filter& filter) { lookUp(impl_->fixtur
 void World::step(double dt) {
   require(std::isfinite(dt) && dt >= 0,
           [&] { return std::string("step: dt = " + str(dt) + ": must be finite and >= 0"); });
-  impl_->stepHybrid(dt);
+  switch (impl_->def.mode) {
+    case StepMode::Hybrid: impl_->stepHybrid(dt); break;
+    case StepMode::Discrete: impl_->stepDiscrete(dt); break;
+    case StepMode::Predictive: impl_->stepPredictive(dt); break;
+  }
+}
+
+void World::advanceTo(double t) {
+  require(std::isfinite(t) && t >= impl_->time,
+          [&] { return "advanceTo: t = " + str(t) + ": must be finite and >= time() = " + str(impl_->time); });
+  step(t - impl_->time);
 }
 
 double World::time() const { return impl_->time; }
 std::span<const ContactEvent> World::contactEvents() const { return impl_->contactEvents; }
+std::span<const SensorEvent> World::sensorEvents() const { return impl_->sensorEvents; }
 const StepStats& World::stats() const { return impl_->stats; }
 
 uint64_t World::stateHash() const {

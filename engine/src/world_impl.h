@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -13,6 +14,8 @@
 namespace rattle {
 
 namespace detail {
+
+struct PredictiveState;  // predictive_step.h
 
 // The last collision a body took part in, within the current step. A pair that was resolved at an
 // instant and whose bodies have done nothing since cannot be approaching at that instant; remembering it
@@ -115,6 +118,7 @@ struct World::Impl {
 
   // Results of the last step.
   std::vector<ContactEvent> contactEvents;
+  std::vector<SensorEvent> sensorEvents;
   StepStats stats;
 
   // Step scratch, kept to reuse its memory.
@@ -146,6 +150,13 @@ struct World::Impl {
   bool isFlatFeature(uint32_t fixture, int feature) const;
   bool supportsAt(uint32_t body, double now, std::vector<uint32_t>& supporters) const;
   std::optional<double> slideEndTime(const detail::BodySlot& b, double now, double dt) const;
+
+  // discrete_step.cpp
+  void stepDiscrete(double dt);
+
+  // predictive_step.cpp: the predictive mode keeps its own state (cell grid, persistent event queue).
+  std::unique_ptr<detail::PredictiveState> predictive;
+  void stepPredictive(double dt);
 
   // hybrid_step.cpp
   void stepHybrid(double dt);

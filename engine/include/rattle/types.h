@@ -40,11 +40,19 @@ enum class BodyType : uint8_t {
   Kinematic,  ///< moves with the velocity it is given, pushes dynamic bodies, is never pushed
 };
 
-/// How World::step advances time.
+/// How World::step advances time. All three use the same bodies, events and rules.
 enum class StepMode : uint8_t {
-  /// Each step: swept boxes through sort-and-sweep, then exact times of impact inside the step, in time
-  /// order. Nothing tunnels; a body may collide many times in one step.
+  /// The default. Each step: swept boxes through sort-and-sweep, then exact times of impact inside the
+  /// step, in time order. Nothing tunnels; a body may collide many times in one step.
   Hybrid,
+  /// Step-and-check, the cheap baseline: every body moves a whole step, then overlapping pairs found by
+  /// sort-and-sweep are pushed apart and reflected, once per pair per step. Fast bodies can pass through
+  /// thin walls and a body cannot collide twice in a step; sensors see only where bodies end a step.
+  Discrete,
+  /// Event-driven throughout: every future collision is predicted exactly and kept in one queue; step(dt)
+  /// just processes the events up to the new time. A cell grid with cell-crossing events and lazy
+  /// per-body clocks keeps the cost per collision near log N, as in event-driven molecular dynamics.
+  Predictive,
 };
 
 struct WorldDef {
@@ -116,6 +124,16 @@ struct RayHit {
   Vec2 point;
   Vec2 normal;          ///< unit, on the side the ray came from
   double fraction = 0;  ///< along the ray's translation, in [0, 1]
+};
+
+/// A physical fixture started or stopped overlapping a sensor fixture during a step.
+struct SensorEvent {
+  double time = 0;     ///< seconds from the start of the step, in [0, dt]
+  FixtureId sensor;
+  BodyId sensorBody;
+  FixtureId visitor;   ///< the physical fixture
+  BodyId visitorBody;
+  bool begin = true;   ///< true: started overlapping; false: stopped
 };
 
 /// One collision resolved during a step.

@@ -58,6 +58,8 @@ class World {
 
   /// Advances the world by dt seconds (finite, >= 0).
   void step(double dt);
+  /// Advances the world to time t (>= time()); the same as step(t - time()).
+  void advanceTo(double t);
   /// Seconds simulated since the world was made.
   double time() const;
 
@@ -66,6 +68,14 @@ class World {
   /// Valid until the next step.
   std::span<const ContactEvent> contactEvents() const;
   const StepStats& stats() const;
+
+  /// Sensor begin and end events of the last step, ordered like contact events. A body created inside a
+  /// sensor begins at time 0 of the next step; destroying a body or changing a filter ends its overlaps
+  /// at once (sensorOverlaps forgets them) and reports the end events at time 0 of the next step, so
+  /// begin and end events always pair up. Valid until the next step.
+  std::span<const SensorEvent> sensorEvents() const;
+  /// The physical fixtures overlapping a sensor now, by fixture index.
+  std::vector<FixtureId> sensorOverlaps(FixtureId sensor) const;
 
   // Queries: the world as it stands between steps. Results are sorted (rays by fraction, then fixture
   // index; overlaps by fixture index), so they are the same on every run.
