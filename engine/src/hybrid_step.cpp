@@ -26,10 +26,32 @@ namespace rattle {
 using detail::BodySlot;
 using detail::PredictedContact;
 
-void World::Impl::addPair(uint32_t fa, uint32_t fb) {
+void World::Impl::addPair(uint32_t fa, uint32_t fb, bool sensing) {
   const uint32_t ba = fixtures[fa].body, bb = fixtures[fb].body;
-  if (bodies[ba].type == BodyType::Dynamic) pairsOfBody[ba].push_back({fa, fb});
-  if (bodies[bb].type == BodyType::Dynamic) pairsOfBody[bb].push_back({fb, fa});
+  if (bodies[ba].type == BodyType::Dynamic) pairsOfBody[ba].push_back({fa, fb, sensing});
+  if (bodies[bb].type == BodyType::Dynamic) pairsOfBody[bb].push_back({fb, fa, sensing});
+}
+
+void World::Impl::predictSensor(uint32_t own, uint32_t other, double now, double dt) {
+  const BodySlot& a = bodyOf(own);
+  const BodySlot& b = bodyOf(other);
+  ++stats.timeOfImpactTests;
+  const Vec2 pa = positionAt(a, now);
+  const Vec2 pb = positionAt(b, now);
+  const Motion relative{velocityAt(a, now) - velocityAt(b, now), a.acceleration - b.acceleration};
+  const auto h = timeOfOverlapChange(fixtures[own].geometry, pa, fixtures[other].geometry, pb, relative, dt - now,
+                                     isOverlapping(own, other));
+  if (!h) return;
+  queue.push_back(PredictedContact{std::min(now + *h, dt),
+                                   detail::EventKind::SensorChange,
+                                   own,
+                                   other,
+                                   0,
+                                   a.collisionCount,
+                                   b.collisionCount,
+                                   {},
+                                   {}});
+  std::push_heap(queue.begin(), queue.end(), detail::later);
 }
 
 namespace {
@@ -129,14 +151,23 @@ void World::Impl::repredict(uint32_t bodyIndex, double now, double dt, bool forc
       if (p.own == f) stamp[p.other] = stampCounter;
     }
     broadPhase.query(broadPhase.box(f), [&](uint32_t g) {
-      if (stamp[g] == stampCounter || !canCollide(f, g)) return;
+      if (stamp[g] == stampCounter) return;
+      const bool collides = canCollide(f, g);
+      if (!collides && !canSense(f, g)) return;
       stamp[g] = stampCounter;
       ++stats.candidatePairs;
-      addPair(f, g);
+      addPair(f, g, !collides);
+      if (!collides) sensorOverlapsSeen(f, g);
     });
   }
   // `pairs` may have grown above (addPair); index, do not iterate by reference.
-  for (size_t i = 0; i < pairs.size(); ++i) predict(pairs[i].own, pairs[i].other, now, dt);
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    if (pairs[i].sensing) {
+      predictSensor(pairs[i].own, pairs[i].other, now, dt);
+    } else {
+      predict(pairs[i].own, pairs[i].other, now, dt);
+    }
+  }
   predictSlideEnd(bodyIndex, now, dt);
 }
 
@@ -262,8 +293,17 @@ void World::Impl::resolve(const PredictedContact& c, std::vector<uint32_t>& woke
   contactEvents.push_back(event);
 }
 
+void World::Impl::sensorOverlapsSeen(uint32_t fa, uint32_t fb) {
+  const uint32_t sensor = fixtures[fa].sensor ? fa : fb, visitor = fixtures[fa].sensor ? fb : fa;
+  auto it = sensorOverlaps.find(detail::overlapKey(sensor, visitor));
+  if (it != sensorOverlaps.end()) it->second = stepStamp;
+}
+
 void World::Impl::stepHybrid(double dt) {
   contactEvents.clear();
+  sensorEvents.swap(pendingSensorEvents);
+  pendingSensorEvents.clear();
+  ++stepStamp;
   stats = StepStats{};
   queue.clear();
   if (pairsOfBody.size() < bodies.size()) pairsOfBody.resize(bodies.size());
@@ -297,16 +337,40 @@ void World::Impl::stepHybrid(double dt) {
 
   // 2 and 3. Candidate pairs and their first predictions.
   broadPhase.findPairs([&](uint32_t fa, uint32_t fb) {
-    if (!canCollide(fa, fb)) return;
-    ++stats.candidatePairs;
-    addPair(fa, fb);
-    // Predict with a dynamic body's circle first (the time-of-impact functions' moving side).
-    if (bodyOf(fa).type == BodyType::Dynamic) {
-      predict(fa, fb, 0, dt);
-    } else {
-      predict(fb, fa, 0, dt);
+    if (canCollide(fa, fb)) {
+      ++stats.candidatePairs;
+      addPair(fa, fb, false);
+      // Predict with a dynamic body's circle first (the time-of-impact functions' moving side).
+      if (bodyOf(fa).type == BodyType::Dynamic) {
+        predict(fa, fb, 0, dt);
+      } else {
+        predict(fb, fa, 0, dt);
+      }
+    } else if (canSense(fa, fb)) {
+      ++stats.candidatePairs;
+      addPair(fa, fb, true);
+      sensorOverlapsSeen(fa, fb);
+      predictSensor(fa, fb, 0, dt);
     }
   });
+  // An overlap whose pair the sweep did not see cannot hold any more (the body was moved away
+  // between steps): it ends at time 0. Sorted, so the map's order does not reach the events.
+  if (!sensorOverlaps.empty()) {
+    std::vector<uint64_t> unseen;
+    for (const auto& [key, seen] : sensorOverlaps) {
+      if (seen == stepStamp) continue;
+      // Unseen because neither body moves (a sleeping body in a static sensor) is no end.
+      const uint32_t sensor = static_cast<uint32_t>(key >> 32), visitor = static_cast<uint32_t>(key);
+      if (!overlaps(fixtures[sensor].geometry, bodyOf(sensor).position, fixtures[visitor].geometry,
+                    bodyOf(visitor).position)) {
+        unseen.push_back(key);
+      }
+    }
+    std::sort(unseen.begin(), unseen.end());
+    for (uint64_t key : unseen) {
+      recordSensorChange(static_cast<uint32_t>(key >> 32), static_cast<uint32_t>(key), 0.0, false, sensorEvents);
+    }
+  }
   for (uint32_t i = 0; i < bodies.size(); ++i) {
     if (bodies[i].alive) predictSlideEnd(i, 0, dt);
   }
@@ -320,6 +384,16 @@ void World::Impl::stepHybrid(double dt) {
     queue.pop_back();
     BodySlot& a = bodyOf(c.a);
     const BodySlot& b = bodyOf(c.b);
+    if (c.kind == detail::EventKind::SensorChange) {
+      if (a.collisionCount != c.countA || b.collisionCount != c.countB) {
+        ++stats.staleEvents;
+        continue;
+      }
+      const bool begin = !isOverlapping(c.a, c.b);
+      recordSensorChange(c.a, c.b, c.time, begin, sensorEvents);
+      predictSensor(c.a, c.b, c.time, dt);
+      continue;
+    }
     if (c.kind == detail::EventKind::SlideEnd) {
       if (a.collisionCount != c.countA || a.support.generation == 0) {
         ++stats.staleEvents;

@@ -54,6 +54,38 @@ bool World::Impl::canCollide(uint32_t fa, uint32_t fb) const {
   return (a.filter.categoryBits & b.filter.maskBits) != 0 && (b.filter.categoryBits & a.filter.maskBits) != 0;
 }
 
+bool World::Impl::canSense(uint32_t fa, uint32_t fb) const {
+  const FixtureSlot& a = fixtures[fa];
+  const FixtureSlot& b = fixtures[fb];
+  if (a.body == b.body || a.sensor == b.sensor) return false;
+  if (bodies[a.body].type == BodyType::Static && bodies[b.body].type == BodyType::Static) return false;
+  if (a.filter.group != 0 && a.filter.group == b.filter.group) return false;
+  return (a.filter.categoryBits & b.filter.maskBits) != 0 && (b.filter.categoryBits & a.filter.maskBits) != 0;
+}
+
+bool World::Impl::isOverlapping(uint32_t fa, uint32_t fb) const {
+  const bool aIsSensor = fixtures[fa].sensor;
+  return sensorOverlaps.count(detail::overlapKey(aIsSensor ? fa : fb, aIsSensor ? fb : fa)) != 0;
+}
+
+void World::Impl::recordSensorChange(uint32_t fa, uint32_t fb, double time, bool begin, std::vector<SensorEvent>& out) {
+  const uint32_t sensor = fixtures[fa].sensor ? fa : fb, visitor = fixtures[fa].sensor ? fb : fa;
+  const uint64_t key = detail::overlapKey(sensor, visitor);
+  if (begin) {
+    sensorOverlaps[key] = stepStamp;
+  } else {
+    sensorOverlaps.erase(key);
+  }
+  SensorEvent e;
+  e.time = time;
+  e.sensor = {sensor, fixtures[sensor].generation};
+  e.sensorBody = {fixtures[sensor].body, bodies[fixtures[sensor].body].generation};
+  e.visitor = {visitor, fixtures[visitor].generation};
+  e.visitorBody = {fixtures[visitor].body, bodies[fixtures[visitor].body].generation};
+  e.begin = begin;
+  out.push_back(e);
+}
+
 void World::Impl::recomputeMass(BodySlot& body) {
   if (body.type != BodyType::Dynamic) {
     body.mass = std::numeric_limits<double>::infinity();
@@ -154,6 +186,7 @@ void World::destroyBody(BodyId id) {
   std::vector<uint32_t> woken;
   for (uint32_t d : b.dependents) w.wakeUp(d, woken);
   b.dependents.clear();
+  for (uint32_t f : b.fixtures) w.endOverlapsOf(f, [](uint32_t) { return false; });
   for (uint32_t f : b.fixtures) {
     w.broadPhase.remove(f);
     FixtureSlot& fs = w.fixtures[f];
@@ -291,6 +324,7 @@ void World::destroyFixture(FixtureId id) {
   Impl& w = *impl_;
   FixtureSlot& f = lookUp(w.fixtures, id);
   BodySlot& body = w.bodies[f.body];
+  w.endOverlapsOf(id.index, [](uint32_t) { return false; });
   body.fixtures.erase(std::find(body.fixtures.begin(), body.fixtures.end(), id.index));
   w.broadPhase.remove(id.index);
   f.alive = false;
@@ -342,15 +376,37 @@ void World::setRestitution(FixtureId id, double restitution) {
   f.restitution = restitution;
 }
 
-void World::setFilter(FixtureId id, const Filter& filter) { lookUp(impl_->fixtures, id).filter = filter; }
+void World::setFilter(FixtureId id, const Filter& filter) {
+  lookUp(impl_->fixtures, id).filter = filter;
+  // Overlaps the new filter forbids end now; new ones begin when the next step finds them.
+  impl_->endOverlapsOf(id.index, [&](uint32_t other) { return impl_->canSense(id.index, other); });
+}
+
+std::vector<FixtureId> World::sensorOverlaps(FixtureId id) const {
+  lookUp(impl_->fixtures, id);
+  std::vector<uint32_t> found;
+  for (const auto& [key, stamp] : impl_->sensorOverlaps) {
+    if (static_cast<uint32_t>(key >> 32) == id.index) found.push_back(static_cast<uint32_t>(key));
+  }
+  std::sort(found.begin(), found.end());
+  std::vector<FixtureId> out;
+  for (uint32_t f : found) out.push_back({f, impl_->fixtures[f].generation});
+  return out;
+}
 
 void World::step(double dt) {
   require(std::isfinite(dt) && dt >= 0,
           [&] { return std::string("step: dt = " + str(dt) + ": must be finite and >= 0"); });
   switch (impl_->def.mode) {
-    case StepMode::Hybrid: impl_->stepHybrid(dt); break;
-    case StepMode::Discrete: impl_->stepDiscrete(dt); break;
-    case StepMode::Predictive: impl_->stepPredictive(dt); break;
+    case StepMode::Hybrid:
+      impl_->stepHybrid(dt);
+      break;
+    case StepMode::Discrete:
+      impl_->stepDiscrete(dt);
+      break;
+    case StepMode::Predictive:
+      impl_->stepPredictive(dt);
+      break;
   }
 }
 

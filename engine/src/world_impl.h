@@ -2,10 +2,12 @@
 // hybrid_step.cpp (the step).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <memory>
 #include <optional>
+#include <unordered_map>
 #include <vector>
 
 #include "broad_phase.h"
@@ -69,7 +71,7 @@ struct FixtureSlot {
   Filter filter;
 };
 
-enum class EventKind : uint8_t { Contact = 0, SlideEnd = 1 };
+enum class EventKind : uint8_t { Contact = 0, SlideEnd = 1, SensorChange = 2 };
 
 // A predicted event. Contact: `a` is the fixture whose body was moving forward (a dynamic circle), `b`
 // the other one; `normal` points from b toward a. SlideEnd: `a` is a fixture of the sliding body, `b`
@@ -102,7 +104,11 @@ inline bool later(const PredictedContact& x, const PredictedContact& y) {
 struct CandidatePair {
   uint32_t own;  // a fixture of the body whose list this is
   uint32_t other;
+  bool sensing;  // one of the two is a sensor: the pair has overlap changes, not collisions
 };
+
+// Key of a sensor overlap: the sensor fixture in the high half, the visitor in the low half.
+inline uint64_t overlapKey(uint32_t sensor, uint32_t visitor) { return (uint64_t{sensor} << 32) | visitor; }
 
 }  // namespace detail
 
@@ -133,6 +139,19 @@ struct World::Impl {
   bool moves(const detail::BodySlot& b) const { return b.type != BodyType::Static; }
   Box worldBox(uint32_t fixture) const { return fixtures[fixture].localBox.translated(bodyOf(fixture).position); }
   bool canCollide(uint32_t fa, uint32_t fb) const;
+  /// One is a sensor, the other a physical fixture of another body, and the filters let them meet.
+  bool canSense(uint32_t fa, uint32_t fb) const;
+
+  // Sensors: overlaps that hold now, keyed by overlapKey, with the step stamp of the last sweep that saw
+  // the pair (an unordered map for membership only: anything read out of it is sorted first).
+  std::unordered_map<uint64_t, uint32_t> sensorOverlaps;
+  std::vector<SensorEvent> pendingSensorEvents;  // ends caused between steps, reported at time 0 of the next
+  uint32_t stepStamp = 0;
+  bool isOverlapping(uint32_t fa, uint32_t fb) const;
+  void recordSensorChange(uint32_t fa, uint32_t fb, double time, bool begin, std::vector<SensorEvent>& out);
+  /// Ends every overlap of `fixture` for which `keep(other)` is false, as pending end events.
+  template <class Keep>
+  void endOverlapsOf(uint32_t fixture, Keep&& keep);
   void recomputeMass(detail::BodySlot& body);
 
   // Motion inside a step: a parabola from the body's local time (a straight line without gravity).
@@ -160,7 +179,9 @@ struct World::Impl {
 
   // hybrid_step.cpp
   void stepHybrid(double dt);
-  void addPair(uint32_t fa, uint32_t fb);
+  void addPair(uint32_t fa, uint32_t fb, bool sensing);
+  void predictSensor(uint32_t own, uint32_t other, double now, double dt);
+  void sensorOverlapsSeen(uint32_t fa, uint32_t fb);
   void predict(uint32_t own, uint32_t other, double now, double dt);
   void predictSlideEnd(uint32_t body, double now, double dt);
   void repredict(uint32_t body, double now, double dt, bool forceRequery = false);
@@ -168,5 +189,18 @@ struct World::Impl {
   void resolve(const detail::PredictedContact& c, std::vector<uint32_t>& woken);
   void absorb(const detail::PredictedContact& c, double vn);
 };
+
+template <class Keep>
+void World::Impl::endOverlapsOf(uint32_t fixture, Keep&& keep) {
+  std::vector<uint64_t> ended;
+  for (const auto& [key, stamp] : sensorOverlaps) {
+    const uint32_t sensor = static_cast<uint32_t>(key >> 32), visitor = static_cast<uint32_t>(key);
+    if ((sensor == fixture && !keep(visitor)) || (visitor == fixture && !keep(sensor))) ended.push_back(key);
+  }
+  std::sort(ended.begin(), ended.end());  // the map's order must not reach the events
+  for (uint64_t key : ended) {
+    recordSensorChange(static_cast<uint32_t>(key >> 32), static_cast<uint32_t>(key), 0.0, false, pendingSensorEvents);
+  }
+}
 
 }  // namespace rattle

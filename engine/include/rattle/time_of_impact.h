@@ -70,3 +70,17 @@ std::optional<Impact> timeOfImpact(const Geometry& a, Vec2 positionA, const Geom
                                    const Motion& relativeMotion, double maxTime, int resolvedFeature = kNoFeature);
 
 }  // namespace rattle
+
+namespace rattle {
+
+/// When, in [0, maxTime], two placed geometries moving relative to each other (A moves with
+/// `relativeMotion`, B rests) first change from overlapping to not or back, given whether they overlap
+/// now (as closed sets: touching counts). Used for sensors. Every pair of geometry types is answered:
+/// the instants where the two can start or stop touching (a distance reaching a radius, a corner crossing
+/// an edge's line) are found as roots of polynomials, and the overlap test at the midpoints between them
+/// decides which of those instants change anything. A pair with no circle on either side must move on a
+/// straight line (kinematic and static bodies do not fall).
+std::optional<double> timeOfOverlapChange(const Geometry& a, Vec2 positionA, const Geometry& b, Vec2 positionB,
+                                          const Motion& relativeMotion, double maxTime, bool overlappingNow);
+
+}  // namespace rattle

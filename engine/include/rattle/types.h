@@ -128,12 +128,12 @@ struct RayHit {
 
 /// A physical fixture started or stopped overlapping a sensor fixture during a step.
 struct SensorEvent {
-  double time = 0;     ///< seconds from the start of the step, in [0, dt]
+  double time = 0;  ///< seconds from the start of the step, in [0, dt]
   FixtureId sensor;
   BodyId sensorBody;
-  FixtureId visitor;   ///< the physical fixture
+  FixtureId visitor;  ///< the physical fixture
   BodyId visitorBody;
-  bool begin = true;   ///< true: started overlapping; false: stopped
+  bool begin = true;  ///< true: started overlapping; false: stopped
 };
 
 /// One collision resolved during a step.
