@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "closest_point.h"
 #include "polynomial.h"
 #include "world_impl.h"
 
@@ -22,51 +23,6 @@ namespace rattle {
 using detail::BodySlot;
 
 namespace {
-
-struct Closest {
-  Vec2 point;
-  bool collidable;  // a segment's end is not a corner: it cannot hold anything up
-};
-
-Closest closestOnSegment(Vec2 a, Vec2 b, Vec2 p, bool endsCollide) {
-  const Vec2 d = b - a;
-  const double t = dot(p - a, d) / dot(d, d);
-  if (t <= 0) return {a, endsCollide};
-  if (t >= 1) return {b, endsCollide};
-  return {a + d * t, true};
-}
-
-// The closest point of a placed geometry to p, or nothing when p is inside it (a polygon or circle).
-std::optional<Closest> closestPoint(const Geometry& g, Vec2 position, Vec2 p) {
-  const Vec2 q = p - position;
-  std::optional<Closest> best;
-  auto keep = [&](Closest c) {
-    if (!best || lengthSquared(q - c.point) < lengthSquared(q - best->point)) best = c;
-  };
-  if (const auto* s = std::get_if<Point>(&g)) {
-    keep({s->position, true});
-  } else if (const auto* s = std::get_if<Circle>(&g)) {
-    const Vec2 r = q - s->center;
-    const double len = length(r);
-    if (len <= s->radius) return std::nullopt;
-    keep({s->center + r * (s->radius / len), true});
-  } else if (const auto* s = std::get_if<Segment>(&g)) {
-    keep(closestOnSegment(s->a, s->b, q, false));
-  } else if (const auto* s = std::get_if<Polyline>(&g)) {
-    for (size_t i = 0; i + 1 < s->points.size(); ++i) keep(closestOnSegment(s->points[i], s->points[i + 1], q, true));
-  } else if (const auto* s = std::get_if<Polygon>(&g)) {
-    const size_t n = s->points.size();
-    bool inside = true;
-    for (size_t i = 0; i < n; ++i) {
-      const Vec2 a = s->points[i], b = s->points[(i + 1) % n];
-      if (cross(b - a, q - a) < 0) inside = false;
-      keep(closestOnSegment(a, b, q, true));
-    }
-    if (inside) return std::nullopt;
-  }
-  if (best) best->point += position;
-  return best;
-}
 
 Vec2 centreOf(const Geometry& g) {
   if (const auto* c = std::get_if<Circle>(&g)) return c->center;
@@ -122,7 +78,7 @@ bool World::Impl::supportsAt(uint32_t bodyIndex, double now, std::vector<uint32_
     if (holder.type != BodyType::Static && !holder.asleep) continue;
     const Vec2 centre = positionAt(body, now) + centreOf(own.geometry);
     const double radius = radiusOf(own.geometry);
-    const auto closest = closestPoint(other.geometry, holder.position, centre);
+    const auto closest = detail::closestPoint(other.geometry, holder.position, centre);
     if (!closest || !closest->collidable) continue;
     const Vec2 r = centre - closest->point;
     const double distance = length(r);

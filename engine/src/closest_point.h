@@ -1,0 +1,55 @@
+// Private: the closest point of a placed geometry to a point, for resting contacts and the discrete mode.
+#pragma once
+
+#include <optional>
+
+#include "rattle/geometry.h"
+
+namespace rattle::detail {
+
+struct Closest {
+  Vec2 point;
+  bool collidable;  // a segment's end is not a corner: it cannot hold anything up
+};
+
+inline Closest closestOnSegment(Vec2 a, Vec2 b, Vec2 p, bool endsCollide) {
+  const Vec2 d = b - a;
+  const double t = dot(p - a, d) / dot(d, d);
+  if (t <= 0) return {a, endsCollide};
+  if (t >= 1) return {b, endsCollide};
+  return {a + d * t, true};
+}
+
+// The closest point of a placed geometry to p, or nothing when p is inside it (a polygon or circle).
+inline std::optional<Closest> closestPoint(const Geometry& g, Vec2 position, Vec2 p) {
+  const Vec2 q = p - position;
+  std::optional<Closest> best;
+  auto keep = [&](Closest c) {
+    if (!best || lengthSquared(q - c.point) < lengthSquared(q - best->point)) best = c;
+  };
+  if (const auto* s = std::get_if<Point>(&g)) {
+    keep({s->position, true});
+  } else if (const auto* s = std::get_if<Circle>(&g)) {
+    const Vec2 r = q - s->center;
+    const double len = length(r);
+    if (len <= s->radius) return std::nullopt;
+    keep({s->center + r * (s->radius / len), true});
+  } else if (const auto* s = std::get_if<Segment>(&g)) {
+    keep(closestOnSegment(s->a, s->b, q, false));
+  } else if (const auto* s = std::get_if<Polyline>(&g)) {
+    for (size_t i = 0; i + 1 < s->points.size(); ++i) keep(closestOnSegment(s->points[i], s->points[i + 1], q, true));
+  } else if (const auto* s = std::get_if<Polygon>(&g)) {
+    const size_t n = s->points.size();
+    bool inside = true;
+    for (size_t i = 0; i < n; ++i) {
+      const Vec2 a = s->points[i], b = s->points[(i + 1) % n];
+      if (cross(b - a, q - a) < 0) inside = false;
+      keep(closestOnSegment(a, b, q, true));
+    }
+    if (inside) return std::nullopt;
+  }
+  if (best) best->point += position;
+  return best;
+}
+
+}  // namespace rattle::detail
