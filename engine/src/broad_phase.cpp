@@ -40,6 +40,46 @@ void BroadPhase::sortByMinX() {
   }
 }
 
+void BroadPhase::splitIntoBands() {
+  // Band height: twice the mean height of the moving proxies' boxes (static walls can be long and would
+  // say nothing about how crowded the moving ones are). At most 4096 bands, and one when little moves.
+  double low = 0, high = 0, heights = 0;
+  size_t moving = 0;
+  bool first = true;
+  for (uint32_t f : order_) {
+    const Box& b = proxies_[f].box;
+    if (first) {
+      low = b.min.y;
+      high = b.max.y;
+      first = false;
+    }
+    low = std::min(low, b.min.y);
+    high = std::max(high, b.max.y);
+    if (proxies_[f].moving) {
+      heights += b.max.y - b.min.y;
+      ++moving;
+    }
+  }
+  bandCount_ = 1;
+  bandOrigin_ = low;
+  inverseBandHeight_ = 0;
+  if (moving >= 64) {
+    const double bandHeight = 2 * heights / static_cast<double>(moving);
+    const double count = bandHeight > 0 ? (high - low) / bandHeight : 1;
+    if (count > 1 && count < 1e9) {
+      bandCount_ = static_cast<uint32_t>(std::min(count, 4096.0)) + 1;
+      inverseBandHeight_ = static_cast<double>(bandCount_ - 1) / (high - low);
+    }
+  }
+  if (bands_.size() < bandCount_) bands_.resize(bandCount_);
+  for (uint32_t b = 0; b < bandCount_; ++b) bands_[b].clear();
+  for (uint32_t f : order_) {
+    const Box& box = proxies_[f].box;
+    const uint32_t last = bandOf(box.max.y);
+    for (uint32_t b = bandOf(box.min.y); b <= last; ++b) bands_[b].push_back(f);
+  }
+}
+
 void BroadPhase::prepareQueries() {
   moving_.clear();
   static_.clear();

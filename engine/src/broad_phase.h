@@ -52,7 +52,12 @@ class BroadPhase {
     uint32_t fixture;
   };
   void sortByMinX();
+  void splitIntoBands();
   void prepareQueries();
+  uint32_t bandOf(double y) const {
+    const double b = (y - bandOrigin_) * inverseBandHeight_;
+    return b <= 0 ? 0 : b >= bandCount_ - 1 ? bandCount_ - 1 : static_cast<uint32_t>(b);
+  }
 
   std::vector<Proxy> proxies_;   // indexed by fixture index
   std::vector<uint32_t> order_;  // fixture indices, sorted by box.min.x at the last sweep
@@ -60,22 +65,35 @@ class BroadPhase {
   std::vector<Entry> static_;    // static proxies in sweep order
   double movingReach_ = 0;       // max over moving proxies of (current max.x - sorted min.x)
   double movingGrowLeft_ = 0;    // max over moving proxies of (sorted min.x - current min.x)
+  // Horizontal bands for the sweep: a single x sweep over a square region compares every proxy with a
+  // whole column of others (O(N^1.5)); sweeping bands about two boxes tall keeps it near O(N).
+  std::vector<std::vector<uint32_t>> bands_;
+  uint32_t bandCount_ = 1;
+  double bandOrigin_ = 0;
+  double inverseBandHeight_ = 0;
 };
 
 template <class Report>
 void BroadPhase::findPairs(Report&& report) {
   sortByMinX();
-  const size_t n = order_.size();
-  for (size_t i = 0; i < n; ++i) {
-    const uint32_t fi = order_[i];
-    const Proxy& pi = proxies_[fi];
-    for (size_t j = i + 1; j < n; ++j) {
-      const uint32_t fj = order_[j];
-      const Proxy& pj = proxies_[fj];
-      if (pj.box.min.x > pi.box.max.x) break;
-      if (!pi.moving && !pj.moving) continue;
-      if (pj.box.min.y > pi.box.max.y || pi.box.min.y > pj.box.max.y) continue;
-      report(fi, fj);
+  splitIntoBands();
+  // Within each band the proxies are in x order already; a pair is reported only in the lowest band both
+  // are in, so a pair that shares several bands is reported once.
+  for (uint32_t band = 0; band < bandCount_; ++band) {
+    const std::vector<uint32_t>& list = bands_[band];
+    const size_t n = list.size();
+    for (size_t i = 0; i < n; ++i) {
+      const uint32_t fi = list[i];
+      const Proxy& pi = proxies_[fi];
+      for (size_t j = i + 1; j < n; ++j) {
+        const uint32_t fj = list[j];
+        const Proxy& pj = proxies_[fj];
+        if (pj.box.min.x > pi.box.max.x) break;
+        if (!pi.moving && !pj.moving) continue;
+        if (pj.box.min.y > pi.box.max.y || pi.box.min.y > pj.box.max.y) continue;
+        if (std::max(bandOf(pi.box.min.y), bandOf(pj.box.min.y)) != band) continue;
+        report(fi, fj);
+      }
     }
   }
   prepareQueries();
