@@ -52,4 +52,14 @@ inline std::optional<Closest> closestPoint(const Geometry& g, Vec2 position, Vec
   return best;
 }
 
+/// The centre and radius of a circle-like geometry (a point is a circle of radius 0).
+inline Vec2 circleCentre(const Geometry& g) {
+  if (const auto* c = std::get_if<Circle>(&g)) return c->center;
+  return std::get<Point>(g).position;
+}
+inline double circleRadius(const Geometry& g) {
+  if (const auto* c = std::get_if<Circle>(&g)) return c->radius;
+  return 0;
+}
+
 }  // namespace rattle::detail

@@ -23,16 +23,6 @@ struct Penetration {
   double depth;
 };
 
-Vec2 centreOf(const Geometry& g) {
-  if (const auto* c = std::get_if<Circle>(&g)) return c->center;
-  return std::get<Point>(g).position;
-}
-
-double radiusOf(const Geometry& g) {
-  if (const auto* c = std::get_if<Circle>(&g)) return c->radius;
-  return 0;
-}
-
 // How far a circle (centre c, radius r) overlaps a placed geometry, if it does.
 std::optional<Penetration> penetration(Vec2 c, double r, const Geometry& g, Vec2 position) {
   if (const auto* other = std::get_if<Circle>(&g)) {
@@ -117,8 +107,9 @@ void World::Impl::stepDiscrete(double dt) {
     BodySlot& body = bodyOf(own);
     BodySlot& partner = bodyOf(other);
     ++stats.timeOfImpactTests;
-    const auto pen = penetration(body.position + centreOf(fixtures[own].geometry), radiusOf(fixtures[own].geometry),
-                                 fixtures[other].geometry, partner.position);
+    const auto pen =
+        penetration(body.position + detail::circleCentre(fixtures[own].geometry),
+                    detail::circleRadius(fixtures[own].geometry), fixtures[other].geometry, partner.position);
     if (!pen) continue;
     if (stats.eventsProcessed >= def.maxEventsPerStep) {
       stats.eventBudgetReached = true;

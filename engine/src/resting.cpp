@@ -24,16 +24,6 @@ using detail::BodySlot;
 
 namespace {
 
-Vec2 centreOf(const Geometry& g) {
-  if (const auto* c = std::get_if<Circle>(&g)) return c->center;
-  return std::get<Point>(g).position;
-}
-
-double radiusOf(const Geometry& g) {
-  if (const auto* c = std::get_if<Circle>(&g)) return c->radius;
-  return 0;
-}
-
 // The end points of a flat feature (see Impact::feature), in the fixture's coordinates.
 bool flatFeature(const Geometry& g, int feature, Vec2& a, Vec2& b) {
   if (const auto* s = std::get_if<Segment>(&g)) {
@@ -76,8 +66,8 @@ bool World::Impl::supportsAt(uint32_t bodyIndex, double now, std::vector<uint32_
     if (own.sensor || other.sensor) continue;
     const BodySlot& holder = bodies[other.body];
     if (holder.type != BodyType::Static && !holder.asleep) continue;
-    const Vec2 centre = positionAt(body, now) + centreOf(own.geometry);
-    const double radius = radiusOf(own.geometry);
+    const Vec2 centre = positionAt(body, now) + detail::circleCentre(own.geometry);
+    const double radius = detail::circleRadius(own.geometry);
     const auto closest = detail::closestPoint(other.geometry, holder.position, centre);
     if (!closest || !closest->collidable) continue;
     const Vec2 r = centre - closest->point;
@@ -149,7 +139,7 @@ std::optional<double> World::Impl::slideEndTime(const BodySlot& b, double now, d
   const Vec2 origin = bodies[face.body].position + a;
   const double len = length(e - a);
   const Vec2 u = (e - a) * (1.0 / len);
-  const Vec2 centre = positionAt(b, now) + centreOf(fixtures[b.fixtures.front()].geometry);
+  const Vec2 centre = positionAt(b, now) + detail::circleCentre(fixtures[b.fixtures.front()].geometry);
   const Vec2 v = velocityAt(b, now);
   // tau(h) = u.(c - a) + (u.v) h + (u.g) h^2 / 2 leaves [0, len] at the first downward crossing of
   // tau or of len - tau.

@@ -13,15 +13,10 @@ namespace rattle {
 
 using detail::BodySlot;
 using detail::FixtureSlot;
+using detail::require;
 using detail::str;
 
 namespace {
-
-// The message is built only when the check fails: creating a body must not pay for formatting.
-template <class Message>
-void require(bool ok, Message&& message) {
-  if (!ok) throw Error(message());
-}
 
 void checkFinite(Vec2 v, const char* field) {
   require(isFinite(v), [&] { return std::string(field) + " = " + str(v) + ": must be finite"; });

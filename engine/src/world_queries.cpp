@@ -17,15 +17,10 @@
 namespace rattle {
 
 using detail::FixtureSlot;
+using detail::require;
 using detail::str;
 
 namespace {
-
-// The message is built only when the check fails, as in world.cpp.
-template <class Message>
-void require(bool ok, Message&& message) {
-  if (!ok) throw Error(message());
-}
 
 void checkFinite(Vec2 v, const char* query, const char* argument) {
   require(isFinite(v), [&] { return std::string(query) + ": " + argument + " = " + str(v) + ": must be finite"; });
