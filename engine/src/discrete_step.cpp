@@ -19,7 +19,6 @@ namespace {
 
 struct Penetration {
   Vec2 normal;  // from the other fixture toward the circle
-  Vec2 point;   // on the other fixture's surface
   double depth;
 };
 
@@ -31,26 +30,26 @@ std::optional<Penetration> penetration(Vec2 c, double r, const Geometry& g, Vec2
     const double depth = r + other->radius - len;
     if (!(depth > 0)) return std::nullopt;
     const Vec2 n = len > 0 ? d * (1.0 / len) : Vec2{1, 0};
-    return Penetration{n, other->center + position + n * other->radius, depth};
+    return Penetration{n, depth};
   }
   if (const auto closest = detail::closestPoint(g, position, c)) {
     if (!closest->collidable) return std::nullopt;  // a segment's end is not a corner
     const Vec2 d = c - closest->point;
     const double len = length(d);
     if (!(len < r) || !(len > 0)) return std::nullopt;
-    return Penetration{d * (1.0 / len), closest->point, r - len};
+    return Penetration{d * (1.0 / len), r - len};
   }
   // The centre is inside a polygon (or a circle, handled above): out through the nearest edge.
   const auto& polygon = std::get<Polygon>(g);
   const size_t n = polygon.points.size();
-  Penetration best{{}, {}, -1};
+  Penetration best{{}, -1};
   for (size_t i = 0; i < n; ++i) {
     const Vec2 a = polygon.points[i] + position, b = polygon.points[(i + 1) % n] + position;
     const Vec2 u = (b - a) * (1.0 / length(b - a));
     const Vec2 normal{u.y, -u.x};
     const double s = dot(normal, c - a);  // negative inside
     const double depth = r - s;
-    if (best.depth < 0 || depth < best.depth) best = {normal, c - normal * s, depth};
+    if (best.depth < 0 || depth < best.depth) best = {normal, depth};
   }
   return best;
 }
@@ -122,16 +121,29 @@ void World::Impl::stepDiscrete(double dt) {
     body.position += pen->normal * (pen->depth * inverseA / inverseSum);
     partner.position -= pen->normal * (pen->depth * inverseB / inverseSum);
     const double vn = dot(body.velocity - partner.velocity, pen->normal);
-    // Only an approach is a collision; an overlap that is already separating is just pushed apart.
-    if (!(vn < 0)) continue;
+    // Only an approach is a collision; an overlap that is already separating, or approaching no faster
+    // than round-off of the speeds involved, is just pushed apart.
+    const double roundOff = 1e-13 * (length(body.velocity) + length(partner.velocity));
+    if (!(vn < -roundOff)) continue;
     const double e = std::max(fixtures[own].restitution, fixtures[other].restitution);
-    const double j = -(1 + e) * vn / inverseSum;
+    double j = -(1 + e) * vn / inverseSum;
     body.velocity += pen->normal * (j * inverseA);
     partner.velocity -= pen->normal * (j * inverseB);
+    // As in the hybrid step: with restitution 0, leave the pair separating, not approaching by round-off.
+    for (int k = 0; k < 3; ++k) {
+      const double after = dot(body.velocity - partner.velocity, pen->normal);
+      if (!(after < 0)) break;
+      const double extra = -after / inverseSum;
+      body.velocity += pen->normal * (extra * inverseA);
+      partner.velocity -= pen->normal * (extra * inverseB);
+      j += extra;
+    }
     ++stats.eventsProcessed;
     ContactEvent event;
     event.time = dt;
-    event.point = pen->point;
+    // Where the two touch once pushed apart: on the circle, opposite its normal.
+    event.point = body.position + detail::circleCentre(fixtures[own].geometry) -
+                  pen->normal * detail::circleRadius(fixtures[own].geometry);
     event.impulse = j;
     const bool ownIsLower = own < other;
     const uint32_t fa = ownIsLower ? own : other, fb = ownIsLower ? other : own;

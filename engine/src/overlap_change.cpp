@@ -9,6 +9,8 @@
 // each piece then tells exactly which instants are transitions. A root where nothing changes (a tangent
 // touch) is skipped by the same test, so a body grazing a sensor begins and ends nothing.
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <vector>
 
 #include "polynomial.h"
@@ -123,7 +125,23 @@ std::optional<double> timeOfOverlapChange(const Geometry& a, Vec2 positionA, con
   times.push_back(0);
   times.push_back(maxTime);
   std::sort(times.begin(), times.end());
-  times.erase(std::unique(times.begin(), times.end()), times.end());
+  // Roots closer together than round-off (an edge's line and its end circle at the same instant, or the
+  // very transition just handled when predicting again from it) would leave pieces too short for their
+  // midpoint to mean anything, and the overlap would flicker. Keep one instant of each such cluster.
+  // How close is "closer than round-off": the time the motion takes to cover the round-off of the
+  // coordinates involved, and never less than 1e-12 of the interval.
+  const double speed = length(m.velocity) + length(m.acceleration) * maxTime;
+  const double scale = std::fabs(positionA.x) + std::fabs(positionA.y) + std::fabs(positionB.x) +
+                       std::fabs(positionB.y) + length(boxOf(a).max - boxOf(a).min) +
+                       length(boxOf(b).max - boxOf(b).min);
+  const double merge =
+      std::max(1e-12 * maxTime, speed > 0 ? 16 * std::numeric_limits<double>::epsilon() * scale / speed : 0.0);
+  size_t kept = 0;
+  for (size_t i = 0; i < times.size(); ++i) {
+    if (kept == 0 || times[i] - times[kept - 1] > merge) times[kept++] = times[i];
+  }
+  times.resize(kept);
+  if (times.back() < maxTime) times.push_back(maxTime);
 
   auto overlapAt = [&](double t) {
     const Vec2 travel = m.velocity * t + m.acceleration * (0.5 * t * t);
