@@ -211,8 +211,8 @@ void World::Impl::resolve(const PredictedContact& c, std::vector<uint32_t>& woke
   // A sleeping body holds like a static one against soft hits; a harder hit, or a kinematic body,
   // wakes it (and whatever it holds up) first.
   const double restingSpeed = def.restingSpeed;
-  if (a.asleep && (b.type == BodyType::Kinematic || -vn > restingSpeed)) wakeUp(ia, woken);
-  if (b.asleep && (a.type == BodyType::Kinematic || -vn > restingSpeed)) wakeUp(ib, woken);
+  if (a.asleep && (b.type == BodyType::Kinematic || -vn > restingSpeed)) wakeUp(ia, c.time, woken);
+  if (b.asleep && (a.type == BodyType::Kinematic || -vn > restingSpeed)) wakeUp(ib, c.time, woken);
   const double inverseA = a.asleep ? 0.0 : a.inverseMass;
   const double inverseB = b.asleep ? 0.0 : b.inverseMass;
   const double inverseSum = inverseA + inverseB;
@@ -268,6 +268,19 @@ void World::Impl::resolve(const PredictedContact& c, std::vector<uint32_t>& woke
     j += extra;
   }
 
+  // Zeno guard: a body wedged where the independent-collision model needs infinitely many bounces (a
+  // narrowing gap between a wall and a resting disk) collides ever faster without coming to rest. Once
+  // it has collided kZenoCollisions times in one step while held up by static or sleeping bodies, it
+  // sleeps where it is.
+  constexpr int kZenoCollisions = 64;
+  if (restingSpeed > 0 && (def.gravity.x != 0 || def.gravity.y != 0)) {
+    for (uint32_t index : {ia, ib}) {
+      BodySlot& s = bodies[index];
+      if (s.type != BodyType::Dynamic || s.asleep) continue;
+      if (++s.stepCollisions > kZenoCollisions && supportsAt(index, c.time, supporters)) putToSleep(index, supporters);
+    }
+  }
+
   const detail::LastContact last{std::min(c.a, c.b), std::max(c.a, c.b), c.feature, c.time};
   for (BodySlot* s : {&a, &b}) {
     if (s->type != BodyType::Dynamic) continue;
@@ -317,6 +330,7 @@ void World::Impl::stepHybrid(double dt) {
     pairsOfBody[i].clear();
     b.localTime = 0;
     b.last = detail::LastContact{};
+    b.stepCollisions = 0;
     if (b.support.generation != 0 &&
         (!fixtures[b.support.fixture].alive || fixtures[b.support.fixture].generation != b.support.generation)) {
       stopSliding(b);

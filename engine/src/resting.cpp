@@ -72,10 +72,13 @@ bool World::Impl::supportsAt(uint32_t bodyIndex, double now, std::vector<uint32_
     if (!closest || !closest->collidable) continue;
     const Vec2 r = centre - closest->point;
     const double distance = length(r);
-    // Touching, within a relative tolerance: resting contacts are made exactly, up to round-off.
-    if (!(distance > 0) || distance - radius > 1e-7 * std::max(radius, 1e-9)) continue;
+    // Touching: within round-off, or within the height of a bounce at restingSpeed (v^2 / 2g, doubled),
+    // since a body bouncing between two supports at that speed touches them one at a time.
+    const double reach = 1e-7 * std::max(radius, 1e-9) + def.restingSpeed * def.restingSpeed / length(def.gravity);
+    if (!(distance > 0) || distance - radius > reach) continue;
     const Vec2 n = r * (1.0 / distance);
-    if (dot(n, up) <= 0) continue;  // beside or above: holds nothing up
+    // Beside (a wall) still helps to hold it, together with something below; above holds nothing up.
+    if (dot(n, up) < -1e-12) continue;
     if (count < 16) normals[count++] = n;
     if (holder.type == BodyType::Dynamic &&
         std::find(supporters.begin(), supporters.end(), other.body) == supporters.end()) {
@@ -103,7 +106,7 @@ void World::Impl::putToSleep(uint32_t bodyIndex, const std::vector<uint32_t>& su
   for (uint32_t s : supporters) bodies[s].dependents.push_back(bodyIndex);
 }
 
-void World::Impl::wakeUp(uint32_t bodyIndex, std::vector<uint32_t>& woken) {
+void World::Impl::wakeUp(uint32_t bodyIndex, double now, std::vector<uint32_t>& woken) {
   // Iterative, in a fixed order: a tall pile wakes layer by layer without deep recursion.
   std::vector<uint32_t> stack{bodyIndex};
   while (!stack.empty()) {
@@ -111,7 +114,9 @@ void World::Impl::wakeUp(uint32_t bodyIndex, std::vector<uint32_t>& woken) {
     stack.pop_back();
     BodySlot& b = bodies[i];
     if (!b.alive || !b.asleep) continue;
+    // It rested until now: its fall starts at this instant, not at the start of the step.
     b.asleep = false;
+    b.localTime = now;
     b.acceleration = def.gravity;
     ++b.collisionCount;
     woken.push_back(i);

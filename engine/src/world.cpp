@@ -179,7 +179,7 @@ void World::destroyBody(BodyId id) {
   BodySlot& b = lookUp(w.bodies, id);
   // What it held up falls.
   std::vector<uint32_t> woken;
-  for (uint32_t d : b.dependents) w.wakeUp(d, woken);
+  for (uint32_t d : b.dependents) w.wakeUp(d, 0.0, woken);
   b.dependents.clear();
   for (uint32_t f : b.fixtures) w.endOverlapsOf(f, [](uint32_t) { return false; });
   for (uint32_t f : b.fixtures) {
@@ -211,7 +211,7 @@ bool World::isAsleep(BodyId id) const { return lookUp(impl_->bodies, id).asleep;
 void World::wake(BodyId id) {
   lookUp(impl_->bodies, id);
   std::vector<uint32_t> woken;
-  impl_->wakeUp(id.index, woken);
+  impl_->wakeUp(id.index, 0.0, woken);
 }
 uint64_t World::userData(BodyId id) const { return lookUp(impl_->bodies, id).userData; }
 int World::bodyCount() const { return impl_->liveBodies; }
@@ -226,8 +226,8 @@ void World::setPosition(BodyId id, Vec2 position) {
     });
   }
   std::vector<uint32_t> woken;
-  impl_->wakeUp(id.index, woken);
-  for (uint32_t d : b.dependents) impl_->wakeUp(d, woken);
+  impl_->wakeUp(id.index, 0.0, woken);
+  for (uint32_t d : b.dependents) impl_->wakeUp(d, 0.0, woken);
   b.dependents.clear();
   b.support.generation = 0;
   b.position = position;
@@ -241,7 +241,7 @@ void World::setVelocity(BodyId id, Vec2 velocity) {
   require(b.type != BodyType::Static || velocity == Vec2{},
           [&] { return std::string("velocity = " + str(velocity) + ": a static body cannot move"); });
   std::vector<uint32_t> woken;
-  impl_->wakeUp(id.index, woken);
+  impl_->wakeUp(id.index, 0.0, woken);
   if (b.support.generation != 0) impl_->stopSliding(b);
   b.velocity = velocity;
 }

@@ -48,6 +48,7 @@ struct BodySlot {
   double localTime = 0;
   bool asleep = false;
   double lastContactTime = -std::numeric_limits<double>::infinity();  // world time of its last collision
+  int stepCollisions = 0;  // collisions in the current step, for the Zeno guard
   Support support;
   std::vector<uint32_t> dependents;  // sleeping bodies this one holds up (may hold stale entries)
   double mass = std::numeric_limits<double>::infinity();
@@ -163,7 +164,7 @@ struct World::Impl {
 
   // resting.cpp
   void putToSleep(uint32_t body, const std::vector<uint32_t>& supporters);
-  void wakeUp(uint32_t body, std::vector<uint32_t>& woken);
+  void wakeUp(uint32_t body, double now, std::vector<uint32_t>& woken);
   void startSliding(uint32_t body, uint32_t fixture, int feature, Vec2 normal);
   void stopSliding(detail::BodySlot& b);
   bool isFlatFeature(uint32_t fixture, int feature) const;
