@@ -4,8 +4,8 @@
 // by a kinematic wall. Each has an answer derived independently of the engine (closed forms, unfolding,
 // symmetry), written next to it.
 //
-// Every suite is parameterized over rattle::StepMode. Only Hybrid is instantiated here; the comment above
-// each INSTANTIATE line lists the modes whose contract (types.h, StepMode) covers the property tested:
+// Every suite is parameterized over rattle::StepMode and instantiated for the modes listed in the comment
+// above its INSTANTIATE line: the modes whose contract (types.h, StepMode) covers the property tested:
 //  - exact event times and outcomes, the overlap rules, "never through": Hybrid and Predictive. Discrete
 //    moves every body a whole step, then pushes overlapping pairs apart and reflects them once per pair per
 //    step, so it gives approximate answers, responds to round-off overlaps and may tunnel.
@@ -79,15 +79,15 @@ TEST_P(HardCaseCradle, OnlyTheLastDiskMovesOnAtTheIncomingSpeed) {
     bool striker;
   };
   for (const Case& c : {Case{{1, 0}, true}, Case{{1, 0}, false}, Case{{0.6, 0.8}, true}, Case{{0.6, 0.8}, false},
-                       Case{{-0.28, 0.96}, true}}) {
+                        Case{{-0.28, 0.96}, true}}) {
     SCOPED_TRACE("direction " + str(c.d) + (c.striker ? ", striker" : ", first disk pushed"));
     World world(def());
     const double speed = 2;
     std::vector<Disk> disks;
     if (c.striker) disks.push_back(addDisk(world, {-2.7 * c.d, speed * c.d, 0.5, 1.0, 1.0}));
     for (int k = 0; k < 5; ++k)
-      disks.push_back(addDisk(world, {Vec2{k * c.d.x, k * c.d.y}, (!c.striker && k == 0) ? speed * c.d : Vec2{}, 0.5,
-                                      1.0, 1.0}));
+      disks.push_back(
+          addDisk(world, {Vec2{k * c.d.x, k * c.d.y}, (!c.striker && k == 0) ? speed * c.d : Vec2{}, 0.5, 1.0, 1.0}));
     std::vector<Vec2> start;
     for (const Disk& d : disks) start.push_back(world.position(d.body));
     const LD e0 = kineticEnergy(world, disks);
@@ -117,7 +117,7 @@ TEST_P(HardCaseCradle, OnlyTheLastDiskMovesOnAtTheIncomingSpeed) {
 }
 
 // Modes: Hybrid, Predictive (one instant, in event order). Not Discrete (one response per pair per step).
-INSTANTIATE_TEST_SUITE_P(, HardCaseCradle, ::testing::Values(StepMode::Hybrid), ModeParamName());
+INSTANTIATE_TEST_SUITE_P(, HardCaseCradle, ::testing::Values(StepMode::Hybrid, StepMode::Predictive), ModeParamName());
 
 // =====================================================================================================
 // Wedges and concave corners, against the billiard unfolding.
@@ -249,7 +249,8 @@ WedgeRun runWedge(const WorldDef& def, const Wedge& w, const std::vector<rattle:
         << "past a wall (towards the apex) at t = " << (double)t << ": " << str(p);
     if (::testing::Test::HasFailure() && step > 0 && run.worstPosition > 1e-6) break;
   }
-  run.expected = static_cast<int>(std::count_if(bounces.begin(), bounces.end(), [&](LD b) { return b <= world.time(); }));
+  run.expected =
+      static_cast<int>(std::count_if(bounces.begin(), bounces.end(), [&](LD b) { return b <= world.time(); }));
   EXPECT_EQ(run.events, run.expected) << "total bounces";
   return run;
 }
@@ -271,7 +272,7 @@ TEST_P(HardCaseWedge, DiskDrivenIntoATenDegreeWedgeComesBackOutAfterTheUnfolding
   };
   const double a = 2 * std::numbers::pi / 180;
   for (const Case& c : {Case{{30, 0.3}, {-1, 0}, 18}, Case{{30, 1.0}, {-1, 0}, 18}, Case{{30, -0.7}, {-1, 0}, 18},
-                       Case{{30, 0.5}, {-std::cos(a), std::sin(a)}, -1}, Case{{25, -1}, {-3, 0.05}, -1}})
+                        Case{{30, 0.5}, {-std::cos(a), std::sin(a)}, -1}, Case{{25, -1}, {-3, 0.05}, -1}})
     for (bool asPolyline : {true, false}) {
       SCOPED_TRACE("p0 " + str(c.p0) + ", v " + str(c.v) + (asPolyline ? ", polyline" : ", two segments"));
       const auto bounces = bounceTimes(w, lv(c.p0), lv(c.v));
@@ -280,19 +281,20 @@ TEST_P(HardCaseWedge, DiskDrivenIntoATenDegreeWedgeComesBackOutAfterTheUnfolding
       }
       // Heading in and back out takes about 2 (30 - 5.7) / |v|; stop before the disk reaches the mouth.
       const double duration = 50.0 / rattle::length(c.v);
-      const WedgeRun run = runWedge(def(), w, asPolyline ? polyline : segments, c.p0, c.v, 0.25,
-                                    static_cast<int>(duration / 0.25));
+      const WedgeRun run =
+          runWedge(def(), w, asPolyline ? polyline : segments, c.p0, c.v, 0.25, static_cast<int>(duration / 0.25));
       EXPECT_EQ(run.expected, static_cast<int>(bounces.size())) << "the run should see every bounce";
-      std::printf("[ wedge 10 deg ] p0 %s v %s %s: %d bounces (unfolding %zu); worst position error %.3g, "
-                  "velocity %.3g\n",
-                  str(c.p0).c_str(), str(c.v).c_str(), asPolyline ? "polyline" : "segments", run.events,
-                  bounces.size(), run.worstPosition, run.worstVelocity);
+      std::printf(
+          "[ wedge 10 deg ] p0 %s v %s %s: %d bounces (unfolding %zu); worst position error %.3g, "
+          "velocity %.3g\n",
+          str(c.p0).c_str(), str(c.v).c_str(), asPolyline ? "polyline" : "segments", run.events, bounces.size(),
+          run.worstPosition, run.worstVelocity);
     }
 }
 
 // Modes: Hybrid, Predictive. Not Discrete (one response per pair per step; deep in the wedge the disk
 // bounces many times per step).
-INSTANTIATE_TEST_SUITE_P(, HardCaseWedge, ::testing::Values(StepMode::Hybrid), ModeParamName());
+INSTANTIATE_TEST_SUITE_P(, HardCaseWedge, ::testing::Values(StepMode::Hybrid, StepMode::Predictive), ModeParamName());
 
 class HardCaseConcaveCorner : public ModeTest {};
 
@@ -337,15 +339,17 @@ TEST_P(HardCaseConcaveCorner, DiskIntoPolylineCornersOfSeveralAnglesFollowsTheUn
       const auto bounces = bounceTimes(w, lv(p0), lv(v));
       EXPECT_GE(bounces.size(), 1u);
       const WedgeRun run = runWedge(def(), w, walls, p0, v, 0.25, static_cast<int>(20.0 / rattle::length(v) / 0.25));
-      std::printf("[ corner %.0f deg ] v %s: %d bounces (unfolding: %d in the run, %zu in all); worst position "
-                  "error %.3g\n",
-                  degrees, str(v).c_str(), run.events, run.expected, bounces.size(), run.worstPosition);
+      std::printf(
+          "[ corner %.0f deg ] v %s: %d bounces (unfolding: %d in the run, %zu in all); worst position "
+          "error %.3g\n",
+          degrees, str(v).c_str(), run.events, run.expected, bounces.size(), run.worstPosition);
     }
   }
 }
 
 // Modes: Hybrid, Predictive.
-INSTANTIATE_TEST_SUITE_P(, HardCaseConcaveCorner, ::testing::Values(StepMode::Hybrid), ModeParamName());
+INSTANTIATE_TEST_SUITE_P(, HardCaseConcaveCorner, ::testing::Values(StepMode::Hybrid, StepMode::Predictive),
+                         ModeParamName());
 
 // =====================================================================================================
 // Gliding along polylines and walls, grazing passes.
@@ -462,7 +466,7 @@ TEST_P(HardCaseGlide, DiskAlongAWallTouchingItNeverCollidesWithItNorDrifts) {
 
 // Modes: Hybrid, Predictive. Not Discrete: it responds to every overlap found at a step's end, so a path
 // that touches a wall with a round-off overlap is a contact there.
-INSTANTIATE_TEST_SUITE_P(, HardCaseGlide, ::testing::Values(StepMode::Hybrid), ModeParamName());
+INSTANTIATE_TEST_SUITE_P(, HardCaseGlide, ::testing::Values(StepMode::Hybrid, StepMode::Predictive), ModeParamName());
 
 class HardCaseGrazing : public ModeTest {};
 
@@ -483,9 +487,22 @@ TEST_P(HardCaseGrazing, PassAtExactlyTheSumOfRadiiIsNoContact) {
       {"disks of radii 0.25 and 0.75", rattle::Circle{{0, 0}, 0.75}, true, {0, 0}, 0.75, {-5, -1}, {2, 0}, 0.25},
       {"disk past a static point", rattle::Point{{0, 0}}, false, {}, 0, {-5, 0.5}, {2, 0}, 0.5},
       {"disk past a static circle", rattle::Circle{{0, 0}, 1.0}, false, {}, 0, {-5, 1.5}, {1, 0}, 0.5},
-      {"disk over a polyline apex", rattle::Polyline{{{-2, -2}, {0, 0}, {2, -2}}}, false, {}, 0, {-5, 0.5}, {1, 0}, 0.5},
-      {"disk past a polygon corner", rattle::Polygon{{{-2, -1}, {0, -1}, {0, 0}, {-1, 1}}}, false, {}, 0,
-       {0.5, -6}, {0, 1.5}, 0.5},
+      {"disk over a polyline apex",
+       rattle::Polyline{{{-2, -2}, {0, 0}, {2, -2}}},
+       false,
+       {},
+       0,
+       {-5, 0.5},
+       {1, 0},
+       0.5},
+      {"disk past a polygon corner",
+       rattle::Polygon{{{-2, -1}, {0, -1}, {0, 0}, {-1, 1}}},
+       false,
+       {},
+       0,
+       {0.5, -6},
+       {0, 1.5},
+       0.5},
       {"disk past a kinematic disk", rattle::Circle{{0, 0}, 0.5}, false, {0, -2}, 0, {0.875, -10}, {0, 2}, 0.375},
   };
   for (const Case& c : cases) {
@@ -546,7 +563,9 @@ TEST_P(HardCaseGrazing, PassAtTheSumOfRadiiUpToRoundOffIsNoContact) {
 }
 
 // Modes: Hybrid, Predictive, Discrete.
-INSTANTIATE_TEST_SUITE_P(, HardCaseGrazing, ::testing::Values(StepMode::Hybrid), ModeParamName());
+INSTANTIATE_TEST_SUITE_P(, HardCaseGrazing,
+                         ::testing::Values(StepMode::Hybrid, StepMode::Predictive, StepMode::Discrete),
+                         ModeParamName());
 
 // =====================================================================================================
 // Bodies created overlapping.
@@ -572,11 +591,8 @@ TEST_P(HardCaseOverlapping, ClusterCreatedOverlappingSeparatesWithoutEnergyGainO
       std::vector<Disk> disks;
       for (int i = 0; i < 12; ++i) {
         const double th = uniform(0, 2 * std::numbers::pi), speed = uniform(0.5, 1);
-        disks.push_back(addDisk(world, {{uniform(0, 2), uniform(0, 2)},
-                                        {speed * std::cos(th), speed * std::sin(th)},
-                                        0.5,
-                                        1.0,
-                                        e}));
+        disks.push_back(addDisk(
+            world, {{uniform(0, 2), uniform(0, 2)}, {speed * std::cos(th), speed * std::sin(th)}, 0.5, 1.0, e}));
       }
       ASSERT_LT(minPairwiseGap(world, disks), -0.3) << "the cluster should start deeply overlapped";
       const LD e0 = kineticEnergy(world, disks);
@@ -610,15 +626,18 @@ TEST_P(HardCaseOverlapping, ClusterCreatedOverlappingSeparatesWithoutEnergyGainO
           ++stillOverlapping;
           EXPECT_GT(rattle::dot(dp, dv), 0.0) << "disks " << i << " and " << j << " overlap and do not separate";
         }
-      std::printf("[ overlapping cluster e=%.1f seed %d ] %d events (at most %d in a step), kinetic energy x %.6f, "
-                  "%d pairs still overlapping (separating)\n",
-                  e, static_cast<int>(seed), events, worstStep, static_cast<double>(previous / e0), stillOverlapping);
+      std::printf(
+          "[ overlapping cluster e=%.1f seed %d ] %d events (at most %d in a step), kinetic energy x %.6f, "
+          "%d pairs still overlapping (separating)\n",
+          e, static_cast<int>(seed), events, worstStep, static_cast<double>(previous / e0), stillOverlapping);
     }
 }
 
 // Modes: Hybrid, Predictive, Discrete (no mode may gain energy or make a storm of events from an
 // overlapping start).
-INSTANTIATE_TEST_SUITE_P(, HardCaseOverlapping, ::testing::Values(StepMode::Hybrid), ModeParamName());
+INSTANTIATE_TEST_SUITE_P(, HardCaseOverlapping,
+                         ::testing::Values(StepMode::Hybrid, StepMode::Predictive, StepMode::Discrete),
+                         ModeParamName());
 
 class HardCaseOverlappingStart : public ModeTest {};
 
@@ -689,15 +708,17 @@ TEST_P(HardCaseOverlappingStart, StackCreatedOverlappingOnAFloorUnderGravityGain
   EXPECT_LE(worstStep, 1000);
   int asleep = 0;
   for (const Disk& disk : disks) asleep += world.isAsleep(disk.body) ? 1 : 0;
-  std::printf("[ overlapping stack under gravity ] %d events in 200 steps (at most %d in a step); %d of %zu asleep "
-              "after 3.3 s; worst overlap now %.3g of a radius\n",
-              events, worstStep, asleep, disks.size(), maxRelativeOverlap(world, disks));
+  std::printf(
+      "[ overlapping stack under gravity ] %d events in 200 steps (at most %d in a step); %d of %zu asleep "
+      "after 3.3 s; worst overlap now %.3g of a radius\n",
+      events, worstStep, asleep, disks.size(), maxRelativeOverlap(world, disks));
 }
 
 // Modes: Hybrid, Predictive (the overlap rules of time_of_impact.h, contacts made exactly). Not Discrete,
 // which pushes overlapping pairs apart after the fact: that moves disks (and under gravity can lift them,
 // adding potential energy) and leaves walls penetrated by up to a step's travel.
-INSTANTIATE_TEST_SUITE_P(, HardCaseOverlappingStart, ::testing::Values(StepMode::Hybrid), ModeParamName());
+INSTANTIATE_TEST_SUITE_P(, HardCaseOverlappingStart, ::testing::Values(StepMode::Hybrid, StepMode::Predictive),
+                         ModeParamName());
 
 // =====================================================================================================
 // Scale: far from the origin, radii 10^4 apart.
@@ -800,8 +821,9 @@ TEST_P(HardCaseScale, DisksWhoseRadiiDifferByTenThousandTimes) {
     Vec2 cBig, vBig, cSmall, vSmall;
     double e;
   };
-  for (const Case& c : {Case{{0, 0}, {0, 0}, {20, 3}, {-5, 0}, 1.0}, Case{{0, 0}, {1, 0}, {12, 0.5}, {0, 0}, 1.0},
-                       Case{{0, 0}, {0, 0}, {20, -7}, {-5, 1}, 0.5}, Case{{0, 0}, {0.5, 0.2}, {15, 2}, {-3, 0}, 0.5}}) {
+  for (const Case& c :
+       {Case{{0, 0}, {0, 0}, {20, 3}, {-5, 0}, 1.0}, Case{{0, 0}, {1, 0}, {12, 0.5}, {0, 0}, 1.0},
+        Case{{0, 0}, {0, 0}, {20, -7}, {-5, 1}, 0.5}, Case{{0, 0}, {0.5, 0.2}, {15, 2}, {-3, 0}, 0.5}}) {
     SCOPED_TRACE("big v " + str(c.vBig) + " small at " + str(c.cSmall) + " v " + str(c.vSmall) + " e " +
                  std::to_string(c.e));
     World world(def());
@@ -826,7 +848,7 @@ TEST_P(HardCaseScale, DisksWhoseRadiiDifferByTenThousandTimes) {
 }
 
 // Modes: Hybrid, Predictive. (Discrete may step a small fast disk past the other.)
-INSTANTIATE_TEST_SUITE_P(, HardCaseScale, ::testing::Values(StepMode::Hybrid), ModeParamName());
+INSTANTIATE_TEST_SUITE_P(, HardCaseScale, ::testing::Values(StepMode::Hybrid, StepMode::Predictive), ModeParamName());
 
 // =====================================================================================================
 // Simultaneous collisions on a lattice; determinism.
@@ -863,8 +885,8 @@ int eventsPerLine(int n, int j) {
   int count = 0;
   for (int i = 0; i < n; ++i) {
     const bool plus = (i + j) % 2 == 0;
-    if (plus) ++count;              // meets i + 1, or the wall after the last
-    if (!plus && i == 0) ++count;   // the wall before the first
+    if (plus) ++count;             // meets i + 1, or the wall after the last
+    if (!plus && i == 0) ++count;  // the wall before the first
   }
   return count;
 }
@@ -900,7 +922,8 @@ TEST_P(HardCaseSimultaneous, LatticeOfThousandDisksBouncesInLockStep) {
     const double t1 = l.world.time();
     before = upTo;
     while (0.25 + 0.5 * instant <= t1) {
-      const int n = Lattice::kNy * eventsPerLine(Lattice::kNx, instant) + Lattice::kNx * eventsPerLine(Lattice::kNy, instant);
+      const int n =
+          Lattice::kNy * eventsPerLine(Lattice::kNx, instant) + Lattice::kNx * eventsPerLine(Lattice::kNy, instant);
       upTo += n;
       if (0.25 + 0.5 * instant < t1) before += n;
       ++instant;
@@ -939,7 +962,8 @@ TEST_P(HardCaseSimultaneous, LatticeOfThousandDisksBouncesInLockStep) {
 }
 
 // Modes: Hybrid, Predictive.
-INSTANTIATE_TEST_SUITE_P(, HardCaseSimultaneous, ::testing::Values(StepMode::Hybrid), ModeParamName());
+INSTANTIATE_TEST_SUITE_P(, HardCaseSimultaneous, ::testing::Values(StepMode::Hybrid, StepMode::Predictive),
+                         ModeParamName());
 
 class HardCaseDeterminism : public ModeTest {};
 
@@ -965,7 +989,9 @@ TEST_P(HardCaseDeterminism, LatticeOfSimultaneousCollisionsGivesTheSameStateTwic
 }
 
 // Modes: Hybrid, Predictive, Discrete.
-INSTANTIATE_TEST_SUITE_P(, HardCaseDeterminism, ::testing::Values(StepMode::Hybrid), ModeParamName());
+INSTANTIATE_TEST_SUITE_P(, HardCaseDeterminism,
+                         ::testing::Values(StepMode::Hybrid, StepMode::Predictive, StepMode::Discrete),
+                         ModeParamName());
 
 // =====================================================================================================
 // Fast bodies against every geometry.
@@ -1089,9 +1115,10 @@ TEST_P(HardCaseFastBodies, AMillionRadiiPerStepNeverPassThroughAnyGeometry) {
         }
       }
       EXPECT_GT(hits, 40) << "too few hitting paths for a meaningful test";
-      std::printf("[ fast disk vs %s %s ] %d of 200 paths hit (%d more first touch a segment end, unchecked); "
-                  "deepest approach r - %.3g\n",
-                  target.name, kinematic ? "kinematic" : "static", hits, endOn, worstDepth);
+      std::printf(
+          "[ fast disk vs %s %s ] %d of 200 paths hit (%d more first touch a segment end, unchecked); "
+          "deepest approach r - %.3g\n",
+          target.name, kinematic ? "kinematic" : "static", hits, endOn, worstDepth);
     }
 }
 
@@ -1131,7 +1158,8 @@ TEST_P(HardCaseFastBodies, HeadOnAtAMillionRadiiPerStepMatchesTheClosedForm) {
 }
 
 // Modes: Hybrid, Predictive. Not Discrete (it may tunnel; types.h).
-INSTANTIATE_TEST_SUITE_P(, HardCaseFastBodies, ::testing::Values(StepMode::Hybrid), ModeParamName());
+INSTANTIATE_TEST_SUITE_P(, HardCaseFastBodies, ::testing::Values(StepMode::Hybrid, StepMode::Predictive),
+                         ModeParamName());
 
 // =====================================================================================================
 // A dynamic disk squeezed between a kinematic wall and a static wall.
@@ -1200,7 +1228,7 @@ TEST_P(HardCaseSqueeze, DiskSqueezedByAKinematicWallIsHeldAtTheBudgetAndNeverPas
 }
 
 // Modes: Hybrid, Predictive.
-INSTANTIATE_TEST_SUITE_P(, HardCaseSqueeze, ::testing::Values(StepMode::Hybrid), ModeParamName());
+INSTANTIATE_TEST_SUITE_P(, HardCaseSqueeze, ::testing::Values(StepMode::Hybrid, StepMode::Predictive), ModeParamName());
 
 class HardCaseSqueezeAnyMode : public ModeTest {};
 
@@ -1223,6 +1251,8 @@ TEST_P(HardCaseSqueezeAnyMode, SqueezeStepReturnsWithFiniteStateAndTheDefaultBud
 }
 
 // Modes: Hybrid, Predictive, Discrete.
-INSTANTIATE_TEST_SUITE_P(, HardCaseSqueezeAnyMode, ::testing::Values(StepMode::Hybrid), ModeParamName());
+INSTANTIATE_TEST_SUITE_P(, HardCaseSqueezeAnyMode,
+                         ::testing::Values(StepMode::Hybrid, StepMode::Predictive, StepMode::Discrete),
+                         ModeParamName());
 
 }  // namespace

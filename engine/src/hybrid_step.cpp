@@ -213,6 +213,18 @@ void World::Impl::resolve(const PredictedContact& c, std::vector<uint32_t>& woke
   const double restingSpeed = def.restingSpeed;
   if (a.asleep && (b.type == BodyType::Kinematic || -vn > restingSpeed)) wakeUp(ia, c.time, woken);
   if (b.asleep && (a.type == BodyType::Kinematic || -vn > restingSpeed)) wakeUp(ib, c.time, woken);
+  // Zeno guard: a body wedged where the independent-collision model needs infinitely many bounces (a
+  // narrowing gap between a wall and a resting disk) collides ever faster without coming to rest. Once
+  // it has collided kZenoCollisions times in one step while held up by static or sleeping bodies, it
+  // sleeps where it is, before this contact, so the contact sees it as resting.
+  constexpr int kZenoCollisions = 64;
+  if (restingSpeed > 0 && (def.gravity.x != 0 || def.gravity.y != 0)) {
+    for (uint32_t index : {ia, ib}) {
+      BodySlot& s = bodies[index];
+      if (s.type != BodyType::Dynamic || s.asleep) continue;
+      if (++s.stepCollisions > kZenoCollisions && supportsAt(index, c.time, supporters)) putToSleep(index, supporters);
+    }
+  }
   const double inverseA = a.asleep ? 0.0 : a.inverseMass;
   const double inverseB = b.asleep ? 0.0 : b.inverseMass;
   const double inverseSum = inverseA + inverseB;
@@ -266,19 +278,6 @@ void World::Impl::resolve(const PredictedContact& c, std::vector<uint32_t>& woke
     a.velocity += n * (extra * inverseA);
     b.velocity -= n * (extra * inverseB);
     j += extra;
-  }
-
-  // Zeno guard: a body wedged where the independent-collision model needs infinitely many bounces (a
-  // narrowing gap between a wall and a resting disk) collides ever faster without coming to rest. Once
-  // it has collided kZenoCollisions times in one step while held up by static or sleeping bodies, it
-  // sleeps where it is.
-  constexpr int kZenoCollisions = 64;
-  if (restingSpeed > 0 && (def.gravity.x != 0 || def.gravity.y != 0)) {
-    for (uint32_t index : {ia, ib}) {
-      BodySlot& s = bodies[index];
-      if (s.type != BodyType::Dynamic || s.asleep) continue;
-      if (++s.stepCollisions > kZenoCollisions && supportsAt(index, c.time, supporters)) putToSleep(index, supporters);
-    }
   }
 
   const detail::LastContact last{std::min(c.a, c.b), std::max(c.a, c.b), c.feature, c.time};

@@ -1,10 +1,1404 @@
-// The predictive mode (being written).
+// The predictive mode: event-driven throughout. step(dt) processes every event up to the new time; a
+// frame is only a time at which to look.
+//
+// The physics is the hybrid step's (hybrid_step.cpp): the same times of impact, the same round-off guard
+// (LastContact), the same approach tolerance and absorption at pop, the same resolve() with its resting
+// rules, the same slide ends and the same event budget. What differs is how the next event is found
+// (event-driven molecular dynamics: Isobe 1999; Smallenburg, Eur. Phys. J. E 45, 22, 2022):
+//  - Cell grid. Cells are at least as wide as the largest dynamic body, so two bodies that touch have
+//    their centres in neighbouring cells; a body leaving its cell is an event (the first exit of a line
+//    or a parabola from the cell, a little past its side), after which it is predicted against its new
+//    neighbours. The grid is unbounded and folded onto a table; cells grow where bodies are sparse.
+//    Static fixtures are listed in every cell they come within half a cell of (a long wall in many);
+//    kinematic bodies are few, and every prediction looks at all of them.
+//  - One scheduled event per body: the earliest of its contacts with its neighbours, its slide end and
+//    its cell crossing, predicted no further than that crossing. A body whose motion changes is predicted
+//    again at once against all its neighbours, so every pair's next contact is held by one of its two
+//    bodies; a prediction whose partner has changed since (its collision counter moved on) is found stale
+//    when it comes up, and its body is predicted again from then. A body at rest predicts only up to its
+//    moving neighbours' own next events (they see it when they are predicted again).
+//  - The queue is a calendar of buckets with a small heap for the current one; events are ordered by
+//    (time, kind, ids), so ties resolve the same way on every run.
+//  - Lazy clocks: a body keeps its position and velocity at the time of its last change (its local time)
+//    and is moved only when it collides. At the end of a step every body is brought up to the new time (so
+//    World::position reads it) and the clocks and queued times are re-based to the step's end, so times
+//    stay small where they are precise.
+//  - What predictions read is copied into compact records in cell order (PredictiveState::HotBody),
+//    refreshed whenever a body changes; the BodySlot stays the truth, and resolve() works on it.
+//  - Between steps the world may change (bodies created, destroyed, moved, given a velocity, woken; a
+//    filter changed). A snapshot taken at the end of each step notices it: a dynamic body whose state
+//    changed is relocated and predicted again (its counter is bumped so that predictions against its old
+//    path go stale); anything structural rebuilds the grid and the queue.
+//
+// Sensors are not handled by this mode yet (sensor fixtures never collide, as everywhere; no sensor
+// events are reported except the end events of destroyed bodies and changed filters).
 #include "predictive_step.h"
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "closest_point.h"
+#include "rattle/time_of_impact.h"
 #include "world_impl.h"
 
 namespace rattle {
 
-void World::Impl::stepPredictive(double dt) { stepHybrid(dt); }
+using detail::BodySlot;
+using detail::PredictiveEvent;
+using detail::PredictiveKind;
+using detail::PredictiveState;
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+
+// The total order of events: by time, then kind, then ids (as detail::later, of which this is the
+// reverse for contacts), so no two distinct events compare equal.
+bool earlier(const PredictiveEvent& x, const PredictiveEvent& y) {
+  if (x.time != y.time) return x.time < y.time;
+  if (x.kind != y.kind) return x.kind < y.kind;
+  const uint32_t xl = std::min(x.a, x.b), yl = std::min(y.a, y.b);
+  if (xl != yl) return xl < yl;
+  const uint32_t xh = std::max(x.a, x.b), yh = std::max(y.a, y.b);
+  if (xh != yh) return xh < yh;
+  if (x.feature != y.feature) return x.feature < y.feature;
+  if (x.a != y.a) return x.a < y.a;
+  if (x.countA != y.countA) return x.countA < y.countA;
+  return x.countB < y.countB;
+}
+
+// The first h >= 0 at which s(h) = c + b h + A h^2, positive inside a cell, turns negative: when a
+// coordinate moving along a line or a parabola leaves the cell through one side. Outside already
+// (c <= 0) and moving out: now. Roots in cancellation-free forms. +infinity when it never leaves.
+double exitTime(double c, double b, double A) {
+  if (A == 0) {
+    if (!(b < 0)) return kInf;
+    return c <= 0 ? 0.0 : c / -b;
+  }
+  if (c <= 0) {
+    if (b < 0) return 0.0;
+    if (A > 0) return kInf;  // coming back in, and pulled further in
+    // Moving in, pulled out: it leaves at the larger root, or at once if it never gets inside.
+    const double disc = b * b - 4 * A * c;
+    if (!(disc > 0)) return 0.0;
+    return (b + std::sqrt(disc)) / (-2 * A);
+  }
+  if (A > 0) {
+    if (!(b < 0)) return kInf;
+    const double disc = b * b - 4 * A * c;
+    if (!(disc > 0)) return kInf;
+    return 2 * c / (-b + std::sqrt(disc));
+  }
+  // Inside, pulled out: exactly one positive root.
+  const double disc = b * b - 4 * A * c;
+  if (b >= 0) return (b + std::sqrt(disc)) / (-2 * A);
+  return 2 * c / (-b + std::sqrt(disc));
+}
+
+// Cell coordinates are clamped to +-kMaxCoord; the cells there reach to infinity.
+constexpr int32_t kMaxCoord = int32_t{1} << 30;
+
+int32_t cellCoord(double x, double origin, double size) {
+  const double k = std::floor((x - origin) / size);
+  if (k != k) return 0;  // NaN
+  if (k <= -kMaxCoord) return -kMaxCoord;
+  if (k >= kMaxCoord) return kMaxCoord;
+  return static_cast<int32_t>(k);
+}
+
+using detail::ColdBody;
+using detail::HotBody;
+
+// Motion of a hot copy: the same expressions as World::Impl::positionAt and velocityAt, so the same
+// values (the acceleration is read only when it is not zero).
+Vec2 accelerationOf(const HotBody& h, const ColdBody& c) {
+  return (h.flags & HotBody::kAccelerating) ? c.acceleration : Vec2{};
+}
+Vec2 positionAt(const HotBody& b, Vec2 acceleration, double t) {
+  const double h = t - b.localTime;
+  return b.position + b.velocity * h + acceleration * (0.5 * h * h);
+}
+Vec2 velocityAt(const HotBody& b, Vec2 acceleration, double t) { return b.velocity + acceleration * (t - b.localTime); }
+bool isMoving(const HotBody& b) { return !(b.velocity == Vec2{}) || (b.flags & HotBody::kAccelerating) != 0; }
+
+// A body being predicted, as every pair test reads it.
+struct Predicting {
+  uint32_t slot;
+  double now;
+  Vec2 position, velocity, acceleration, centre;  // at `now`
+  const HotBody* hot;
+  const ColdBody* cold;
+};
+
+// The predictive step over a World::Impl (a template only so that this file can name the world's
+// private implementation type through a parameter). Indices named `i`, `j`, `slot` are slots of tracked
+// bodies (PredictiveState); `body` is an index into World::Impl::bodies.
+template <class W>
+class Engine {
+ public:
+  Engine(W& w, PredictiveState& s) : w_(w), s_(s) {}
+  void step(double dt);
+
+ private:
+  W& w_;
+  PredictiveState& s_;
+
+  // Setup.
+  void normalize();
+  bool structuralChange() const;
+  void rebase(double by);
+  void computeConstants(double dt);
+  void buildGrid();
+  double sceneExtent() const;
+  double meanNeighbours(double size) const;
+  double sparseCellSize(double size, double limit) const;
+  void reorder();
+  void snapshot();
+  void sync(uint32_t slot);
+  void syncBody(uint32_t body) {
+    const uint32_t slot = s_.slotOfBody[body];
+    if (slot != PredictiveState::kNone) sync(slot);
+  }
+
+  // The grid.
+  Vec2 centreOf(uint32_t slot, double now) const {
+    const HotBody& h = s_.hot[slot];
+    const ColdBody& c = s_.cold[slot];
+    return positionAt(h, accelerationOf(h, c), now) + c.centre;
+  }
+  uint32_t folded(int32_t x, int32_t y) const {
+    return (static_cast<uint32_t>(y) & (s_.foldY - 1)) * s_.foldX + (static_cast<uint32_t>(x) & (s_.foldX - 1));
+  }
+  void placeInCell(uint32_t slot, Vec2 centre) {
+    ColdBody& c = s_.cold[slot];
+    c.cx = cellCoord(centre.x, s_.x0, s_.cellSize);
+    c.cy = cellCoord(centre.y, s_.y0, s_.cellSize);
+    s_.hot[slot].cell = folded(c.cx, c.cy);
+  }
+  size_t cellOf(uint32_t slot) const { return s_.hot[slot].cell; }
+  void link(uint32_t slot);
+  void unlink(uint32_t slot);
+  template <class Visit>
+  void forEachNeighbour(uint32_t slot, Visit&& visit) const;
+  template <class Visit>
+  void forEachPhysical(uint32_t slot, Visit&& visit) const;
+
+  // Dismissed contacts.
+  bool dismissals(uint32_t slot) const { return (s_.hot[slot].flags & HotBody::kDismissals) != 0; }
+  void clearDismissals(uint32_t slot) {
+    s_.dismissed[slot].clear();
+    s_.hot[slot].flags = static_cast<uint8_t>(s_.hot[slot].flags & ~HotBody::kDismissals);
+  }
+  bool isDismissed(uint32_t slot, uint32_t own, uint32_t other) const;
+
+  // Predictions.
+  struct Prediction {
+    Predicting p;
+    PredictiveEvent best;
+    double horizon = 0;
+    bool moving = false, hasDismissals = false, single = false;
+  };
+  void startPrediction(uint32_t slot, double now, Prediction& q) const;
+  void pairWith(Prediction& q, uint32_t other, double until);
+  void finishPrediction(Prediction& q);
+  void predictBody(uint32_t slot, double now);
+  void crossing(const Predicting& p, double& h, int& side) const;
+  void predictPair(uint32_t own, uint32_t other, double now, double horizon, PredictiveEvent& best);
+  void predictCircles(const Predicting& p, uint32_t j, double horizon, PredictiveEvent& best);
+  int resolvedFeature(const BodySlot& a, const BodySlot& b, uint32_t own, uint32_t other, double now) const;
+  void fillPairs(uint32_t slot);
+
+  // The queue (see PredictiveState): the calendar's buckets, and the heap of the current one, a 4-ary
+  // heap (shallower than a binary one, and a node's children share a cache line).
+  int64_t bucketOf(double t) const {
+    const double q = std::floor((t - s_.base) * s_.inverseWidth);
+    if (!(q < 4e18)) return int64_t{1} << 62;  // also infinity and NaN: the overflow list
+    if (q < -4e18) return -(int64_t{1} << 62);
+    return static_cast<int64_t>(q);
+  }
+  void enqueue(uint32_t slot);
+  void dequeue(uint32_t slot);
+  void retune(double now);
+  uint32_t top();
+  size_t scheduledCount() const { return s_.heap.size() + s_.inBuckets + s_.inOverflow; }
+  bool before(const detail::HeapNode& x, const detail::HeapNode& y) const {
+    if (x.time != y.time) return x.time < y.time;
+    return earlier(s_.event[x.slot], s_.event[y.slot]);
+  }
+  void place(size_t k, detail::HeapNode node) {
+    s_.heap[k] = node;
+    s_.heapPos[node.slot] = static_cast<int32_t>(k);
+  }
+  void siftUp(size_t k);
+  void siftDown(size_t k);
+  void schedule(uint32_t slot, const PredictiveEvent& e);
+  void unschedule(uint32_t slot);
+  void resetQueue();
+};
+
+// ---- Setup -----------------------------------------------------------------------------------------
+
+template <class W>
+void Engine<W>::normalize() {
+  // As at the start of a hybrid step: the Zeno guard's count starts again, a slide on a fixture that is
+  // gone ends, and an awake free dynamic body falls with gravity.
+  for (BodySlot& b : w_.bodies) {
+    if (!b.alive) continue;
+    b.stepCollisions = 0;
+    if (b.support.generation != 0 &&
+        (!w_.fixtures[b.support.fixture].alive || w_.fixtures[b.support.fixture].generation != b.support.generation)) {
+      w_.stopSliding(b);
+    }
+    if (b.type == BodyType::Dynamic && !b.asleep && b.support.generation == 0) b.acceleration = w_.def.gravity;
+  }
+}
+
+template <class W>
+bool Engine<W>::structuralChange() const {
+  if (s_.bodySnapshot.size() != w_.bodies.size() || s_.fixtureSnapshot.size() != w_.fixtures.size()) return true;
+  for (size_t f = 0; f < w_.fixtures.size(); ++f) {
+    const detail::FixtureSlot& x = w_.fixtures[f];
+    const detail::FixtureSnapshot& o = s_.fixtureSnapshot[f];
+    if (x.alive != o.alive || x.generation != o.generation) return true;
+    if (!x.alive) continue;
+    if (x.body != o.body || x.sensor != o.sensor || x.filter.categoryBits != o.filter.categoryBits ||
+        x.filter.maskBits != o.filter.maskBits || x.filter.group != o.filter.group) {
+      return true;
+    }
+  }
+  for (size_t i = 0; i < w_.bodies.size(); ++i) {
+    const BodySlot& b = w_.bodies[i];
+    const detail::BodySnapshot& o = s_.bodySnapshot[i];
+    if (b.alive != o.alive || b.generation != o.generation) return true;
+    if (!b.alive) continue;
+    if (b.type != o.type || b.fixtures.size() != o.fixtureCount) return true;
+    if (b.type == BodyType::Static && !(b.position == o.position)) return true;
+    if (b.type == BodyType::Kinematic && (!(b.position == o.position) || !(b.velocity == o.velocity))) return true;
+  }
+  return false;
+}
+
+template <class W>
+void Engine<W>::rebase(double by) {
+  if (by == 0) return;
+  // The queue is out of order until the next retune().
+  for (PredictiveEvent& e : s_.event) {
+    if (e.kind != PredictiveKind::None) e.time -= by;
+  }
+  for (detail::HeapNode& n : s_.heap) n.time = s_.event[n.slot].time;
+  for (BodySlot& b : w_.bodies) {
+    if (b.alive && b.last.time >= 0) b.last.time -= by;
+  }
+}
+
+template <class W>
+void Engine<W>::computeConstants(double dt) {
+  // As the hybrid step: approach speeds below 1e-13 of the fastest body's are round-off.
+  double speedScale = 0;
+  bool movingKinematic = false;
+  for (const BodySlot& b : w_.bodies) {
+    if (!b.alive || b.type == BodyType::Static || b.asleep) continue;
+    speedScale = std::max(speedScale, length(b.velocity) + length(b.acceleration) * dt);
+    if (b.type == BodyType::Kinematic && !(b.velocity == Vec2{}) && !b.fixtures.empty()) movingKinematic = true;
+  }
+  s_.approachTolerance = 1e-13 * speedScale;
+  s_.restTolerance = 8 * kEps / dt;
+  s_.movingKinematic = movingKinematic;
+  // Horizon of a prediction that no cell crossing bounds (a body at the far edge of the coordinates, or
+  // at rest next to a moving kinematic body): a few dozen cells at the fastest speed.
+  s_.capTime = speedScale > 0 ? 32 * s_.cellSize / speedScale : 1.0;
+  if (!(s_.capTime > 0) || !std::isfinite(s_.capTime)) s_.capTime = 1.0;
+}
+
+template <class W>
+void Engine<W>::sync(uint32_t slot) {
+  // The copy from the body, after anything changed it.
+  const BodySlot& b = w_.bodies[s_.bodyOfSlot[slot]];
+  HotBody& h = s_.hot[slot];
+  ColdBody& c = s_.cold[slot];
+  h.position = b.position;
+  h.velocity = b.velocity;
+  h.localTime = b.localTime;
+  h.collisionCount = b.collisionCount;
+  constexpr uint8_t keep = HotBody::kSingle | HotBody::kOffCentre | HotBody::kCustomFilter | HotBody::kDismissals;
+  h.flags = static_cast<uint8_t>((h.flags & keep) | (b.acceleration == Vec2{} ? 0 : HotBody::kAccelerating) |
+                                 (b.support.generation != 0 ? HotBody::kSliding : 0));
+  c.acceleration = b.acceleration;
+  c.lastTime = b.last.time;
+  c.lastLow = b.last.fixtureLow;
+  c.lastHigh = b.last.fixtureHigh;
+  c.lastFeature = b.last.feature;
+}
+
+template <class W>
+void Engine<W>::buildGrid() {
+  const size_t nb = w_.bodies.size();
+  s_.slotOfBody.assign(nb, PredictiveState::kNone);
+  s_.bodyOfSlot.clear();
+  s_.hot.clear();
+  s_.cold.clear();
+
+  // Tracked bodies: dynamic ones with a physical fixture.
+  double diameter = 0;
+  double minX = kInf, minY = kInf, maxX = -kInf, maxY = -kInf;
+  for (uint32_t body = 0; body < nb; ++body) {
+    BodySlot& b = w_.bodies[body];
+    if (!b.alive) continue;
+    b.last = detail::LastContact{};
+    if (b.type != BodyType::Dynamic) continue;
+    int physical = 0;
+    HotBody h;
+    ColdBody c;
+    for (uint32_t f : b.fixtures) {
+      const detail::FixtureSlot& fs = w_.fixtures[f];
+      if (fs.sensor) continue;
+      if (physical == 0) {
+        c.fixture = f;
+        c.centre = detail::circleCentre(fs.geometry);
+        c.categoryBits = fs.filter.categoryBits;
+        c.maskBits = fs.filter.maskBits;
+        c.group = fs.filter.group;
+        h.radius = detail::circleRadius(fs.geometry);
+        if (std::holds_alternative<Circle>(fs.geometry)) h.flags |= HotBody::kSingle;
+        if (!(c.centre == Vec2{})) h.flags |= HotBody::kOffCentre;
+        if (c.categoryBits != Filter{}.categoryBits || c.maskBits != Filter{}.maskBits || c.group != 0) {
+          h.flags |= HotBody::kCustomFilter;
+        }
+      }
+      ++physical;
+      diameter = std::max(diameter, 2 * detail::circleRadius(fs.geometry));
+    }
+    if (physical == 0) continue;
+    if (physical > 1) h.flags = static_cast<uint8_t>(h.flags & ~HotBody::kSingle);
+    s_.slotOfBody[body] = static_cast<uint32_t>(s_.hot.size());
+    s_.bodyOfSlot.push_back(body);
+    s_.hot.push_back(h);
+    s_.cold.push_back(c);
+    const Vec2 centre = b.position + c.centre;
+    minX = std::min(minX, centre.x);
+    minY = std::min(minY, centre.y);
+    maxX = std::max(maxX, centre.x);
+    maxY = std::max(maxY, centre.y);
+  }
+  const size_t n = s_.hot.size();
+  for (uint32_t slot = 0; slot < n; ++slot) sync(slot);
+
+  // Cell size: the largest diameter, with a margin for round-off in cell crossings. The table: about
+  // the bodies' region, at most a few entries per body.
+  double size = 1;
+  s_.x0 = s_.y0 = 0;
+  uint32_t foldX = 4, foldY = 4;
+  if (n > 0 && std::isfinite(maxX - minX) && std::isfinite(maxY - minY)) {
+    const double width = maxX - minX, height = maxY - minY;
+    const double extent = std::max({std::fabs(minX), std::fabs(maxX), std::fabs(minY), std::fabs(maxY)});
+    size = diameter * (1 + 1e-6) + 256 * kEps * extent;
+    if (!(size > 0)) size = std::max(width, height) / std::sqrt(static_cast<double>(n));
+    if (!(size > 0) || !std::isfinite(size)) size = 1;
+    s_.x0 = minX;
+    s_.y0 = minY;
+    size = sparseCellSize(size, std::max(sceneExtent(), diameter));
+    const double cap = static_cast<double>(std::max<size_t>(8 * n, 1024));
+    while (foldX < width / size + 3 && foldX < cap) foldX *= 2;
+    while (foldY < height / size + 3 && foldY < cap) foldY *= 2;
+    while (static_cast<double>(foldX) * foldY > cap) {
+      if (foldX >= foldY) {
+        foldX /= 2;
+      } else {
+        foldY /= 2;
+      }
+    }
+    foldX = std::max(foldX, 4u);
+    foldY = std::max(foldY, 4u);
+  }
+  s_.cellSize = size;
+  // A body leaves its cell only once it is this far past the side: without it, a body resting exactly on a
+  // side could cross back and forth at one instant forever. Touching bodies still sit in neighbouring
+  // cells: two cells apart their centres are >= size - 2 hysteresis > diameter apart; and a static
+  // fixture within a disk's reach of its centre is within hysteresis + diameter / 2 < size / 2 of its
+  // cell, so it is listed there.
+  s_.hysteresis = 0.25 * (size - diameter);
+  s_.extent = 0;
+  for (uint32_t slot = 0; slot < n; ++slot) {
+    const Vec2 c = w_.bodies[s_.bodyOfSlot[slot]].position + s_.cold[slot].centre;
+    s_.extent = std::max({s_.extent, std::fabs(c.x), std::fabs(c.y)});
+  }
+  s_.foldX = foldX;
+  s_.foldY = foldY;
+  const size_t cells = static_cast<size_t>(foldX) * foldY;
+  s_.cells.assign(cells + 1, PredictiveState::Cell{});
+  s_.prev.assign(n, -1);
+  s_.event.assign(n, PredictiveEvent{});
+  resetQueue();
+  s_.dismissed.resize(n);
+  for (auto& d : s_.dismissed) d.clear();
+  s_.dismissedSlots.clear();
+  for (uint32_t slot = 0; slot < n; ++slot) {
+    placeInCell(slot, centreOf(slot, s_.hot[slot].localTime));
+    link(slot);
+  }
+  reorder();
+
+  // Static fixtures: in every cell whose region, grown by half a cell (the reach of any dynamic body
+  // whose centre is in it), the fixture overlaps.
+  std::vector<std::pair<uint32_t, uint32_t>> entries;  // (cell, fixture)
+  s_.kinematicFixtures.clear();
+  const double reach = 0.5 * size;
+  for (uint32_t body = 0; body < nb; ++body) {
+    const BodySlot& b = w_.bodies[body];
+    if (!b.alive || b.type == BodyType::Dynamic) continue;
+    for (uint32_t f : b.fixtures) {
+      const detail::FixtureSlot& fs = w_.fixtures[f];
+      if (fs.sensor) continue;
+      if (b.type == BodyType::Kinematic) {
+        s_.kinematicFixtures.push_back(f);
+        continue;
+      }
+      const Box box = w_.worldBox(f);
+      const Box grown{{box.min.x - reach, box.min.y - reach}, {box.max.x + reach, box.max.y + reach}};
+      const int32_t ax = cellCoord(grown.min.x, s_.x0, size), bx = cellCoord(grown.max.x, s_.x0, size);
+      const int32_t ay = cellCoord(grown.min.y, s_.y0, size), by = cellCoord(grown.max.y, s_.y0, size);
+      const int64_t countX = int64_t{bx} - ax + 1, countY = int64_t{by} - ay + 1;
+      if (countX * countY <= 4 * static_cast<int64_t>(cells) + 64) {
+        for (int32_t y = ay; y <= by; ++y) {
+          for (int32_t x = ax; x <= bx; ++x) {
+            // The cell's region grown by `reach`; cells reaching to infinity cut at the fixture's box.
+            Box region;
+            region.min.x = x == -kMaxCoord ? grown.min.x : s_.x0 + x * size - reach;
+            region.max.x = x == kMaxCoord ? grown.max.x : s_.x0 + (x + 1.0) * size + reach;
+            region.min.y = y == -kMaxCoord ? grown.min.y : s_.y0 + y * size - reach;
+            region.max.y = y == kMaxCoord ? grown.max.y : s_.y0 + (y + 1.0) * size + reach;
+            if (overlapsBox(fs.geometry, b.position, region)) entries.emplace_back(folded(x, y), f);
+          }
+        }
+      } else {
+        // Huge: every table entry its box folds onto, without looking closer.
+        const int64_t fx = std::min<int64_t>(countX, s_.foldX), fy = std::min<int64_t>(countY, s_.foldY);
+        for (int64_t y = 0; y < fy; ++y) {
+          for (int64_t x = 0; x < fx; ++x) {
+            entries.emplace_back(folded(static_cast<int32_t>(ax + x), static_cast<int32_t>(ay + y)), f);
+          }
+        }
+      }
+    }
+  }
+  std::sort(entries.begin(), entries.end());
+  entries.erase(std::unique(entries.begin(), entries.end()), entries.end());
+  for (auto& c : s_.cells) c.staticBegin = 0;
+  for (const auto& e : entries) ++s_.cells[e.first + 1].staticBegin;
+  for (size_t c = 0; c < cells; ++c) s_.cells[c + 1].staticBegin += s_.cells[c].staticBegin;
+  s_.staticList.assign(entries.size(), 0);
+  {
+    std::vector<uint32_t> fill(cells);
+    for (size_t c = 0; c < cells; ++c) fill[c] = s_.cells[c].staticBegin;
+    for (const auto& e : entries) s_.staticList[fill[e.first]++] = e.second;
+  }
+  s_.valid = true;
+}
+
+template <class W>
+double Engine<W>::sceneExtent() const {
+  // The size of the box around every tracked body's centre and every static and kinematic fixture.
+  Box box{{kInf, kInf}, {-kInf, -kInf}};
+  for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) {
+    const Vec2 c = w_.bodies[s_.bodyOfSlot[slot]].position + s_.cold[slot].centre;
+    box = unionOf(box, Box{c, c});
+  }
+  for (const BodySlot& b : w_.bodies) {
+    if (!b.alive || b.type == BodyType::Dynamic) continue;
+    for (uint32_t f : b.fixtures) {
+      if (!w_.fixtures[f].sensor) box = unionOf(box, w_.fixtures[f].localBox.translated(b.position));
+    }
+  }
+  const double extent = std::max(box.max.x - box.min.x, box.max.y - box.min.y);
+  return std::isfinite(extent) ? extent : 0.0;
+}
+
+template <class W>
+double Engine<W>::meanNeighbours(double size) const {
+  // How many other bodies the 3 x 3 cells around a body hold, on average, with cells of this size.
+  const size_t n = s_.hot.size();
+  std::vector<uint64_t> keys(n);
+  auto key = [](int64_t x, int64_t y) { return (static_cast<uint64_t>(x) << 32) | static_cast<uint32_t>(y); };
+  for (uint32_t slot = 0; slot < n; ++slot) {
+    const Vec2 c = w_.bodies[s_.bodyOfSlot[slot]].position + s_.cold[slot].centre;
+    keys[slot] = key(cellCoord(c.x, s_.x0, size) + int64_t{kMaxCoord} + 1, cellCoord(c.y, s_.y0, size) + 1);
+  }
+  std::sort(keys.begin(), keys.end());
+  double total = 0;
+  for (size_t k = 0; k < n;) {
+    size_t end = k;
+    while (end < n && keys[end] == keys[k]) ++end;
+    const int64_t x = static_cast<int64_t>(keys[k] >> 32), y = static_cast<int64_t>(keys[k] & 0xFFFFFFFFu);
+    size_t around = 0;
+    for (int64_t dx = -1; dx <= 1; ++dx) {
+      for (int64_t dy = -1; dy <= 1; ++dy) {
+        const uint64_t q = key(x + dx, y + dy);
+        around += static_cast<size_t>(std::upper_bound(keys.begin(), keys.end(), q) -
+                                      std::lower_bound(keys.begin(), keys.end(), q));
+      }
+    }
+    total += static_cast<double>(end - k) * static_cast<double>(around - 1);
+    k = end;
+  }
+  return n > 0 ? total / static_cast<double>(n) : 0.0;
+}
+
+template <class W>
+double Engine<W>::sparseCellSize(double size, double limit) const {
+  // Cells of one diameter suit a dense gas. Where bodies are sparse, a body crossing cells of that size
+  // would do little else (a fast body in an empty arena crosses millions): cells grow, doubling, while a
+  // body still has few neighbours (each crossing costs about as much as a handful of pair tests), up to
+  // the size of the whole scene.
+  for (int k = 0; k < 64 && 2 * size <= 2 * limit; ++k) {
+    if (meanNeighbours(2 * size) > 6) break;
+    size *= 2;
+  }
+  return size;
+}
+
+template <class W>
+void Engine<W>::reorder() {
+  // Slots in cell order (row by row, each cell's list in order), so that neighbours sit close in memory.
+  // Only where things are stored changes: no prediction, time or order of events does.
+  const size_t n = s_.hot.size();
+  std::vector<uint32_t>& order = s_.order;  // order[new slot] = old slot
+  order.clear();
+  for (size_t cell = 0; cell + 1 < s_.cells.size(); ++cell) {
+    for (int32_t k = s_.cells[cell].head; k >= 0; k = s_.hot[k].next) order.push_back(static_cast<uint32_t>(k));
+  }
+  std::vector<uint32_t> newSlot(n);
+  for (uint32_t k = 0; k < n; ++k) newSlot[order[k]] = k;
+  auto permute = [&](auto& v) {
+    std::remove_reference_t<decltype(v)> out(n);
+    for (uint32_t k = 0; k < n; ++k) out[k] = std::move(v[order[k]]);
+    v.swap(out);
+  };
+  permute(s_.hot);
+  permute(s_.cold);
+  permute(s_.bodyOfSlot);
+  permute(s_.event);
+  permute(s_.dismissed);
+  for (uint32_t k = 0; k < n; ++k) s_.slotOfBody[s_.bodyOfSlot[k]] = k;
+  for (PredictiveEvent& e : s_.event) {
+    if (e.partner != PredictiveState::kNone) e.partner = newSlot[e.partner];
+  }
+  for (uint32_t& slot : s_.dismissedSlots) slot = newSlot[slot];
+  // The queue again, with the same calendar.
+  resetQueue();
+  for (uint32_t k = 0; k < n; ++k) {
+    if (s_.event[k].kind != PredictiveKind::None) enqueue(k);
+  }
+  for (auto& c : s_.cells) c.head = -1;
+  for (uint32_t k = static_cast<uint32_t>(n); k-- > 0;) link(k);
+  s_.popsSinceReorder = 0;
+}
+
+template <class W>
+void Engine<W>::snapshot() {
+  s_.bodySnapshot.resize(w_.bodies.size());
+  for (size_t i = 0; i < w_.bodies.size(); ++i) {
+    const BodySlot& b = w_.bodies[i];
+    detail::BodySnapshot& o = s_.bodySnapshot[i];
+    o.alive = b.alive;
+    o.generation = b.generation;
+    o.type = b.type;
+    o.position = b.position;
+    o.velocity = b.velocity;
+    o.acceleration = b.acceleration;
+    o.collisionCount = b.collisionCount;
+    o.supportGeneration = b.support.generation;
+    o.asleep = b.asleep;
+    o.fixtureCount = static_cast<uint32_t>(b.fixtures.size());
+  }
+  s_.fixtureSnapshot.resize(w_.fixtures.size());
+  for (size_t f = 0; f < w_.fixtures.size(); ++f) {
+    const detail::FixtureSlot& x = w_.fixtures[f];
+    detail::FixtureSnapshot& o = s_.fixtureSnapshot[f];
+    o.alive = x.alive;
+    o.generation = x.generation;
+    o.body = x.body;
+    o.sensor = x.sensor;
+    o.filter = x.filter;
+  }
+}
+
+// ---- The grid --------------------------------------------------------------------------------------
+
+template <class W>
+void Engine<W>::link(uint32_t slot) {
+  const size_t cell = cellOf(slot);
+  const int32_t head = s_.cells[cell].head;
+  s_.prev[slot] = -1;
+  s_.hot[slot].next = head;
+  if (head >= 0) s_.prev[head] = static_cast<int32_t>(slot);
+  s_.cells[cell].head = static_cast<int32_t>(slot);
+}
+
+template <class W>
+void Engine<W>::unlink(uint32_t slot) {
+  const int32_t p = s_.prev[slot], n = s_.hot[slot].next;
+  if (p >= 0) {
+    s_.hot[p].next = n;
+  } else {
+    s_.cells[cellOf(slot)].head = n;
+  }
+  if (n >= 0) s_.prev[n] = p;
+  s_.prev[slot] = s_.hot[slot].next = -1;
+}
+
+template <class W>
+template <class Visit>
+void Engine<W>::forEachNeighbour(uint32_t slot, Visit&& visit) const {
+  // The 3 x 3 cells around it (distinct table entries, since the table is at least 4 x 4).
+  const uint32_t x = static_cast<uint32_t>(s_.cold[slot].cx), y = static_cast<uint32_t>(s_.cold[slot].cy);
+  const uint32_t maskX = s_.foldX - 1, maskY = s_.foldY - 1;
+  const uint32_t columns[3] = {(x - 1) & maskX, x & maskX, (x + 1) & maskX};
+  for (uint32_t dy = 0; dy < 3; ++dy) {
+    const PredictiveState::Cell* row = s_.cells.data() + static_cast<size_t>((y + dy - 1) & maskY) * s_.foldX;
+    for (uint32_t column : columns) {
+      for (int32_t j = row[column].head; j >= 0; j = s_.hot[j].next) {
+        if (static_cast<uint32_t>(j) != slot) visit(static_cast<uint32_t>(j));
+      }
+    }
+  }
+}
+
+template <class W>
+template <class Visit>
+void Engine<W>::forEachPhysical(uint32_t slot, Visit&& visit) const {
+  if (s_.hot[slot].flags & HotBody::kSingle) {
+    visit(s_.cold[slot].fixture);
+    return;
+  }
+  for (uint32_t f : w_.bodies[s_.bodyOfSlot[slot]].fixtures) {
+    if (!w_.fixtures[f].sensor) visit(f);
+  }
+}
+
+template <class W>
+bool Engine<W>::isDismissed(uint32_t slot, uint32_t own, uint32_t other) const {
+  const uint32_t countOwn = s_.hot[slot].collisionCount;
+  for (const detail::Dismissal& d : s_.dismissed[slot]) {
+    if (d.own == own && d.other == other && d.countOwn == countOwn && d.countOther == w_.bodyOf(other).collisionCount) {
+      return true;
+    }
+  }
+  return false;
+}
+
+// ---- Predictions -----------------------------------------------------------------------------------
+
+template <class W>
+void Engine<W>::crossing(const Predicting& p, double& h, int& side) const {
+  const Vec2 c = p.position + p.centre;
+  const Vec2 v = p.velocity;
+  const Vec2 a = p.acceleration;
+  const double s = s_.cellSize, d = s_.hysteresis;
+  const int32_t x = p.cold->cx, y = p.cold->cy;
+  h = kInf;
+  side = -1;
+  auto keep = [&](double t, int k) {
+    if (t < h) {
+      h = t;
+      side = k;
+    }
+  };
+  if (x > -kMaxCoord) keep(exitTime(c.x - (s_.x0 + x * s - d), v.x, 0.5 * a.x), 0);
+  if (x < kMaxCoord) keep(exitTime((s_.x0 + (x + 1.0) * s + d) - c.x, -v.x, -0.5 * a.x), 1);
+  if (y > -kMaxCoord) keep(exitTime(c.y - (s_.y0 + y * s - d), v.y, 0.5 * a.y), 2);
+  if (y < kMaxCoord) keep(exitTime((s_.y0 + (y + 1.0) * s + d) - c.y, -v.y, -0.5 * a.y), 3);
+}
+
+template <class W>
+int Engine<W>::resolvedFeature(const BodySlot& a, const BodySlot& b, uint32_t own, uint32_t other, double now) const {
+  // As World::Impl::predict: the face a body slides on, or the feature of a contact that both bodies of
+  // the pair were last resolved on at this very instant.
+  if (a.support.generation != 0 && a.support.fixture == other) return a.support.feature;
+  if (a.last.time != now) return kNoFeature;
+  const uint32_t low = std::min(own, other), high = std::max(own, other);
+  auto resolvedHereNow = [&](const BodySlot& s) {
+    return s.type != BodyType::Dynamic ||
+           (s.last.time == now && s.last.fixtureLow == low && s.last.fixtureHigh == high);
+  };
+  if (resolvedHereNow(a) && resolvedHereNow(b)) return a.last.feature;
+  return kNoFeature;
+}
+
+template <class W>
+void Engine<W>::predictPair(uint32_t own, uint32_t other, double now, double horizon, PredictiveEvent& best) {
+  // World::Impl::predict, up to the body's horizon instead of the step's end.
+  const BodySlot& a = w_.bodyOf(own);
+  const BodySlot& b = w_.bodyOf(other);
+  ++w_.stats.timeOfImpactTests;
+  const int resolved = resolvedFeature(a, b, own, other, now);
+  const Vec2 pa = w_.positionAt(a, now);
+  const Vec2 pb = w_.positionAt(b, now);
+  const Vec2 vb = w_.velocityAt(b, now);
+  const Motion relative{w_.velocityAt(a, now) - vb, a.acceleration - b.acceleration};
+  const auto impact =
+      timeOfImpact(w_.fixtures[own].geometry, pa, w_.fixtures[other].geometry, pb, relative, horizon - now, resolved);
+  if (!impact) return;
+  const double h = impact->time;
+  const double time = std::min(now + h, horizon);
+  if (time > best.time) return;
+  const Vec2 travelOfB = vb * h + b.acceleration * (0.5 * h * h);
+  const PredictiveEvent e{time,
+                          own,
+                          other,
+                          impact->feature,
+                          a.collisionCount,
+                          b.collisionCount,
+                          PredictiveKind::Contact,
+                          s_.slotOfBody[w_.fixtures[other].body],
+                          impact->point + travelOfB,
+                          impact->normal};
+  if (earlier(e, best)) best = e;
+}
+
+template <class W>
+void Engine<W>::predictCircles(const Predicting& p, uint32_t j, double horizon, PredictiveEvent& best) {
+  // Two single-circle dynamic bodies, from their copies: the same arithmetic as predictPair through the
+  // dispatcher (timeOfImpact's circle-circle entry), with a cheap rejection of receding pairs first.
+  const HotBody& a = *p.hot;
+  const HotBody& b = s_.hot[j];
+  if ((a.flags | b.flags) & HotBody::kCustomFilter) {
+    // canCollide() (the bodies differ, are dynamic and physical): the filters.
+    const ColdBody& ca = *p.cold;
+    const ColdBody& cb = s_.cold[j];
+    if (ca.group != 0 && ca.group == cb.group) return;
+    if ((ca.categoryBits & cb.maskBits) == 0 || (cb.categoryBits & ca.maskBits) == 0) return;
+  }
+  if ((a.flags & HotBody::kDismissals) && isDismissed(p.slot, p.cold->fixture, s_.cold[j].fixture)) return;
+  const double now = p.now;
+  ++w_.stats.timeOfImpactTests;
+  const Vec2 accB = (b.flags & HotBody::kAccelerating) ? s_.cold[j].acceleration : Vec2{};
+  const Vec2 centreB = (b.flags & HotBody::kOffCentre) ? s_.cold[j].centre : Vec2{};
+  const Vec2 pb = positionAt(b, accB, now);
+  const Vec2 vb = velocityAt(b, accB, now);
+  const Motion relative{p.velocity - vb, p.acceleration - accB};
+  Circle circleA{p.centre + p.position, a.radius};
+  circleA.center -= pb;
+  const Circle circleB{centreB, b.radius};
+  const double maxTime = horizon - now;
+  if (relative.acceleration == Vec2{}) {
+    // A straight relative path: no impact unless approaching (r.v < 0; time_of_impact.cpp's
+    // timeToReach), and none before c / (-2 r.v) (|r + v t|^2 - reach^2 >= c + 2 (r.v) t).
+    const Vec2 r = circleA.center - circleB.center;
+    const double rv = dot(r, relative.velocity);
+    if (!(rv < 0)) return;
+    const double reach = circleA.radius + circleB.radius;
+    const double c = dot(r, r) - reach * reach;
+    if (c > 0 && c > -2 * rv * maxTime * (1 + 1e-9)) return;
+  }
+  const ColdBody& ca = *p.cold;
+  const ColdBody& cb = s_.cold[j];
+  // resolvedFeature() from the copies: both bodies' last contact is this pair, at this instant.
+  int resolved = kNoFeature;
+  if (ca.lastTime == now) {
+    const uint32_t low = std::min(ca.fixture, cb.fixture), high = std::max(ca.fixture, cb.fixture);
+    if (ca.lastLow == low && ca.lastHigh == high && cb.lastTime == now && cb.lastLow == low && cb.lastHigh == high) {
+      resolved = ca.lastFeature;
+    }
+  }
+  auto impact = timeOfImpactCircleCircle(circleA, relative, circleB, maxTime, resolved);
+  if (!impact) return;
+  const double h = impact->time;
+  const double time = std::min(now + h, horizon);
+  if (time > best.time) return;
+  impact->point += pb;
+  const Vec2 travelOfB = vb * h + accB * (0.5 * h * h);
+  const PredictiveEvent e{time,
+                          ca.fixture,
+                          cb.fixture,
+                          impact->feature,
+                          a.collisionCount,
+                          b.collisionCount,
+                          PredictiveKind::Contact,
+                          j,
+                          impact->point + travelOfB,
+                          impact->normal};
+  if (earlier(e, best)) best = e;
+}
+
+template <class W>
+void Engine<W>::startPrediction(uint32_t i, double now, Prediction& q) const {
+  // The body's earliest event from `now` on. A moving body looks at everything near it up to its cell
+  // crossing (or a horizon), after which it is predicted again anyway. A body at rest has no crossing:
+  // it looks at each moving neighbour up to that neighbour's own next event, when the neighbour is
+  // predicted again and sees it; with nothing due it holds no event (and costs nothing).
+  const HotBody& hb = s_.hot[i];
+  const ColdBody& cb = s_.cold[i];
+  Predicting& p = q.p;
+  p.slot = i;
+  p.now = now;
+  p.hot = &hb;
+  p.cold = &cb;
+  p.acceleration = accelerationOf(hb, cb);
+  p.position = positionAt(hb, p.acceleration, now);
+  p.velocity = velocityAt(hb, p.acceleration, now);
+  p.centre = (hb.flags & HotBody::kOffCentre) ? cb.centre : Vec2{};
+  q.moving = isMoving(hb);
+  q.hasDismissals = dismissals(i);
+  q.single = (hb.flags & HotBody::kSingle) != 0;
+  PredictiveEvent& best = q.best;
+  best = PredictiveEvent{};
+  best.time = kInf;
+  best.a = best.b = cb.fixture;
+  best.countA = hb.collisionCount;
+  best.feature = -1;
+  if (q.moving || s_.movingKinematic) {
+    double h = kInf;
+    int side = -1;
+    if (q.moving) crossing(p, h, side);
+    best.kind = PredictiveKind::Cross;
+    if (h < kInf) {
+      best.feature = side;
+      best.time = now + h;
+    } else {
+      best.time = now + s_.capTime;
+    }
+  }
+  q.horizon = best.time;
+}
+
+template <class W>
+void Engine<W>::pairWith(Prediction& q, uint32_t j, double until) {
+  const uint32_t i = q.p.slot;
+  ++w_.stats.candidatePairs;
+  if (q.single && (s_.hot[j].flags & HotBody::kSingle)) {
+    predictCircles(q.p, j, until, q.best);
+    return;
+  }
+  forEachPhysical(i, [&](uint32_t f) {
+    forEachPhysical(j, [&](uint32_t g) {
+      if (!w_.canCollide(f, g) || (q.hasDismissals && isDismissed(i, f, g))) return;
+      predictPair(f, g, q.p.now, until, q.best);
+    });
+  });
+}
+
+template <class W>
+void Engine<W>::finishPrediction(Prediction& q) {
+  // Static fixtures, kinematic bodies and the slide's end; then the event goes into the queue.
+  const uint32_t i = q.p.slot;
+  const double now = q.p.now, horizon = q.horizon;
+  if (q.moving) {
+    const size_t cell = cellOf(i);
+    for (uint32_t k = s_.cells[cell].staticBegin; k < s_.cells[cell + 1].staticBegin; ++k) {
+      const uint32_t g = s_.staticList[k];
+      forEachPhysical(i, [&](uint32_t f) {
+        if (!w_.canCollide(f, g) || (q.hasDismissals && isDismissed(i, f, g))) return;
+        predictPair(f, g, now, horizon, q.best);
+      });
+    }
+  }
+  for (uint32_t g : s_.kinematicFixtures) {
+    if (!q.moving && w_.bodyOf(g).velocity == Vec2{}) continue;
+    forEachPhysical(i, [&](uint32_t f) {
+      if (!w_.canCollide(f, g) || (q.hasDismissals && isDismissed(i, f, g))) return;
+      predictPair(f, g, now, horizon, q.best);
+    });
+  }
+  if (q.p.hot->flags & HotBody::kSliding) {
+    const BodySlot& b = w_.bodies[s_.bodyOfSlot[i]];
+    const double until = q.moving ? horizon : now + s_.capTime;
+    if (const auto t = w_.slideEndTime(b, now, until)) {
+      const PredictiveEvent e{std::min(*t, until),     b.fixtures.front(), b.support.fixture,
+                              b.support.feature,       b.collisionCount,   0,
+                              PredictiveKind::SlideEnd};
+      if (earlier(e, q.best)) q.best = e;
+    }
+  }
+  if (q.best.kind == PredictiveKind::None) {
+    unschedule(i);
+  } else {
+    schedule(i, q.best);
+  }
+}
+
+template <class W>
+void Engine<W>::predictBody(uint32_t i, double now) {
+  Prediction q;
+  startPrediction(i, now, q);
+  if (q.moving) {
+    forEachNeighbour(i, [&](uint32_t j) { pairWith(q, j, q.horizon); });
+  } else {
+    forEachNeighbour(i, [&](uint32_t j) {
+      // A neighbour without an event is at rest too, or is about to be predicted (and then sees this).
+      if (s_.event[j].kind == PredictiveKind::None || !isMoving(s_.hot[j])) return;
+      pairWith(q, j, std::max(s_.event[j].time, now));
+    });
+  }
+  finishPrediction(q);
+}
+
+template <class W>
+void Engine<W>::fillPairs(uint32_t i) {
+  // The body's candidate pairs, for the resting rules (World::Impl::supportsAt reads them).
+  auto& pairs = w_.pairsOfBody[s_.bodyOfSlot[i]];
+  pairs.clear();
+  auto add = [&](uint32_t f, uint32_t g) {
+    if (w_.canCollide(f, g)) pairs.push_back({f, g, false});
+  };
+  forEachNeighbour(i, [&](uint32_t j) {
+    forEachPhysical(i, [&](uint32_t f) { forEachPhysical(j, [&](uint32_t g) { add(f, g); }); });
+  });
+  const size_t cell = cellOf(i);
+  for (uint32_t k = s_.cells[cell].staticBegin; k < s_.cells[cell + 1].staticBegin; ++k) {
+    forEachPhysical(i, [&](uint32_t f) { add(f, s_.staticList[k]); });
+  }
+  for (uint32_t g : s_.kinematicFixtures) {
+    forEachPhysical(i, [&](uint32_t f) { add(f, g); });
+  }
+}
+
+// ---- The queue -------------------------------------------------------------------------------------
+
+template <class W>
+void Engine<W>::resetQueue() {
+  const size_t n = s_.hot.size();
+  s_.heap.clear();
+  s_.heapPos.assign(n, -1);
+  s_.queuedIn.assign(n, PredictiveState::kNotQueued);
+  s_.ticket.assign(n, 0);
+  for (auto& b : s_.buckets) b.clear();
+  s_.overflow.clear();
+  s_.inBuckets = s_.inOverflow = 0;
+}
+
+template <class W>
+void Engine<W>::enqueue(uint32_t slot) {
+  // Into the heap, a bucket or the overflow array, by its time's bucket.
+  const double t = s_.event[slot].time;
+  const int64_t k = bucketOf(t);
+  if (k <= s_.current) {
+    s_.heap.push_back({t, slot});
+    s_.heapPos[slot] = static_cast<int32_t>(s_.heap.size() - 1);
+    s_.queuedIn[slot] = PredictiveState::kInHeap;
+    siftUp(s_.heap.size() - 1);
+  } else if (k < s_.limit) {
+    s_.buckets[static_cast<size_t>(k & static_cast<int64_t>(s_.buckets.size() - 1))].push_back(
+        {t, slot, ++s_.ticket[slot]});
+    s_.queuedIn[slot] = PredictiveState::kInBucket;
+    ++s_.inBuckets;
+  } else {
+    s_.overflow.push_back({t, slot, ++s_.ticket[slot]});
+    s_.queuedIn[slot] = PredictiveState::kInOverflow;
+    ++s_.inOverflow;
+  }
+}
+
+template <class W>
+void Engine<W>::dequeue(uint32_t slot) {
+  const int32_t where = s_.queuedIn[slot];
+  if (where == PredictiveState::kNotQueued) return;
+  s_.queuedIn[slot] = PredictiveState::kNotQueued;
+  if (where == PredictiveState::kInHeap) {
+    const size_t k = static_cast<size_t>(s_.heapPos[slot]);
+    s_.heapPos[slot] = -1;
+    const detail::HeapNode last = s_.heap.back();
+    s_.heap.pop_back();
+    if (k == s_.heap.size()) return;
+    place(k, last);
+    if (k > 0 && before(last, s_.heap[(k - 1) / 4])) {
+      siftUp(k);
+    } else {
+      siftDown(k);
+    }
+    return;
+  }
+  ++s_.ticket[slot];  // its entry is left behind, and dropped when read
+  --(where == PredictiveState::kInOverflow ? s_.inOverflow : s_.inBuckets);
+}
+
+template <class W>
+void Engine<W>::retune(double now) {
+  // A new calendar from `now`: buckets about as wide as the time in which ~32 events fall near now (the
+  // density read from the nearest sixteenth of the events, not just a few, which may all be due at once),
+  // and enough of them to reach well past most events.
+  std::vector<double>& ahead = s_.scratchTimes;
+  ahead.clear();
+  const size_t n = s_.hot.size();
+  for (uint32_t k = 0; k < n; ++k) {
+    const PredictiveEvent& e = s_.event[k];
+    if (e.kind != PredictiveKind::None && e.time < kInf) ahead.push_back(std::max(e.time - now, 0.0));
+  }
+  double span = 0;
+  size_t count = 0;
+  if (!ahead.empty()) {
+    count = std::min<size_t>(ahead.size(), std::max<size_t>(256, ahead.size() / 16));
+    std::nth_element(ahead.begin(), ahead.begin() + static_cast<std::ptrdiff_t>(count - 1), ahead.end());
+    span = ahead[count - 1];
+    if (!(span > 0)) {
+      double sum = 0;
+      for (double t : ahead) sum += t;
+      span = sum / static_cast<double>(ahead.size());
+      count = ahead.size();
+    }
+  }
+  double width = span > 0 ? 32 * span / static_cast<double>(count) : 1.0;
+  if (!(width > 0) || !std::isfinite(width)) width = 1.0;
+  size_t buckets = 16;
+  while (buckets < ahead.size() / 8 && buckets < (size_t{1} << 22)) buckets *= 2;
+  s_.base = now;
+  s_.width = width;
+  s_.inverseWidth = 1 / width;
+  if (s_.buckets.size() != buckets) s_.buckets.resize(buckets);
+  s_.current = bucketOf(now);
+  s_.limit = s_.current + static_cast<int64_t>(buckets);
+  resetQueue();
+  for (uint32_t k = 0; k < n; ++k) {
+    if (s_.event[k].kind != PredictiveKind::None) enqueue(k);
+  }
+  s_.popsSinceRetune = 0;
+}
+
+template <class W>
+uint32_t Engine<W>::top() {
+  // The earliest event's slot, moving later buckets into the heap as it runs empty.
+  while (s_.heap.empty()) {
+    if (s_.inBuckets == 0) {
+      if (s_.inOverflow == 0) return PredictiveState::kNone;
+      // Nothing left but the overflow: skip to its first bucket.
+      int64_t first = int64_t{1} << 62;
+      for (const auto& e : s_.overflow) {
+        if (s_.ticket[e.slot] == e.ticket) first = std::min(first, bucketOf(e.time));
+      }
+      s_.current = std::max(s_.current, first - 1);
+      s_.limit = s_.current + 1;
+    }
+    ++s_.current;
+    if (s_.current >= s_.limit && s_.inOverflow > scheduledCount() / 2 && s_.popsSinceRetune > s_.hot.size() / 4) {
+      // A new round of the buckets, and most events are still beyond it: the buckets are too narrow.
+      retune(s_.base + static_cast<double>(s_.current) * s_.width);
+      continue;
+    }
+    if (s_.current >= s_.limit) {
+      // A new round of the buckets: the overflow events now within reach move in.
+      s_.limit = s_.current + static_cast<int64_t>(s_.buckets.size());
+      std::vector<PredictiveState::QueueEntry> waiting;
+      waiting.swap(s_.overflow);
+      s_.inOverflow = 0;
+      for (const auto& e : waiting) {
+        if (s_.ticket[e.slot] != e.ticket) continue;
+        s_.queuedIn[e.slot] = PredictiveState::kNotQueued;
+        enqueue(e.slot);
+      }
+      waiting.clear();
+      if (s_.overflow.empty()) waiting.swap(s_.overflow);  // keep the memory
+    }
+    auto& bucket = s_.buckets[static_cast<size_t>(s_.current & static_cast<int64_t>(s_.buckets.size() - 1))];
+    for (const auto& e : bucket) {
+      if (s_.ticket[e.slot] != e.ticket) continue;
+      --s_.inBuckets;
+      s_.heapPos[e.slot] = static_cast<int32_t>(s_.heap.size());
+      s_.heap.push_back({e.time, e.slot});
+      s_.queuedIn[e.slot] = PredictiveState::kInHeap;
+    }
+    bucket.clear();
+    for (size_t p = s_.heap.size() / 4 + 1; p-- > 0;) {
+      if (p < s_.heap.size()) siftDown(p);
+    }
+  }
+  return s_.heap.front().slot;
+}
+
+template <class W>
+void Engine<W>::siftUp(size_t k) {
+  const detail::HeapNode node = s_.heap[k];
+  while (k > 0) {
+    const size_t parent = (k - 1) / 4;
+    if (!before(node, s_.heap[parent])) break;
+    place(k, s_.heap[parent]);
+    k = parent;
+  }
+  place(k, node);
+}
+
+template <class W>
+void Engine<W>::siftDown(size_t k) {
+  const detail::HeapNode node = s_.heap[k];
+  const size_t n = s_.heap.size();
+  for (;;) {
+    const size_t first = 4 * k + 1;
+    if (first >= n) break;
+    size_t child = first;
+    const size_t last = std::min(first + 4, n);
+    for (size_t c = first + 1; c < last; ++c) {
+      if (before(s_.heap[c], s_.heap[child])) child = c;
+    }
+    if (!before(s_.heap[child], node)) break;
+    place(k, s_.heap[child]);
+    k = child;
+  }
+  place(k, node);
+}
+
+template <class W>
+void Engine<W>::schedule(uint32_t slot, const PredictiveEvent& e) {
+  if (s_.queuedIn[slot] == PredictiveState::kInHeap && bucketOf(e.time) <= s_.current) {
+    // Stays in the heap: move it up or down.
+    s_.event[slot] = e;
+    const size_t k = static_cast<size_t>(s_.heapPos[slot]);
+    s_.heap[k].time = e.time;
+    if (k > 0 && before(s_.heap[k], s_.heap[(k - 1) / 4])) {
+      siftUp(k);
+    } else {
+      siftDown(k);
+    }
+    return;
+  }
+  dequeue(slot);
+  s_.event[slot] = e;
+  enqueue(slot);
+}
+
+template <class W>
+void Engine<W>::unschedule(uint32_t slot) {
+  dequeue(slot);
+  s_.event[slot].kind = PredictiveKind::None;
+}
+
+// ---- The step --------------------------------------------------------------------------------------
+
+template <class W>
+void Engine<W>::step(double dt) {
+  w_.contactEvents.clear();
+  w_.sensorEvents.clear();
+  w_.sensorEvents.swap(w_.pendingSensorEvents);
+  w_.stats = StepStats{};
+  if (w_.pairsOfBody.size() < w_.bodies.size()) w_.pairsOfBody.resize(w_.bodies.size());
+
+  // 1. Notice what changed since the last step; re-base the clocks to this step's start.
+  normalize();
+  bool rebuild = !s_.valid || structuralChange();
+  s_.dirty.clear();
+  if (!rebuild) {
+    rebase(s_.lastStep);
+    double extent = 0;
+    for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) {
+      const uint32_t body = s_.bodyOfSlot[slot];
+      const BodySlot& b = w_.bodies[body];
+      const detail::BodySnapshot& o = s_.bodySnapshot[body];
+      extent = std::max({extent, std::fabs(b.position.x), std::fabs(b.position.y)});
+      if (!(b.position == o.position) || !(b.velocity == o.velocity) || !(b.acceleration == o.acceleration) ||
+          b.asleep != o.asleep || b.support.generation != o.supportGeneration || b.collisionCount != o.collisionCount) {
+        s_.dirty.push_back(slot);
+      }
+    }
+    // Bodies far beyond where the grid was made: its margins, sized for the round-off of coordinates
+    // there, may be too thin here. Make it again.
+    if (extent > 64 * s_.extent + s_.cellSize) rebuild = true;
+  }
+  if (rebuild) buildGrid();
+  computeConstants(dt);
+  if (rebuild) {
+    for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) predictBody(slot, 0);
+  } else {
+    for (uint32_t slot : s_.dirty) {
+      // Moved, given a velocity, woken or put to sleep from outside: predictions against its old path
+      // go stale, and it is predicted afresh from where it is.
+      BodySlot& b = w_.bodies[s_.bodyOfSlot[slot]];
+      ++b.collisionCount;
+      b.last = detail::LastContact{};
+    }
+    for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) sync(slot);
+    for (uint32_t slot : s_.dirty) {
+      unlink(slot);
+      placeInCell(slot, centreOf(slot, s_.hot[slot].localTime));
+      link(slot);
+      clearDismissals(slot);
+      predictBody(slot, 0);
+    }
+    // Contacts dropped as not approaching were dropped for that step only (as in the hybrid step).
+    for (uint32_t slot : s_.dismissedSlots) {
+      if (!dismissals(slot)) continue;
+      clearDismissals(slot);
+      predictBody(slot, 0);
+    }
+  }
+  s_.dismissedSlots.clear();
+  retune(0);
+
+  // 2. Events in time order, up to the step's end.
+  const double restTolerance = s_.restTolerance;
+  const double approachTolerance = s_.approachTolerance;
+  const uint64_t reorderEvery = 4 * static_cast<uint64_t>(s_.hot.size()) + 1024;
+  double budgetTime = dt;
+  for (;;) {
+    if (++s_.popsSinceReorder > reorderEvery) reorder();
+    const uint32_t i = top();
+    if (i == PredictiveState::kNone) break;
+    const PredictiveEvent c = s_.event[i];
+    if (!(c.time <= dt)) break;
+    // A heap grown large (events denser than the calendar was cut for): cut it again from here.
+    if (++s_.popsSinceRetune > s_.hot.size() && s_.heap.size() > 4096) retune(c.time);
+    const uint32_t j = c.kind == PredictiveKind::Contact ? c.partner : PredictiveState::kNone;
+    unschedule(i);
+
+    if (c.kind == PredictiveKind::Cross) {
+      if (c.feature >= 0) {
+        unlink(i);
+        ColdBody& cell = s_.cold[i];
+        if (c.feature == 0) {
+          --cell.cx;
+        } else if (c.feature == 1) {
+          ++cell.cx;
+        } else if (c.feature == 2) {
+          --cell.cy;
+        } else {
+          ++cell.cy;
+        }
+        s_.hot[i].cell = folded(cell.cx, cell.cy);
+        link(i);
+      }
+      predictBody(i, c.time);
+      continue;
+    }
+    const uint32_t ia = s_.bodyOfSlot[i];
+    if (c.kind == PredictiveKind::SlideEnd) {
+      BodySlot& a = w_.bodies[ia];
+      if (a.collisionCount != c.countA || a.support.generation == 0) {
+        ++w_.stats.staleEvents;
+        predictBody(i, c.time);
+        continue;
+      }
+      w_.advance(a, c.time);
+      w_.stopSliding(a);
+      ++a.collisionCount;
+      sync(i);
+      predictBody(i, c.time);
+      continue;
+    }
+
+    // A contact. Static and kinematic bodies never change their counters.
+    if (s_.hot[i].collisionCount != c.countA || (j != PredictiveState::kNone && s_.hot[j].collisionCount != c.countB)) {
+      ++w_.stats.staleEvents;
+      predictBody(i, c.time);
+      continue;
+    }
+    // The hybrid step's check at pop: an approach no faster than round-off, with nothing pressing the two
+    // together, is not a collision. It is absorbed when the bodies still move, or else dropped.
+    Vec2 relativeVelocity, relativeAcceleration;
+    {
+      const HotBody& ha = s_.hot[i];
+      const Vec2 accA = accelerationOf(ha, s_.cold[i]);
+      if (j != PredictiveState::kNone) {
+        const HotBody& hb = s_.hot[j];
+        const Vec2 accB = accelerationOf(hb, s_.cold[j]);
+        relativeVelocity = velocityAt(ha, accA, c.time) - velocityAt(hb, accB, c.time);
+        relativeAcceleration = accA - accB;
+      } else {
+        const BodySlot& b = w_.bodyOf(c.b);
+        relativeVelocity = velocityAt(ha, accA, c.time) - w_.velocityAt(b, c.time);
+        relativeAcceleration = accA - b.acceleration;
+      }
+    }
+    const detail::PredictedContact contact{
+        c.time, detail::EventKind::Contact, c.a, c.b, c.feature, c.countA, c.countB, c.point, c.normal};
+    const double vn = dot(relativeVelocity, c.normal);
+    const bool pressing = dot(relativeAcceleration, c.normal) < 0;
+    const double restTol = restTolerance * (std::fabs(c.point.x) + std::fabs(c.point.y));
+    const double tolerance = approachTolerance + restTol;
+    if (!(vn < -tolerance) && !pressing) {
+      ++w_.stats.staleEvents;
+      const double speed = length(relativeVelocity);
+      if (vn < -16 * kEps * speed && speed > restTol && w_.stats.eventsProcessed < w_.def.maxEventsPerStep) {
+        w_.absorb(contact, vn);
+        ++w_.stats.eventsProcessed;
+        sync(i);
+        if (j != PredictiveState::kNone) sync(j);
+        predictBody(i, c.time);
+        if (j != PredictiveState::kNone) predictBody(j, c.time);
+      } else {
+        if (!dismissals(i)) s_.dismissedSlots.push_back(i);
+        s_.hot[i].flags |= HotBody::kDismissals;
+        // Only entries that still hold are kept (a body at rest in a pile is dismissed again and again).
+        auto& list = s_.dismissed[i];
+        list.erase(std::remove_if(list.begin(), list.end(),
+                                  [&](const detail::Dismissal& d) {
+                                    return d.countOwn != c.countA || d.countOther != w_.bodyOf(d.other).collisionCount;
+                                  }),
+                   list.end());
+        list.push_back({c.a, c.b, c.countA, c.countB});
+        predictBody(i, c.time);
+      }
+      continue;
+    }
+    if (w_.stats.eventsProcessed >= w_.def.maxEventsPerStep) {
+      w_.stats.eventBudgetReached = true;
+      budgetTime = c.time;
+      break;
+    }
+    // The resting rules look at the bodies' candidate pairs.
+    if (w_.def.restingSpeed > 0 && !(w_.def.gravity == Vec2{})) {
+      fillPairs(i);
+      if (j != PredictiveState::kNone) fillPairs(j);
+    }
+    s_.woken.clear();
+    w_.resolve(contact, s_.woken);
+    ++w_.stats.eventsProcessed;
+    {
+      // The round-off guard (LastContact) takes a pair just resolved to be separating. When the resolution
+      // left it approaching after all (a body put back to sleep after sharing the impulse), that is not
+      // so: drop the guard for it, and the pair's next prediction finds the contact again, now. (The
+      // hybrid step does the same at its next step, which starts without guards.)
+      BodySlot& ba = w_.bodies[ia];
+      BodySlot& bb = w_.bodyOf(c.b);
+      const double after = dot(w_.velocityAt(ba, c.time) - w_.velocityAt(bb, c.time), c.normal);
+      if (after < -tolerance) {
+        for (BodySlot* body : {&ba, &bb}) {
+          if (body->type == BodyType::Dynamic) body->last = detail::LastContact{};
+        }
+      }
+    }
+    sync(i);
+    if (j != PredictiveState::kNone) sync(j);
+    if (!s_.woken.empty()) {
+      const uint32_t ib = w_.fixtures[c.b].body;
+      for (uint32_t k : s_.woken) {
+        if (k == ia || k == ib) continue;
+        // Asleep until now, so at rest where it lies: its clock starts here.
+        w_.bodies[k].localTime = c.time;
+        syncBody(k);
+      }
+      for (uint32_t k : s_.woken) {
+        const uint32_t slot = s_.slotOfBody[k];
+        if (k != ia && k != ib && slot != PredictiveState::kNone) predictBody(slot, c.time);
+      }
+    }
+    predictBody(i, c.time);
+    if (j != PredictiveState::kNone) predictBody(j, c.time);
+  }
+
+  // 3. Every body to the end of the step (out of budget: to the instant the budget ran out, as the hybrid
+  // step does); the clocks start again from there.
+  const double end = w_.stats.eventBudgetReached ? budgetTime : dt;
+  for (BodySlot& b : w_.bodies) {
+    if (!b.alive || b.type == BodyType::Static) continue;
+    if (b.type == BodyType::Dynamic) {
+      w_.advance(b, end);
+      if (b.asleep) ++w_.stats.sleeping;
+    } else {
+      b.position = b.position + b.velocity * end;
+    }
+    b.localTime = 0;
+  }
+  for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) sync(slot);
+  w_.time += dt;
+  s_.lastStep = end;
+  // Cut short, the bodies lost the rest of the step: every prediction is off; start afresh.
+  if (w_.stats.eventBudgetReached) s_.valid = false;
+  snapshot();
+}
+
+}  // namespace
+
+void World::Impl::stepPredictive(double dt) {
+  if (!predictive) predictive = std::make_unique<detail::PredictiveState>();
+  Engine<World::Impl>(*this, *predictive).step(dt);
+}
 
 }  // namespace rattle

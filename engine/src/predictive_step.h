@@ -1,14 +1,8 @@
-// Private: the predictive mode's state, kept from one step to the next (predictive_step.cpp).
+// Private: the predictive mode's state, kept from one step to the next (predictive_step.cpp describes
+// the method).
 //
-// Event-driven molecular dynamics in the manner of Isobe (1999) and Smallenburg (2022):
-//  - a uniform cell grid over the dynamic bodies (cell size >= the largest dynamic diameter), whose
-//    border cells reach to infinity, so touching bodies are always in neighbouring cells;
-//  - static fixtures listed in every cell they come within half a cell of;
-//  - lazy per-body clocks (BodySlot::localTime): a body is moved only when it collides;
-//  - one scheduled event per dynamic body (its earliest contact, slide end or cell crossing), in one
-//    indexed heap ordered by time and then by ids; a partner's collision counter detects a prediction
-//    that a later change made stale, and the body is then predicted again.
-// Flat arrays indexed by body, cell or heap slot; nothing is allocated per event.
+// Everything is in flat arrays indexed by slot (a tracked body's place in spatial order), table entry or
+// heap position, reused from step to step: nothing is allocated per event.
 #pragma once
 
 #include <cstdint>
@@ -31,6 +25,7 @@ struct PredictiveEvent {
   int32_t feature = 0;
   uint32_t countA = 0, countB = 0;
   PredictiveKind kind = PredictiveKind::None;
+  uint32_t partner = 0xFFFFFFFFu;  // Contact: the slot of b's body, or PredictiveState::kNone
   Vec2 point;
   Vec2 normal;
 };
@@ -56,20 +51,46 @@ struct FixtureSnapshot {
   bool alive = false, sensor = false;
 };
 
-// The shape of a tracked dynamic body: its primary (first physical) fixture, and when that is its only
-// physical fixture and a Circle, the circle, for the circle-circle fast path.
-struct TrackedShape {
-  Vec2 centre;        // the body's circles' common centre, relative to the body
-  double radius = 0;  // of the primary fixture when `single`
-  uint32_t fixture = 0;
+// A tracked body's copy of what predictions read, split in two records kept in spatial order
+// (bodies of one cell next to each other), so that scanning a neighbourhood touches a few cache lines
+// instead of scattered BodySlots. The BodySlot stays the truth; the copy is refreshed whenever the body
+// changes. `HotBody` is what every neighbour test reads; `ColdBody` what is read only when a flag says
+// so (acceleration, a centre off the body's position, a filter other than the default) or once per
+// prediction of the body itself.
+struct alignas(64) HotBody {
+  enum : uint8_t {
+    kSingle = 1,        // the primary fixture is a Circle and the body's only physical fixture
+    kAccelerating = 2,  // acceleration != 0 (in ColdBody)
+    kOffCentre = 4,     // the circles' centre is not the body's position (in ColdBody)
+    kCustomFilter = 8,  // the primary fixture's filter is not the default one (in ColdBody)
+    kSliding = 16,      // BodySlot::support is set
+    kDismissals = 32,   // PredictiveState::dismissed holds something for it
+  };
+  Vec2 position;  // at localTime, as BodySlot
+  Vec2 velocity;
+  double localTime = 0;
+  double radius = 0;  // of the primary fixture, when kSingle
+  uint32_t collisionCount = 0;
+  uint32_t cell = 0;  // its cell's table entry (PredictiveState::cells)
+  int32_t next = -1;  // the next slot in the cell's list, or -1
+  uint8_t flags = 0;
+};
+
+struct alignas(64) ColdBody {
+  Vec2 acceleration;
+  Vec2 centre;           // the body's circles' common centre, relative to the body
+  double lastTime = -1;  // BodySlot::last
+  uint32_t lastLow = 0, lastHigh = 0;
+  int32_t lastFeature = -1;
+  uint32_t fixture = 0;  // the primary (first physical) fixture
   uint32_t categoryBits = 0, maskBits = 0;
   int32_t group = 0;
-  bool single = false;  // one physical fixture, a Circle
+  int32_t cx = 0, cy = 0;  // its cell (HotBody::cell is where the cell is folded to)
 };
 
 struct HeapNode {
   double time;
-  uint32_t body;
+  uint32_t slot;
 };
 
 struct PredictiveState {
@@ -84,33 +105,68 @@ struct PredictiveState {
   double capTime = 1;        // longest horizon of a prediction when no cell crossing bounds it
   bool movingKinematic = false;
 
-  // The grid. Cell (cx, cy) covers [x0 + cx s, x0 + (cx + 1) s) (and likewise in y), except that the
-  // first and last cells of each row and column reach to infinity.
+  // The grid: unbounded, folded onto a table. Cell (cx, cy) covers [x0 + cx s, x0 + (cx + 1) s) (and
+  // likewise in y; cells at +-kMaxCoord reach to infinity) and lives in table entry
+  // (cy mod foldY) foldX + (cx mod foldX): rows stay contiguous, and cells far apart may share an entry,
+  // which only adds candidates that the time of impact turns down.
   double x0 = 0, y0 = 0, cellSize = 1;
-  int32_t nx = 1, ny = 1;
-  std::vector<int32_t> cellHead;      // first body in the cell, or -1
-  std::vector<uint32_t> staticStart;  // CSR: static fixtures near cell c are staticList[staticStart[c] ..]
+  double hysteresis = 0;          // how far past its cell's side a body goes before it crosses (see buildGrid)
+  double extent = 0;              // the largest coordinate of a body when the grid was made
+  uint32_t foldX = 4, foldY = 4;  // powers of two, >= 4
+  struct Cell {
+    int32_t head = -1;         // the first slot in the cell, or -1
+    uint32_t staticBegin = 0;  // static fixtures near the cell: staticList[staticBegin, next cell's)
+  };
+  std::vector<Cell> cells;  // one more than the grid has, for the last cell's end
   std::vector<uint32_t> staticList;
   std::vector<uint32_t> kinematicFixtures;  // physical fixtures of kinematic bodies
 
-  // Per body (indexed like World::Impl::bodies).
-  std::vector<uint8_t> tracked;  // a dynamic body with a physical fixture: in the grid, may have an event
-  std::vector<TrackedShape> shape;
-  std::vector<int32_t> cx, cy;
-  std::vector<int32_t> next, prev;  // the cell's list
+  // Tracked bodies (dynamic, with a physical fixture) have a slot; slots are ordered by cell when the
+  // grid is built and re-ordered now and then as bodies move. Everything below is indexed by slot.
+  std::vector<uint32_t> slotOfBody;  // by body index; kNone: not tracked
+  std::vector<uint32_t> bodyOfSlot;
+  std::vector<HotBody> hot;
+  std::vector<ColdBody> cold;
+  std::vector<int32_t> prev;  // the cell's list (HotBody::next the other way)
   std::vector<PredictiveEvent> event;
-  std::vector<int32_t> heapPos;  // -1: no event scheduled
   std::vector<std::vector<Dismissal>> dismissed;
-  std::vector<uint32_t> dismissedBodies;  // bodies whose `dismissed` is not empty
+  std::vector<uint32_t> dismissedSlots;  // slots whose `dismissed` is not empty
+  uint64_t popsSinceReorder = 0;
+  uint64_t popsSinceRetune = 0;
+
+  // What the world looked like at the end of the last step, by body and fixture index.
   std::vector<BodySnapshot> bodySnapshot;
   std::vector<FixtureSnapshot> fixtureSnapshot;
 
-  // The event queue: a binary heap of bodies, earliest event first.
+  // The event queue, a calendar (G. Paul, J. Comput. Phys. 221, 615, 2007; Smallenburg 2022): time is cut
+  // into buckets of equal width. Events of the current bucket and before are in `heap`, a small 4-ary
+  // heap (earliest first, by time and then ids); each later bucket is an unsorted array, and events too
+  // far ahead wait in an overflow array. A bucket's events move into the heap when the heap runs empty.
+  // The bucket of a time, floor((t - base) / width), never decreases as t grows, so the heap always holds
+  // the earliest events. Arrays are appended to and never searched: an entry whose ticket is no longer
+  // its slot's is dropped when the bucket is read.
+  struct QueueEntry {
+    double time;
+    uint32_t slot;
+    uint32_t ticket;
+  };
   std::vector<HeapNode> heap;
+  std::vector<int32_t> heapPos;                  // by slot: position in `heap`, or -1
+  std::vector<int32_t> queuedIn;                 // by slot: kNotQueued, kInHeap, kInBucket or kInOverflow
+  std::vector<uint32_t> ticket;                  // by slot
+  std::vector<std::vector<QueueEntry>> buckets;  // a power of two of them
+  std::vector<QueueEntry> overflow;
+  size_t inBuckets = 0, inOverflow = 0;  // live entries
+  double base = 0, width = 1, inverseWidth = 1;
+  int64_t current = 0;  // the bucket whose events (and all earlier) are in the heap
+  int64_t limit = 0;    // events of buckets >= limit wait in the overflow array
+  static constexpr int32_t kNotQueued = -1, kInHeap = -2, kInBucket = -3, kInOverflow = -4;
 
   // Scratch.
   std::vector<uint32_t> dirty;
   std::vector<uint32_t> woken;
+  std::vector<uint32_t> order;
+  std::vector<double> scratchTimes;
 };
 
 }  // namespace rattle::detail

@@ -127,6 +127,8 @@ std::optional<Impact> faceImpact(const Circle& circle, const Motion& m, const Ed
     // Centre a full radius behind the line (or on the segment's other side): only coming round to the
     // front and then closing in counts.
     t = detail::firstDownwardCrossing(gap, 0, maxTime);
+    // A centre exactly on a segment's line that was just resolved there crosses neither face now.
+    if (t && *t == 0 && justResolved) t = detail::firstDownwardCrossing(gap, std::nextafter(0.0, 1.0), maxTime);
   }
   if (!t) return std::nullopt;
   const double tau = dot(edge.u, rel + travel(m, *t));
