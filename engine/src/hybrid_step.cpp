@@ -1,10 +1,11 @@
 // The hybrid step (the default): swept boxes through sort-and-sweep, then exact events inside the step.
 //
-//  1. Every fixture of a moving body gets the box of its straight path over the step.
-//  2. Sort-and-sweep turns overlapping boxes into candidate pairs (static-static, sensor and filtered
-//     pairs never get this far).
-//  3. Each candidate pair gets its exact time of impact within the step; the predictions go into one
-//     queue ordered by time and then by ids.
+//  1. Every fixture of a moving body gets the box of its path over the step (a straight line, or a
+//     parabola under gravity); sleeping bodies count as resting.
+//  2. Sort-and-sweep turns overlapping boxes into candidate pairs (static-static, sensor-sensor and
+//     filtered pairs never get this far).
+//  3. Each candidate pair gets its exact time of impact within the step (a sensor pair: its next begin or
+//     end); the predictions go into one queue ordered by time, kind and then ids.
 //  4. Events are resolved in time order. A prediction carries the collision counters its bodies had when
 //     it was made; when one has changed since, the prediction is stale and dropped (lazy invalidation:
 //     Sedgewick & Wayne, Algorithms 6.1). After a collision the two bodies are predicted again from that
