@@ -44,8 +44,9 @@ std::string str(Vec2 v) {
 ::testing::AssertionResult vecNear(const char* what, Vec2 a, LVec e, double tol) {
   const double dx = std::fabs(a.x - static_cast<double>(e.x)), dy = std::fabs(a.y - static_cast<double>(e.y));
   if (dx <= tol && dy <= tol) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << what << " = " << str(a) << ", expected " << str(Vec2{double(e.x), double(e.y)})
-                                       << " (difference " << dx << ", " << dy << ", tolerance " << tol << ")";
+  return ::testing::AssertionFailure() << what << " = " << str(a) << ", expected "
+                                       << str(Vec2{double(e.x), double(e.y)}) << " (difference " << dx << ", " << dy
+                                       << ", tolerance " << tol << ")";
 }
 #define EXPECT_VEC_NEAR(actual, expected, tol) EXPECT_TRUE(vecNear(#actual, (actual), (expected), (tol)))
 
@@ -149,25 +150,7 @@ TEST(WorldTwoDisk, HeadOnAndObliqueMatchClosedForm) {
 // ------------------------------------------------------------------------------------------------
 // Conservation in a large gas.
 
-RandomDiskOptions thousandDiskOptions() {
-  RandomDiskOptions o;
-  o.count = 1000;
-  o.seed = 20240611;
-  o.xmin = 0;
-  o.ymin = 0;
-  o.xmax = 50;
-  o.ymax = 50;
-  o.minRadius = 0.35;
-  o.maxRadius = 0.65;
-  o.minDensity = 0.5;
-  o.maxDensity = 2.0;
-  o.minSpeed = 0.5;
-  o.maxSpeed = 1.5;
-  o.minRestitution = 1.0;
-  o.maxRestitution = 1.0;
-  o.minGap = 1e-3;
-  return o;
-}
+RandomDiskOptions thousandDiskOptions() { return gasDiskOptions(1000, 50); }
 
 TEST(WorldGas, ThousandDisksInClosedBoxConserveEnergy) {
   const auto specs = randomDisks(thousandDiskOptions());
@@ -193,9 +176,10 @@ TEST(WorldGas, ThousandDisksInClosedBoxConserveEnergy) {
     worstEnergyError = std::max(worstEnergyError, err);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::printf("[ WorldGas ] 1000 disks in a box: %lld disk-disk and %lld disk-wall collisions in %d steps "
-              "(%.1f s simulated) in %.2f s; worst relative energy error %.3g\n",
-              diskDisk, diskWall, steps, steps * dt, seconds, worstEnergyError);
+  std::printf(
+      "[ WorldGas ] 1000 disks in a box: %lld disk-disk and %lld disk-wall collisions in %d steps "
+      "(%.1f s simulated) in %.2f s; worst relative energy error %.3g\n",
+      diskDisk, diskWall, steps, steps * dt, seconds, worstEnergyError);
   EXPECT_GE(diskDisk, 100000);
   EXPECT_LE(worstEnergyError, 1e-12);
   EXPECT_TRUE(allFinite(world, disks));
@@ -231,9 +215,10 @@ TEST(WorldGas, ThousandDisksInOpenSpaceConserveMomentum) {
     worstEnergyError =
         std::max(worstEnergyError, static_cast<double>(std::fabs(kineticEnergy(world, disks) - e0) / e0));
   }
-  std::printf("[ WorldGas ] 1000 disks in open space: %lld collisions; worst relative momentum error %.3g, "
-              "energy error %.3g\n",
-              collisions, worstMomentumError, worstEnergyError);
+  std::printf(
+      "[ WorldGas ] 1000 disks in open space: %lld collisions; worst relative momentum error %.3g, "
+      "energy error %.3g\n",
+      collisions, worstMomentumError, worstEnergyError);
   EXPECT_GE(collisions, 1000);
   EXPECT_LE(worstMomentumError, 1e-12);
   EXPECT_LE(worstEnergyError, 1e-12);
@@ -312,17 +297,25 @@ class ReferenceGas {
     const LD c = rx * rx + ry * ry - d * d;
     const LD disc = bb * bb - A * c;
     if (disc <= 0) return std::numeric_limits<LD>::infinity();  // misses or grazes
-    if (c <= 0) return 0;                                        // touching and approaching
+    if (c <= 0) return 0;                                       // touching and approaching
     return c / (-bb + std::sqrt(disc));
   }
 
   LD wallTime(const RefDisk& d, int w) const {
     LD gap, speed;
     switch (w) {
-      case 0: gap = d.x - d.r - xmin_, speed = -d.vx; break;
-      case 1: gap = xmax_ - d.x - d.r, speed = d.vx; break;
-      case 2: gap = d.y - d.r - ymin_, speed = -d.vy; break;
-      default: gap = ymax_ - d.y - d.r, speed = d.vy; break;
+      case 0:
+        gap = d.x - d.r - xmin_, speed = -d.vx;
+        break;
+      case 1:
+        gap = xmax_ - d.x - d.r, speed = d.vx;
+        break;
+      case 2:
+        gap = d.y - d.r - ymin_, speed = -d.vy;
+        break;
+      default:
+        gap = ymax_ - d.y - d.r, speed = d.vy;
+        break;
     }
     if (speed <= 0) return std::numeric_limits<LD>::infinity();
     if (gap <= 0) return 0;
@@ -492,9 +485,10 @@ TEST(WorldGasProperty, RandomScenesMatchReferenceAndKeepInvariants) {
       }
     }
   }
-  std::printf("[ WorldGasProperty ] %d seeds: %lld contact events, %lld compared with the reference "
-              "(largest time difference %.3Lg s)\n",
-              kSeeds, totalEvents, comparedEvents, worstTimeDifference);
+  std::printf(
+      "[ WorldGasProperty ] %d seeds: %lld contact events, %lld compared with the reference "
+      "(largest time difference %.3Lg s)\n",
+      kSeeds, totalEvents, comparedEvents, worstTimeDifference);
   EXPECT_GT(comparedEvents, 20 * kSeeds);
 }
 
@@ -514,9 +508,12 @@ enum class WallKind { Segment, Polyline, Polygon };
 
 const char* nameOf(WallKind k) {
   switch (k) {
-    case WallKind::Segment: return "Segment";
-    case WallKind::Polyline: return "Polyline";
-    default: return "Polygon";
+    case WallKind::Segment:
+      return "Segment";
+    case WallKind::Polyline:
+      return "Polyline";
+    default:
+      return "Polygon";
   }
 }
 
@@ -526,15 +523,24 @@ const char* nameOf(WallKind k) {
 rattle::Geometry canonicalWall(WallKind k, double angle) {
   std::vector<Vec2> pts;
   switch (k) {
-    case WallKind::Segment: pts = {{-1e7, 10}, {1e7, 10}}; break;
-    case WallKind::Polyline: pts = {{-3e7, 30}, {-1e7, 10}, {1e7, 10}, {3e7, 30}}; break;
-    case WallKind::Polygon: pts = {{-1e7, 10}, {-1e7, 50}, {1e7, 50}, {1e7, 10}}; break;  // clockwise
+    case WallKind::Segment:
+      pts = {{-1e7, 10}, {1e7, 10}};
+      break;
+    case WallKind::Polyline:
+      pts = {{-3e7, 30}, {-1e7, 10}, {1e7, 10}, {3e7, 30}};
+      break;
+    case WallKind::Polygon:
+      pts = {{-1e7, 10}, {-1e7, 50}, {1e7, 50}, {1e7, 10}};
+      break;  // clockwise
   }
   for (Vec2& p : pts) p = rotate(p, angle);
   switch (k) {
-    case WallKind::Segment: return rattle::Segment{pts[0], pts[1]};
-    case WallKind::Polyline: return rattle::Polyline{pts};
-    default: return rattle::Polygon{pts};
+    case WallKind::Segment:
+      return rattle::Segment{pts[0], pts[1]};
+    case WallKind::Polyline:
+      return rattle::Polyline{pts};
+    default:
+      return rattle::Polygon{pts};
   }
 }
 
@@ -651,8 +657,8 @@ TEST(WorldFastDisk, DiskRestingInWedgeReportsNoFurtherContacts) {
       w.world.step(1.0);
       const auto events = w.world.contactEvents();
       EXPECT_EQ(events.size(), 0u) << "step " << step + 1 << ": first impulse "
-                                   << (events.empty() ? 0.0 : events[0].impulse) << " at t = "
-                                   << (events.empty() ? 0.0 : events[0].time);
+                                   << (events.empty() ? 0.0 : events[0].impulse)
+                                   << " at t = " << (events.empty() ? 0.0 : events[0].time);
     }
   }
 }

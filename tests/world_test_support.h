@@ -60,10 +60,14 @@ struct ClosedBox {
   /// Unit normal of wall w pointing into the box.
   static Vec2 inwardNormal(int w) {
     switch (w) {
-      case 0: return {1, 0};
-      case 1: return {-1, 0};
-      case 2: return {0, 1};
-      default: return {0, -1};
+      case 0:
+        return {1, 0};
+      case 1:
+        return {-1, 0};
+      case 2:
+        return {0, 1};
+      default:
+        return {0, -1};
     }
   }
 };
@@ -118,6 +122,28 @@ struct RandomDiskOptions {
   double minGap = 1e-3;
   int maxAttemptsPerDisk = 100000;
 };
+
+/// The elastic gas several suites use: `count` disks (radii 0.35-0.65, densities 0.5-2, speeds 0.5-1.5,
+/// restitution 1) in the square [0, size]^2, seed 20240611.
+inline RandomDiskOptions gasDiskOptions(int count, double size) {
+  RandomDiskOptions o;
+  o.count = count;
+  o.seed = 20240611;
+  o.xmin = 0;
+  o.ymin = 0;
+  o.xmax = size;
+  o.ymax = size;
+  o.minRadius = 0.35;
+  o.maxRadius = 0.65;
+  o.minDensity = 0.5;
+  o.maxDensity = 2.0;
+  o.minSpeed = 0.5;
+  o.maxSpeed = 1.5;
+  o.minRestitution = 1.0;
+  o.maxRestitution = 1.0;
+  o.minGap = 1e-3;
+  return o;
+}
 
 /// Random non-overlapping disks by rejection sampling, reproducible from the seed
 /// (std::mt19937_64 with values drawn by our own mapping, not by std distributions, whose
@@ -236,8 +262,7 @@ inline double maxRelativeOverlap(const World& world, const std::vector<Disk>& di
 }
 
 /// Largest penetration of a disk into a wall of the box, relative to its radius (negative: none).
-inline double maxRelativeWallPenetration(const World& world, const std::vector<Disk>& disks,
-                                         const ClosedBox& box) {
+inline double maxRelativeWallPenetration(const World& world, const std::vector<Disk>& disks, const ClosedBox& box) {
   double worst = -std::numeric_limits<double>::infinity();
   for (const Disk& d : disks) {
     const Vec2 p = world.position(d.body);
