@@ -1,5 +1,5 @@
 // Predictive mode tests: the same answers as the hybrid mode where the physics is exact (one collision,
-// Newton's cradle, a short run of a gas, mixed shapes, changes made between steps), conservation and no
+// Newton's cradle, a short run of a gas, mixed shapes with sensors, changes made between steps), conservation and no
 // overlaps over a long run, frames that are only times to look at, a ball bouncing under gravity at the
 // analytic times and coming to rest, a pile, sparse far-apart clusters with fast bodies, the event
 // budget, determinism, and a 10^5-disk gas at packing fraction 0.5.
@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <numbers>
 #include <random>
 #include <string>
@@ -374,6 +375,33 @@ TEST(PredictiveChanges, ChangesBetweenStepsMatchHybrid) {
   expectSameState(p.world, h.world, alive, aliveH, 1e-8);
 }
 
+// Compares two worlds' sensor events of a step: each (sensor, visitor) pair has the same begins and ends
+// in the same order, at times within `tol`; each list is in time order.
+void expectSameSensorEvents(const World& p, const World& h, int step, double tol) {
+  using Key = std::pair<uint32_t, uint32_t>;
+  auto byPair = [](std::span<const rattle::SensorEvent> events) {
+    std::map<Key, std::vector<rattle::SensorEvent>> out;
+    for (const auto& e : events) out[{e.sensor.index, e.visitor.index}].push_back(e);
+    return out;
+  };
+  for (const World* w : {&p, &h}) {
+    const auto ev = w->sensorEvents();
+    for (size_t e = 1; e < ev.size(); ++e) EXPECT_LE(ev[e - 1].time, ev[e].time) << "step " << step << " event " << e;
+  }
+  const auto a = byPair(p.sensorEvents()), b = byPair(h.sensorEvents());
+  ASSERT_EQ(a.size(), b.size()) << "step " << step << ": pairs with sensor events";
+  for (const auto& [key, list] : a) {
+    const auto it = b.find(key);
+    ASSERT_TRUE(it != b.end()) << "step " << step << ": sensor " << key.first << ", visitor " << key.second;
+    ASSERT_EQ(list.size(), it->second.size()) << "step " << step << ": sensor " << key.first << ", visitor "
+                                               << key.second;
+    for (size_t e = 0; e < list.size(); ++e) {
+      EXPECT_EQ(list[e].begin, it->second[e].begin) << "step " << step;
+      EXPECT_NEAR(list[e].time, it->second[e].time, tol) << "step " << step;
+    }
+  }
+}
+
 TEST(PredictiveShapes, SeveralCirclesAndSensorsOnDynamicBodiesMatchHybrid) {
   // Dynamic bodies made of two concentric physical circles, of one small circle, or of a circle with a
   // larger sensor circle (a sight range: it never collides); a static polygon, polyline and segment.
@@ -387,6 +415,12 @@ TEST(PredictiveShapes, SeveralCirclesAndSensorsOnDynamicBodiesMatchHybrid) {
     fd.geometry = rattle::Polyline{{{-10, 8}, {-6, 10}, {-2, 8}}};
     s.world.createFixture(statics, fd);
     fd.geometry = rattle::Segment{{5, -10}, {10, -6}};
+    s.world.createFixture(statics, fd);
+    // Static sensors: a room and a doorway.
+    fd.sensor = true;
+    fd.geometry = rattle::Polygon{{{-13, -13}, {-5, -13}, {-5, -5}, {-13, -5}}};
+    s.world.createFixture(statics, fd);
+    fd.geometry = rattle::Segment{{0, 3}, {0, 13}};
     s.world.createFixture(statics, fd);
     std::mt19937_64 rng(11);
     auto uniform = [&rng](double lo, double hi) {
@@ -426,14 +460,19 @@ TEST(PredictiveShapes, SeveralCirclesAndSensorsOnDynamicBodiesMatchHybrid) {
   build(h);
   build(p);
   ASSERT_GT(p.disks.size(), 40u);
-  int events = 0;
+  int events = 0, sensorEvents = 0;
   for (int step = 0; step < 150; ++step) {
     h.world.step(1.0 / 30);
     p.world.step(1.0 / 30);
     expectSamePairs(p.world, h.world, step, 1e-9);
+    expectSameSensorEvents(p.world, h.world, step, 1e-9);
+    if (::testing::Test::HasFatalFailure()) return;
     events += static_cast<int>(p.world.contactEvents().size());
+    sensorEvents += static_cast<int>(p.world.sensorEvents().size());
   }
+  std::printf("[ shapes   ] %d contacts, %d sensor events\n", events, sensorEvents);
   EXPECT_GT(events, 80);
+  EXPECT_GT(sensorEvents, 200);
   expectSameState(p.world, h.world, p.disks, h.disks, 1e-8);
 }
 

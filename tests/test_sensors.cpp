@@ -1,4 +1,4 @@
-// Sensor tests (hybrid mode): begin and end events at analytic times for every kind of sensor and
+// Sensor tests (hybrid and predictive modes): begin and end events at analytic times for every kind of sensor and
 // visitor (static, dynamic and kinematic bodies, straight and parabolic paths), the rules (sensors never
 // touch each other, never change motion), the bookkeeping (sensorOverlaps, ends on destroy and filter
 // changes, begins and ends always pairing up) and a brute-force comparison with the geometry layer's
@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "rattle/rattle.h"
+#include "hard_case_support.h"
 #include "world_test_support.h"
 
 namespace {
@@ -42,6 +43,9 @@ using rattle::Polyline;
 using rattle::Segment;
 using rattle::SensorEvent;
 using rattle::WorldDef;
+using rattle::StepMode;
+using hard_case::ModeTest;
+using hard_case::ModeParamName;
 
 using LD = long double;
 
@@ -160,11 +164,26 @@ double clearance(const Geometry& g, Vec2 position, Vec2 c, double r) {
   return rattle::distanceTo(g, c - position) - r;
 }
 
+// Every suite runs in the hybrid and the predictive mode (the discrete mode sees sensors only where
+// bodies end a step: tests/test_discrete.cpp).
+class SensorDoorway : public ModeTest {};
+class SensorRoom : public ModeTest {};
+class SensorSight : public ModeTest {};
+class SensorRules : public ModeTest {};
+class SensorKinematic : public ModeTest {};
+class SensorBounce : public ModeTest {};
+class SensorResting : public ModeTest {};
+class SensorTeleport : public ModeTest {};
+class SensorGravity : public ModeTest {};
+class SensorOverlaps : public ModeTest {};
+class SensorPairing : public ModeTest {};
+class SensorBruteForce : public ModeTest {};
+
 // ------------------------------------------------------------------------------------------------
 // A static doorway: a Segment sensor.
 
-TEST(SensorDoorway, DiskCrossingSegmentBeginsAndEndsAtAnalyticTimes) {
-  World world;
+TEST_P(SensorDoorway, DiskCrossingSegmentBeginsAndEndsAtAnalyticTimes) {
+  World world(def());
   const BodyId door = world.createBody(bodyDef(BodyType::Static));
   const FixtureId sensor = addFixture(world, door, Segment{{0, -1}, {0, 1}}, true);
 
@@ -189,8 +208,8 @@ TEST(SensorDoorway, DiskCrossingSegmentBeginsAndEndsAtAnalyticTimes) {
   EXPECT_TRUE(world.sensorOverlaps(sensor).empty());
 }
 
-TEST(SensorDoorway, FastDiskCrossingInsideOneStepGetsBeginAndEnd) {
-  World world;
+TEST_P(SensorDoorway, FastDiskCrossingInsideOneStepGetsBeginAndEnd) {
+  World world(def());
   const BodyId door = world.createBody(bodyDef(BodyType::Static));
   const FixtureId sensor = addFixture(world, door, Segment{{0, -1}, {0, 1}}, true);
   // Moves 6.25 per step; the doorway is crossed between t = 0.009 and 0.011.
@@ -214,8 +233,8 @@ TEST(SensorDoorway, FastDiskCrossingInsideOneStepGetsBeginAndEnd) {
 // ------------------------------------------------------------------------------------------------
 // A room (a static Polygon sensor) and a sight sensor (a Circle sensor on a dynamic body).
 
-TEST(SensorRoom, PolygonSensorOnStaticBodyEdgeAndCornerExits) {
-  World world;
+TEST_P(SensorRoom, PolygonSensorOnStaticBodyEdgeAndCornerExits) {
+  World world(def());
   // The room is [10, 14] x [5, 8] in the world: a polygon given relative to a body at (10, 5).
   const Vec2 origin{10, 5};
   const BodyId roomBody = world.createBody(bodyDef(BodyType::Static, origin));
@@ -255,8 +274,8 @@ TEST(SensorRoom, PolygonSensorOnStaticBodyEdgeAndCornerExits) {
   EXPECT_EQ(ofB[0].stepTime, 0.0);  // created inside: time 0 of the first step
 }
 
-TEST(SensorSight, CircleSensorOnDynamicBodySeesAnotherMovingDisk) {
-  World world;
+TEST_P(SensorSight, CircleSensorOnDynamicBodySeesAnotherMovingDisk) {
+  World world(def());
   // The watcher: a physical circle of radius 0.5 and a concentric sight circle of radius 3.
   const Disk watcher = addDisk(world, DiskSpec{{0, 0}, {1, 0}, 0.5, 1, 0});
   const FixtureId sight = addFixture(world, watcher.body, Circle{{0, 0}, 3.0}, true);
@@ -281,8 +300,8 @@ TEST(SensorSight, CircleSensorOnDynamicBodySeesAnotherMovingDisk) {
 // ------------------------------------------------------------------------------------------------
 // Rules: sensors do not sense sensors and never change motion.
 
-TEST(SensorRules, SensorsNeverSenseEachOther) {
-  World world;
+TEST_P(SensorRules, SensorsNeverSenseEachOther) {
+  World world(def());
   // Two dynamic bodies holding only sensors pass through each other.
   const BodyId s1 = world.createBody(bodyDef(BodyType::Dynamic, {-3, 0}, {1, 0}));
   const FixtureId f1 = addFixture(world, s1, Circle{{0, 0}, 1.0}, true);
@@ -314,8 +333,8 @@ TEST(SensorRules, SensorsNeverSenseEachOther) {
   expectOnlyPairs(all, {{r2, mixed.fixture}});
 }
 
-TEST(SensorRules, SensorNeverChangesMotion) {
-  World world;
+TEST_P(SensorRules, SensorNeverChangesMotion) {
+  World world(def());
   // One sensor of every geometry along the disk's path y = 0.3 + 0.08 t, x = -5 + 1.25 t.
   const BodyId holder = world.createBody(bodyDef(BodyType::Static));
   std::vector<FixtureId> sensors{
@@ -350,8 +369,8 @@ TEST(SensorRules, SensorNeverChangesMotion) {
   }
 }
 
-TEST(SensorRules, SensorOnDynamicBodyDoesNotCollideWithWalls) {
-  World world;
+TEST_P(SensorRules, SensorOnDynamicBodyDoesNotCollideWithWalls) {
+  World world(def());
   const BodyId wallBody = world.createBody(bodyDef(BodyType::Static));
   const FixtureId wall = addFixture(world, wallBody, Segment{{0, -5}, {0, 5}}, false, 1.0);
   // A sensor-only body passes straight through the wall (the wall is a physical fixture, so it is
@@ -391,8 +410,8 @@ TEST(SensorRules, SensorOnDynamicBodyDoesNotCollideWithWalls) {
 // ------------------------------------------------------------------------------------------------
 // Kinematic bodies' physical fixtures trigger sensors.
 
-TEST(SensorKinematic, PolygonSlidingAcrossStaticPolygonSensor) {
-  World world;
+TEST_P(SensorKinematic, PolygonSlidingAcrossStaticPolygonSensor) {
+  World world(def());
   // A diamond sensor |x| + |y| <= 1.
   const BodyId holder = world.createBody(bodyDef(BodyType::Static));
   const FixtureId diamond = addFixture(world, holder, Polygon{{{1, 0}, {0, 1}, {-1, 0}, {0, -1}}}, true);
@@ -416,8 +435,8 @@ TEST(SensorKinematic, PolygonSlidingAcrossStaticPolygonSensor) {
   EXPECT_TRUE(world.contactEvents().empty());
 }
 
-TEST(SensorKinematic, SegmentSlidingAcrossStaticCircleSensor) {
-  World world;
+TEST_P(SensorKinematic, SegmentSlidingAcrossStaticCircleSensor) {
+  World world(def());
   const Vec2 centre{20, -3};
   const BodyId holder = world.createBody(bodyDef(BodyType::Static, centre));
   const FixtureId disk = addFixture(world, holder, Circle{{0, 0}, 1.0}, true);
@@ -439,8 +458,8 @@ TEST(SensorKinematic, SegmentSlidingAcrossStaticCircleSensor) {
 // ------------------------------------------------------------------------------------------------
 // Collisions inside a step change the paths sensors see.
 
-TEST(SensorBounce, ReEntersAfterBouncingOffAWall) {
-  World world;
+TEST_P(SensorBounce, ReEntersAfterBouncingOffAWall) {
+  World world(def());
   const BodyId holder = world.createBody(bodyDef(BodyType::Static));
   addFixture(world, holder, Segment{{0, -5}, {0, 5}}, false, 1.0);
   const FixtureId strip = addFixture(world, holder, Polygon{{{-1.5, -2}, {-1, -2}, {-1, 2}, {-1.5, 2}}}, true);
@@ -458,8 +477,8 @@ TEST(SensorBounce, ReEntersAfterBouncingOffAWall) {
   }
 }
 
-TEST(SensorBounce, PathTurnedMidStepIntoASensorOutsideTheSweptBox) {
-  World world;
+TEST_P(SensorBounce, PathTurnedMidStepIntoASensorOutsideTheSweptBox) {
+  World world(def());
   const BodyId holder = world.createBody(bodyDef(BodyType::Static));
   addFixture(world, holder, Segment{{0, -5}, {0, 5}}, false, 1.0);
   // Behind the disk's start: its swept box for the step (moving right) does not reach it.
@@ -476,8 +495,8 @@ TEST(SensorBounce, PathTurnedMidStepIntoASensorOutsideTheSweptBox) {
 // ------------------------------------------------------------------------------------------------
 // Bodies that stop, and bodies moved by hand.
 
-TEST(SensorResting, SleepingBodyStaysInsideUntilItMovesOut) {
-  WorldDef def;
+TEST_P(SensorResting, SleepingBodyStaysInsideUntilItMovesOut) {
+  WorldDef def = ModeTest::def();
   def.gravity = {0, -10};
   World world(def);
   const BodyId holder = world.createBody(bodyDef(BodyType::Static));
@@ -502,8 +521,8 @@ TEST(SensorResting, SleepingBodyStaysInsideUntilItMovesOut) {
   EXPECT_TRUE(world.sensorOverlaps(zone).empty());
 }
 
-TEST(SensorTeleport, SetPositionOutEndsAtTimeZeroAndBackInBegins) {
-  World world;
+TEST_P(SensorTeleport, SetPositionOutEndsAtTimeZeroAndBackInBegins) {
+  World world(def());
   const BodyId holder = world.createBody(bodyDef(BodyType::Static));
   const FixtureId diamond = addFixture(world, holder, Polygon{{{1, 0}, {0, 1}, {-1, 0}, {0, -1}}}, true);
   // Overlapping the edge x + y = 1 (clearance (1.2 - 1) / sqrt 2 - 0.2 < 0), at rest.
@@ -534,8 +553,8 @@ TEST(SensorTeleport, SetPositionOutEndsAtTimeZeroAndBackInBegins) {
 // ------------------------------------------------------------------------------------------------
 // Gravity: parabolic paths.
 
-TEST(SensorGravity, BallFallsThroughHorizontalStrip) {
-  WorldDef def;
+TEST_P(SensorGravity, BallFallsThroughHorizontalStrip) {
+  WorldDef def = ModeTest::def();
   def.gravity = {0, -9.81};
   World world(def);
   // The strip: 0 <= y <= 0.5, wide.
@@ -575,8 +594,8 @@ std::vector<uint32_t> indicesOf(const std::vector<FixtureId>& ids) {
   return out;
 }
 
-TEST(SensorOverlaps, SortedVisitorsAndEndsOnDestroyAndFilterChange) {
-  World world;
+TEST_P(SensorOverlaps, SortedVisitorsAndEndsOnDestroyAndFilterChange) {
+  World world(def());
   const BodyId holder = world.createBody(bodyDef(BodyType::Static));
   const FixtureId room = addFixture(world, holder, Polygon{{{0, 0}, {4, 0}, {4, 4}, {0, 4}}}, true);
   // Created in this order (fixture indices increasing), they enter in another order: c at time 0 (created
@@ -669,8 +688,8 @@ TEST(SensorOverlaps, SortedVisitorsAndEndsOnDestroyAndFilterChange) {
   EXPECT_TRUE(world.sensorOverlaps(room).empty());
 }
 
-TEST(SensorOverlaps, ZeroLengthStepBeginsWhatWasCreatedInside) {
-  World world;
+TEST_P(SensorOverlaps, ZeroLengthStepBeginsWhatWasCreatedInside) {
+  World world(def());
   const BodyId holder = world.createBody(bodyDef(BodyType::Static));
   const FixtureId zone = addFixture(world, holder, Circle{{0, 0}, 1.0}, true);
   const Disk d = addDisk(world, DiskSpec{{0.5, 0}, {1, 0}, 0.2, 1, 0});
@@ -728,8 +747,8 @@ Geometry randomSensorGeometry(int kind, std::mt19937_64& rng) {
   }
 }
 
-TEST(SensorPairing, BeginsAndEndsAlwaysPairUpUnderDestroysAndFilterChanges) {
-  World world;
+TEST_P(SensorPairing, BeginsAndEndsAlwaysPairUpUnderDestroysAndFilterChanges) {
+  World world(def());
   const ClosedBox box = makeClosedBox(world, 0, 0, 20, 20, 1.0);
   RandomDiskOptions opt;
   opt.count = 100;
@@ -853,9 +872,10 @@ struct BruteStats {
   long endChecks = 0, sampleChecks = 0, eventChecks = 0, skippedNearTouch = 0, events = 0, chatter = 0;
 };
 
-void bruteForceScene(uint64_t seed, Vec2 gravity, BruteStats& stats) {
+void bruteForceScene(rattle::StepMode mode, uint64_t seed, Vec2 gravity, BruteStats& stats) {
   SCOPED_TRACE("seed " + std::to_string(seed) + (gravity == Vec2{} ? "" : ", under gravity"));
   WorldDef def;
+  def.mode = mode;
   def.gravity = gravity;
   World world(def);
   std::mt19937_64 rng(seed);
@@ -1041,9 +1061,9 @@ void bruteForceScene(uint64_t seed, Vec2 gravity, BruteStats& stats) {
   }
 }
 
-TEST(SensorBruteForce, RandomStraightPathsAgreeWithGeometry) {
+TEST_P(SensorBruteForce, RandomStraightPathsAgreeWithGeometry) {
   BruteStats stats;
-  for (uint64_t seed : {1u, 2u, 3u}) bruteForceScene(seed, Vec2{}, stats);
+  for (uint64_t seed : {1u, 2u, 3u}) bruteForceScene(GetParam(), seed, Vec2{}, stats);
   std::printf("[ brute    ] %ld events (%ld in spurious same-instant pairs), %ld event-side checks, %ld in-step "
               "samples, %ld end-of-step checks, %ld skipped within 1e-9 of touching\n",
               stats.events, stats.chatter, stats.eventChecks, stats.sampleChecks, stats.endChecks,
@@ -1053,9 +1073,9 @@ TEST(SensorBruteForce, RandomStraightPathsAgreeWithGeometry) {
 }
 
 // The same under gravity: parabolic paths, whose corner roots are quartics.
-TEST(SensorBruteForce, RandomParabolicPathsAgreeWithGeometry) {
+TEST_P(SensorBruteForce, RandomParabolicPathsAgreeWithGeometry) {
   BruteStats stats;
-  for (uint64_t seed : {4u, 5u}) bruteForceScene(seed, Vec2{0.3, -1.5}, stats);
+  for (uint64_t seed : {4u, 5u}) bruteForceScene(GetParam(), seed, Vec2{0.3, -1.5}, stats);
   std::printf("[ brute    ] %ld events (%ld in spurious same-instant pairs), %ld event-side checks, %ld in-step "
               "samples, %ld end-of-step checks, %ld skipped within 1e-9 of touching\n",
               stats.events, stats.chatter, stats.eventChecks, stats.sampleChecks, stats.endChecks,
@@ -1063,5 +1083,18 @@ TEST(SensorBruteForce, RandomParabolicPathsAgreeWithGeometry) {
   EXPECT_EQ(stats.chatter, 0);
   EXPECT_GT(stats.events, 200);
 }
+
+INSTANTIATE_TEST_SUITE_P(, SensorDoorway, ::testing::Values(StepMode::Hybrid, StepMode::Predictive), ModeParamName());
+INSTANTIATE_TEST_SUITE_P(, SensorRoom, ::testing::Values(StepMode::Hybrid, StepMode::Predictive), ModeParamName());
+INSTANTIATE_TEST_SUITE_P(, SensorSight, ::testing::Values(StepMode::Hybrid, StepMode::Predictive), ModeParamName());
+INSTANTIATE_TEST_SUITE_P(, SensorRules, ::testing::Values(StepMode::Hybrid, StepMode::Predictive), ModeParamName());
+INSTANTIATE_TEST_SUITE_P(, SensorKinematic, ::testing::Values(StepMode::Hybrid, StepMode::Predictive), ModeParamName());
+INSTANTIATE_TEST_SUITE_P(, SensorBounce, ::testing::Values(StepMode::Hybrid, StepMode::Predictive), ModeParamName());
+INSTANTIATE_TEST_SUITE_P(, SensorResting, ::testing::Values(StepMode::Hybrid, StepMode::Predictive), ModeParamName());
+INSTANTIATE_TEST_SUITE_P(, SensorTeleport, ::testing::Values(StepMode::Hybrid, StepMode::Predictive), ModeParamName());
+INSTANTIATE_TEST_SUITE_P(, SensorGravity, ::testing::Values(StepMode::Hybrid, StepMode::Predictive), ModeParamName());
+INSTANTIATE_TEST_SUITE_P(, SensorOverlaps, ::testing::Values(StepMode::Hybrid, StepMode::Predictive), ModeParamName());
+INSTANTIATE_TEST_SUITE_P(, SensorPairing, ::testing::Values(StepMode::Hybrid, StepMode::Predictive), ModeParamName());
+INSTANTIATE_TEST_SUITE_P(, SensorBruteForce, ::testing::Values(StepMode::Hybrid, StepMode::Predictive), ModeParamName());
 
 }  // namespace

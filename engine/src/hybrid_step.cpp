@@ -19,6 +19,7 @@
 #include <cmath>
 #include <limits>
 
+#include "path_box.h"
 #include "rattle/time_of_impact.h"
 #include "world_impl.h"
 
@@ -26,6 +27,7 @@ namespace rattle {
 
 using detail::BodySlot;
 using detail::PredictedContact;
+using detail::pathBox;
 
 void World::Impl::addPair(uint32_t fa, uint32_t fb, bool sensing) {
   const uint32_t ba = fixtures[fa].body, bb = fixtures[fb].body;
@@ -54,30 +56,6 @@ void World::Impl::predictSensor(uint32_t own, uint32_t other, double now, double
                                    {}});
   std::push_heap(queue.begin(), queue.end(), detail::later);
 }
-
-namespace {
-
-// The box around a path p + v h + a h^2/2, h in [0, T]: its ends, and on each axis the turning point
-// when it falls inside.
-Box pathBox(Vec2 p, Vec2 v, Vec2 a, double T) {
-  auto at = [&](double h) { return p + v * h + a * (0.5 * h * h); };
-  const Vec2 end = at(T);
-  Box box{{std::min(p.x, end.x), std::min(p.y, end.y)}, {std::max(p.x, end.x), std::max(p.y, end.y)}};
-  // One axis at a time: the turning point h = -v/a, when it falls inside (0, T).
-  auto turn = [&](double vAxis, double aAxis, double& lo, double& hi, double Vec2::*axis) {
-    if (aAxis == 0) return;
-    const double h = -vAxis / aAxis;
-    if (!(h > 0 && h < T)) return;
-    const double x = at(h).*axis;
-    lo = std::min(lo, x);
-    hi = std::max(hi, x);
-  };
-  turn(v.x, a.x, box.min.x, box.max.x, &Vec2::x);
-  turn(v.y, a.y, box.min.y, box.max.y, &Vec2::y);
-  return box;
-}
-
-}  // namespace
 
 void World::Impl::predict(uint32_t own, uint32_t other, double now, double dt) {
   const BodySlot& a = bodyOf(own);

@@ -30,8 +30,8 @@
 //    changed is relocated and predicted again (its counter is bumped so that predictions against its old
 //    path go stale); anything structural rebuilds the grid and the queue.
 //
-// Sensors are not handled by this mode yet (sensor fixtures never collide, as everywhere; no sensor
-// events are reported except the end events of destroyed bodies and changed filters).
+// Sensors: when the world has any, every change of a body's motion is recorded (PathLog), and the sensor
+// events are found from those paths when the step's events are done (sensor_paths.cpp).
 #include "predictive_step.h"
 
 #include <algorithm>
@@ -45,6 +45,7 @@
 namespace rattle {
 
 using detail::BodySlot;
+using detail::PathLog;
 using detail::PredictiveEvent;
 using detail::PredictiveKind;
 using detail::PredictiveState;
@@ -156,6 +157,7 @@ class Engine {
   double sparseCellSize(double size, double limit) const;
   void reorder();
   void snapshot();
+  void startPaths();
   void sync(uint32_t slot);
   void syncBody(uint32_t body) {
     const uint32_t slot = s_.slotOfBody[body];
@@ -313,6 +315,25 @@ void Engine<W>::computeConstants(double dt) {
 }
 
 template <class W>
+void Engine<W>::startPaths() {
+  // Only a world with sensors records paths (sync() adds a piece whenever a body's motion changes).
+  PathLog& log = s_.paths;
+  log.active = std::any_of(w_.fixtures.begin(), w_.fixtures.end(),
+                           [](const detail::FixtureSlot& f) { return f.alive && f.sensor; });
+  if (!log.active) return;
+  const size_t nb = w_.bodies.size();
+  log.first.resize(nb);
+  log.asleepAtStart.resize(nb);
+  log.lastPiece.assign(nb, PathLog::kNoPiece);
+  log.changes.clear();
+  for (size_t i = 0; i < nb; ++i) {
+    const BodySlot& b = w_.bodies[i];
+    log.first[i] = {b.localTime, b.position, b.velocity, b.acceleration};
+    log.asleepAtStart[i] = b.asleep;
+  }
+}
+
+template <class W>
 void Engine<W>::sync(uint32_t slot) {
   // The copy from the body, after anything changed it.
   const BodySlot& b = w_.bodies[s_.bodyOfSlot[slot]];
@@ -330,6 +351,7 @@ void Engine<W>::sync(uint32_t slot) {
   c.lastLow = b.last.fixtureLow;
   c.lastHigh = b.last.fixtureHigh;
   c.lastFeature = b.last.feature;
+  if (s_.paths.active) s_.paths.record(s_.bodyOfSlot[slot], {b.localTime, b.position, b.velocity, b.acceleration});
 }
 
 template <class W>
@@ -1221,6 +1243,7 @@ void Engine<W>::step(double dt) {
   }
   s_.dismissedSlots.clear();
   retune(0);
+  startPaths();
 
   // 2. Events in time order, up to the step's end.
   const double restTolerance = s_.restTolerance;
@@ -1373,9 +1396,13 @@ void Engine<W>::step(double dt) {
     if (j != PredictiveState::kNone) predictBody(j, c.time);
   }
 
-  // 3. Every body to the end of the step (out of budget: to the instant the budget ran out, as the hybrid
-  // step does); the clocks start again from there.
+  // 3. Sensor events, from the paths the bodies took. Then every body to the end of the step (out of
+  // budget: to the instant the budget ran out, as the hybrid step does); the clocks start again from there.
   const double end = w_.stats.eventBudgetReached ? budgetTime : dt;
+  if (s_.paths.active) {
+    w_.sensePaths(s_.paths, end);
+    s_.paths.active = false;
+  }
   for (BodySlot& b : w_.bodies) {
     if (!b.alive || b.type == BodyType::Static) continue;
     if (b.type == BodyType::Dynamic) {

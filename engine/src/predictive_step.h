@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "path_log.h"
 #include "rattle/types.h"
 #include "rattle/vec2.h"
 
@@ -161,6 +162,9 @@ struct PredictiveState {
   int64_t current = 0;  // the bucket whose events (and all earlier) are in the heap
   int64_t limit = 0;    // events of buckets >= limit wait in the overflow array
   static constexpr int32_t kNotQueued = -1, kInHeap = -2, kInBucket = -3, kInOverflow = -4;
+
+  // The paths bodies take through the step, when the world has sensors (sensor_paths.cpp).
+  PathLog paths;
 
   // Scratch.
   std::vector<uint32_t> dirty;

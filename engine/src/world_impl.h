@@ -18,6 +18,7 @@ namespace rattle {
 namespace detail {
 
 struct PredictiveState;  // predictive_step.h
+struct PathLog;          // path_log.h
 
 // The last collision a body took part in, within the current step. A pair that was resolved at an
 // instant and whose bodies have done nothing since cannot be approaching at that instant; remembering it
@@ -177,6 +178,8 @@ struct World::Impl {
   // predictive_step.cpp: the predictive mode keeps its own state (cell grid, persistent event queue).
   std::unique_ptr<detail::PredictiveState> predictive;
   void stepPredictive(double dt);
+  // sensor_paths.cpp: the sensor events of a step from the paths the bodies took (up to `end`).
+  void sensePaths(detail::PathLog& log, double end);
 
   // hybrid_step.cpp
   void stepHybrid(double dt);

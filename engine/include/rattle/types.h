@@ -52,7 +52,8 @@ enum class StepMode : uint8_t {
   /// Event-driven throughout: every future collision is predicted exactly and kept in one queue; step(dt)
   /// just processes the events up to the new time. A cell grid with cell-crossing events and lazy
   /// per-body clocks keeps the cost per collision near log N, as in event-driven molecular dynamics.
-  /// Sensors report no begin and end events in this mode yet.
+  /// Sensor events are found after each step's collisions, along the paths the bodies took: exact, like
+  /// the hybrid step's, at the cost of one sort-and-sweep per step when the world has sensors.
   Predictive,
 };
 

@@ -1,0 +1,153 @@
+// Sensor events after the fact, from the paths bodies took through the step (the predictive mode).
+//
+// The hybrid step predicts a sensor pair's next begin or end whenever either body's path changes, and
+// keeps that prediction in its queue with the contacts. The predictive mode keeps one event per body in
+// its queue (predictive_step.cpp), and a body may sit in many sensors at once (a unit's sight circle over
+// its neighbours); rather than schedule those too, it records each body's path through the step as pieces
+// (a line or a parabola from each instant its motion changed: PathLog) and finds the sensor events once
+// the step is over:
+//  1. Every fixture of a moving body gets the box of its whole piecewise path; sort-and-sweep (the
+//     world's broad phase, as in the hybrid step) gives the pairs of a sensor and a physical fixture whose
+//     boxes meet.
+//  2. For each pair, the step is cut at every instant either path changes; within a piece both move
+//     along one polynomial path each, and timeOfOverlapChange gives each begin or end exactly, as the
+//     hybrid step would find it from the same instant.
+//  3. Overlaps the sweep did not see end at time 0 unless the two still overlap (as in the hybrid step),
+//     and the events are ordered as the hybrid step orders them: by time, then by fixture ids.
+#include <algorithm>
+#include <cmath>
+
+#include "path_box.h"
+#include "path_log.h"
+#include "rattle/time_of_impact.h"
+#include "world_impl.h"
+
+namespace rattle {
+
+using detail::PathLog;
+using detail::PathPiece;
+
+namespace {
+
+// A body's pieces in time order: its motion at the step's start, then each change.
+struct Path {
+  const PathPiece* first;
+  const PathPiece* const* rest;
+  size_t restCount;
+  size_t size() const { return restCount + 1; }
+  const PathPiece& operator[](size_t k) const { return k == 0 ? *first : *rest[k - 1]; }
+};
+
+Vec2 positionOn(const PathPiece& p, double t) {
+  const double h = t - p.start;
+  return p.position + p.velocity * h + p.acceleration * (0.5 * h * h);
+}
+Vec2 velocityOn(const PathPiece& p, double t) { return p.velocity + p.acceleration * (t - p.start); }
+
+// More begins and ends than this for one pair in one step is round-off chatter, not motion: the rest of
+// the step is skipped for that pair (what it overlaps at the end is still what is recorded).
+constexpr int kMaxChangesPerPair = 1024;
+
+}  // namespace
+
+void World::Impl::sensePaths(PathLog& log, double end) {
+  ++stepStamp;
+  // Each body's changes, grouped by body in the order they happened (a counting sort).
+  const size_t nb = bodies.size();
+  std::vector<uint32_t> begin(nb + 1, 0);
+  for (const auto& c : log.changes) ++begin[c.body + 1];
+  for (size_t i = 0; i < nb; ++i) begin[i + 1] += begin[i];
+  std::vector<const PathPiece*> sorted(log.changes.size());
+  {
+    std::vector<uint32_t> fill(begin.begin(), begin.end() - 1);
+    for (const auto& c : log.changes) sorted[fill[c.body]++] = &c.piece;
+  }
+  auto pathOf = [&](uint32_t body) {
+    return Path{&log.first[body], sorted.data() + begin[body], size_t{begin[body + 1] - begin[body]}};
+  };
+
+  // 1. Boxes of the whole paths. A body asleep all step is at rest, as in the hybrid step.
+  for (uint32_t i = 0; i < nb; ++i) {
+    const detail::BodySlot& b = bodies[i];
+    if (!b.alive || b.type == BodyType::Static) continue;
+    const Path path = pathOf(i);
+    const bool moving = !log.asleepAtStart[i] || path.restCount > 0;
+    Box box{b.position, b.position};
+    if (moving) {
+      box = Box{path[0].position, path[0].position};
+      for (size_t k = 0; k < path.size(); ++k) {
+        const double until = k + 1 < path.size() ? path[k + 1].start : end;
+        box = unionOf(box, detail::pathBox(path[k].position, path[k].velocity, path[k].acceleration,
+                                           std::max(until - path[k].start, 0.0)));
+      }
+    }
+    for (uint32_t f : b.fixtures) {
+      broadPhase.setMoving(f, moving);
+      broadPhase.setBox(f, Box{box.min + fixtures[f].localBox.min, box.max + fixtures[f].localBox.max});
+    }
+  }
+
+  // 2. Each pair along the pieces of both paths.
+  std::vector<SensorEvent> found;
+  auto sense = [&](uint32_t sensor, uint32_t visitor) {
+    const Path a = pathOf(fixtures[sensor].body), b = pathOf(fixtures[visitor].body);
+    bool overlapping = isOverlapping(sensor, visitor);
+    double t = 0;
+    size_t ka = 0, kb = 0;
+    for (int changes = 0; changes < kMaxChangesPerPair;) {
+      while (ka + 1 < a.size() && a[ka + 1].start <= t) ++ka;
+      while (kb + 1 < b.size() && b[kb + 1].start <= t) ++kb;
+      double next = end;
+      if (ka + 1 < a.size()) next = std::min(next, a[ka + 1].start);
+      if (kb + 1 < b.size()) next = std::min(next, b[kb + 1].start);
+      ++stats.timeOfImpactTests;
+      const Motion relative{velocityOn(a[ka], t) - velocityOn(b[kb], t), a[ka].acceleration - b[kb].acceleration};
+      const auto h = timeOfOverlapChange(fixtures[sensor].geometry, positionOn(a[ka], t), fixtures[visitor].geometry,
+                                         positionOn(b[kb], t), relative, std::max(next - t, 0.0), overlapping);
+      if (h) {
+        t = std::min(t + *h, next);
+        overlapping = !overlapping;
+        recordSensorChange(sensor, visitor, t, overlapping, found);
+        ++changes;
+        continue;
+      }
+      if (!(next < end)) break;
+      t = next;
+    }
+  };
+  broadPhase.findPairs([&](uint32_t fa, uint32_t fb) {
+    if (!canSense(fa, fb)) return;
+    sensorOverlapsSeen(fa, fb);
+    if (fixtures[fa].sensor) {
+      sense(fa, fb);
+    } else {
+      sense(fb, fa);
+    }
+  });
+
+  // 3. Overlaps whose pair the sweep did not see: the body was moved away between steps (so they are
+  // judged where the bodies were at the step's start).
+  std::vector<uint64_t> unseen;
+  for (const auto& [key, seen] : sensorOverlaps) {
+    if (seen == stepStamp) continue;
+    const uint32_t sensor = static_cast<uint32_t>(key >> 32), visitor = static_cast<uint32_t>(key);
+    if (!overlaps(fixtures[sensor].geometry, positionOn(pathOf(fixtures[sensor].body)[0], 0.0),
+                  fixtures[visitor].geometry, positionOn(pathOf(fixtures[visitor].body)[0], 0.0))) {
+      unseen.push_back(key);
+    }
+  }
+  std::sort(unseen.begin(), unseen.end());  // the map's order must not reach the events
+  for (uint64_t key : unseen) {
+    recordSensorChange(static_cast<uint32_t>(key >> 32), static_cast<uint32_t>(key), 0.0, false, sensorEvents);
+  }
+  // One pair's events are in time order already; a stable sort keeps them so at equal times.
+  std::stable_sort(found.begin(), found.end(), [](const SensorEvent& x, const SensorEvent& y) {
+    if (x.time != y.time) return x.time < y.time;
+    const uint32_t xl = std::min(x.sensor.index, x.visitor.index), yl = std::min(y.sensor.index, y.visitor.index);
+    if (xl != yl) return xl < yl;
+    return std::max(x.sensor.index, x.visitor.index) < std::max(y.sensor.index, y.visitor.index);
+  });
+  sensorEvents.insert(sensorEvents.end(), found.begin(), found.end());
+}
+
+}  // namespace rattle
