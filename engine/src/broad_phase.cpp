@@ -4,16 +4,33 @@ namespace rattle::detail {
 
 void BroadPhase::add(uint32_t fixture, const Box& box, bool moving) {
   if (proxies_.size() <= fixture) proxies_.resize(fixture + 1);
-  proxies_[fixture] = Proxy{box, moving, true, box.min.x};
-  order_.push_back(fixture);
+  Proxy& p = proxies_[fixture];
+  if (!p.present && p.listed) --removed_;  // removed and added again before a sort: listed once
+  const bool listed = p.listed;
+  p = Proxy{box, moving, true, true, p.stamp};
+  if (!listed) order_.push_back(fixture);
 }
 
 void BroadPhase::remove(uint32_t fixture) {
-  proxies_[fixture].present = false;
-  order_.erase(std::find(order_.begin(), order_.end(), fixture));
+  Proxy& p = proxies_[fixture];
+  if (!p.present) return;
+  p.present = false;
+  ++removed_;
 }
 
 void BroadPhase::sortByMinX() {
+  if (removed_ > 0) {
+    size_t kept = 0;
+    for (uint32_t f : order_) {
+      if (proxies_[f].present) {
+        order_[kept++] = f;
+      } else {
+        proxies_[f].listed = false;
+      }
+    }
+    order_.resize(kept);
+    removed_ = 0;
+  }
   // Insertion sort: near-linear on the nearly sorted order left by the previous step. When the order is
   // far from sorted (the first step, many new proxies, a teleport) it would go quadratic, so past a
   // budget of moves it hands over to a full sort. Both orders are total (ties by fixture index in the
@@ -80,28 +97,48 @@ void BroadPhase::splitIntoBands() {
   }
 }
 
-void BroadPhase::prepareQueries() {
-  moving_.clear();
-  static_.clear();
-  movingReach_ = 0;
-  movingGrowLeft_ = 0;
-  for (uint32_t f : order_) {
-    Proxy& p = proxies_[f];
-    p.sortedMinX = p.box.min.x;
-    if (p.moving) {
-      moving_.push_back({p.box.min.x, f});
-      movingReach_ = std::max(movingReach_, p.box.max.x - p.box.min.x);
-    } else {
-      static_.push_back({p.box.min.x, f});
+void BroadPhase::buildQueryBands() {
+  if (movingBands_.size() < bandCount_) {
+    movingBands_.resize(bandCount_);
+    staticBands_.resize(bandCount_);
+  }
+  if (grownBands_.size() < bandCount_) grownBands_.resize(bandCount_);
+  movingWidth_ = 0;
+  for (uint32_t band = 0; band < bandCount_; ++band) {
+    auto& moving = movingBands_[band];
+    auto& fixed = staticBands_[band];
+    moving.clear();
+    fixed.clear();
+    for (uint32_t f : bands_[band]) {
+      const Proxy& p = proxies_[f];
+      if (p.moving) {
+        moving.push_back({p.box.min.x, f});
+        movingWidth_ = std::max(movingWidth_, p.box.max.x - p.box.min.x);
+      } else {
+        fixed.push_back({p.box.min.x, f});
+      }
     }
   }
+  queryBandsReady_ = true;
 }
 
 void BroadPhase::grow(uint32_t fixture, const Box& grown) {
+  // Listed, from now until the next sweep, in every band the grown box reaches; its entry in the sorted
+  // lists stays where the sweep put it (a query may meet it twice: the stamp reports it once).
   Proxy& p = proxies_[fixture];
   p.box = grown;
-  movingReach_ = std::max(movingReach_, grown.max.x - p.sortedMinX);
-  movingGrowLeft_ = std::max(movingGrowLeft_, p.sortedMinX - grown.min.x);
+  if (grownBands_.size() < bandCount_) grownBands_.resize(bandCount_);
+  const uint32_t low = bandOf(grown.min.y), high = bandOf(grown.max.y);
+  // A body growing again and again within a step (a disk rattling in a narrowing gap) is listed in each
+  // band once: the box only grows, so only bands beyond those already listed are new.
+  const bool listed = p.grownSweep == sweep_;
+  for (uint32_t band = low; band <= high; ++band) {
+    if (listed && band >= p.grownLow && band <= p.grownHigh) continue;
+    grownBands_[band].push_back(fixture);
+  }
+  p.grownLow = listed ? std::min(p.grownLow, low) : low;
+  p.grownHigh = listed ? std::max(p.grownHigh, high) : high;
+  p.grownSweep = sweep_;
 }
 
 }  // namespace rattle::detail

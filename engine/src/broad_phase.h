@@ -9,6 +9,7 @@
 // Mid-step, a collision can send a body along a path that leaves the swept box the sweep saw. Its box
 // then grows (never shrinks within a step) and `query` finds every proxy the grown box overlaps, using the
 // current, possibly grown, boxes of the others too, so no pair is lost whichever of two bodies grew last.
+// Queries use the sweep's horizontal bands, so each looks at the proxies near it, not a whole column.
 #pragma once
 
 #include <algorithm>
@@ -22,6 +23,7 @@ namespace rattle::detail {
 class BroadPhase {
  public:
   void add(uint32_t fixture, const Box& box, bool moving);
+  /// Lazy: the proxy leaves the sorted order at the next sort.
   void remove(uint32_t fixture);
   bool contains(uint32_t fixture) const { return fixture < proxies_.size() && proxies_[fixture].present; }
   const Box& box(uint32_t fixture) const { return proxies_[fixture].box; }
@@ -36,16 +38,19 @@ class BroadPhase {
   /// Grows a moving proxy's box mid-step (the new box must contain the old one).
   void grow(uint32_t fixture, const Box& grown);
 
-  /// Calls found(f) for every proxy whose current box overlaps `q`.
+  /// Calls found(f) once for every proxy whose current box overlaps `q`.
   template <class Found>
-  void query(const Box& q, Found&& found) const;
+  void query(const Box& q, Found&& found);
 
  private:
   struct Proxy {
     Box box;
     bool moving = false;
     bool present = false;
-    double sortedMinX = 0;  // the lower x edge this step's sweep sorted by
+    bool listed = false;   // in order_ (a removed proxy stays listed until the next sort)
+    uint32_t stamp = 0;    // the last query that reported it
+    uint32_t grownSweep = 0;         // the sweep in which grownLow..grownHigh were listed
+    uint32_t grownLow = 0, grownHigh = 0;  // the bands whose grown lists hold it
   };
   struct Entry {
     double minX;  // lower x edge at the sweep
@@ -53,7 +58,7 @@ class BroadPhase {
   };
   void sortByMinX();
   void splitIntoBands();
-  void prepareQueries();
+  void buildQueryBands();
   uint32_t bandOf(double y) const {
     const double b = (y - bandOrigin_) * inverseBandHeight_;
     return b <= 0 ? 0 : b >= bandCount_ - 1 ? bandCount_ - 1 : static_cast<uint32_t>(b);
@@ -61,16 +66,24 @@ class BroadPhase {
 
   std::vector<Proxy> proxies_;   // indexed by fixture index
   std::vector<uint32_t> order_;  // fixture indices, sorted by box.min.x at the last sweep
-  std::vector<Entry> moving_;    // moving proxies in sweep order
-  std::vector<Entry> static_;    // static proxies in sweep order
-  double movingReach_ = 0;       // max over moving proxies of (current max.x - sorted min.x)
-  double movingGrowLeft_ = 0;    // max over moving proxies of (sorted min.x - current min.x)
+  size_t removed_ = 0;           // proxies removed since the last sort (still listed in order_)
   // Horizontal bands for the sweep: a single x sweep over a square region compares every proxy with a
   // whole column of others (O(N^1.5)); sweeping bands about two boxes tall keeps it near O(N).
   std::vector<std::vector<uint32_t>> bands_;
   uint32_t bandCount_ = 1;
   double bandOrigin_ = 0;
   double inverseBandHeight_ = 0;
+  // Queries (mid-step, after a path changed) use the same bands: in each, the moving proxies in x order
+  // (found by binary search, reaching back by the widest moving box), the static ones in x order (a long
+  // wall starts early: scanned from the band's start), and the proxies grown into the band since the
+  // sweep (few; scanned whole). Built at the first query of a step.
+  bool queryBandsReady_ = false;
+  std::vector<std::vector<Entry>> movingBands_;
+  std::vector<std::vector<Entry>> staticBands_;
+  std::vector<std::vector<uint32_t>> grownBands_;
+  double movingWidth_ = 0;
+  uint32_t queryStamp_ = 0;
+  uint32_t sweep_ = 1;  // counts sweeps, so that a proxy is listed in each band's grown list once
 };
 
 template <class Report>
@@ -96,23 +109,35 @@ void BroadPhase::findPairs(Report&& report) {
       }
     }
   }
-  prepareQueries();
+  queryBandsReady_ = false;
+  for (auto& g : grownBands_) g.clear();
+  ++sweep_;
 }
 
 template <class Found>
-void BroadPhase::query(const Box& q, Found&& found) const {
-  auto overlaps = [&](uint32_t f) { return proxies_[f].box.overlaps(q); };
-  // Moving proxies: any that overlaps q has sorted min.x in [q.min.x - reach, q.max.x + growLeft].
-  const double lo = q.min.x - movingReach_;
-  const double hi = q.max.x + movingGrowLeft_;
-  auto it = std::lower_bound(moving_.begin(), moving_.end(), lo, [](const Entry& e, double x) { return e.minX < x; });
-  for (; it != moving_.end() && it->minX <= hi; ++it) {
-    if (overlaps(it->fixture)) found(it->fixture);
+void BroadPhase::query(const Box& q, Found&& found) {
+  if (!queryBandsReady_) buildQueryBands();
+  if (++queryStamp_ == 0) {
+    for (Proxy& p : proxies_) p.stamp = 0;
+    queryStamp_ = 1;
   }
-  // Static proxies never grow; a long wall may be wide, so scan all that start left of q's right edge.
-  for (const Entry& e : static_) {
-    if (e.minX > q.max.x) break;
-    if (overlaps(e.fixture)) found(e.fixture);
+  auto visit = [&](uint32_t f) {
+    Proxy& p = proxies_[f];
+    if (p.stamp == queryStamp_ || !p.box.overlaps(q)) return;
+    p.stamp = queryStamp_;
+    found(f);
+  };
+  const uint32_t last = bandOf(q.max.y);
+  for (uint32_t band = bandOf(q.min.y); band <= last; ++band) {
+    const std::vector<Entry>& moving = movingBands_[band];
+    auto it = std::lower_bound(moving.begin(), moving.end(), q.min.x - movingWidth_,
+                               [](const Entry& e, double x) { return e.minX < x; });
+    for (; it != moving.end() && it->minX <= q.max.x; ++it) visit(it->fixture);
+    for (const Entry& e : staticBands_[band]) {
+      if (e.minX > q.max.x) break;
+      visit(e.fixture);
+    }
+    for (uint32_t f : grownBands_[band]) visit(f);
   }
 }
 
