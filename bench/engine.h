@@ -69,7 +69,7 @@ struct EngineUnavailable : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Versions of the libraries compiled in ("Box2D 2.4.1", "Chipmunk 7.0.3"), or "absent".
+/// Versions of the libraries compiled in ("Box2D 2.4.1", "Chipmunk 7.0.3"), or "Box2D: absent".
 std::string box2dVersion();
 std::string chipmunkVersion();
 

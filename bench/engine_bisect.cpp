@@ -12,8 +12,9 @@
 // A step here:
 //  1. Every disk's velocity takes the step's gravity (semi-implicit Euler, as game engines integrate), and
 //     its path line runs straight from where it is to where that velocity takes it in dt.
-//  2. Rough phase (the manual's first step): the boxes around the path lines, swelled by the radius, through
-//     sort-and-sweep on x for disk pairs; every disk's box against every wall's and sensor's.
+//  2. Rough phase (the manual's first step, with boxes where it had bounding circles): the boxes around the
+//     path lines, swelled by the radius, through sort-and-sweep on x for disk pairs; every disk's box
+//     against every wall's and sensor's.
 //  3. Path-line check: a pair is a suspect when the two overlap at the end of the step, or one's path line
 //     meets the other's disk (at its end position), or the two path lines cross; a disk and a wall when it
 //     overlaps the wall at the end or its path line crosses the wall. This is "not absolutely correct", as

@@ -12,14 +12,14 @@ constexpr bool kHaveBox2d = true;
 #else
 constexpr bool kHaveBox2d = false;
 std::unique_ptr<Engine> makeBox2dEngine(const Scene&, bool) { return nullptr; }
-std::string box2dVersion() { return "absent"; }
+std::string box2dVersion() { return "Box2D: absent"; }
 #endif
 #ifdef RATTLE_BENCH_HAVE_CHIPMUNK
 constexpr bool kHaveChipmunk = true;
 #else
 constexpr bool kHaveChipmunk = false;
 std::unique_ptr<Engine> makeChipmunkEngine(const Scene&) { return nullptr; }
-std::string chipmunkVersion() { return "absent"; }
+std::string chipmunkVersion() { return "Chipmunk: absent"; }
 #endif
 
 const std::vector<EngineInfo>& engineList() {

@@ -30,11 +30,18 @@ bool parseNumberOrFraction(const std::string& s, double& out) {
   return true;
 }
 
+// Digits, or a whole number written with an exponent ("1e5") when it is below 2^53.
 bool parseUnsigned(const std::string& s, unsigned long long max, unsigned long long& out) {
-  if (s.empty() || s.find_first_not_of("0123456789") != std::string::npos) return false;
-  errno = 0;
-  out = std::strtoull(s.c_str(), nullptr, 10);
-  return errno == 0 && out <= max;
+  if (s.empty()) return false;
+  if (s.find_first_not_of("0123456789") == std::string::npos) {
+    errno = 0;
+    out = std::strtoull(s.c_str(), nullptr, 10);
+    return errno == 0 && out <= max;
+  }
+  double d;
+  if (!parseDouble(s, d) || !(d >= 0 && d <= 0x1p53) || d != std::floor(d)) return false;
+  out = static_cast<unsigned long long>(d);
+  return out <= max;
 }
 
 }  // namespace
@@ -103,6 +110,7 @@ Options parseOptions(const std::vector<std::string>& args) {
       if (!parseNumberOrFraction(take(), t) || !std::isfinite(t) || !(t > 0))
         throw bad("must be a positive number of simulated seconds");
       o.seconds = t;
+      o.secondsText = value;
     } else if (name == "--seed") {
       unsigned long long k;
       if (!parseUnsigned(take(), ~0ull, k)) throw bad("must be a whole number from 0 to 2^64 - 1");
@@ -132,13 +140,14 @@ Options parseOptions(const std::vector<std::string>& args) {
       if (!parseUnsigned(take(), 1'000'000'000ull, k) || k < 1) throw bad("must be a whole number >= 1");
       o.measureEvery = static_cast<int>(k);
     } else {
-      throw UsageError(name + ": unknown option (see --help)");
+      throw UsageError(name + ": unknown option");
     }
   }
   if (!nGiven) o.scene.n = defaultDiskCount(o.scene.name);
   const double steps = std::round(o.seconds / o.dt);
-  if (!(steps >= 1)) throw UsageError("--seconds with --dt " + o.dtText + ": less than one step");
-  if (steps > 1e9) throw UsageError("--seconds with --dt " + o.dtText + ": more than 10^9 steps");
+  const std::string both = "--seconds " + o.secondsText + " with --dt " + o.dtText;
+  if (!(steps >= 1)) throw UsageError(both + ": less than one step");
+  if (steps > 1e9) throw UsageError(both + ": more than 10^9 steps");
   return o;
 }
 
@@ -165,8 +174,9 @@ usage: rattle-bench [--scene S] [--engine E] [--n N] [--dt DT] [--seconds T] [--
   --packing P        gas only: packing fraction (default 0.3)
   --speed V          speed of every disk (defaults: gas 1, pile up to 1, bullets 10..10^4 in turn,
                      cradle 1..3 per lane, sensors 10..40)
-  --collapse-time TC rattle modes (and their reference): WorldDef::collapseTime, the TC model against
-                     inelastic collapse (default 0: off, rattle's default)
+  --collapse-time TC WorldDef::collapseTime (the TC model against inelastic collapse) for the rattle
+                     modes and for the exact reference run, whatever the engine (default 0: off,
+                     rattle's default)
   --bisect-depths M,S  bisect: M levels of sampling the step, then S bisections (default 4,10)
   --no-reference     skip the exact reference run (collision_count_error and sensor_missed left empty)
   --measure-every K  measure overlaps and tunnelling after every K-th step and the last (default 1)

@@ -17,6 +17,7 @@ struct Options {
   double dt = 1.0 / 60.0;
   std::string dtText = "1/60";  ///< as given, for messages
   double seconds = 2.0;
+  std::string secondsText = "2";  ///< as given, for messages
   bool csv = false;
   bool reference = true;  ///< run the exact reference (--no-reference skips it)
   int measureEvery = 1;   ///< measure overlaps and tunnelling after every k-th step (and the last)

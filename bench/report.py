@@ -20,6 +20,8 @@ import tempfile
 ENGINES = ["discrete", "hybrid", "predictive", "bisect", "box2d", "box2d-bullet", "chipmunk"]
 FLOOR = 1e-17        # where a zero relative error is drawn on a log axis
 FRACTION_FLOOR = 1e-4  # where a zero fraction of bodies is drawn
+# Notes every row of an engine carries, said once in the report's header instead of in every table row.
+HEADER_NOTES = ("libchipmunk is a debug build",)
 
 # ---------------------------------------------------------------------------------------------------------
 # Reading
@@ -95,6 +97,11 @@ def order(rows):
                                        -num(r, "dt"), num(r, "speed")))
 
 
+def row_notes(r):
+    notes = r.get("notes", "")
+    return "" if notes.startswith(HEADER_NOTES) else notes.replace("|", "/")
+
+
 def generic_table(rows):
     has_sensors = any(r.get("sensor_missed", "") != "" for r in rows)
     head = ["engine", "dt", "ms/step", "ms/sim s", "collisions/s", "energy drift", "max overlap", "mean overlap",
@@ -108,7 +115,7 @@ def generic_table(rows):
         if has_sensors:
             missed = r.get("sensor_missed", "")
             cells.append("%s of %s" % (missed, r.get("reference_sensor_visits", "")) if missed != "" else "-")
-        cells += [fmt(num(r, "collision_count_error"), "e"), r.get("notes", "").replace("|", "/")]
+        cells += [fmt(num(r, "collision_count_error"), "e"), row_notes(r)]
         out.append("| " + " | ".join(cells) + " |")
     return "\n".join(out)
 
@@ -125,7 +132,7 @@ def bullets_table(rows):
     for k in keys:
         runs = by[k]
         fast = runs.get(speeds[-1], {})
-        notes = sorted({runs[v].get("notes", "") for v in runs} - {""})
+        notes = sorted({row_notes(runs[v]) for v in runs} - {""})
         cells = [k[0], step_name(float(k[1]))] + \
                 ["%s/%s" % (runs[v]["tunnelled"], runs[v]["n"]) if v in runs else "-" for v in speeds] + \
                 [fmt(num(fast, "ms_per_simulated_second"), "ms"), fmt(num(fast, "energy_drift"), "e"),
@@ -195,7 +202,9 @@ def speed_error_figure(key, title, rows, png, tmp):
               "set logscale xy", "set format x '10^{%L}'", "set format y '10^{%L}'", "set grid",
               "set key outside right top", "set multiplot layout 1,2 title \"%s: time against error "
               "(points labelled by step; lower left is better)\"" % title.replace('"', "'")]
-    for label, floor, plots in panels:
+    for p, (label, floor, plots) in enumerate(panels):
+        if p > 0:
+            script.append("unset key")  # the first panel's key names the engines for both
         script.append("set xlabel \"%s (0 drawn at %g)\"" % (label, floor))
         script.append("set ylabel 'ms of step time per simulated second'")
         script.append("plot " + ", \\\n  ".join(plots) if plots else "plot 1/0 notitle")
@@ -375,7 +384,18 @@ def write_report(out_dir, bench, matrix_seconds=None, load=None):
           ]
     if matrix_seconds is not None:
         md.append("- the matrix took %.0f s" % matrix_seconds)
-    md += ["", "## Targets (issue 4), measured side by side in this run", "", targets(rows, scaling_rows), ""]
+    md += ["", "Read with these in mind (bench/README.md has the details):", "",
+           "- Only step() is timed; every error is measured outside it. Timings on a shared machine are noisy: "
+           "the load average above says how busy it was, and ratios between engines measured in the same run "
+           "are steadier than the absolute times.",
+           "- The exact reference runs in each invocation: rattle's predictive mode for collision counts, "
+           "rattle's hybrid mode at dt <= 1/240 for sensor events, as the predictive mode reports no sensor "
+           "events yet (its own rows in the sensors table miss every visit until it does).",
+           "- Box2D moves no body more than 2 units per step (b2_maxTranslation, compiled in), so faster "
+           "bodies are slowed; Debian's Chipmunk is a debug build (runtime assertion checks on). Both are "
+           "measured as packaged.",
+           "- The `arena` scene comes with the demo; it is not in this matrix yet.",
+           "", "## Targets (issue 4), measured side by side in this run", "", targets(rows, scaling_rows), ""]
     for key, title, trs in scene_tables(rows):
         png = os.path.join(figures, key + ".png")
         with tempfile.TemporaryDirectory() as tmp:
@@ -383,9 +403,10 @@ def write_report(out_dir, bench, matrix_seconds=None, load=None):
         md += ["## %s" % title, ""]
         extra = {p for p in (r.get("collapse_time", "") for r in trs) if p}
         if extra:
-            md += ["rattle's modes (discrete, hybrid, predictive, and the reference) ran with --collapse-time %s "
-                   "(WorldDef::collapseTime, the TC model); with rattle's default (0) this pile reaches the event "
-                   "budget of 10^6 collisions per step once it lands (see bench/README.md)." % ", ".join(extra), ""]
+            md += ["rattle's modes (discrete, hybrid, predictive) and the exact reference ran with --collapse-time "
+                   "%s (WorldDef::collapseTime, the TC model); with rattle's default (0) this pile reaches the "
+                   "event budget of 10^6 collisions per step once it lands (see bench/README.md)." %
+                   ", ".join(extra), ""]
         md += [bullets_table(trs) if key == "bullets" else generic_table(trs), "",
                "![%s](figures/%s.png)" % (title, key), ""]
     if scaling_rows:
