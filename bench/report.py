@@ -385,9 +385,10 @@ def write_report(out_dir, bench, matrix_seconds=None, load=None):
     if matrix_seconds is not None:
         md.append("- the matrix took %.0f s" % matrix_seconds)
     md += ["", "Read with these in mind (bench/README.md has the details):", "",
-           "- Only step() is timed; every error is measured outside it. Timings on a shared machine are noisy: "
-           "the load average above says how busy it was, and ratios between engines measured in the same run "
-           "are steadier than the absolute times.",
+           "- Only step() is timed, by the CPU time of its thread (so other work on the machine does not count "
+           "as the engine's; results.csv has the wall-clock median too); every error is measured outside it. "
+           "A shared machine still adds noise (caches, memory bandwidth): the load average above says how busy "
+           "it was, and ratios between engines measured in the same run are steadier than absolute times.",
            "- The exact reference runs in each invocation: rattle's predictive mode for collision counts, "
            "rattle's hybrid mode at dt <= 1/240 for sensor events, as the predictive mode reports no sensor "
            "events yet (its own rows in the sensors table miss every visit until it does).",
