@@ -1,13 +1,17 @@
 # rattle: the two commands a person needs are `make demo` and `make test`.
 # Each installs the Debian packages listed in scripts/packages.txt when missing, configures and builds
 # into build/ (Release, -O2, -ffp-contract=off; executables in build/bin/), then runs.
+# `make bench` also installs scripts/packages-bench.txt (Box2D, Chipmunk, gnuplot), builds
+# build/bin/rattle-bench and runs the benchmark's standard matrix (bench/README.md).
 
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 BUILD_DIR ?= build
 SANITIZE_DIR ?= build-sanitize
 CMAKE_FLAGS ?=
+# Extra arguments for bench/run_matrix.py, e.g. BENCH_FLAGS=--quick for a small matrix.
+BENCH_FLAGS ?=
 
-.PHONY: all deps configure build demo test test-sanitize clean help
+.PHONY: all deps configure build demo test test-sanitize bench clean help
 
 all: build
 
@@ -15,6 +19,8 @@ help:
 	@echo "make demo           build and run the demo (writes out/)"
 	@echo "make test           build and run every test"
 	@echo "make test-sanitize  the same tests built with ASan+UBSan in $(SANITIZE_DIR)/"
+	@echo "make bench          build rattle-bench, run the standard matrix against Box2D and Chipmunk,"
+	@echo "                    write bench/RESULTS.md, bench/results.csv, bench/scaling.csv, bench/figures/"
 	@echo "make clean          remove build trees and out/"
 
 deps:
@@ -38,6 +44,12 @@ test-sanitize: deps
 	@cmake --build $(SANITIZE_DIR) -j $(JOBS)
 	@cd $(SANITIZE_DIR) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  ctest --output-on-failure -j $(JOBS)
+
+bench: deps
+	@bash scripts/install-deps.sh scripts/packages-bench.txt
+	@cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release -DRATTLE_BUILD_BENCH=ON $(CMAKE_FLAGS) > /dev/null
+	@cmake --build $(BUILD_DIR) --target rattle-bench -j $(JOBS)
+	python3 bench/run_matrix.py --bench $(BUILD_DIR)/bin/rattle-bench $(BENCH_FLAGS)
 
 clean:
 	rm -rf $(BUILD_DIR) $(SANITIZE_DIR) out

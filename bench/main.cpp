@@ -1,0 +1,286 @@
+// rattle-bench: one run of one engine on one scene, timed step by step, with its errors measured outside
+// the timed part and compared with an exact reference run in the same invocation. `--help` says what each
+// column means; bench/README.md says how the standard matrix (make bench) uses it.
+//
+// Timing: each step() is timed twice, by the CPU time of this thread (clock_gettime(
+// CLOCK_THREAD_CPUTIME_ID)) and by the wall clock (steady_clock). The speed columns use the CPU time, so
+// that other work on a shared machine, which takes the core away, does not count as the engine's; the wall
+// time is kept as a column of its own. Reading the thread's CPU clock is a system call (about 0.3 to 0.6 us
+// here), so the cost of an empty measurement, taken before the run, is subtracted from every step.
+#include <time.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "engine.h"
+#include "measure.h"
+#include "options.h"
+#include "reference.h"
+
+namespace rattle_bench {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+double threadCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+/// One timed interval, by both clocks.
+struct Interval {
+  double cpu = 0, wall = 0;
+};
+
+class StepTimer {
+ public:
+  StepTimer() {
+    // The cost of an empty measurement: the median of many, by each clock.
+    std::vector<double> cpu, wall;
+    for (int i = 0; i < 501; ++i) {
+      start();
+      const Interval e = raw();
+      cpu.push_back(e.cpu);
+      wall.push_back(e.wall);
+    }
+    std::nth_element(cpu.begin(), cpu.begin() + 250, cpu.end());
+    std::nth_element(wall.begin(), wall.begin() + 250, wall.end());
+    overhead_ = {cpu[250], wall[250]};
+  }
+  void start() {
+    wall0_ = Clock::now();
+    cpu0_ = threadCpuSeconds();
+  }
+  Interval stop() {
+    const Interval r = raw();
+    return {std::max(0.0, r.cpu - overhead_.cpu), std::max(0.0, r.wall - overhead_.wall)};
+  }
+
+ private:
+  Interval raw() {
+    const double cpu = threadCpuSeconds();
+    const double wall = std::chrono::duration<double>(Clock::now() - wall0_).count();
+    return {cpu - cpu0_, wall};
+  }
+  Clock::time_point wall0_;
+  double cpu0_ = 0;
+  Interval overhead_;
+};
+
+/// A progress line on stderr for long runs: nothing in the first two seconds, then at most one update a
+/// second (rewritten in place on a terminal, one line every ten seconds otherwise).
+class Progress {
+ public:
+  Progress(bool enabled, std::string label)
+      : enabled_(enabled), tty_(isatty(2) != 0), label_(std::move(label)), start_(Clock::now()) {}
+  void update(const std::string& what, long long done, long long total) {
+    if (!enabled_) return;
+    const double t = secondsSince(start_);
+    if (t < 2.0 || t - last_ < (tty_ ? 1.0 : 10.0)) return;
+    last_ = t;
+    std::fprintf(stderr, "%srattle-bench %s: %s %lld/%lld (%.0f%%), %.0f s%s", tty_ ? "\r" : "", label_.c_str(),
+                 what.c_str(), done, total, 100.0 * static_cast<double>(done) / static_cast<double>(total), t,
+                 tty_ ? "   " : "\n");
+    shown_ = true;
+  }
+  void finish() {
+    if (shown_ && tty_) std::fprintf(stderr, "\n");
+  }
+
+ private:
+  bool enabled_, tty_;
+  std::string label_;
+  Clock::time_point start_;
+  double last_ = 0;
+  bool shown_ = false;
+};
+
+std::string num(double v, const char* format = "%.6g") {
+  if (std::isnan(v)) return "";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+std::string quoted(const std::string& s) {
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return std::nan("");
+  const size_t mid = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + static_cast<long>(mid), v.end());
+  if (v.size() % 2 == 1) return v[mid];
+  const double upper = v[mid];
+  return 0.5 * (upper + *std::max_element(v.begin(), v.begin() + static_cast<long>(mid)));
+}
+
+int run(const Options& o) {
+  const Clock::time_point setupStart = Clock::now();
+  const Scene scene = buildScene(o.scene);
+  std::unique_ptr<Engine> engine = makeEngine(o.engine, scene, o.settings);
+  const double setupSeconds = secondsSince(setupStart);
+  const long long steps = std::llround(o.seconds / o.dt);
+  const size_t n = scene.disks.size();
+
+  std::vector<Vec2> positions, velocities;
+  engine->state(positions, velocities);
+  const long double e0 = totalEnergy(scene, positions, velocities);
+  OverlapMeter meter(scene);
+  OverlapStats overlaps;
+  std::vector<uint8_t> outside;
+  int tunnelled = 0;
+
+  Progress progress(!o.quiet, scene.name + "/" + o.engine + " n=" + std::to_string(n) + " dt=" + o.dtText);
+  StepTimer timer;
+  std::vector<double> stepSeconds(static_cast<size_t>(steps)), wallSeconds(static_cast<size_t>(steps));
+  for (long long k = 0; k < steps; ++k) {
+    timer.start();
+    engine->step(o.dt);
+    const Interval took = timer.stop();
+    stepSeconds[static_cast<size_t>(k)] = took.cpu;
+    wallSeconds[static_cast<size_t>(k)] = took.wall;
+    engine->collect();
+    if (k % o.measureEvery == 0 || k == steps - 1) {
+      engine->state(positions, velocities);
+      meter.measure(positions, overlaps);
+      tunnelled = markTunnelled(scene, positions, outside);
+    }
+    progress.update("step", k + 1, steps);
+  }
+  const long double e1 = totalEnergy(scene, positions, velocities);
+
+  Reference ref;
+  if (o.reference) {
+    if (o.engine == "predictive" && scene.sensors.empty()) {
+      ref.collisions = engine->collisions;  // this run is the reference
+      ref.how = "this run";
+    } else {
+      progress.update("reference run", 0, 1);
+      ref = exactReference(scene, o.dt, steps, o.settings.collapseTime);
+    }
+  }
+  progress.finish();
+
+  // Timing: the first tenth of the steps is warm-up.
+  const size_t warm = static_cast<size_t>(steps / 10);
+  const std::vector<double> timed(stepSeconds.begin() + static_cast<long>(warm), stepSeconds.end());
+  const std::vector<double> timedWall(wallSeconds.begin() + static_cast<long>(warm), wallSeconds.end());
+  double sum = 0, total = 0;
+  for (double t : timed) sum += t;
+  for (double t : stepSeconds) total += t;
+  const double msPerStep = 1e3 * median(timed);
+  const double msPerSimulatedSecond = 1e3 * (sum / static_cast<double>(timed.size())) / o.dt;
+  const double nan = std::nan("");
+  const double collisionsPerSecond =
+      engine->collisions >= 0 && total > 0 ? static_cast<double>(engine->collisions) / total : nan;
+  const double energyDrift = e0 != 0 ? static_cast<double>((e1 - e0) / std::fabs(e0)) : static_cast<double>(e1 - e0);
+  double countError = nan;
+  if (ref.collisions > 0 && engine->collisions >= 0)
+    countError = static_cast<double>(engine->collisions - ref.collisions) / static_cast<double>(ref.collisions);
+  else if (ref.collisions == 0 && engine->collisions >= 0)
+    countError = engine->collisions == 0 ? 0.0 : std::numeric_limits<double>::infinity();
+  const bool hasSensors = !scene.sensors.empty();
+  long long sensorVisits = 0, referenceVisits = 0;
+  for (long long c : engine->sensorBegins) sensorVisits += c;
+  for (long long c : ref.sensorBegins) referenceVisits += c;
+  const double sensorMissed =
+      hasSensors && !ref.sensorBegins.empty() ? static_cast<double>(sensorMisses(ref.sensorBegins, engine->sensorBegins)) : nan;
+
+  struct Field {
+    const char* name;
+    std::string value;
+  };
+  const std::vector<Field> fields = {
+      {"scene", scene.name},
+      {"engine", o.engine},
+      {"n", std::to_string(n)},
+      {"dt", num(o.dt, "%.10g")},
+      {"seconds", num(static_cast<double>(steps) * o.dt, "%.10g")},
+      {"ms_per_step", num(msPerStep)},
+      {"ms_per_simulated_second", num(msPerSimulatedSecond)},
+      {"collisions_per_s", num(collisionsPerSecond)},
+      {"energy_drift", num(energyDrift, "%.3e")},
+      {"max_overlap", num(overlaps.max, "%.3e")},
+      {"mean_overlap", num(overlaps.mean(), "%.3e")},
+      {"tunnelled", std::to_string(tunnelled)},
+      {"sensor_missed", num(sensorMissed, "%.0f")},
+      {"collision_count_error", num(countError, "%.4e")},
+      // Beyond the issue's columns: what the row was run with, and the raw counts.
+      {"seed", std::to_string(scene.seed)},
+      {"packing", num(scene.packing, "%.4g")},
+      {"speed", num(scene.speed, "%.6g")},
+      {"steps", std::to_string(steps)},
+      {"collisions", engine->collisions >= 0 ? std::to_string(engine->collisions) : ""},
+      {"reference_collisions", ref.collisions >= 0 ? std::to_string(ref.collisions) : ""},
+      {"sensor_visits", hasSensors ? std::to_string(sensorVisits) : ""},
+      {"reference_sensor_visits", hasSensors && !ref.sensorBegins.empty() ? std::to_string(referenceVisits) : ""},
+      {"wall_ms_per_step", num(1e3 * median(timedWall))},
+      {"setup_s", num(setupSeconds, "%.3g")},
+      {"notes", engine->notes},
+  };
+  if (o.csv) {
+    std::string header, row;
+    for (size_t i = 0; i < fields.size(); ++i) {
+      header += (i ? "," : "") + std::string(fields[i].name);
+      const bool text = std::string(fields[i].name) == "notes";
+      row += (i ? "," : "") + (text ? quoted(fields[i].value) : fields[i].value);
+    }
+    std::printf("%s\n%s\n", header.c_str(), row.c_str());
+  } else {
+    for (const Field& f : fields) std::printf("%-24s %s\n", f.name, f.value.empty() ? "-" : f.value.c_str());
+    if (!ref.how.empty()) std::printf("%-24s %s\n", "reference", ref.how.c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+
+}  // namespace rattle_bench
+
+int main(int argc, char** argv) {
+  using namespace rattle_bench;
+  Options o;
+  try {
+    o = parseOptions(std::vector<std::string>(argv + 1, argv + argc));
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "rattle-bench: %s\n(rattle-bench --help lists the options)\n", e.what());
+    return 2;
+  }
+  if (o.help) {
+    std::fputs(helpText().c_str(), stdout);
+    return 0;
+  }
+  if (o.version) {
+    std::printf("rattle-bench (rattle %s), compiler %s\n%s\n%s\n", RATTLE_BENCH_VERSION, __VERSION__,
+                box2dVersion().c_str(), chipmunkVersion().c_str());
+    return 0;
+  }
+  try {
+    return run(o);
+  } catch (const EngineUnavailable& e) {
+    std::fprintf(stderr, "rattle-bench: %s\n", e.what());
+    return 3;
+  } catch (const SceneError& e) {
+    // Scene parameters the parser cannot judge alone (a cradle n that is not a multiple of 6, a packing the
+    // lattice cannot hold): still the command line's fault.
+    std::fprintf(stderr, "rattle-bench: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "rattle-bench: the run failed: %s\n", e.what());
+    return 1;
+  }
+}

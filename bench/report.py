@@ -1,0 +1,453 @@
+#!/usr/bin/env python3
+"""Turns bench/results.csv and bench/scaling.csv into bench/RESULTS.md and the pictures in bench/figures/.
+
+  python3 bench/report.py [--dir bench] [--bench build/bin/rattle-bench] [--matrix-seconds S] [--load A,B]
+
+run_matrix.py calls it at the end of `make bench`; run alone it redoes the report from the CSVs already there.
+Pictures are drawn by gnuplot (pngcairo); its data and script go to a temporary folder that is removed.
+"""
+import argparse
+import csv
+import datetime
+import math
+import os
+import platform
+import shutil
+import subprocess
+import sys
+import tempfile
+
+ENGINES = ["discrete", "hybrid", "predictive", "bisect", "box2d", "box2d-bullet", "chipmunk"]
+FLOOR = 1e-17        # where a zero relative error is drawn on a log axis
+FRACTION_FLOOR = 1e-4  # where a zero fraction of bodies is drawn
+# Notes every row of an engine carries, said once in the report's header instead of in every table row.
+HEADER_NOTES = ("libchipmunk is a debug build",)
+
+# ---------------------------------------------------------------------------------------------------------
+# Reading
+
+
+def num(row, key):
+    v = row.get(key, "")
+    try:
+        return float(v)
+    except ValueError:
+        return float("nan")
+
+
+def read_csv(path):
+    if not os.path.exists(path):
+        return []
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def step_name(dt):
+    """1/60 for 0.016666..., else the number."""
+    inv = 1.0 / dt
+    if abs(inv - round(inv)) < 1e-6 * inv and inv >= 1:
+        return "1/%d" % round(inv)
+    return "%g" % dt
+
+
+def fmt(v, kind="g"):
+    if v is None or (isinstance(v, float) and math.isnan(v)):
+        return "-"
+    if kind == "ms":
+        return "%.3g" % v if v < 1000 else "%.0f" % v
+    if kind == "e":
+        return "0" if v == 0 else "%.1e" % v
+    if kind == "int":
+        return "%d" % v
+    if kind == "rate":
+        return "%.3g" % v
+    return "%.3g" % v
+
+
+# ---------------------------------------------------------------------------------------------------------
+# Tables
+
+
+def scene_tables(rows):
+    """Groups rows into the report's tables: (key, title, rows)."""
+    tables = []
+    seen = []
+    for r in rows:
+        scene = r["scene"]
+        if scene == "gas":
+            key = "gas-%s" % r["packing"]
+            title = "gas, %s disks, packing %s, speed 1" % (r["n"], r["packing"])
+        elif scene == "bullets":
+            key = "bullets"
+            title = "bullets, %s disks of radius 0.05 in a 20 x 20 box, one run per speed" % r["n"]
+        else:
+            key = scene
+            title = {"pile": "pile, %s disks poured under gravity, restitution 0.5",
+                     "cradle": "cradle, %s disks (Newton's cradles in lanes)",
+                     "sensors": "sensors, %s disks crossing six thin sensor strips"}[scene] % r["n"]
+        if key not in seen:
+            seen.append(key)
+            tables.append((key, title, []))
+        tables[seen.index(key)][2].append(r)
+    return tables
+
+
+def order(rows):
+    return sorted(rows, key=lambda r: (ENGINES.index(r["engine"]) if r["engine"] in ENGINES else 99,
+                                       -num(r, "dt"), num(r, "speed")))
+
+
+def row_notes(r):
+    notes = r.get("notes", "")
+    return "" if notes.startswith(HEADER_NOTES) else notes.replace("|", "/")
+
+
+def generic_table(rows):
+    has_sensors = any(r.get("sensor_missed", "") != "" for r in rows)
+    head = ["engine", "dt", "ms/step", "ms/sim s", "collisions/s", "energy drift", "max overlap", "mean overlap",
+            "tunnelled"] + (["sensor missed"] if has_sensors else []) + ["count error", "notes"]
+    out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for r in order(rows):
+        cells = [r["engine"], step_name(num(r, "dt")), fmt(num(r, "ms_per_step"), "ms"),
+                 fmt(num(r, "ms_per_simulated_second"), "ms"), fmt(num(r, "collisions_per_s"), "rate"),
+                 fmt(num(r, "energy_drift"), "e"), fmt(num(r, "max_overlap"), "e"), fmt(num(r, "mean_overlap"), "e"),
+                 r["tunnelled"]]
+        if has_sensors:
+            missed = r.get("sensor_missed", "")
+            cells.append("%s of %s" % (missed, r.get("reference_sensor_visits", "")) if missed != "" else "-")
+        cells += [fmt(num(r, "collision_count_error"), "e"), row_notes(r)]
+        out.append("| " + " | ".join(cells) + " |")
+    return "\n".join(out)
+
+
+def bullets_table(rows):
+    speeds = sorted({num(r, "speed") for r in rows})
+    head = ["engine", "dt"] + ["tunnelled @%g" % v for v in speeds] + \
+           ["ms/sim s @%g" % speeds[-1], "energy drift @%g" % speeds[-1], "max overlap @%g" % speeds[-1], "notes"]
+    out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    by = {}
+    for r in rows:
+        by.setdefault((r["engine"], r["dt"]), {})[num(r, "speed")] = r
+    keys = sorted(by, key=lambda k: (ENGINES.index(k[0]) if k[0] in ENGINES else 99, -float(k[1])))
+    for k in keys:
+        runs = by[k]
+        fast = runs.get(speeds[-1], {})
+        notes = sorted({row_notes(runs[v]) for v in runs} - {""})
+        cells = [k[0], step_name(float(k[1]))] + \
+                ["%s/%s" % (runs[v]["tunnelled"], runs[v]["n"]) if v in runs else "-" for v in speeds] + \
+                [fmt(num(fast, "ms_per_simulated_second"), "ms"), fmt(num(fast, "energy_drift"), "e"),
+                 fmt(num(fast, "max_overlap"), "e"), "; ".join(notes).replace("|", "/")]
+        out.append("| " + " | ".join(cells) + " |")
+    return "\n".join(out)
+
+
+# ---------------------------------------------------------------------------------------------------------
+# Pictures (gnuplot)
+
+# Per table: the two error measures drawn, as (label, function of a row -> value, floor).
+def measures(key):
+    frac = lambda col: (lambda r: num(r, col) / num(r, "n"))
+    absol = lambda col: (lambda r: abs(num(r, col)))
+    missed = lambda r: (num(r, "sensor_missed") / num(r, "reference_sensor_visits")
+                        if num(r, "reference_sensor_visits") > 0 else float("nan"))
+    if key.startswith("gas"):
+        return [("max overlap / radius", absol("max_overlap"), FLOOR),
+                ("|collision count error|", absol("collision_count_error"), FLOOR)]
+    if key == "pile":
+        return [("max overlap / radius", absol("max_overlap"), FLOOR),
+                ("fraction of disks tunnelled", frac("tunnelled"), FRACTION_FLOOR)]
+    if key == "bullets":
+        return [("fraction of bullets tunnelled (speed 10^4)", frac("tunnelled"), FRACTION_FLOOR),
+                ("|energy drift| (speed 10^4)", absol("energy_drift"), FLOOR)]
+    if key == "cradle":
+        return [("|collision count error|", absol("collision_count_error"), FLOOR),
+                ("|energy drift|", absol("energy_drift"), FLOOR)]
+    return [("fraction of sensor visits missed", missed, FRACTION_FLOOR),
+            ("fraction of disks tunnelled", frac("tunnelled"), FRACTION_FLOOR)]
+
+
+def gnuplot(script, tmp):
+    path = os.path.join(tmp, "plot.gp")
+    with open(path, "w") as f:
+        f.write(script)
+    p = subprocess.run(["gnuplot", path], capture_output=True, text=True)
+    if p.returncode != 0:
+        raise RuntimeError("gnuplot failed: " + p.stderr[-500:])
+
+
+def speed_error_figure(key, title, rows, png, tmp):
+    if key == "bullets":
+        fastest = max(num(r, "speed") for r in rows)
+        rows = [r for r in rows if num(r, "speed") == fastest]
+    panels = []
+    for p, (label, value, floor) in enumerate(measures(key)):
+        plots = []
+        for i, engine in enumerate(ENGINES):
+            pts = [r for r in order(rows) if r["engine"] == engine]
+            pts = [(max(value(r), floor), num(r, "ms_per_simulated_second"), step_name(num(r, "dt")))
+                   for r in pts if not math.isnan(value(r)) and num(r, "ms_per_simulated_second") > 0]
+            if not pts:
+                continue
+            data = os.path.join(tmp, "%s-%d-%s.dat" % (key, p, engine))
+            with open(data, "w") as f:
+                for x, y, lab in pts:
+                    f.write("%.6e %.6e %s\n" % (x, y, lab))
+            plots.append("'%s' using 1:2 with linespoints ls %d title '%s'" % (data, i + 1, engine))
+            plots.append("'%s' using 1:2:3 with labels offset 0.6,0.6 font ',7' tc ls %d notitle" % (data, i + 1))
+        panels.append((label, floor, plots))
+    styles = "\n".join("set style line %d lc rgb '%s' pt %d ps 1.2 lw 1.2" % (i + 1, c, pt) for i, (c, pt) in
+                       enumerate([("#1b9e77", 4), ("#d95f02", 7), ("#7570b3", 5), ("#e7298a", 9),
+                                  ("#66a61e", 6), ("#a6761d", 8), ("#666666", 12)]))
+    script = ["set terminal pngcairo size 1400,560 font ',10'", "set output '%s'" % png, styles,
+              "set logscale xy", "set format x '10^{%L}'", "set format y '10^{%L}'", "set grid",
+              "set key outside right top", "set multiplot layout 1,2 title \"%s: time against error "
+              "(points labelled by step; lower left is better)\"" % title.replace('"', "'")]
+    for p, (label, floor, plots) in enumerate(panels):
+        if p > 0:
+            script.append("unset key")  # the first panel's key names the engines for both
+        script.append("set xlabel \"%s (0 drawn at %g)\"" % (label, floor))
+        script.append("set ylabel 'ms of step time per simulated second'")
+        script.append("plot " + ", \\\n  ".join(plots) if plots else "plot 1/0 notitle")
+    script.append("unset multiplot")
+    gnuplot("\n".join(script) + "\n", tmp)
+
+
+def fit_slope(points):
+    """Least-squares slope of log y against log x."""
+    pts = [(math.log(x), math.log(y)) for x, y in points if x > 0 and y > 0]
+    if len(pts) < 2:
+        return float("nan")
+    mx = sum(p[0] for p in pts) / len(pts)
+    my = sum(p[1] for p in pts) / len(pts)
+    sxx = sum((p[0] - mx) ** 2 for p in pts)
+    return sum((p[0] - mx) * (p[1] - my) for p in pts) / sxx if sxx > 0 else float("nan")
+
+
+def scaling_series(rows):
+    hybrid = sorted((num(r, "n"), num(r, "ms_per_step")) for r in rows if r["series"] == "hybrid")
+    pred = {}
+    for s in ("predictive-one-look", "predictive-1/60"):
+        pts = []
+        for r in rows:
+            if r["series"] == s and num(r, "collisions") > 0:
+                total_ms = num(r, "ms_per_simulated_second") * num(r, "seconds")
+                pts.append((num(r, "n"), 1e3 * total_ms / num(r, "collisions")))  # microseconds per collision
+        pred[s] = sorted(pts)
+    return hybrid, pred
+
+
+def scaling_figure(rows, png, tmp):
+    hybrid, pred = scaling_series(rows)
+    def dat(name, pts):
+        path = os.path.join(tmp, name)
+        with open(path, "w") as f:
+            for x, y in pts:
+                f.write("%.6e %.6e\n" % (x, y))
+        return path
+    h = dat("hybrid.dat", hybrid)
+    p1 = dat("pred1.dat", pred["predictive-one-look"])
+    p2 = dat("pred60.dat", pred["predictive-1/60"])
+    x0, y0 = hybrid[0] if hybrid else (1, 1)
+    script = """set terminal pngcairo size 1400,560 font ',10'
+set output '%s'
+set logscale xy
+set format x '10^{%%L}'
+set grid
+set key top left
+set multiplot layout 1,2 title "rattle scaling on gas (time of step() only)"
+set xlabel 'disks'
+set ylabel 'ms per step (dt = 1/60, packing 0.3)'
+plot '%s' using 1:2 with linespoints pt 7 lw 1.5 title 'hybrid', %g*x/%g with lines dt 2 lc rgb '#888888' title 'proportional to N'
+set ylabel 'microseconds of step time per collision (packing 0.5)'
+plot '%s' using 1:2 with linespoints pt 7 lw 1.5 title 'predictive, one look at the end', \\
+     '%s' using 1:2 with linespoints pt 5 lw 1.5 title 'predictive, a look every 1/60 s'
+unset multiplot
+""" % (png, h, y0, x0, p1, p2)
+    gnuplot(script, tmp)
+    return hybrid, pred
+
+
+# ---------------------------------------------------------------------------------------------------------
+# Targets
+
+
+def find(rows, **want):
+    for r in rows:
+        if all((abs(num(r, k) - v) <= 1e-9 * abs(v)) if isinstance(v, float) else r.get(k) == v
+               for k, v in want.items()):
+            return r
+    return None
+
+
+def targets(rows, scaling_rows):
+    out = ["| target | measured (CPU time of the step) | met |", "|---|---|---|"]
+    dt60 = 1 / 60
+    h = find(rows, scene="gas", engine="hybrid", packing="0.3", dt=dt60)
+    b = find(rows, scene="gas", engine="box2d", packing="0.3", dt=dt60)
+    c = find(rows, scene="gas", engine="chipmunk", packing="0.3", dt=dt60)
+    if h:
+        n = h["n"]
+        hm = num(h, "ms_per_step")
+        def wall(other):
+            w = num(other, "wall_ms_per_step") / num(h, "wall_ms_per_step")
+            return "" if math.isnan(w) else " (wall clock: %.2f ms vs %.2f ms, %.1fx)" % (
+                num(h, "wall_ms_per_step"), num(other, "wall_ms_per_step"), w)
+        if b:
+            ratio = num(b, "ms_per_step") / hm
+            out.append("| gas %s, packing 0.3, dt 1/60: hybrid >= 10x faster per step than Box2D 2.4 default | "
+                       "%.2f ms vs %.2f ms: **%.1fx**%s | %s |" % (n, hm, num(b, "ms_per_step"), ratio, wall(b),
+                                                                 "yes" if ratio >= 10 else "**no**"))
+        if c:
+            ratio = num(c, "ms_per_step") / hm
+            out.append("| same scene: hybrid >= 3x faster per step than Chipmunk 7 | %.2f ms vs %.2f ms: **%.1fx**%s "
+                       "| %s |" % (hm, num(c, "ms_per_step"), ratio, wall(c), "yes" if ratio >= 3 else "**no**"))
+        t, d, o = int(num(h, "tunnelled")), abs(num(h, "energy_drift")), num(h, "max_overlap")
+        out.append("| same scene: hybrid tunnels 0, energy drift < 1e-9, max overlap < 1e-9 of a radius | "
+                   "tunnelled %d, drift %.1e, max overlap %.1e | %s |" %
+                   (t, num(h, "energy_drift"), o, "yes" if t == 0 and d < 1e-9 and o < 1e-9 else "**no**"))
+        for other, name in ((b, "Box2D"), (c, "Chipmunk")):
+            if other:
+                out.append("| (for scale) %s on the same scene | drift %.1e, max overlap %.2f, mean overlap %.1e, "
+                           "tunnelled %s | - |" % (name, num(other, "energy_drift"), num(other, "max_overlap"),
+                                                   num(other, "mean_overlap"), other["tunnelled"]))
+    bl = [r for r in rows if r["scene"] == "bullets" and r["engine"] in ("hybrid", "predictive")]
+    if bl:
+        tunnelled = sum(int(num(r, "tunnelled")) for r in bl)
+        speeds = sorted({num(r, "speed") for r in bl})
+        out.append("| bullets: hybrid and predictive tunnel 0 times at every speed | %d tunnelled over %d runs "
+                   "(speeds %s, dt 1/30..1/240) | %s |" % (tunnelled, len(bl), ", ".join("%g" % s for s in speeds),
+                                                            "yes" if tunnelled == 0 else "**no**"))
+    for series, what in (("predictive-one-look", "one look at the end"), ("predictive-1/60", "a look every 1/60 s")):
+        p = find(scaling_rows, series=series, n="100000")
+        if p:
+            rate = num(p, "collisions_per_s")
+            out.append("| predictive gas 10^5, packing 0.5: >= 2e6 collisions per second (%s) | %.3g collisions/s "
+                       "(%s collisions in %s s) | %s |" % (what, rate, p["collisions"], p["seconds"],
+                                                          "yes" if rate >= 2e6 else "**no**"))
+    g = find(scaling_rows, series="hybrid", n="1000000")
+    if g:
+        ns = num(g, "ms_per_step") * 1e6 / num(g, "n")
+        out.append("| hybrid gas 10^6, packing 0.3, dt 1/60: runs, < 100 ns per disk per step | %.1f ms per step: "
+                   "**%.0f ns** per disk per step (tunnelled %s, drift %.1e) | %s |" %
+                   (num(g, "ms_per_step"), ns, g["tunnelled"], num(g, "energy_drift"),
+                    "yes" if ns < 100 else "**no**"))
+    return "\n".join(out)
+
+
+# ---------------------------------------------------------------------------------------------------------
+# The report
+
+
+def machine(bench):
+    cpu = platform.processor() or "?"
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    cpu = line.split(":", 1)[1].strip()
+                    break
+    except OSError:
+        pass
+    version = "?"
+    if bench and os.access(bench, os.X_OK):
+        version = subprocess.run([bench, "--version"], capture_output=True, text=True).stdout.strip()
+    return cpu, os.cpu_count(), version
+
+
+def commit(root):
+    try:
+        rev = subprocess.run(["git", "-C", root, "rev-parse", "--short=12", "HEAD"], capture_output=True,
+                             text=True).stdout.strip()
+        dirty = subprocess.run(["git", "-C", root, "status", "--porcelain", "--untracked-files=no"],
+                               capture_output=True, text=True).stdout.strip()
+        return rev + (" (with uncommitted changes)" if dirty else "") if rev else "?"
+    except OSError:
+        return "?"
+
+
+def write_report(out_dir, bench, matrix_seconds=None, load=None):
+    rows = read_csv(os.path.join(out_dir, "results.csv"))
+    scaling_rows = read_csv(os.path.join(out_dir, "scaling.csv"))
+    if not rows and not scaling_rows:
+        sys.exit("report: no results.csv or scaling.csv in %s; run bench/run_matrix.py first" % out_dir)
+    if not shutil.which("gnuplot"):
+        sys.exit("report: gnuplot is missing (bash scripts/install-deps.sh scripts/packages-bench.txt)")
+    figures = os.path.join(out_dir, "figures")
+    os.makedirs(figures, exist_ok=True)
+    root = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+    cpu, cores, version = machine(bench)
+    md = ["# rattle-bench results", "",
+          "Written by `make bench` (bench/run_matrix.py, then bench/report.py); bench/README.md says what every "
+          "column measures and how. Raw rows: [results.csv](results.csv), [scaling.csv](scaling.csv).", "",
+          "- date: %s" % datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z"),
+          "- commit: %s" % commit(root),
+          "- machine: %s, %s cores (runs are single-threaded, one at a time)%s" %
+          (cpu, cores, "; load average %s at the start and %s at the end of the matrix (other work on the "
+                       "machine slows every engine alike, but adds noise)" % (load[0], load[1]) if load else ""),
+          "- build: %s" % version.replace("\n", "; "),
+          ]
+    if matrix_seconds is not None:
+        md.append("- the matrix took %.0f s" % matrix_seconds)
+    md += ["", "Read with these in mind (bench/README.md has the details):", "",
+           "- Only step() is timed, by the CPU time of its thread (so other work on the machine does not count "
+           "as the engine's; results.csv has the wall-clock median too); every error is measured outside it. "
+           "A shared machine still adds noise (caches, memory bandwidth): the load average above says how busy "
+           "it was, and ratios between engines measured in the same run are steadier than absolute times.",
+           "- The exact reference runs in each invocation: rattle's predictive mode for collision counts, "
+           "rattle's hybrid mode at dt <= 1/240 for sensor events, as the predictive mode reports no sensor "
+           "events yet (its own rows in the sensors table miss every visit until it does).",
+           "- Box2D moves no body more than 2 units per step (b2_maxTranslation, compiled in), so faster "
+           "bodies are slowed; Debian's Chipmunk is a debug build (runtime assertion checks on). Both are "
+           "measured as packaged.",
+           "- The `arena` scene comes with the demo; it is not in this matrix yet.",
+           "", "## Targets (issue 4), measured side by side in this run", "", targets(rows, scaling_rows), ""]
+    for key, title, trs in scene_tables(rows):
+        png = os.path.join(figures, key + ".png")
+        with tempfile.TemporaryDirectory() as tmp:
+            speed_error_figure(key, title, trs, png, tmp)
+        md += ["## %s" % title, ""]
+        extra = {p for p in (r.get("collapse_time", "") for r in trs) if p}
+        if extra:
+            md += ["rattle's modes (discrete, hybrid, predictive) and the exact reference ran with --collapse-time "
+                   "%s (WorldDef::collapseTime, the TC model); with rattle's default (0) this pile reaches the "
+                   "event budget of 10^6 collisions per step once it lands (see bench/README.md)." %
+                   ", ".join(extra), ""]
+        md += [bullets_table(trs) if key == "bullets" else generic_table(trs), "",
+               "![%s](figures/%s.png)" % (title, key), ""]
+    if scaling_rows:
+        with tempfile.TemporaryDirectory() as tmp:
+            hybrid, pred = scaling_figure(scaling_rows, os.path.join(figures, "scaling.png"), tmp)
+        md += ["## Scaling", "",
+               "Hybrid: median time of one step of 1/60 s on gas at packing 0.3 (it should grow like N). Predictive: "
+               "all step time divided by the collisions processed, on gas at packing 0.5, with one look at the end "
+               "of the run and with a look every 1/60 s (per collision it should grow like log N; a look costs "
+               "O(N), as every body is brought up to the time looked at). Slopes are least-squares fits of "
+               "log time against log N.", "",
+               "| disks | hybrid ms/step | hybrid ns/disk/step | predictive us/collision (one look) | "
+               "predictive us/collision (look every 1/60 s) |", "|---|---|---|---|---|"]
+        ns = sorted({int(num(r, "n")) for r in scaling_rows})
+        hd, p1, p2 = dict(hybrid), dict(pred["predictive-one-look"]), dict(pred["predictive-1/60"])
+        for n in ns:
+            md.append("| %d | %s | %s | %s | %s |" % (n, fmt(hd.get(n)), fmt(hd[n] * 1e6 / n if n in hd else None),
+                                                       fmt(p1.get(n)), fmt(p2.get(n))))
+        md += ["", "Slopes (log-log): hybrid time per step %.2f (1 = linear); predictive time per collision %.2f with "
+               "one look, %.2f with a look every 1/60 s (0 = flat; log N grows by a slope of about 0.1 over this "
+               "range)." % (fit_slope(hybrid), fit_slope(pred["predictive-one-look"]),
+                            fit_slope(pred["predictive-1/60"])), "", "![scaling](figures/scaling.png)", ""]
+    with open(os.path.join(out_dir, "RESULTS.md"), "w") as f:
+        f.write("\n".join(md))
+
+
+def main():
+    here = os.path.dirname(os.path.abspath(__file__))
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--dir", default=here, help="where results.csv, scaling.csv are and RESULTS.md goes")
+    ap.add_argument("--bench", default=os.path.join(here, "..", "build", "bin", "rattle-bench"))
+    ap.add_argument("--matrix-seconds", type=float, default=None)
+    ap.add_argument("--load", default=None, help="load averages at the start and end, 'A,B'")
+    a = ap.parse_args()
+    write_report(a.dir, a.bench, a.matrix_seconds, a.load.split(",") if a.load else None)
+
+
+if __name__ == "__main__":
+    main()

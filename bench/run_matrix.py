@@ -1,0 +1,179 @@
+#!/usr/bin/env python3
+"""Runs the benchmark's standard matrix with build/bin/rattle-bench and writes the raw results.
+
+  python3 bench/run_matrix.py [--bench build/bin/rattle-bench] [--out bench] [--quick] [--only gas,bullets]
+
+Writes <out>/results.csv (one row per scene, engine and step size) and <out>/scaling.csv (hybrid time per step
+and predictive time per collision against the number of disks), then calls bench/report.py, which turns them
+into <out>/RESULTS.md and the pictures in <out>/figures/. Each run is one rattle-bench process (so no run warms the caches of the next),
+one at a time (the timings are single-core). A progress line per run goes to stderr.
+
+The matrix (what `make bench` runs; --quick shrinks every scene for a smoke test):
+  - every scene with every engine at dt = 1/30, 1/60, 1/120, 1/240:
+      gas     10,000 disks at packing 0.3 for 3 s, and at packing 0.6 for 1 s
+      pile    400 disks for 5 s, with --collapse-time 1e-3 (rattle's modes and the reference; see README.md)
+      bullets 100 bullets for 2 s, once at each speed 10, 100, 1000, 10000
+      cradle  600 disks (100 cradles) for 5 s
+      sensors 200 disks for 5 s
+  - scaling: hybrid on gas (packing 0.3, dt 1/60) at 10^3 .. 10^6 disks; predictive on gas (packing 0.5) at
+    10^3 .. 10^6 disks with one look at the end of the run (dt = the run), and with a look every 1/60 s.
+Seeds are fixed (1), so the scenes are the same on every run.
+"""
+import argparse
+import csv
+import io
+import os
+import subprocess
+import sys
+import time
+
+ENGINES = ["discrete", "hybrid", "predictive", "bisect", "box2d", "box2d-bullet", "chipmunk"]
+STEPS = ["1/30", "1/60", "1/120", "1/240"]
+RUN_TIMEOUT_S = 600  # a run that takes longer is recorded as failed, and the matrix goes on
+
+
+def matrix(quick):
+    """The standard matrix: a list of (table, args) where args are rattle-bench options."""
+    runs = []
+    scale = 0.1 if quick else 1.0
+
+    def n(full):
+        return max(6, int(full * scale) // 6 * 6) if quick else full
+
+    scenes = [
+        ("gas", {"--scene": "gas", "--n": n(10000), "--packing": "0.3", "--seconds": "3"}),
+        ("gas", {"--scene": "gas", "--n": n(10000), "--packing": "0.6", "--seconds": "1"}),
+        ("pile", {"--scene": "pile", "--n": n(400), "--seconds": "5"}),
+        ("cradle", {"--scene": "cradle", "--n": n(600), "--seconds": "5"}),
+        ("sensors", {"--scene": "sensors", "--n": n(200), "--seconds": "5"}),
+    ] + [("bullets", {"--scene": "bullets", "--n": n(100), "--seconds": "2", "--speed": str(v)})
+         for v in (10, 100, 1000, 10000)]
+    for table, base in scenes:
+        for engine in ENGINES:
+            for dt in STEPS:
+                args = dict(base)
+                args["--engine"] = engine
+                args["--dt"] = dt
+                if table == "pile":
+                    # rattle's modes, and the exact reference every row runs, use the TC model here (the
+                    # option changes nothing else); see bench/README.md, "The scenes".
+                    args["--collapse-time"] = "1e-3"
+                if quick:
+                    args["--seconds"] = str(min(float(args["--seconds"]), 0.5))
+                runs.append((table, args))
+    return runs
+
+
+def scaling(quick):
+    """(series, args) for the scaling runs; overlaps are measured only at the start and the end."""
+    runs = []
+    sizes = [1000, 3000, 10000, 30000, 100000, 300000, 1000000]
+    if quick:
+        sizes = [1000, 3000, 10000]
+    for size in sizes:
+        seconds = {1000: 2, 3000: 2, 10000: 2, 30000: 1, 100000: 1, 300000: 0.5, 1000000: 0.5}[size]
+        runs.append(("hybrid", {"--scene": "gas", "--engine": "hybrid", "--n": size, "--packing": "0.3",
+                                "--dt": "1/60", "--seconds": str(seconds)}))
+    for size in sizes:
+        seconds = {1000: 4, 3000: 4, 10000: 2, 30000: 2, 100000: 1, 300000: 0.5, 1000000: 0.5}[size]
+        runs.append(("predictive-one-look", {"--scene": "gas", "--engine": "predictive", "--n": size,
+                                             "--packing": "0.5", "--dt": str(seconds), "--seconds": str(seconds)}))
+        runs.append(("predictive-1/60", {"--scene": "gas", "--engine": "predictive", "--n": size,
+                                         "--packing": "0.5", "--dt": "1/60", "--seconds": str(seconds)}))
+    for _, args in runs:
+        args["--no-reference"] = None
+        args["--measure-every"] = "1000000"
+    return runs
+
+
+def command(bench, args):
+    cmd = [bench, "--csv", "--quiet", "--seed", "1"]
+    for k, v in args.items():
+        cmd += [k] if v is None else [k, str(v)]
+    return cmd
+
+
+def run_one(bench, args, label):
+    """Runs one row; returns (dict row or None, status text)."""
+    t0 = time.monotonic()
+    try:
+        p = subprocess.run(command(bench, args), capture_output=True, text=True, timeout=RUN_TIMEOUT_S)
+    except subprocess.TimeoutExpired:
+        return None, "timed out after %d s" % RUN_TIMEOUT_S
+    elapsed = time.monotonic() - t0
+    if p.returncode == 3:
+        return None, "skipped: " + p.stderr.strip().splitlines()[-1]
+    if p.returncode != 0:
+        return None, "failed (exit %d): %s" % (p.returncode, p.stderr.strip()[-300:])
+    rows = list(csv.DictReader(io.StringIO(p.stdout)))
+    if len(rows) != 1:
+        return None, "failed: expected one CSV row, got %r" % p.stdout[-300:]
+    return rows[0], "%.1f s" % elapsed
+
+
+def run_all(bench, runs, out_path, extra_fields, progress_prefix):
+    rows, problems = [], []
+    fields = None
+    for i, (tag, args) in enumerate(runs, 1):
+        label = "%s %s n=%s dt=%s%s" % (args["--scene"], args["--engine"], args["--n"], args["--dt"],
+                                        (" speed=%s" % args["--speed"]) if "--speed" in args else
+                                        (" packing=%s" % args["--packing"]) if "--packing" in args else "")
+        row, status = run_one(bench, args, label)
+        print("%s [%d/%d] %s: %s" % (progress_prefix, i, len(runs), label, status), file=sys.stderr, flush=True)
+        if row is None:
+            if not status.startswith("skipped"):
+                problems.append("%s: %s" % (label, status))
+            continue
+        row = dict(row)
+        for k, v in extra_fields(tag, args).items():
+            row[k] = v
+        if fields is None:
+            fields = list(row.keys())
+        rows.append(row)
+    with open(out_path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=fields or ["scene"])
+        w.writeheader()
+        w.writerows(rows)
+    return rows, problems
+
+
+def main():
+    here = os.path.dirname(os.path.abspath(__file__))
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--bench", default=os.path.join(here, "..", "build", "bin", "rattle-bench"))
+    ap.add_argument("--out", default=here, help="where results.csv and scaling.csv go (default: bench/)")
+    ap.add_argument("--quick", action="store_true", help="a small matrix, for trying the pipeline")
+    ap.add_argument("--only", default="", help="comma-separated tables to run (gas,pile,bullets,cradle,sensors,"
+                                               "scaling); default all")
+    a = ap.parse_args()
+    if not os.access(a.bench, os.X_OK):
+        sys.exit("run_matrix: %s is not there; build it first (make bench)" % a.bench)
+    only = set(filter(None, a.only.split(",")))
+    load_start = "%.2f" % os.getloadavg()[0]
+    t0 = time.monotonic()
+    runs = [r for r in matrix(a.quick) if not only or r[0] in only]
+    problems = []
+    if runs:
+        _, p = run_all(a.bench, runs, os.path.join(a.out, "results.csv"),
+                       lambda tag, args: {"collapse_time": args.get("--collapse-time", "")}, "bench")
+        problems += p
+    if not only or "scaling" in only:
+        _, p = run_all(a.bench, scaling(a.quick), os.path.join(a.out, "scaling.csv"),
+                       lambda tag, args: {"series": tag}, "scaling")
+        problems += p
+    elapsed = time.monotonic() - t0
+    print("run_matrix: %d problems, %.0f s" % (len(problems), elapsed), file=sys.stderr)
+    for p in problems:
+        print("  " + p, file=sys.stderr)
+    sys.path.insert(0, here)
+    sys.dont_write_bytecode = True  # no __pycache__ left in bench/
+    import report
+    report.write_report(a.out, a.bench, elapsed, (load_start, "%.2f" % os.getloadavg()[0]))
+    print("run_matrix: wrote %s" % ", ".join(os.path.join(a.out, f) for f in
+                                             ("results.csv", "scaling.csv", "RESULTS.md", "figures/")),
+          file=sys.stderr)
+    sys.exit(1 if problems else 0)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,146 @@
+// The benchmark's shared scenes (bench/scenes.h, suite BenchScenes): what each scene promises about its
+// start (the packing fraction asked for, no disk overlapping another or a wall, speeds as stated, valid
+// geometry), that one seed gives one scene bit for bit, and that bad parameters are refused with a message
+// naming them. Checked by brute force against the scene's own numbers, not against the scene code.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <string>
+
+#include "rattle/geometry.h"
+#include "scenes.h"
+
+namespace {
+
+using rattle_bench::buildScene;
+using rattle_bench::Scene;
+using rattle_bench::SceneError;
+using rattle_bench::SceneParams;
+using rattle_bench::Vec2;
+
+SceneParams params(const std::string& name, int n, uint64_t seed = 1, double packing = std::nan(""),
+                   double speed = std::nan("")) {
+  SceneParams p;
+  p.name = name;
+  p.n = n;
+  p.seed = seed;
+  p.packing = packing;
+  p.speed = speed;
+  return p;
+}
+
+double distanceToSegment(Vec2 p, Vec2 a, Vec2 b) {
+  const Vec2 ab = b - a;
+  const double t = std::clamp(rattle::dot(p - a, ab) / rattle::dot(ab, ab), 0.0, 1.0);
+  return rattle::length(p - (a + t * ab));
+}
+
+// Every disk inside the container and clear of every wall; no two disks that collide overlapping or touching.
+void expectValidStart(const Scene& s) {
+  for (size_t i = 0; i < s.disks.size(); ++i) {
+    const rattle_bench::DiskStart& d = s.disks[i];
+    ASSERT_GT(d.radius, 0);
+    ASSERT_TRUE(d.position.x - d.radius > s.bounds.min.x && d.position.x + d.radius < s.bounds.max.x &&
+                d.position.y - d.radius > s.bounds.min.y && d.position.y + d.radius < s.bounds.max.y)
+        << s.name << ": disk " << i << " not inside the container";
+    for (const rattle_bench::Wall& w : s.walls)
+      ASSERT_GT(distanceToSegment(d.position, w.a, w.b), d.radius) << s.name << ": disk " << i << " touches a wall";
+  }
+  if (!s.disksCollide) return;
+  size_t touching = 0;
+  for (size_t i = 0; i < s.disks.size(); ++i)
+    for (size_t j = i + 1; j < s.disks.size(); ++j) {
+      const double gap = rattle::length(s.disks[i].position - s.disks[j].position) - s.disks[i].radius -
+                         s.disks[j].radius;
+      // The cradle's rows touch exactly (centres 1 apart, radius 0.5: a gap of exactly 0); nothing overlaps.
+      ASSERT_GE(gap, 0.0) << s.name << ": disks " << i << " and " << j << " overlap";
+      if (gap == 0) ++touching;
+    }
+  if (s.name != "cradle") {
+    EXPECT_EQ(touching, 0u) << s.name;
+  }
+}
+
+TEST(BenchScenes, EveryScenesStartIsValid) {
+  for (const std::string& name : rattle_bench::sceneNames()) {
+    SCOPED_TRACE(name);
+    const Scene s = buildScene(params(name, rattle_bench::defaultDiskCount(name)));
+    EXPECT_EQ(s.name, name);
+    EXPECT_EQ(static_cast<int>(s.disks.size()), rattle_bench::defaultDiskCount(name));
+    expectValidStart(s);
+    for (const rattle_bench::SensorStrip& st : s.sensors) {
+      const rattle::Geometry g = rattle::Polygon{st.points};
+      EXPECT_FALSE(rattle::validationError(g).has_value());
+      EXPECT_GT(rattle::areaOf(g), 0.0);
+    }
+  }
+}
+
+TEST(BenchScenes, GasHasThePackingFractionAskedForAndNoOverlapsEvenAt06) {
+  for (int n : {1, 7, 100, 2000, 10000})
+    for (double packing : {0.1, 0.3, 0.5, 0.6}) {
+      SCOPED_TRACE("n " + std::to_string(n) + ", packing " + std::to_string(packing));
+      const Scene s = buildScene(params("gas", n, 3, packing));
+      const Vec2 size = s.bounds.max - s.bounds.min;
+      double area = 0;
+      for (const auto& d : s.disks) area += std::numbers::pi * d.radius * d.radius;
+      EXPECT_NEAR(area / (size.x * size.y), packing, 1e-12 * packing);
+      EXPECT_DOUBLE_EQ(s.packing, packing);
+      if (n <= 2000 || packing == 0.6) expectValidStart(s);
+    }
+}
+
+TEST(BenchScenes, SpeedsAreAsStated) {
+  const Scene gas = buildScene(params("gas", 500, 1, 0.3, 2.5));
+  for (const auto& d : gas.disks) EXPECT_NEAR(rattle::length(d.velocity), 2.5, 1e-14);
+  const Scene bullets = buildScene(params("bullets", 8));
+  for (size_t i = 0; i < bullets.disks.size(); ++i)
+    EXPECT_NEAR(rattle::length(bullets.disks[i].velocity), std::pow(10.0, 1 + static_cast<int>(i % 4)), 1e-9);
+  const Scene sensors = buildScene(params("sensors", 100));
+  for (const auto& d : sensors.disks) {
+    EXPECT_GE(rattle::length(d.velocity), 10.0 - 1e-12);
+    EXPECT_LE(rattle::length(d.velocity), 40.0 + 1e-12);
+  }
+  const Scene cradle = buildScene(params("cradle", 12));
+  for (size_t i = 0; i < cradle.disks.size(); ++i) {
+    EXPECT_EQ(cradle.disks[i].velocity.y, 0.0);
+    if (i % 6 != 0) {
+      EXPECT_EQ(cradle.disks[i].velocity.x, 0.0) << "only the striker moves";
+    }
+  }
+}
+
+TEST(BenchScenes, OneSeedGivesOneSceneBitForBit) {
+  for (const std::string& name : rattle_bench::sceneNames()) {
+    SCOPED_TRACE(name);
+    const int n = name == "cradle" ? 60 : 300;
+    const uint64_t a = rattle_bench::sceneHash(buildScene(params(name, n, 42)));
+    EXPECT_EQ(a, rattle_bench::sceneHash(buildScene(params(name, n, 42))));
+    EXPECT_NE(a, rattle_bench::sceneHash(buildScene(params(name, n, 43))));
+  }
+  // The same scene on every build: the generator, the placement and the directions use no std
+  // distribution and no libm function but sqrt. If this changes, every benchmark result changes with it.
+  const uint64_t gas = rattle_bench::sceneHash(buildScene(params("gas", 100, 1)));
+  EXPECT_EQ(gas, 0x7ebe0577d88fb1eaull) << "gas, 100 disks, seed 1: hash 0x" << std::hex << gas;
+}
+
+TEST(BenchScenes, BadParametersAreRefusedNamingThem) {
+  auto message = [](const SceneParams& p) {
+    try {
+      buildScene(p);
+    } catch (const SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  EXPECT_NE(message(params("cradle", 50)).find("--n 50"), std::string::npos);
+  EXPECT_NE(message(params("gas", 100, 1, 0.95)).find("--packing 0.95"), std::string::npos);
+  EXPECT_NE(message(params("pile", 100, 1, 0.3)).find("--packing"), std::string::npos);
+  EXPECT_NE(message(params("marbles", 100)).find("--scene marbles"), std::string::npos);
+  EXPECT_NE(message(params("gas", 0)).find("--n 0"), std::string::npos);
+  EXPECT_NE(message(params("sensors", 10, 1, std::nan(""), -1)).find("--speed -1"), std::string::npos);
+}
+
+}  // namespace
