@@ -43,10 +43,17 @@ void Game::onDoorway(const SensorChange& c) {
   }
 }
 
+// Units touching a room's sensor from outside its wall overlap it too; a unit is inside when its
+// centre is.
 void Game::updateRooms() {
+  std::vector<uint32_t> touching;
   for (size_t r = 0; r < rooms_.size(); ++r) {
     RoomState& s = rooms_[r];
-    s.inside = physics_.unitsInRoom(r);
+    physics_.unitsTouchingRoom(r, touching);
+    s.inside = {0, 0};
+    for (uint32_t id : touching) {
+      if (id < units_.size() && units_[id].alive && navigation_.roomAt(units_[id].position) == int(r)) ++s.inside[units_[id].team];
+    }
     s.holder = s.inside[0] > 0 ? (s.inside[1] > 0 ? 2 : 0) : (s.inside[1] > 0 ? 1 : -1);
   }
 }
@@ -56,9 +63,9 @@ void Game::toggleGate(size_t g) {
   ++gates_[g].toggles;
 }
 
-std::vector<bool> Game::gatesOpen() const {
-  std::vector<bool> open(gates_.size());
-  for (size_t g = 0; g < gates_.size(); ++g) open[g] = gates_[g].openness > 0.99;
+uint32_t Game::gatesOpen() const {
+  uint32_t open = 0;
+  for (size_t g = 0; g < gates_.size() && g < 32; ++g) open |= uint32_t(gates_[g].openness > 0.99) << g;
   return open;
 }
 

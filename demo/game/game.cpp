@@ -17,7 +17,12 @@ uint64_t bitsOf(double d) { return std::bit_cast<uint64_t>(d); }
 }  // namespace
 
 Game::Game(Map map, const GameConfig& config)
-    : map_(std::move(map)), config_(config), physics_(map_, config.stepMode), navigation_(map_) {
+    : map_(std::move(map)),
+      config_(config),
+      physics_(map_, config.stepMode),
+      // A cell is walkable when its centre is this far from every wall: more than half a cell, so that
+      // no wall line (walls may be thin) can pass between two walkable neighbours.
+      navigation_(map_, physics_, std::max(0.6, kUnitTypes[0].radius)) {
   if (config_.unitsPerTeam < 0 || config_.unitsPerTeam > 1'000'000) {
     throw GameError("units per team = " + std::to_string(config_.unitsPerTeam) + ": expected 0 to 1000000");
   }
@@ -47,8 +52,10 @@ bool Game::apply(const Command& c) {
         // A group stops when it is about as close as a packed crowd of its size can get.
         const double radius = kUnitTypes[0].radius;
         const double arrival = radius * (1.5 + 1.1 * std::sqrt(double(count)));
+        // One flow field for the whole group.
+        std::shared_ptr<const FlowField> field = navigation_.field(target, gatesOpen(), tick_);
         for (uint32_t id : c.units) {
-          if (id < units_.size() && units_[id].alive && units_[id].team == c.team) orderMove(units_[id], target, arrival);
+          if (id < units_.size() && units_[id].alive && units_[id].team == c.team) orderMove(units_[id], target, arrival, field);
         }
         applied = true;
         break;
@@ -136,7 +143,7 @@ uint64_t Game::stateHash() const {
   for (const Unit& u : units_) {
     h = mix(h, uint64_t(u.alive) | uint64_t(u.hitPoints) << 8 | uint64_t(uint32_t(u.reloadTicks)) << 32);
     if (!u.alive) continue;
-    h = mix(h, u.order.active ? bitsOf(u.order.target.x) ^ (bitsOf(u.order.target.y) << 1) ^ u.order.legs.size() : 0);
+    h = mix(h, u.order.active ? bitsOf(u.order.target.x) ^ (bitsOf(u.order.target.y) << 1) : 0);
   }
   for (const Shot& s : shots_) h = mix(h, uint64_t(s.id) << 16 | uint64_t(uint32_t(s.ticksLeft)));
   for (const DoorwayState& d : doorways_) h = mix(h, uint64_t(uint32_t(d.crossings[0])) << 32 | uint32_t(d.crossings[1]));

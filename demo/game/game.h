@@ -44,9 +44,10 @@ struct Order {
   bool active = false;
   Vec2 target;
   double arrivalRadius = 1;  ///< done when this close; grows with the size of the group ordered
-  std::vector<Leg> legs;     ///< portals still to pass, first one next
-  double bestDistance = 0;   ///< closest approach to the current aim point, to notice being stuck
+  std::shared_ptr<const FlowField> field;  ///< shared by the whole group ordered together
+  double bestDistance = 0;  ///< closest walking distance to the target so far, to notice being stuck
   int stuckTicks = 0;
+  int stuckSpells = 0;
 };
 
 struct Unit {
@@ -154,6 +155,7 @@ class Game {
   const std::vector<GateState>& gates() const { return gates_; }
   const GameStats& stats() const { return stats_; }
   const Navigation& navigation() const { return navigation_; }
+  Navigation& navigation() { return navigation_; }
   const Physics& physics() const { return physics_; }
   int alive(int team) const { return aliveCount_[team & 1]; }
   /// The current outline of gate g (absolute coordinates).
@@ -170,7 +172,7 @@ class Game {
  private:
   // units.cpp
   void placeUnits();
-  void orderMove(Unit& u, Vec2 target, double arrivalRadius);
+  void orderMove(Unit& u, Vec2 target, double arrivalRadius, std::shared_ptr<const FlowField> field);
   void steer();
   void onBump(const UnitContact& contact);
   Vec2 alongTouches(Unit& u, Vec2 desired);
@@ -187,7 +189,7 @@ class Game {
   void updateRooms();
   void driveGates();
   void toggleGate(size_t g);
-  std::vector<bool> gatesOpen() const;
+  uint32_t gatesOpen() const;  ///< bit g: gate g is fully open
   // game.cpp
   void removeDead();
 

@@ -1,10 +1,15 @@
 #include "game/navigation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <queue>
 
 namespace rts {
 namespace {
+
+constexpr size_t kCacheSize = 48;
+constexpr float kInf = std::numeric_limits<float>::infinity();
 
 bool insideConvex(const std::vector<Vec2>& poly, Vec2 p) {
   bool pos = false, neg = false;
@@ -16,123 +21,157 @@ bool insideConvex(const std::vector<Vec2>& poly, Vec2 p) {
   return !(pos && neg);
 }
 
-Vec2 normalized(Vec2 v) {
-  double l = rattle::length(v);
-  return l > 0 ? v * (1.0 / l) : Vec2{1, 0};
-}
-
 }  // namespace
 
-Navigation::Navigation(const Map& map) {
-  for (const MapRoom& r : map.rooms) rooms_.push_back(r.polygon);
-  auto addPortal = [&](Vec2 a, Vec2 b, double probe, int doorway, int gate) {
-    Portal p;
-    p.a = a;
-    p.b = b;
-    p.middle = (a + b) * 0.5;
-    p.along = normalized(b - a);
-    p.normal = rattle::perpendicular(p.along);
-    p.halfWidth = rattle::length(b - a) * 0.5;
-    p.region[0] = regionOf(p.middle - p.normal * probe);
-    p.region[1] = regionOf(p.middle + p.normal * probe);
-    p.doorway = doorway;
-    p.gate = gate;
-    portals_.push_back(p);
-  };
-  for (size_t i = 0; i < map.doorways.size(); ++i) addPortal(map.doorways[i].a, map.doorways[i].b, 1.0, int(i), -1);
-  for (size_t i = 0; i < map.gates.size(); ++i) {
-    // A gate slides along its length: the opening runs along the slide direction, through the middle
-    // of the closed gate, and is crossed at right angles to it.
-    const MapGate& g = map.gates[i];
-    Vec2 u = normalized(g.openOffset), n = rattle::perpendicular(u), c{0, 0};
-    for (Vec2 p : g.polygon) c += p;
-    c = c * (1.0 / double(g.polygon.size()));
-    double halfLength = 0, halfThickness = 0;
-    for (Vec2 p : g.polygon) {
-      halfLength = std::max(halfLength, std::fabs(rattle::dot(p - c, u)));
-      halfThickness = std::max(halfThickness, std::fabs(rattle::dot(p - c, n)));
+Navigation::Navigation(const Map& map, const Physics& physics, double clearance) {
+  nx_ = std::max(1, int(std::ceil(map.width)));
+  ny_ = std::max(1, int(std::ceil(map.height)));
+  const size_t cells = size_t(nx_) * size_t(ny_);
+  blocked_.assign(cells, 0);
+  gateClosed_.assign(cells, 0);
+  gateOpen_.assign(cells, 0);
+  for (size_t c = 0; c < cells; ++c) {
+    const Vec2 p = centre(int(c));
+    blocked_[c] = !physics.freeOfStaticWalls(p, clearance);
+    for (size_t g = 0; g < map.gates.size() && g < 32; ++g) {
+      if (physics.gateBlocks(g, false, p, clearance)) gateClosed_[c] |= 1u << g;
+      if (physics.gateBlocks(g, true, p, clearance)) gateOpen_[c] |= 1u << g;
     }
-    c += g.origin;
-    addPortal(c - u * halfLength, c + u * halfLength, halfThickness + 1.0, -1, int(i));
   }
+  for (const MapRoom& r : map.rooms) rooms_.push_back(r.polygon);
 }
 
-int Navigation::regionOf(Vec2 p) const {
+int Navigation::cellAt(Vec2 p) const {
+  const int x = std::clamp(int(std::floor(p.x)), 0, nx_ - 1);
+  const int y = std::clamp(int(std::floor(p.y)), 0, ny_ - 1);
+  return y * nx_ + x;
+}
+
+Vec2 Navigation::centre(int cell) const { return {double(cell % nx_) + 0.5, double(cell / nx_) + 0.5}; }
+
+bool Navigation::walkable(int cell, uint32_t gatesOpen) const {
+  const size_t c = size_t(cell);
+  return !blocked_[c] && !(gateClosed_[c] & ~gatesOpen) && !(gateOpen_[c] & gatesOpen);
+}
+
+int Navigation::roomAt(Vec2 p) const {
   for (size_t i = 0; i < rooms_.size(); ++i) {
     if (insideConvex(rooms_[i], p)) return int(i);
   }
-  return fieldRegion();
+  return -1;
 }
 
-int Navigation::side(int portal, Vec2 p) const {
-  const Portal& q = portals_[size_t(portal)];
-  return rattle::dot(p - q.a, q.normal) > 0 ? 1 : -1;
+std::shared_ptr<const FlowField> Navigation::field(Vec2 target, uint32_t gatesOpen, uint32_t tick) {
+  int cell = cellAt(target);
+  // A target inside a wall: start from the nearest walkable cell (in rings, lowest index first).
+  if (!walkable(cell, gatesOpen)) {
+    const int tx = cell % nx_, ty = cell / nx_;
+    int best = -1;
+    for (int r = 1; r < std::max(nx_, ny_) && best < 0; ++r) {
+      for (int y = std::max(0, ty - r); y <= std::min(ny_ - 1, ty + r) && best < 0; ++y) {
+        for (int x = std::max(0, tx - r); x <= std::min(nx_ - 1, tx + r); ++x) {
+          if (walkable(y * nx_ + x, gatesOpen)) {
+            best = y * nx_ + x;
+            break;
+          }
+        }
+      }
+    }
+    if (best >= 0) cell = best;
+  }
+  for (Cached& c : cache_) {
+    if (c.field->targetCell == cell && c.field->gatesOpen == gatesOpen) {
+      c.lastUsed = tick;
+      return c.field;
+    }
+  }
+  std::shared_ptr<const FlowField> made = build(cell, gatesOpen);
+  if (cache_.size() >= kCacheSize) {
+    // Evict the least recently used (the first such, so the choice is reproducible).
+    size_t oldest = 0;
+    for (size_t i = 1; i < cache_.size(); ++i) {
+      if (cache_[i].lastUsed < cache_[oldest].lastUsed) oldest = i;
+    }
+    cache_.erase(cache_.begin() + long(oldest));
+  }
+  cache_.push_back({made, tick});
+  return made;
 }
 
-std::vector<Leg> Navigation::route(Vec2 from, Vec2 to, const std::vector<bool>& gateOpen, bool* found) const {
-  const int start = regionOf(from), goal = regionOf(to);
-  if (found) *found = true;
-  if (start == goal) return {};
-  // Dijkstra over portals: the cost of a portal is the length of the best path of straight lines from
-  // `from` through portal midpoints to it. Ties keep the lower index, so the result is reproducible.
-  const size_t n = portals_.size();
-  const double inf = std::numeric_limits<double>::infinity();
-  std::vector<double> dist(n, inf);
-  std::vector<int> previous(n, -1), enteredRegion(n, -1);
-  std::vector<bool> done(n, false);
-  auto usable = [&](size_t i) {
-    const Portal& p = portals_[i];
-    return p.region[0] != p.region[1] && (p.gate < 0 || (size_t(p.gate) < gateOpen.size() && gateOpen[size_t(p.gate)]));
-  };
-  for (size_t i = 0; i < n; ++i) {
-    if (!usable(i)) continue;
-    const Portal& p = portals_[i];
-    if (p.region[0] == start || p.region[1] == start) {
-      dist[i] = rattle::length(p.middle - from);
-      enteredRegion[i] = p.region[0] == start ? p.region[1] : p.region[0];
-    }
-  }
-  double bestTotal = inf;
-  int bestLast = -1;
-  for (;;) {
-    int u = -1;
-    for (size_t i = 0; i < n; ++i) {
-      if (!done[i] && dist[i] < inf && (u < 0 || dist[i] < dist[size_t(u)])) u = int(i);
-    }
-    if (u < 0) break;
-    done[size_t(u)] = true;
-    const Portal& pu = portals_[size_t(u)];
-    const int region = enteredRegion[size_t(u)];
-    if (region == goal) {
-      double total = dist[size_t(u)] + rattle::length(to - pu.middle);
-      if (total < bestTotal) {
-        bestTotal = total;
-        bestLast = u;
-      }
-      continue;
-    }
-    for (size_t v = 0; v < n; ++v) {
-      if (done[v] || !usable(v)) continue;
-      const Portal& pv = portals_[v];
-      if (pv.region[0] != region && pv.region[1] != region) continue;
-      double d = dist[size_t(u)] + rattle::length(pv.middle - pu.middle);
-      if (d < dist[v]) {
-        dist[v] = d;
-        previous[v] = u;
-        enteredRegion[v] = pv.region[0] == region ? pv.region[1] : pv.region[0];
+std::shared_ptr<const FlowField> Navigation::build(int targetCell, uint32_t gatesOpen) const {
+  auto f = std::make_shared<FlowField>();
+  f->targetCell = targetCell;
+  f->gatesOpen = gatesOpen;
+  f->distance.assign(size_t(nx_) * size_t(ny_), kInf);
+  // Dijkstra with straight steps of 1 and diagonal steps of sqrt(2), never cutting a blocked corner.
+  // Distances are floats built from the same additions in the same order every time.
+  using Item = std::pair<float, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
+  f->distance[size_t(targetCell)] = 0;
+  open.push({0.0f, targetCell});
+  const float diagonal = 1.41421356f;
+  while (!open.empty()) {
+    auto [d, c] = open.top();
+    open.pop();
+    if (d > f->distance[size_t(c)]) continue;
+    const int x = c % nx_, y = c / nx_;
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        if (!dx && !dy) continue;
+        const int X = x + dx, Y = y + dy;
+        if (X < 0 || Y < 0 || X >= nx_ || Y >= ny_) continue;
+        const int n = Y * nx_ + X;
+        if (!walkable(n, gatesOpen)) continue;
+        if (dx && dy && (!walkable(y * nx_ + X, gatesOpen) || !walkable(Y * nx_ + x, gatesOpen))) continue;
+        const float nd = d + (dx && dy ? diagonal : 1.0f);
+        if (nd < f->distance[size_t(n)]) {
+          f->distance[size_t(n)] = nd;
+          open.push({nd, n});
+        }
       }
     }
   }
-  if (bestLast < 0) {
-    if (found) *found = false;
-    return {};
+  return f;
+}
+
+double Navigation::distance(const FlowField& f, Vec2 p) const { return f.distance[size_t(cellAt(p))]; }
+
+Vec2 Navigation::direction(const FlowField& f, Vec2 p) const {
+  const int c = cellAt(p);
+  const int x = c % nx_, y = c / nx_;
+  const float here = f.distance[size_t(c)];
+  // Downhill: the steepest descent over the eight neighbours, each weighted by how much lower it is
+  // per unit of distance, summed; straight runs come out straight, not in 45-degree zigzags.
+  Vec2 sum{0, 0};
+  int bestCell = -1;
+  float bestDistance = here;
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      if (!dx && !dy) continue;
+      const int X = x + dx, Y = y + dy;
+      if (X < 0 || Y < 0 || X >= nx_ || Y >= ny_) continue;
+      const int n = Y * nx_ + X;
+      const float d = f.distance[size_t(n)];
+      if (!(d < kInf)) continue;
+      if (d < bestDistance) {
+        bestDistance = d;
+        bestCell = n;
+      }
+      if (here < kInf && d < here) {
+        const double length = (dx && dy) ? 1.4142135623730951 : 1.0;
+        sum += Vec2{double(dx), double(dy)} * (double(here - d) / (length * length));
+      }
+    }
   }
-  std::vector<Leg> legs;
-  for (int p = bestLast; p >= 0; p = previous[size_t(p)]) {
-    const Portal& q = portals_[size_t(p)];
-    legs.insert(legs.begin(), Leg{p, q.region[1] == enteredRegion[size_t(p)] ? 1 : -1});
+  if (c == f.targetCell) return {0, 0};
+  if (here < kInf && rattle::length(sum) > 1e-9) return sum * (1.0 / rattle::length(sum));
+  // Off the walkable grid (pushed against a wall): head for the best neighbour's centre.
+  if (bestCell >= 0) {
+    const Vec2 d = centre(bestCell) - p;
+    const double l = rattle::length(d);
+    if (l > 1e-9) return d * (1.0 / l);
   }
-  return legs;
+  return {0, 0};
 }
 
 }  // namespace rts

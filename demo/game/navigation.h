@@ -1,52 +1,63 @@
-// Routes between regions. A region is a room of the map or, for everything outside the rooms, the open
-// field; doorways and gates are portals between two regions. A route is the list of portals to cross,
-// found by Dijkstra over portal midpoints: with a handful of portals a route costs microseconds, so
-// every unit gets its own when it is ordered, and again when it is stuck.
+// Where to go: flow fields. For a target, one Dijkstra pass over a grid of the map (1 world unit per
+// cell) gives every cell its walking distance to the target around walls, buildings and closed gates,
+// through doorways; a unit then only needs the field's downhill direction where it stands. One field
+// serves every unit sent to the same place (a Move command makes one field for its whole group), so
+// the cost does not grow with the number of units. Fields are cached by target cell and gate states.
 //
-// Inside a convex room a straight line reaches any doorway on its edge; in the field, units slide
-// along buildings in their way (the engine has no friction), which is enough for this map.
+// This is the standard RTS answer to "many units, one destination"; per-unit path searches would cost
+// a search per unit per order.
 #pragma once
 
+#include <cstdint>
+#include <memory>
 #include <vector>
 
+#include "game/physics.h"
 #include "map/map.h"
 
 namespace rts {
 
-struct Portal {
-  Vec2 a, b;        ///< the opening, from one post to the other
-  Vec2 middle;
-  Vec2 along;       ///< unit vector from a to b
-  Vec2 normal;      ///< unit, perpendicular; region[1] is on its side
-  double halfWidth = 0;
-  int region[2] = {0, 0};
-  int doorway = -1;  ///< index into the map's doorways, or -1
-  int gate = -1;     ///< index into the map's gates, or -1
-};
-
-/// One portal to pass, and the side (+1 or -1 along the portal's normal) to come out on.
-struct Leg {
-  int portal = 0;
-  int side = 1;
+struct FlowField {
+  int targetCell = 0;
+  uint32_t gatesOpen = 0;           ///< bit g: gate g was open when the field was made
+  std::vector<float> distance;      ///< per cell; infinity where the target cannot be reached
 };
 
 class Navigation {
  public:
-  explicit Navigation(const Map& map);
+  /// Marks which cells a unit of radius `clearance` can stand in (asking the physics about walls).
+  Navigation(const Map& map, const Physics& physics, double clearance);
 
-  /// The room containing p, or fieldRegion() when none does.
-  int regionOf(Vec2 p) const;
-  int fieldRegion() const { return int(rooms_.size()); }
-  /// +1 or -1: which side of portal `portal` p is on.
-  int side(int portal, Vec2 p) const;
-  /// The portals to cross, in order, from `from` to `to`; `gateOpen[g]` says whether gate g may be used.
-  /// Empty when both are in one region. `found` is false when no route exists.
-  std::vector<Leg> route(Vec2 from, Vec2 to, const std::vector<bool>& gateOpen, bool* found = nullptr) const;
-  const std::vector<Portal>& portals() const { return portals_; }
+  /// The field toward `target` with the given gates open (bit g for gate g); cached.
+  std::shared_ptr<const FlowField> field(Vec2 target, uint32_t gatesOpen, uint32_t tick);
+  /// The walking distance from p to the field's target, or infinity.
+  double distance(const FlowField& field, Vec2 p) const;
+  /// Which way to walk from p: a unit vector downhill, or {0, 0} when no way is known from here.
+  Vec2 direction(const FlowField& field, Vec2 p) const;
+
+  /// The room whose polygon contains p, or -1 (the open field).
+  int roomAt(Vec2 p) const;
+
+  int columns() const { return nx_; }
+  int rows() const { return ny_; }
+  double cellSize() const { return 1.0; }
+  bool walkable(int cell, uint32_t gatesOpen) const;
 
  private:
+  int cellAt(Vec2 p) const;
+  Vec2 centre(int cell) const;
+  std::shared_ptr<const FlowField> build(int targetCell, uint32_t gatesOpen) const;
+
+  int nx_ = 0, ny_ = 0;
+  std::vector<uint8_t> blocked_;     // by a wall or building
+  std::vector<uint32_t> gateClosed_;  // bit g: blocked while gate g is closed
+  std::vector<uint32_t> gateOpen_;    // bit g: blocked while gate g is open (where it slides to)
   std::vector<std::vector<Vec2>> rooms_;
-  std::vector<Portal> portals_;
+  struct Cached {
+    std::shared_ptr<const FlowField> field;
+    uint32_t lastUsed = 0;
+  };
+  std::vector<Cached> cache_;
 };
 
 }  // namespace rts

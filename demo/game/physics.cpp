@@ -18,6 +18,7 @@ enum : uint32_t {
   kDoorway = 1u << 7,
   kRoom = 1u << 8,
   kRay = 1u << 9,  // the category of line-of-sight queries
+  kGate = 1u << 10,  // gates: like walls, but they move
 };
 
 constexpr double kCollapseTime = 0.003;  // seconds
@@ -51,10 +52,11 @@ rattle::BodyDef bodyAt(rattle::BodyType type, Vec2 position, Vec2 velocity = {})
   return d;
 }
 
-rattle::QueryFilter wallQuery() {
+// Queries for what blocks: walls and buildings, and (unless asked not to) gates.
+rattle::QueryFilter wallQuery(bool gates = true) {
   rattle::QueryFilter q;
   q.categoryBits = kRay;
-  q.maskBits = kWall;
+  q.maskBits = gates ? kWall | kGate : kWall;
   return q;
 }
 
@@ -90,9 +92,10 @@ Physics::Physics(const Map& map, rattle::StepMode mode) : world_([&] {
   }
   for (size_t i = 0; i < map.gates.size(); ++i) {
     rattle::BodyId body = world_.createBody(bodyAt(rattle::BodyType::Kinematic, map.gates[i].origin));
-    world_.createFixture(body, fixture(rattle::Polygon{map.gates[i].polygon}, filter(kWall, everything)));
+    world_.createFixture(body, fixture(rattle::Polygon{map.gates[i].polygon}, filter(kGate, everything)));
     setTag(body, Tag::Gate, uint32_t(i));
     gates_.push_back(body);
+    gateShapes_.push_back(map.gates[i]);
   }
 }
 
@@ -113,7 +116,7 @@ rattle::BodyId Physics::addUnit(uint32_t id, int team, Vec2 position, const Unit
   // The body: blocked by walls and every unit, hit by the other team's shots, seen by the other team's
   // sight sensors, noticed by doorways, rooms and unit queries.
   world_.createFixture(body, fixture(rattle::Circle{{0, 0}, type.radius},
-                                     filter(unitBit(team), kWall | kUnit0 | kUnit1 | shotBit(other) |
+                                     filter(unitBit(team), kWall | kGate | kUnit0 | kUnit1 | shotBit(other) |
                                                                sightBit(other) | kDoorway | kRoom | kRay),
                                      false, type.density));
   // The concentric sight sensor: told only about the other team's bodies.
@@ -125,7 +128,7 @@ rattle::BodyId Physics::addUnit(uint32_t id, int team, Vec2 position, const Unit
 rattle::BodyId Physics::addShot(uint32_t id, int team, Vec2 position, Vec2 velocity, double radius) {
   rattle::BodyId body = world_.createBody(bodyAt(rattle::BodyType::Dynamic, position, velocity));
   // Light, so a hit barely pushes the unit; it meets only walls and the other team's units.
-  world_.createFixture(body, fixture(rattle::Circle{{0, 0}, radius}, filter(shotBit(team), kWall | unitBit(1 - team)),
+  world_.createFixture(body, fixture(rattle::Circle{{0, 0}, radius}, filter(shotBit(team), kWall | kGate | unitBit(1 - team)),
                                      false, 0.2));
   setTag(body, Tag::Shot, id);
   return body;
@@ -192,6 +195,16 @@ bool Physics::freeOfWalls(Vec2 center, double radius) const {
   return world_.overlapCircle(center, radius, wallQuery()).empty();
 }
 
+bool Physics::freeOfStaticWalls(Vec2 center, double radius) const {
+  return world_.overlapCircle(center, radius, wallQuery(false)).empty();
+}
+
+bool Physics::gateBlocks(size_t gate, bool open, Vec2 p, double radius) const {
+  const MapGate& g = gateShapes_[gate];
+  const Vec2 at = g.origin + (open ? g.openOffset : Vec2{0, 0});
+  return rattle::distanceTo(rattle::Polygon{g.polygon}, p - at) <= radius;
+}
+
 bool Physics::anyUnitIn(const rattle::Box& box) const {
   rattle::QueryFilter q;
   q.categoryBits = kRay;
@@ -199,14 +212,11 @@ bool Physics::anyUnitIn(const rattle::Box& box) const {
   return !world_.overlapBox(box, q).empty();
 }
 
-std::array<int, 2> Physics::unitsInRoom(size_t room) const {
-  std::array<int, 2> count{0, 0};
+void Physics::unitsTouchingRoom(size_t room, std::vector<uint32_t>& out) const {
+  out.clear();
   for (rattle::FixtureId f : world_.sensorOverlaps(rooms_[room])) {
-    const rattle::Filter filt = world_.filter(f);
-    if (filt.categoryBits == kUnit0) ++count[0];
-    if (filt.categoryBits == kUnit1) ++count[1];
+    if (const SlotTag* t = tagOf(world_.body(f)); t && t->tag == Tag::Unit) out.push_back(t->id);
   }
-  return count;
 }
 
 }  // namespace rts

@@ -80,10 +80,14 @@ class Physics {
   double wallFraction(Vec2 origin, Vec2 translation) const;
   /// No wall, building or gate overlaps the disk.
   bool freeOfWalls(Vec2 center, double radius) const;
+  /// No wall or building overlaps the disk (gates ignored: they move).
+  bool freeOfStaticWalls(Vec2 center, double radius) const;
+  /// Whether gate `gate`, standing closed (or open), comes within `radius` of p.
+  bool gateBlocks(size_t gate, bool open, Vec2 p, double radius) const;
   /// Whether any unit overlaps the box.
   bool anyUnitIn(const rattle::Box& box) const;
-  /// Units of each team inside room `room` now.
-  std::array<int, 2> unitsInRoom(size_t room) const;
+  /// Ids of the units whose bodies overlap room `room` now (ascending fixture order).
+  void unitsTouchingRoom(size_t room, std::vector<uint32_t>& out) const;
 
   /// The engine's hash of every body's exact state.
   uint64_t stateHash() const { return world_.stateHash(); }
@@ -103,6 +107,7 @@ class Physics {
   rattle::World world_;
   std::vector<SlotTag> tags_;
   std::vector<rattle::BodyId> gates_;
+  std::vector<MapGate> gateShapes_;
   std::vector<rattle::FixtureId> rooms_;
   StepEvents events_;
   double lastStepSeconds_ = 0;

@@ -1,11 +1,12 @@
 // Units: where they start, how they take orders, how they steer.
 //
-// Steering is deliberately simple: each tick a unit's velocity is set to its top speed toward its aim
-// point (the next doorway on its route, then the target), slowing down on the last stretch. The engine
-// does the rest: units never overlap a wall or each other, they slide along whatever they touch (no
-// friction), and a crowd pushing into a doorway forms a queue on its own.
+// Steering is deliberately simple: each tick a unit's velocity is set to its top speed down its group's
+// flow field (navigation.h), along whatever it touches rather than into it, slowing down on the last
+// stretch. The engine does the rest: units never overlap a wall or each other, they slide along what
+// they touch (no friction), and a crowd pushing into a doorway forms a queue on its own.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <queue>
 
 #include "game/game.h"
@@ -18,12 +19,6 @@ Vec2 normalizedOr(Vec2 v, Vec2 fallback) {
   return l > 1e-12 ? v * (1.0 / l) : fallback;
 }
 
-// Spread a crowd across a doorway's width instead of aiming every unit at its middle: a fixed offset per
-// unit from the golden ratio, in [-0.5, 0.5).
-double lateralShare(uint32_t id) {
-  double f = double(id) * 0.6180339887498949;
-  return f - std::floor(f) - 0.5;
-}
 
 }  // namespace
 
@@ -117,14 +112,13 @@ void Game::placeUnits() {
   }
 }
 
-void Game::orderMove(Unit& u, Vec2 target, double arrivalRadius) {
-  bool found = false;
+void Game::orderMove(Unit& u, Vec2 target, double arrivalRadius, std::shared_ptr<const FlowField> field) {
   u.order = Order{};
-  u.order.legs = navigation_.route(u.position, target, gatesOpen(), &found);
-  if (!found) return;  // no way there now (a gate is shut): stay
+  if (!(navigation_.distance(*field, u.position) < std::numeric_limits<double>::infinity())) return;  // no way there now
   u.order.active = true;
   u.order.target = target;
   u.order.arrivalRadius = arrivalRadius;
+  u.order.field = std::move(field);
   u.order.bestDistance = std::numeric_limits<double>::infinity();
 }
 
@@ -139,7 +133,7 @@ void Game::onBump(const UnitContact& c) {
   if (!c.wall) {
     const Unit& b = units_[c.other];
     const Order& o = a.order;
-    if (a.team == b.team && o.active && o.legs.empty() && !b.order.active &&
+    if (a.team == b.team && o.active && !b.order.active &&
         rattle::length(o.target - a.position) < 3 * o.arrivalRadius + 2) {
       a.order = Order{};
     }
@@ -184,61 +178,41 @@ Vec2 Game::alongTouches(Unit& u, Vec2 desired) {
 }
 
 void Game::steer() {
-  const std::vector<Portal>& portals = navigation_.portals();
   for (Unit& u : units_) {
     if (!u.alive) continue;
     const UnitType& type = kUnitTypes[u.type];
     Vec2 desired{0, 0};
     Order& o = u.order;
     if (o.active) {
-      // Drop the legs already passed: the unit is out on the far side of the portal.
-      while (!o.legs.empty() && navigation_.side(o.legs.front().portal, u.position) == o.legs.front().side &&
-             std::fabs(rattle::dot(u.position - portals[size_t(o.legs.front().portal)].a,
-                                   portals[size_t(o.legs.front().portal)].normal)) > type.radius) {
-        o.legs.erase(o.legs.begin());
-        o.bestDistance = std::numeric_limits<double>::infinity();
-        o.stuckTicks = 0;
-      }
-      Vec2 aim = o.target;
-      double slowRadius = 0;
-      if (!o.legs.empty()) {
-        // Through the opening: first to a point in front of it (so a unit coming at an angle does not
-        // rub along the wall), then to a point just past it, spread across its width.
-        const Leg& leg = o.legs.front();
-        const Portal& p = portals[size_t(leg.portal)];
-        const double lateral = lateralShare(u.id) * std::max(0.0, 2 * (p.halfWidth - type.radius));
-        const Vec2 across = p.middle + p.along * lateral;
-        const double offset = rattle::dot(u.position - p.middle, p.along);
-        const bool lined = std::fabs(offset) < std::max(p.halfWidth - type.radius, 0.25 * p.halfWidth);
-        aim = across + p.normal * (double(leg.side) * (lined ? 2 * type.radius : -3 * type.radius));
+      const double straight = rattle::length(o.target - u.position);
+      const double walking = navigation_.distance(*o.field, u.position);
+      if (straight <= o.arrivalRadius && walking < o.arrivalRadius + 2) {
+        o = Order{};
       } else {
-        slowRadius = o.arrivalRadius + 2;
-        if (rattle::length(o.target - u.position) <= o.arrivalRadius) {
-          o = Order{};
-          aim = u.position;
+        // Stuck: no closer in two seconds. Near the target that means the group has arrived (the
+        // places nearer are taken); elsewhere a gate may have shut, so ask for a field with the gates
+        // as they are now, and give up after a few tries.
+        const double progress = walking < std::numeric_limits<double>::infinity() ? walking : straight;
+        if (progress < o.bestDistance - 0.1) {
+          o.bestDistance = progress;
+          o.stuckTicks = 0;
+        } else if (++o.stuckTicks > 2 * kTicksPerSecond) {
+          if (progress < 3 * o.arrivalRadius + 2 || ++o.stuckSpells > 3) {
+            o = Order{};
+          } else {
+            o.stuckTicks = 0;
+            o.bestDistance = std::numeric_limits<double>::infinity();
+            if (o.field->gatesOpen != gatesOpen()) o.field = navigation_.field(o.target, gatesOpen(), tick_);
+          }
         }
       }
       if (o.active) {
-        const double distance = rattle::length(aim - u.position);
-        // Stuck: no closer in two seconds. Near the end of the route that means the group has arrived
-        // (the places nearer are taken); at a portal it may mean a gate shut, so look for another way.
-        if (distance < o.bestDistance - 0.1) {
-          o.bestDistance = distance;
-          o.stuckTicks = 0;
-        } else if (++o.stuckTicks > 2 * kTicksPerSecond) {
-          if (o.legs.empty()) {
-            o = Order{};
-          } else {
-            Vec2 target = o.target;
-            double arrival = o.arrivalRadius;
-            orderMove(u, target, arrival);
-          }
-        }
-        if (o.active) {
-          double speed = type.speed;
-          if (slowRadius > 0 && distance < slowRadius) speed *= std::max(0.3, distance / slowRadius);
-          desired = alongTouches(u, normalizedOr(aim - u.position, {0, 0}) * speed);
-        }
+        // Downhill on the group's flow field; the last cell or two straight at the target.
+        Vec2 dir = walking < 2 ? Vec2{0, 0} : navigation_.direction(*o.field, u.position);
+        if (dir == Vec2{0, 0}) dir = normalizedOr(o.target - u.position, {0, 0});
+        const double slowRadius = o.arrivalRadius + 2;
+        const double speed = type.speed * (straight < slowRadius ? std::max(0.3, straight / slowRadius) : 1.0);
+        desired = alongTouches(u, dir * speed);
       }
     }
     // Set only what changed: an idle unit that was pushed is stopped (no friction would stop it).

@@ -25,6 +25,7 @@ constexpr size_t kMaxPropertiesPerObject = 64;
 constexpr size_t kMaxStringBytes = 256;
 constexpr int kMaxLayerDepth = 16;
 constexpr double kMaxCoordinate = 1e6;  // map pixels
+constexpr size_t kMaxGates = 32;        // the game keeps gate states in a 32-bit mask
 
 std::string inQuotes(const std::string& s) {
   std::string out = "\"";
@@ -435,6 +436,7 @@ struct Loader {
       }
       g.speed = speedPx / ppu;
       props.rejectUnused(kind, "open_dx, open_dy, period, speed");
+      if (map.gates.size() >= kMaxGates) fail(at.str() + ": more than " + std::to_string(kMaxGates) + " gates");
       map.gates.push_back(std::move(g));
     } else {
       fail(at.str() + ": property 'kind' = " + inQuotes(kind) +
@@ -535,10 +537,19 @@ Map parseMap(std::string_view text, const std::string& sourceName) {
     doc = json::parse(text.begin(), text.end());
   } catch (const json::parse_error& e) {
     std::string what = e.what();
-    if (size_t p = what.find("] "); p != std::string::npos) what = what.substr(p + 2);  // drop "[json.exception...]"
+    if (size_t p = what.find("] "); p != std::string::npos) what = what.substr(p + 2);  // "[json.exception...] "
+    if (size_t p = what.find(": "); what.rfind("parse error", 0) == 0 && p != std::string::npos) what = what.substr(p + 2);
     fail(sourceName + ": " + describeParseError(text, e.byte, what));
   } catch (const json::exception& e) {
-    fail(sourceName + ": not valid JSON (" + std::string(e.what()) + ")");
+    // A number too large for a double: nlohmann names the literal but not its place; find it.
+    std::string what = e.what();
+    if (size_t p = what.find("] "); p != std::string::npos) what = what.substr(p + 2);
+    size_t open = what.find('\''), close = what.rfind('\'');
+    if (open != std::string::npos && close > open + 1) {
+      size_t at = text.find(what.substr(open + 1, close - open - 1));
+      if (at != std::string_view::npos) fail(sourceName + ": " + describeParseError(text, at + 1, what));
+    }
+    fail(sourceName + ": not valid JSON (" + what + ")");
   }
   if (!doc.is_object()) fail(sourceName + ": the top level is not a JSON object (expected a Tiled map)");
   if (doc.contains("type") && doc["type"] != "map") fail(sourceName + ": type = " + shown(doc["type"]) + ": expected \"map\"");
