@@ -31,6 +31,7 @@ int runHeadless(Game& game, const Options& o) {
   SceneOptions view;
   view.fogTeam = o.fogTeam;
   view.showSight = o.showSight;
+  view.showTimes = o.showTimes;
 
   auto frame = [&]() -> bool {
     const auto start = std::chrono::steady_clock::now();

@@ -27,6 +27,8 @@ const char* kUsage =
     "  --no-render     draw nothing: the game and the engine only (for timing)\n"
     "  --fog TEAM      whose fog of war the frames show: 0 (blue, default), 1 (red) or none\n"
     "  --no-sight      do not draw the faint sight ranges\n"
+    "  --no-times      leave the measured step time out of the HUD, so the same input gives the same\n"
+    "                  frames byte for byte\n"
     "  --mode M        engine step mode: hybrid (default), discrete, predictive\n"
     "  --window        open a window: left-drag selects blue units, right-click moves them, space pauses,\n"
     "                  v toggles sight ranges, g works the first gate, f changes the fog, Esc quits\n"
@@ -130,6 +132,8 @@ ParseResult parseOptions(int argc, char** argv) {
       }
     } else if (arg == "--no-sight") {
       o.showSight = false;
+    } else if (arg == "--no-times") {
+      o.showTimes = false;
     } else if (arg == "--mode") {
       const char* v = value();
       std::string_view m = v ? v : "";

@@ -22,6 +22,7 @@ struct Options {
   bool window = false;
   int fogTeam = 0;            ///< whose view the frames show; -1: no fog
   bool showSight = true;
+  bool showTimes = true;      ///< the measured step time in the HUD (off: reproducible frames)
   rattle::StepMode mode = rattle::StepMode::Hybrid;
   std::string screenshot;     ///< window: save the last frame shown
   std::string inputScript;    ///< window: scripted input events (for tests)

@@ -124,8 +124,11 @@ struct Sdl {
 }  // namespace
 
 int runWindow(Game& game, const Options& o) {
-  // Software SDL rendering: the picture is already made; this only copies it to the window.
+  // Software SDL rendering: the picture is already made; this only copies it to the window. No OpenGL
+  // on SDL's side at all (not even to speed up the window surface): a second Mesa driver loaded next to
+  // OSMesa would share its dispatch table and crash.
   SDL_SetHint(SDL_HINT_RENDER_DRIVER, "software");
+  SDL_SetHint(SDL_HINT_FRAMEBUFFER_ACCELERATION, "0");
   if (SDL_Init(SDL_INIT_VIDEO) != 0) {
     std::fprintf(stderr, "rattle-demo: cannot open a window: %s (no display? run under X, or xvfb-run)\n", SDL_GetError());
     return 1;
@@ -155,6 +158,7 @@ int runWindow(Game& game, const Options& o) {
   SceneOptions sceneOptions;
   sceneOptions.fogTeam = o.fogTeam;
   sceneOptions.showSight = o.showSight;
+  sceneOptions.showTimes = o.showTimes;
   std::vector<Command> mine, commands;
   bool paused = false, quit = false, dragging = false;
   Vec2 dragFrom, dragTo;  // window pixels

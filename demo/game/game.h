@@ -38,6 +38,7 @@ class GameError : public std::runtime_error {
 struct GameConfig {
   int unitsPerTeam = 100;
   rattle::StepMode stepMode = rattle::StepMode::Hybrid;
+  bool weapons = true;  ///< false: nobody fires (tests of movement, peaceful scenes)
 };
 
 struct Order {

@@ -39,6 +39,31 @@ Navigation::Navigation(const Map& map, const Physics& physics, double clearance)
     }
   }
   for (const MapRoom& r : map.rooms) rooms_.push_back(r.polygon);
+
+  // Only what can be walked to from a spawn point is the playing area (gates open or shut); the rest
+  // (outside the outer wall, inside closed buildings) is blocked, so a target out there is moved to
+  // the nearest place a unit can really reach.
+  std::vector<uint8_t> reached(cells, 0);
+  std::vector<int> stack;
+  for (const MapSpawn& s : map.spawns) {
+    const int c = cellAt(s.position);
+    if (!blocked_[size_t(c)] && !reached[size_t(c)]) {
+      reached[size_t(c)] = 1;
+      stack.push_back(c);
+    }
+  }
+  while (!stack.empty()) {
+    const int c = stack.back();
+    stack.pop_back();
+    const int x = c % nx_, y = c / nx_;
+    const int next[4] = {x > 0 ? c - 1 : -1, x + 1 < nx_ ? c + 1 : -1, y > 0 ? c - nx_ : -1, y + 1 < ny_ ? c + nx_ : -1};
+    for (int n : next) {
+      if (n < 0 || reached[size_t(n)] || blocked_[size_t(n)]) continue;
+      reached[size_t(n)] = 1;
+      stack.push_back(n);
+    }
+  }
+  for (size_t c = 0; c < cells; ++c) blocked_[c] |= !reached[c];
 }
 
 int Navigation::cellAt(Vec2 p) const {

@@ -10,6 +10,7 @@
 namespace rts {
 
 void Game::fireWeapons() {
+  if (!config_.weapons) return;
   for (Unit& u : units_) {
     if (!u.alive) continue;
     if (u.reloadTicks > 0) {

@@ -17,13 +17,13 @@ const char* teamName(int team) { return team == 0 ? "blue" : "red"; }
 
 }  // namespace
 
-std::vector<std::string> hudLines(const Game& game, bool paused) {
+std::vector<std::string> hudLines(const Game& game, bool paused, bool showTimes) {
   const std::vector<double>& steps = game.stats().stepSeconds;
-  double last = steps.empty() ? 0 : steps.back() * 1e3;
+  char time[64] = "";
+  if (showTimes) std::snprintf(time, sizeof time, "   engine step %.2f ms", steps.empty() ? 0.0 : steps.back() * 1e3);
   char line[512];
-  std::snprintf(line, sizeof line, "tick %u%s   blue %d   red %d   shots %ld   crossings %ld   engine step %.2f ms",
-                game.tickCount(), paused ? " (paused)" : "", game.alive(0), game.alive(1), game.stats().shotsFired,
-                game.stats().crossings, last);
+  std::snprintf(line, sizeof line, "tick %u%s   blue %d   red %d   shots %ld   crossings %ld%s", game.tickCount(),
+                paused ? " (paused)" : "", game.alive(0), game.alive(1), game.stats().shotsFired, game.stats().crossings, time);
   std::string rooms = "rooms:";
   for (size_t r = 0; r < game.rooms().size(); ++r) {
     const int h = game.rooms()[r].holder;
@@ -107,7 +107,7 @@ Scene buildScene(const Game& game, const SceneOptions& options) {
   s.hasSelectionBox = options.hasSelectionBox;
   s.selectionA = options.selectionA;
   s.selectionB = options.selectionB;
-  s.hud = hudLines(game, options.paused);
+  s.hud = hudLines(game, options.paused, options.showTimes);
   return s;
 }
 

@@ -17,11 +17,14 @@ struct SceneOptions {
   bool hasSelectionBox = false;
   Vec2 selectionA, selectionB;
   bool paused = false;
+  /// Show the measured engine step time in the HUD. It is a wall-clock measurement, so frames that
+  /// must be reproducible byte for byte (tests, golden frames) turn it off.
+  bool showTimes = true;
 };
 
 Scene buildScene(const Game& game, const SceneOptions& options);
 
-/// The HUD line: tick, units per team, rooms held, engine step time.
-std::vector<std::string> hudLines(const Game& game, bool paused);
+/// The HUD lines: tick, units per team, shots, crossings, engine step time; rooms held.
+std::vector<std::string> hudLines(const Game& game, bool paused, bool showTimes);
 
 }  // namespace rts
