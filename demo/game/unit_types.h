@@ -23,7 +23,7 @@ struct UnitType {
 inline constexpr std::array<UnitType, 1> kUnitTypes = {{
     // A projectile covers 2 world units per tick at 30 ticks per second: several wall thicknesses,
     // which a step-and-check engine would skip straight through.
-    {"trooper", 0.5, 1.0, 5.0, 10.0, 3, 1.0, 60.0, 0.15, 11.0},
+    {"trooper", 0.5, 1.0, 6.0, 10.0, 3, 1.0, 60.0, 0.15, 11.0},
 }};
 
 }  // namespace rts
