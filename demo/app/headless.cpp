@@ -26,7 +26,7 @@ int runHeadless(Game& game, const Options& o) {
   }
   ScriptedOpponent opponent(o.seed);
   std::vector<Command> commands;
-  std::vector<double> frameSeconds;
+  std::vector<double> frameSeconds, drawSeconds;
   int frames = 0;
   SceneOptions view;
   view.fogTeam = o.fogTeam;
@@ -38,7 +38,9 @@ int runHeadless(Game& game, const Options& o) {
     char name[64];
     std::snprintf(name, sizeof name, "/frame_%06u.png", game.tickCount());
     const std::string path = o.framesDir + name;
-    const std::string error = writePng(path, o.width, o.height, renderer->render(buildScene(game, view)));
+    const std::vector<uint8_t>& pixels = renderer->render(buildScene(game, view));
+    drawSeconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    const std::string error = writePng(path, o.width, o.height, pixels);
     if (!error.empty()) {
       std::fprintf(stderr, "\nrattle-demo: %s\n", error.c_str());
       return false;
@@ -60,7 +62,9 @@ int runHeadless(Game& game, const Options& o) {
   }
   if (!o.quiet) progress(game, o.ticks, true);
   std::sort(frameSeconds.begin(), frameSeconds.end());
-  printSummary(game, o, frames, frameSeconds.empty() ? 0 : frameSeconds[frameSeconds.size() / 2]);
+  std::sort(drawSeconds.begin(), drawSeconds.end());
+  printSummary(game, o, frames, frameSeconds.empty() ? 0 : frameSeconds[frameSeconds.size() / 2],
+               drawSeconds.empty() ? 0 : drawSeconds[drawSeconds.size() / 2]);
   return 0;
 }
 

@@ -12,7 +12,9 @@ int runHeadless(Game& game, const Options& options);
 int runWindow(Game& game, const Options& options);
 
 /// The closing paragraph: ticks, units left, shots, wall hits, crossings, median engine step time.
-void printSummary(const Game& game, const Options& options, int framesWritten, double medianFrameSeconds);
+/// `medianFrameSeconds`: to draw and write a frame; `medianDrawSeconds`: to draw it (scene and OSMesa).
+void printSummary(const Game& game, const Options& options, int framesWritten, double medianFrameSeconds,
+                  double medianDrawSeconds);
 
 /// A progress line on stderr, at most a few times a second; `done` ends it.
 void progress(const Game& game, long totalTicks, bool done);

@@ -44,7 +44,8 @@ void progress(const Game& game, long totalTicks, bool done) {
   std::fflush(stderr);
 }
 
-void printSummary(const Game& game, const Options& o, int framesWritten, double medianFrameSeconds) {
+void printSummary(const Game& game, const Options& o, int framesWritten, double medianFrameSeconds,
+                  double medianDrawSeconds) {
   const GameStats& s = game.stats();
   const double median = percentile(s.stepSeconds, 0.5) * 1e3;
   const double p95 = percentile(s.stepSeconds, 0.95) * 1e3;
@@ -66,8 +67,9 @@ void printSummary(const Game& game, const Options& o, int framesWritten, double 
       rooms.empty() ? "none" : rooms.c_str(), median, p95, worst, s.stepSeconds.size(),
       s.eventBudgetSteps ? (", " + std::to_string(s.eventBudgetSteps) + " of them hit the event budget").c_str() : "");
   if (framesWritten > 0) {
-    std::printf(" Frames: %d PNG files in %s/ (median %.0f ms each to draw and write).", framesWritten, o.framesDir.c_str(),
-                medianFrameSeconds * 1e3);
+    std::printf(" Frames: %d PNG files in %s/ (median %.0f ms each: %.0f ms to draw at %dx%d with %dx%d supersampling, the rest to write).",
+                framesWritten, o.framesDir.c_str(), medianFrameSeconds * 1e3, medianDrawSeconds * 1e3, o.width, o.height,
+                o.supersample, o.supersample);
   }
   std::printf(" Final state hash %016llx.\n", static_cast<unsigned long long>(game.stateHash()));
 }

@@ -277,7 +277,7 @@ int runWindow(Game& game, const Options& o) {
     }
     SDL_RenderPresent(sdl.renderer);
   }
-  printSummary(game, o, 0, 0);
+  printSummary(game, o, 0, 0, 0);
   return 0;
 }
 
