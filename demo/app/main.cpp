@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   rts::Options& o = parsed.options;
   if (o.map.empty()) o.map = defaultMap();
   if (o.window && !o.ticksGiven) o.ticks = 0;
+  if (o.window && !o.supersampleGiven) o.supersample = 1;  // frames per second over the last bit of polish
   try {
     rts::GameConfig config;
     config.unitsPerTeam = o.units;

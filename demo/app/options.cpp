@@ -23,7 +23,7 @@ const char* kUsage =
     "  --frames DIR    where frames go (default out/demo), as frame_NNNNNN.png by tick\n"
     "  --every N       write a frame every N ticks (default 10)\n"
     "  --size WxH      frame or window size in pixels (default 1280x720)\n"
-    "  --supersample N draw N x N samples per pixel for smooth edges, 1 to 4 (default 2)\n"
+    "  --supersample N draw N x N samples per pixel for smooth edges, 1 to 4 (default 2; 1 in the window)\n"
     "  --no-render     draw nothing: the game and the engine only (for timing)\n"
     "  --fog TEAM      whose fog of war the frames show: 0 (blue, default), 1 (red) or none\n"
     "  --no-sight      do not draw the faint sight ranges\n"
@@ -107,6 +107,7 @@ ParseResult parseOptions(int argc, char** argv) {
     } else if (arg == "--supersample") {
       if (!number(1, 4, n)) return badNumber(1, 4);
       o.supersample = int(n);
+      o.supersampleGiven = true;
     } else if (arg == "--size") {
       const char* v = value();
       const char* x = v ? std::strchr(v, 'x') : nullptr;

@@ -16,7 +16,8 @@ struct Options {
   std::string framesDir = "out/demo";
   int every = 10;             ///< write a frame every N ticks
   int width = 1280, height = 720;
-  int supersample = 2;
+  int supersample = 2;        ///< the window uses 1 unless asked: software OpenGL at 4 samples is slow
+  bool supersampleGiven = false;
   int units = 100;            ///< per team
   bool render = true;
   bool window = false;

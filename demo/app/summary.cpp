@@ -38,9 +38,9 @@ void progress(const Game& game, long totalTicks, bool done) {
   shown = true;
   const std::vector<double>& steps = game.stats().stepSeconds;
   const double recent = steps.empty() ? 0 : steps.back() * 1e3;
-  std::fprintf(stderr, "%stick %u/%ld  blue %d  red %d  shots %ld  engine step %.2f ms%s", tty ? "\r" : "",
-               game.tickCount(), totalTicks, game.alive(0), game.alive(1), game.stats().shotsFired, recent,
-               tty && !done ? "   " : "\n");
+  std::fprintf(stderr, "%stick %u/%ld  blue %d  red %d  shots %ld  engine step %.2f ms (median so far %.2f ms)%s",
+               tty ? "\r" : "", game.tickCount(), totalTicks, game.alive(0), game.alive(1), game.stats().shotsFired, recent,
+               percentile(steps, 0.5) * 1e3, tty && !done ? "   " : "\n");
   std::fflush(stderr);
 }
 

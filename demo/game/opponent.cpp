@@ -1,4 +1,4 @@
-// How the opponent thinks: each team splits its units into squads (by id) and every few seconds a
+// How the opponent thinks: each team splits its units into squads (runs of ids) and every few seconds a
 // squad that has nothing to do, or now and then one that has, is sent to a room: one the team does not
 // hold if there is one, or out into the field. Both teams draw from one generator in a fixed order.
 #include "game/opponent.h"
@@ -35,10 +35,12 @@ void ScriptedOpponent::commandsFor(uint32_t tick, const Game& game, std::vector<
     const int squads = std::clamp(alive / 12, 1, 8);
     std::vector<std::vector<uint32_t>> members(static_cast<size_t>(squads));
     std::vector<int> idle(static_cast<size_t>(squads), 0);
+    // Squads are runs of consecutive ids: units were placed nearest to their spawn point first, so a
+    // run of ids stands together, and a squad sent somewhere does not have to cross its neighbours.
     int k = 0;
     for (const Unit& u : game.units()) {
       if (!u.alive || u.team != team) continue;
-      const size_t s = size_t(k++ % squads);
+      const size_t s = size_t(int64_t(k++) * squads / alive);
       members[s].push_back(u.id);
       idle[s] += !u.order.active;
     }
