@@ -16,7 +16,7 @@ BENCH_FLAGS ?=
 all: build
 
 help:
-	@echo "make demo           build and run the demo (writes out/)"
+	@echo "make demo           build and run the RTS demo for 600 ticks (frames in out/demo/)"
 	@echo "make test           build and run every test"
 	@echo "make test-sanitize  the same tests built with ASan+UBSan in $(SANITIZE_DIR)/"
 	@echo "make bench          build rattle-bench, run the standard matrix against Box2D and Chipmunk,"
@@ -32,9 +32,10 @@ configure: deps
 build: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS)
 
+# The RTS arena for 600 ticks (20 s of game time), a PNG frame every 10 ticks in out/demo/.
 demo: build
-	@mkdir -p out
-	$(BUILD_DIR)/bin/bounce_in_box --svg out/bounce_in_box.svg
+	@mkdir -p out/demo
+	$(BUILD_DIR)/bin/rattle-demo --ticks 600 --every 10 --frames out/demo
 
 test: build
 	@cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)

@@ -1,0 +1,45 @@
+// rattle-demo: reads the options and the map, makes the game, and hands it to the headless loop or the
+// window. Every error a user can cause ends here as one line naming the problem, with exit status 1
+// (2 for bad options).
+#include <cstdio>
+#include <filesystem>
+
+#include "app/options.h"
+#include "app/run.h"
+#include "map/map_loader.h"
+#include "render/offscreen.h"
+
+namespace {
+
+std::string defaultMap() {
+  // The source tree's arena when run from a build, else the one under the current directory.
+  const std::string built = RATTLE_DEMO_DEFAULT_MAP;
+  return std::filesystem::exists(built) ? built : "assets/maps/arena.json";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  rts::ParseResult parsed = rts::parseOptions(argc, argv);
+  if (parsed.action == rts::ParseResult::Action::Exit) return parsed.exitCode;
+  rts::Options& o = parsed.options;
+  if (o.map.empty()) o.map = defaultMap();
+  if (o.window && !o.ticksGiven) o.ticks = 0;
+  if (o.window && !o.supersampleGiven) o.supersample = 1;  // frames per second over the last bit of polish
+  try {
+    rts::GameConfig config;
+    config.unitsPerTeam = o.units;
+    config.stepMode = o.mode;
+    rts::Game game(rts::loadMap(o.map), config);
+    return o.window ? rts::runWindow(game, o) : rts::runHeadless(game, o);
+  } catch (const rts::MapError& e) {
+    std::fprintf(stderr, "rattle-demo: bad map: %s\n", e.what());
+  } catch (const rts::GameError& e) {
+    std::fprintf(stderr, "rattle-demo: cannot start the game: %s\n", e.what());
+  } catch (const rts::RenderError& e) {
+    std::fprintf(stderr, "rattle-demo: cannot render: %s\n", e.what());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "rattle-demo: %s\n", e.what());
+  }
+  return 1;
+}

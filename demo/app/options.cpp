@@ -1,0 +1,175 @@
+#include "app/options.h"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string_view>
+
+namespace rts {
+namespace {
+
+const char* kUsage =
+    "usage: rattle-demo [options]\n"
+    "\n"
+    "An RTS arena on the rattle collision engine: two teams played by a scripted opponent from a seed,\n"
+    "walls, buildings, doorways, a gate, sight sensors and projectiles. Headless by default: it writes PNG\n"
+    "frames drawn offscreen with OSMesa. With --window it opens an SDL2 window you can play team blue in.\n"
+    "\n"
+    "  --map FILE      Tiled JSON map (default: assets/maps/arena.json)\n"
+    "  --ticks N       ticks to run, 30 per second (default 600); with --window, quit after N (default: never)\n"
+    "  --seed N        seed of the scripted opponent, 0 to 2^64-1 (default 1)\n"
+    "  --units N       units per team, 1 to 200000 (default 100)\n"
+    "  --frames DIR    where frames go (default out/demo), as frame_NNNNNN.png by tick\n"
+    "  --every N       write a frame every N ticks (default 10)\n"
+    "  --size WxH      frame or window size in pixels (default 1280x720)\n"
+    "  --supersample N draw N x N samples per pixel for smooth edges, 1 to 4 (default 2; 1 in the window)\n"
+    "  --no-render     draw nothing: the game and the engine only (for timing)\n"
+    "  --fog TEAM      whose fog of war the frames show: 0 (blue, default), 1 (red) or none\n"
+    "  --no-sight      do not draw the faint sight ranges\n"
+    "  --no-times      leave the measured step time out of the HUD, so the same input gives the same\n"
+    "                  frames byte for byte\n"
+    "  --mode M        engine step mode: hybrid (default), discrete (step-and-check: watch projectiles go\n"
+    "                  through walls and count as 'ran out of range'), predictive (the engine reports no\n"
+    "                  sensor events in that mode yet: nobody sees anyone, no doorway counts)\n"
+    "  --window        open a window: left-drag selects blue units, right-click moves them, space pauses,\n"
+    "                  v toggles sight ranges, g works the first gate, f changes the fog, Esc quits\n"
+    "  --screenshot F  with --window: save the last frame shown as PNG file F when the window closes\n"
+    "  --input FILE    with --window: play the scripted input events in FILE (see demo/README.md)\n"
+    "  --quiet         no progress line\n"
+    "  --help          this text\n";
+
+bool parseLong(const char* text, long lo, long hi, long& out) {
+  if (!text || !*text) return false;
+  errno = 0;
+  char* end = nullptr;
+  long v = std::strtol(text, &end, 10);
+  if (errno || *end != '\0' || v < lo || v > hi) return false;
+  out = v;
+  return true;
+}
+
+}  // namespace
+
+ParseResult parseOptions(int argc, char** argv) {
+  ParseResult r;
+  Options& o = r.options;
+  auto fail = [&](const std::string& message) {
+    std::fprintf(stderr, "rattle-demo: %s\nTry 'rattle-demo --help'.\n", message.c_str());
+    r.action = ParseResult::Action::Exit;
+    r.exitCode = 2;
+    return r;
+  };
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view arg = argv[i];
+    const char* lastValue = nullptr;
+    auto value = [&]() -> const char* { return lastValue = i + 1 < argc ? argv[++i] : nullptr; };
+    auto number = [&](long lo, long hi, long& out) -> bool {
+      const char* v = value();
+      if (!v) return false;
+      return parseLong(v, lo, hi, out);
+    };
+    auto badNumber = [&](long lo, long hi) {
+      return fail(std::string(arg) + " " + (lastValue ? lastValue : "(missing)") + ": expected a whole number from " + std::to_string(lo) + " to " +
+                  std::to_string(hi));
+    };
+    long n = 0;
+    if (arg == "--help" || arg == "-h") {
+      std::fputs(kUsage, stdout);
+      r.action = ParseResult::Action::Exit;
+      r.exitCode = 0;
+      return r;
+    } else if (arg == "--map") {
+      const char* v = value();
+      if (!v || !*v) return fail("--map: expected a file name");
+      o.map = v;
+    } else if (arg == "--ticks") {
+      if (!number(0, 100'000'000, n)) return badNumber(0, 100'000'000);
+      o.ticks = n;
+      o.ticksGiven = true;
+    } else if (arg == "--seed") {
+      const char* v = value();
+      char* end = nullptr;
+      errno = 0;
+      unsigned long long s = v && *v && *v != '-' ? std::strtoull(v, &end, 10) : 0;
+      if (!v || !*v || *v == '-' || errno || *end != '\0') {
+        return fail(std::string("--seed ") + (v ? v : "(missing)") + ": expected a whole number from 0 to 18446744073709551615");
+      }
+      o.seed = s;
+    } else if (arg == "--units") {
+      if (!number(1, 200'000, n)) return badNumber(1, 200'000);
+      o.units = int(n);
+    } else if (arg == "--frames") {
+      const char* v = value();
+      if (!v || !*v) return fail("--frames: expected a directory");
+      o.framesDir = v;
+    } else if (arg == "--every") {
+      if (!number(1, 100'000'000, n)) return badNumber(1, 100'000'000);
+      o.every = int(n);
+    } else if (arg == "--supersample") {
+      if (!number(1, 4, n)) return badNumber(1, 4);
+      o.supersample = int(n);
+      o.supersampleGiven = true;
+    } else if (arg == "--size") {
+      const char* v = value();
+      const char* x = v ? std::strchr(v, 'x') : nullptr;
+      long w = 0, h = 0;
+      if (!x || !parseLong(std::string(v, x).c_str(), 16, 8192, w) || !parseLong(x + 1, 16, 8192, h)) {
+        return fail(std::string("--size ") + (v ? v : "(missing)") + ": expected WIDTHxHEIGHT, each 16 to 8192 (e.g. 1280x720)");
+      }
+      o.width = int(w);
+      o.height = int(h);
+    } else if (arg == "--no-render") {
+      o.render = false;
+    } else if (arg == "--fog") {
+      const char* v = value();
+      std::string_view f = v ? v : "";
+      if (f == "0" || f == "blue") {
+        o.fogTeam = 0;
+      } else if (f == "1" || f == "red") {
+        o.fogTeam = 1;
+      } else if (f == "none") {
+        o.fogTeam = -1;
+      } else {
+        return fail(std::string("--fog ") + (v ? v : "(missing)") + ": expected 0, 1 or none");
+      }
+    } else if (arg == "--no-sight") {
+      o.showSight = false;
+    } else if (arg == "--no-times") {
+      o.showTimes = false;
+    } else if (arg == "--mode") {
+      const char* v = value();
+      std::string_view m = v ? v : "";
+      if (m == "hybrid") {
+        o.mode = rattle::StepMode::Hybrid;
+      } else if (m == "discrete") {
+        o.mode = rattle::StepMode::Discrete;
+      } else if (m == "predictive") {
+        o.mode = rattle::StepMode::Predictive;
+      } else {
+        return fail(std::string("--mode ") + (v ? v : "(missing)") + ": expected hybrid, discrete or predictive");
+      }
+    } else if (arg == "--window") {
+      o.window = true;
+    } else if (arg == "--screenshot") {
+      const char* v = value();
+      if (!v || !*v) return fail("--screenshot: expected a file name");
+      o.screenshot = v;
+    } else if (arg == "--input") {
+      const char* v = value();
+      if (!v || !*v) return fail("--input: expected a file name");
+      o.inputScript = v;
+    } else if (arg == "--quiet") {
+      o.quiet = true;
+    } else {
+      return fail("unknown option '" + std::string(arg) + "'");
+    }
+  }
+  if (!o.window && (!o.screenshot.empty() || !o.inputScript.empty())) {
+    return fail(std::string(o.screenshot.empty() ? "--input" : "--screenshot") + " needs --window");
+  }
+  if (o.window && !o.render) return fail("--window and --no-render cannot go together");
+  return r;
+}
+
+}  // namespace rts

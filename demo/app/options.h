@@ -1,0 +1,43 @@
+// The command line of rattle-demo.
+#pragma once
+
+#include <rattle/types.h>
+
+#include <cstdint>
+#include <string>
+
+namespace rts {
+
+struct Options {
+  std::string map;            ///< map file; empty: the default arena
+  long ticks = 600;           ///< headless: ticks to run; window: quit after this many (0: run until closed)
+  bool ticksGiven = false;
+  uint64_t seed = 1;
+  std::string framesDir = "out/demo";
+  int every = 10;             ///< write a frame every N ticks
+  int width = 1280, height = 720;
+  int supersample = 2;        ///< the window uses 1 unless asked: software OpenGL at 4 samples is slow
+  bool supersampleGiven = false;
+  int units = 100;            ///< per team
+  bool render = true;
+  bool window = false;
+  int fogTeam = 0;            ///< whose view the frames show; -1: no fog
+  bool showSight = true;
+  bool showTimes = true;      ///< the measured step time in the HUD (off: reproducible frames)
+  rattle::StepMode mode = rattle::StepMode::Hybrid;
+  std::string screenshot;     ///< window: save the last frame shown
+  std::string inputScript;    ///< window: scripted input events (for tests)
+  bool quiet = false;
+};
+
+/// What parsing decided: run with the options, exit with a status (after --help), or a usage error.
+struct ParseResult {
+  enum class Action { Run, Exit } action = Action::Run;
+  int exitCode = 0;
+  Options options;
+};
+
+/// Parses argv. Prints --help to stdout and errors (naming the option and the value) to stderr.
+ParseResult parseOptions(int argc, char** argv);
+
+}  // namespace rts

@@ -1,0 +1,284 @@
+// The SDL2 window. The picture is the offscreen renderer's (the same pixels a PNG frame would have),
+// shown through an SDL texture, so the window needs no OpenGL of its own and looks exactly like the
+// headless frames. The person plays blue (team 0); the scripted opponent plays red.
+//
+//   left-drag   select blue units (a click selects the nearest one)
+//   right-click move the selection there
+//   space       pause / resume
+//   v           sight ranges on / off
+//   g           open / close the first gate
+//   f           fog of war: blue's view, red's view, none
+//   Esc, q      quit
+//
+// --input FILE plays scripted events through the same handlers (for the Xvfb test); each line is
+// "FRAME EVENT ARGS": `drag X0 Y0 X1 Y1`, `click X Y`, `rclick X Y`, `key NAME` (space, v, g, f, q,
+// escape) or `quit`, with window pixel coordinates. With a script the game runs one tick per frame, so
+// a script means the same thing on a fast machine and a slow one.
+#include <SDL.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "app/run.h"
+#include "game/opponent.h"
+#include "render/offscreen.h"
+#include "render/png.h"
+#include "render/renderer.h"
+#include "render/scene_builder.h"
+
+namespace rts {
+namespace {
+
+struct ScriptedEvent {
+  long frame = 0;
+  SDL_Event events[3];
+  int count = 0;
+};
+
+SDL_Keycode keyNamed(const std::string& name) {
+  if (name == "space") return SDLK_SPACE;
+  if (name == "escape") return SDLK_ESCAPE;
+  if (name.size() == 1 && name[0] >= 'a' && name[0] <= 'z') return SDL_Keycode(name[0]);
+  return SDLK_UNKNOWN;
+}
+
+// Reads an input script; returns an error naming the line, or "".
+std::string readScript(const std::string& path, Uint32 windowId, std::vector<ScriptedEvent>& out) {
+  std::ifstream in(path);
+  if (!in) return path + ": cannot open the input script";
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    if (line.size() > 1000) return path + ":" + std::to_string(number) + ": line too long";
+    std::istringstream ss(line);
+    std::string word;
+    ScriptedEvent e;
+    if (!(ss >> word) || word[0] == '#') continue;
+    try {
+      e.frame = std::stol(word);
+    } catch (const std::exception&) {
+      return path + ":" + std::to_string(number) + ": '" + word + "': expected a frame number";
+    }
+    std::string kind;
+    ss >> kind;
+    auto button = [&](Uint32 type, Uint8 which, int x, int y) {
+      SDL_Event ev{};
+      ev.type = type;
+      ev.button.windowID = windowId;
+      ev.button.button = which;
+      ev.button.state = type == SDL_MOUSEBUTTONDOWN ? SDL_PRESSED : SDL_RELEASED;
+      ev.button.clicks = 1;
+      ev.button.x = x;
+      ev.button.y = y;
+      e.events[e.count++] = ev;
+    };
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    if (kind == "drag" && (ss >> x0 >> y0 >> x1 >> y1)) {
+      button(SDL_MOUSEBUTTONDOWN, SDL_BUTTON_LEFT, x0, y0);
+      SDL_Event motion{};
+      motion.type = SDL_MOUSEMOTION;
+      motion.motion.windowID = windowId;
+      motion.motion.x = x1;
+      motion.motion.y = y1;
+      e.events[e.count++] = motion;
+      button(SDL_MOUSEBUTTONUP, SDL_BUTTON_LEFT, x1, y1);
+    } else if ((kind == "click" || kind == "rclick") && (ss >> x0 >> y0)) {
+      const Uint8 which = kind == "click" ? SDL_BUTTON_LEFT : SDL_BUTTON_RIGHT;
+      button(SDL_MOUSEBUTTONDOWN, which, x0, y0);
+      button(SDL_MOUSEBUTTONUP, which, x0, y0);
+    } else if (kind == "key" && (ss >> word) && keyNamed(word) != SDLK_UNKNOWN) {
+      SDL_Event ev{};
+      ev.type = SDL_KEYDOWN;
+      ev.key.windowID = windowId;
+      ev.key.state = SDL_PRESSED;
+      ev.key.keysym.sym = keyNamed(word);
+      e.events[e.count++] = ev;
+    } else if (kind == "quit") {
+      SDL_Event ev{};
+      ev.type = SDL_QUIT;
+      e.events[e.count++] = ev;
+    } else {
+      return path + ":" + std::to_string(number) + ": '" + line +
+             "': expected drag X0 Y0 X1 Y1, click X Y, rclick X Y, key NAME or quit";
+    }
+    out.push_back(e);
+  }
+  std::stable_sort(out.begin(), out.end(), [](const ScriptedEvent& a, const ScriptedEvent& b) { return a.frame < b.frame; });
+  return "";
+}
+
+struct Sdl {
+  SDL_Window* window = nullptr;
+  SDL_Renderer* renderer = nullptr;
+  SDL_Texture* texture = nullptr;
+  ~Sdl() {
+    if (texture) SDL_DestroyTexture(texture);
+    if (renderer) SDL_DestroyRenderer(renderer);
+    if (window) SDL_DestroyWindow(window);
+    SDL_Quit();
+  }
+};
+
+}  // namespace
+
+int runWindow(Game& game, const Options& o) {
+  // Software SDL rendering: the picture is already made; this only copies it to the window. No OpenGL
+  // on SDL's side at all (not even to speed up the window surface): a second Mesa driver loaded next to
+  // OSMesa would share its dispatch table and crash.
+  SDL_SetHint(SDL_HINT_RENDER_DRIVER, "software");
+  SDL_SetHint(SDL_HINT_FRAMEBUFFER_ACCELERATION, "0");
+  if (SDL_Init(SDL_INIT_VIDEO) != 0) {
+    std::fprintf(stderr, "rattle-demo: cannot open a window: %s (no display? run under X, or xvfb-run)\n", SDL_GetError());
+    return 1;
+  }
+  Sdl sdl;
+  sdl.window = SDL_CreateWindow("rattle demo", SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED, o.width, o.height, 0);
+  if (sdl.window) sdl.renderer = SDL_CreateRenderer(sdl.window, -1, SDL_RENDERER_SOFTWARE);
+  if (sdl.renderer) {
+    sdl.texture = SDL_CreateTexture(sdl.renderer, SDL_PIXELFORMAT_RGBA32, SDL_TEXTUREACCESS_STREAMING, o.width, o.height);
+  }
+  if (!sdl.texture) {
+    std::fprintf(stderr, "rattle-demo: cannot open a window: %s\n", SDL_GetError());
+    return 1;
+  }
+  std::vector<ScriptedEvent> script;
+  if (!o.inputScript.empty()) {
+    std::string error = readScript(o.inputScript, SDL_GetWindowID(sdl.window), script);
+    if (!error.empty()) {
+      std::fprintf(stderr, "rattle-demo: %s\n", error.c_str());
+      return 1;
+    }
+  }
+
+  OffscreenRenderer offscreen(o.width, o.height, o.supersample);
+  ScriptedOpponent opponent(o.seed, 2);  // red only
+  const View view = fitView(game.map().width, game.map().height, o.width, o.height);
+  SceneOptions sceneOptions;
+  sceneOptions.fogTeam = o.fogTeam;
+  sceneOptions.showSight = o.showSight;
+  sceneOptions.showTimes = o.showTimes;
+  std::vector<Command> mine, commands;
+  bool paused = false, quit = false, dragging = false;
+  Vec2 dragFrom, dragTo;  // window pixels
+  size_t nextScripted = 0;
+  long frame = 0;
+  double owed = 0;  // seconds of game time not yet run
+  auto last = std::chrono::steady_clock::now();
+  const std::vector<uint8_t>* pixels = nullptr;
+
+  auto select = [&](Vec2 a, Vec2 b) {
+    sceneOptions.selected.assign(game.units().size(), 0);
+    const Vec2 wa = view.toWorld(a), wb = view.toWorld(b);
+    const Vec2 lo{std::min(wa.x, wb.x), std::min(wa.y, wb.y)}, hi{std::max(wa.x, wb.x), std::max(wa.y, wb.y)};
+    const bool click = rattle::length(b - a) < 4;
+    double best = 1.5;
+    int nearest = -1;
+    for (const Unit& u : game.units()) {
+      if (!u.alive || u.team != 0) continue;
+      if (click) {
+        const double d = rattle::length(u.position - wa);
+        if (d < best) best = d, nearest = int(u.id);
+      } else if (u.position.x >= lo.x && u.position.x <= hi.x && u.position.y >= lo.y && u.position.y <= hi.y) {
+        sceneOptions.selected[u.id] = 1;
+      }
+    }
+    if (nearest >= 0) sceneOptions.selected[size_t(nearest)] = 1;
+  };
+
+  while (!quit) {
+    ++frame;
+    for (; nextScripted < script.size() && script[nextScripted].frame <= frame; ++nextScripted) {
+      for (int k = 0; k < script[nextScripted].count; ++k) SDL_PushEvent(&script[nextScripted].events[k]);
+    }
+    SDL_Event ev;
+    while (SDL_PollEvent(&ev)) {
+      if (ev.type == SDL_QUIT) {
+        quit = true;
+      } else if (ev.type == SDL_MOUSEBUTTONDOWN && ev.button.button == SDL_BUTTON_LEFT) {
+        dragging = true;
+        dragFrom = dragTo = {double(ev.button.x), double(ev.button.y)};
+      } else if (ev.type == SDL_MOUSEMOTION && dragging) {
+        dragTo = {double(ev.motion.x), double(ev.motion.y)};
+      } else if (ev.type == SDL_MOUSEBUTTONUP && ev.button.button == SDL_BUTTON_LEFT && dragging) {
+        dragging = false;
+        dragTo = {double(ev.button.x), double(ev.button.y)};
+        select(dragFrom, dragTo);
+      } else if (ev.type == SDL_MOUSEBUTTONDOWN && ev.button.button == SDL_BUTTON_RIGHT) {
+        Command c;
+        c.team = 0;
+        c.type = CommandType::Move;
+        c.target = view.toWorld({double(ev.button.x), double(ev.button.y)});
+        for (size_t id = 0; id < sceneOptions.selected.size(); ++id) {
+          if (sceneOptions.selected[id] && game.units()[id].alive) c.units.push_back(uint32_t(id));
+        }
+        if (!c.units.empty()) mine.push_back(std::move(c));
+      } else if (ev.type == SDL_KEYDOWN) {
+        switch (ev.key.keysym.sym) {
+          case SDLK_SPACE: paused = !paused; break;
+          case SDLK_v: sceneOptions.showSight = !sceneOptions.showSight; break;
+          case SDLK_f: sceneOptions.fogTeam = sceneOptions.fogTeam == 0 ? 1 : sceneOptions.fogTeam == 1 ? -1 : 0; break;
+          case SDLK_g:
+            if (!game.map().gates.empty()) {
+              Command c;
+              c.team = 0;
+              c.type = CommandType::ToggleGate;
+              mine.push_back(std::move(c));
+            }
+            break;
+          case SDLK_ESCAPE:
+          case SDLK_q: quit = true; break;
+          default: break;
+        }
+      }
+    }
+
+    // Fixed ticks: as many as real time owes (at most a few per frame), or one per frame under a script.
+    const auto now = std::chrono::steady_clock::now();
+    owed += std::chrono::duration<double>(now - last).count();
+    last = now;
+    int due = script.empty() ? std::min(4, int(owed / Game::kTickSeconds)) : 1;
+    owed = script.empty() ? std::min(owed - due * Game::kTickSeconds, Game::kTickSeconds) : 0;
+    if (paused) due = 0;
+    for (int t = 0; t < due && !quit; ++t) {
+      commands.clear();
+      opponent.commandsFor(game.tickCount(), game, commands);
+      for (Command& c : mine) {
+        c.tick = game.tickCount();
+        commands.push_back(std::move(c));
+      }
+      mine.clear();
+      for (const Command& c : commands) game.apply(c);
+      game.tick();
+      if (o.ticks > 0 && game.tickCount() >= unsigned(o.ticks)) quit = true;
+    }
+
+    sceneOptions.paused = paused;
+    sceneOptions.hasSelectionBox = dragging;
+    sceneOptions.selectionA = view.toWorld(dragFrom);
+    sceneOptions.selectionB = view.toWorld(dragTo);
+    pixels = &offscreen.render(buildScene(game, sceneOptions));
+    SDL_UpdateTexture(sdl.texture, nullptr, pixels->data(), o.width * 4);
+    SDL_RenderClear(sdl.renderer);
+    SDL_RenderCopy(sdl.renderer, sdl.texture, nullptr, nullptr);
+    if (quit && !o.screenshot.empty()) {
+      // Read back what the window was given, not the offscreen buffer: this is the window's picture.
+      std::vector<uint8_t> shot(size_t(o.width) * size_t(o.height) * 4);
+      if (SDL_RenderReadPixels(sdl.renderer, nullptr, SDL_PIXELFORMAT_RGBA32, shot.data(), o.width * 4) != 0) {
+        std::fprintf(stderr, "rattle-demo: cannot read the window back: %s\n", SDL_GetError());
+        return 1;
+      }
+      std::string error = writePng(o.screenshot, o.width, o.height, shot);
+      if (!error.empty()) {
+        std::fprintf(stderr, "rattle-demo: %s\n", error.c_str());
+        return 1;
+      }
+    }
+    SDL_RenderPresent(sdl.renderer);
+  }
+  printSummary(game, o, 0, 0, 0);
+  return 0;
+}
+
+}  // namespace rts

@@ -1,0 +1,156 @@
+// Construction, commands, and the order of the rules within one tick.
+#include "game/game.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+
+namespace rts {
+namespace {
+
+uint64_t mix(uint64_t h, uint64_t v) {
+  h ^= v + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+  return h * 0xFF51AFD7ED558CCDull;
+}
+uint64_t bitsOf(double d) { return std::bit_cast<uint64_t>(d); }
+
+}  // namespace
+
+Game::Game(Map map, const GameConfig& config)
+    : map_(std::move(map)),
+      config_(config),
+      physics_(map_, config.stepMode),
+      // A cell is walkable when its centre is this far from every wall: more than half a cell, so that
+      // no wall line (walls may be thin) can pass between two walkable neighbours.
+      navigation_(map_, physics_, std::max(0.6, kUnitTypes[0].radius)) {
+  if (config_.unitsPerTeam < 0 || config_.unitsPerTeam > 1'000'000) {
+    throw GameError("units per team = " + std::to_string(config_.unitsPerTeam) + ": expected 0 to 1000000");
+  }
+  doorways_.resize(map_.doorways.size());
+  rooms_.resize(map_.rooms.size());
+  gates_.resize(map_.gates.size());
+  for (size_t g = 0; g < gates_.size(); ++g) {
+    if (map_.gates[g].period > 0) gates_[g].nextToggleTick = uint32_t(std::lround(map_.gates[g].period * kTicksPerSecond));
+  }
+  placeUnits();
+  updateRooms();
+}
+
+Game::~Game() = default;
+
+bool Game::apply(const Command& c) {
+  bool applied = false;
+  if (c.team <= 1) {
+    switch (c.type) {
+      case CommandType::Move: {
+        if (!std::isfinite(c.target.x) || !std::isfinite(c.target.y)) break;
+        // Keep targets on the map: a click outside it means "as far as you can go that way".
+        Vec2 target{std::clamp(c.target.x, 0.0, map_.width), std::clamp(c.target.y, 0.0, map_.height)};
+        int count = 0;
+        for (uint32_t id : c.units) count += id < units_.size() && units_[id].alive && units_[id].team == c.team;
+        if (count == 0) break;
+        // A group stops when it is about as close as a packed crowd of its size can get.
+        const double radius = kUnitTypes[0].radius;
+        const double arrival = radius * (1.5 + 1.1 * std::sqrt(double(count)));
+        // One flow field for the whole group.
+        std::shared_ptr<const FlowField> field = navigation_.field(target, gatesOpen(), tick_);
+        for (uint32_t id : c.units) {
+          if (id < units_.size() && units_[id].alive && units_[id].team == c.team) orderMove(units_[id], target, arrival, field);
+        }
+        applied = true;
+        break;
+      }
+      case CommandType::Stop:
+        for (uint32_t id : c.units) {
+          if (id < units_.size() && units_[id].alive && units_[id].team == c.team) {
+            units_[id].order = Order{};
+            applied = true;
+          }
+        }
+        break;
+      case CommandType::ToggleGate:
+        if (c.gate < gates_.size()) {
+          toggleGate(c.gate);
+          applied = true;
+        }
+        break;
+    }
+  }
+  ++(applied ? stats_.commandsApplied : stats_.commandsIgnored);
+  return applied;
+}
+
+void Game::tick() {
+  // 1. Decide: gates move, units steer and fire, all from the state at the end of the last tick.
+  driveGates();
+  steer();
+  fireWeapons();
+
+  // 2. The engine moves everything and reports what touched what.
+  for (Unit& u : units_) u.previous = u.position;
+  const StepEvents& events = physics_.step(kTickSeconds);
+  stats_.stepSeconds.push_back(physics_.lastStepSeconds());
+  if (physics_.lastStepStats().eventBudgetReached) ++stats_.eventBudgetSteps;
+  ++tick_;
+
+  // 3. Read the new state and apply the events, in the engine's order.
+  for (Unit& u : units_) {
+    if (!u.alive) continue;
+    u.position = physics_.position(u.body);
+    u.velocity = physics_.velocity(u.body);
+  }
+  for (Shot& s : shots_) {
+    s.position = physics_.position(s.body);
+    s.velocity = physics_.velocity(s.body);
+  }
+  for (const ShotContact& c : events.shotContacts) onShotContact(c);
+  for (const UnitContact& c : events.unitContacts) onBump(c);
+  for (const SensorChange& c : events.sight) onSight(c);
+  for (const SensorChange& c : events.doorways) onDoorway(c);
+  expireShots();
+  removeDead();
+  updateRooms();
+  std::erase_if(impacts_, [&](const Impact& i) { return i.tick + 12 < tick_; });
+}
+
+void Game::removeDead() {
+  for (Unit& u : units_) {
+    if (u.alive && u.hitPoints <= 0) {
+      u.alive = false;
+      --aliveCount_[u.team];
+      ++stats_.losses[u.team];
+      physics_.remove(u.body);
+      u.order = Order{};
+      u.inSensor.clear();
+      u.doorways.clear();
+    }
+  }
+  for (Shot& s : shots_) {
+    if (!s.alive) physics_.remove(s.body);
+  }
+  std::erase_if(shots_, [](const Shot& s) { return !s.alive; });
+}
+
+std::vector<Vec2> Game::gateOutline(size_t g) const {
+  std::vector<Vec2> out = map_.gates[g].polygon;
+  Vec2 at = physics_.gatePosition(g);
+  for (Vec2& p : out) p += at;
+  return out;
+}
+
+uint64_t Game::stateHash() const {
+  uint64_t h = mix(physics_.stateHash(), tick_);
+  for (const Unit& u : units_) {
+    h = mix(h, uint64_t(u.alive) | uint64_t(u.hitPoints) << 8 | uint64_t(uint32_t(u.reloadTicks)) << 32);
+    if (!u.alive) continue;
+    h = mix(h, u.order.active ? bitsOf(u.order.target.x) ^ (bitsOf(u.order.target.y) << 1) : 0);
+  }
+  for (const Shot& s : shots_) h = mix(h, uint64_t(s.id) << 16 | uint64_t(uint32_t(s.ticksLeft)));
+  for (const DoorwayState& d : doorways_) h = mix(h, uint64_t(uint32_t(d.crossings[0])) << 32 | uint32_t(d.crossings[1]));
+  for (const RoomState& r : rooms_) h = mix(h, uint64_t(uint32_t(r.holder)));
+  for (const GateState& g : gates_) h = mix(h, uint64_t(g.wantOpen) ^ bitsOf(g.openness));
+  h = mix(h, uint64_t(stats_.shotsFired) ^ uint64_t(stats_.wallHits) << 20 ^ uint64_t(stats_.unitHits) << 40);
+  return h;
+}
+
+}  // namespace rts

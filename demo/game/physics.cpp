@@ -1,0 +1,222 @@
+// The engine boundary (see physics.h). All rattle::World calls of the game are in this file.
+#include "game/physics.h"
+
+#include <chrono>
+
+namespace rts {
+namespace {
+
+// Collision categories. A fixture pair is tested only when each one's category is in the other's mask.
+enum : uint32_t {
+  kWall = 1u << 0,  // walls, buildings, gates: block units, projectiles and sight rays
+  kUnit0 = 1u << 1,
+  kUnit1 = 1u << 2,
+  kShot0 = 1u << 3,  // fired by team 0
+  kShot1 = 1u << 4,
+  kSight0 = 1u << 5,  // team 0's sight sensors
+  kSight1 = 1u << 6,
+  kDoorway = 1u << 7,
+  kRoom = 1u << 8,
+  kRay = 1u << 9,  // the category of line-of-sight queries
+  kGate = 1u << 10,  // gates: like walls, but they move
+};
+
+constexpr double kCollapseTime = 0.003;  // seconds
+
+uint32_t unitBit(int team) { return team == 0 ? kUnit0 : kUnit1; }
+uint32_t shotBit(int team) { return team == 0 ? kShot0 : kShot1; }
+uint32_t sightBit(int team) { return team == 0 ? kSight0 : kSight1; }
+
+rattle::Filter filter(uint32_t category, uint32_t mask) {
+  rattle::Filter f;
+  f.categoryBits = category;
+  f.maskBits = mask;
+  return f;
+}
+
+rattle::FixtureDef fixture(rattle::Geometry g, rattle::Filter f, bool sensor = false, double density = 1) {
+  rattle::FixtureDef d;
+  d.geometry = std::move(g);
+  d.filter = f;
+  d.sensor = sensor;
+  d.density = density;
+  d.restitution = 0;
+  return d;
+}
+
+rattle::BodyDef bodyAt(rattle::BodyType type, Vec2 position, Vec2 velocity = {}) {
+  rattle::BodyDef d;
+  d.type = type;
+  d.position = position;
+  d.velocity = velocity;
+  return d;
+}
+
+// Queries for what blocks: walls and buildings, and (unless asked not to) gates.
+rattle::QueryFilter wallQuery(bool gates = true) {
+  rattle::QueryFilter q;
+  q.categoryBits = kRay;
+  q.maskBits = gates ? kWall | kGate : kWall;
+  return q;
+}
+
+}  // namespace
+
+Physics::Physics(const Map& map, rattle::StepMode mode) : world_([&] {
+  rattle::WorldDef def;
+  def.mode = mode;
+  // Units have restitution 0 and are driven into one another every tick; such a crowd collides
+  // infinitely often in finite time (inelastic collapse), and the step would spend its whole event
+  // budget on it. The engine's guard makes a contact elastic for a body that collided less than this
+  // long ago, which ends the cascade after a few events; a tenth of a tick is invisible in play.
+  def.collapseTime = kCollapseTime;
+  return def;
+}()) {
+  const uint32_t everything = 0xFFFFFFFFu;
+  for (const MapWall& w : map.walls) {
+    rattle::BodyId body = world_.createBody(bodyAt(rattle::BodyType::Static, w.origin));
+    world_.createFixture(body, fixture(w.shape, filter(kWall, everything)));
+    setTag(body, Tag::Wall, uint32_t(w.objectId));
+  }
+  for (size_t i = 0; i < map.doorways.size(); ++i) {
+    const MapDoorway& d = map.doorways[i];
+    rattle::BodyId body = world_.createBody(bodyAt(rattle::BodyType::Static, d.a));
+    world_.createFixture(body, fixture(rattle::Segment{{0, 0}, d.b - d.a}, filter(kDoorway, kUnit0 | kUnit1), true));
+    setTag(body, Tag::Doorway, uint32_t(i));
+  }
+  for (size_t i = 0; i < map.rooms.size(); ++i) {
+    rattle::BodyId body = world_.createBody(bodyAt(rattle::BodyType::Static, {0, 0}));
+    rooms_.push_back(
+        world_.createFixture(body, fixture(rattle::Polygon{map.rooms[i].polygon}, filter(kRoom, kUnit0 | kUnit1), true)));
+    setTag(body, Tag::Room, uint32_t(i));
+  }
+  for (size_t i = 0; i < map.gates.size(); ++i) {
+    rattle::BodyId body = world_.createBody(bodyAt(rattle::BodyType::Kinematic, map.gates[i].origin));
+    world_.createFixture(body, fixture(rattle::Polygon{map.gates[i].polygon}, filter(kGate, everything)));
+    setTag(body, Tag::Gate, uint32_t(i));
+    gates_.push_back(body);
+    gateShapes_.push_back(map.gates[i]);
+  }
+}
+
+void Physics::setTag(rattle::BodyId body, Tag tag, uint32_t id) {
+  if (tags_.size() <= body.index) tags_.resize(size_t(body.index) + 1);
+  tags_[body.index] = {body.generation, tag, id};
+}
+
+const Physics::SlotTag* Physics::tagOf(rattle::BodyId body) const {
+  if (body.index >= tags_.size()) return nullptr;
+  const SlotTag& t = tags_[body.index];
+  return t.generation == body.generation ? &t : nullptr;
+}
+
+rattle::BodyId Physics::addUnit(uint32_t id, int team, Vec2 position, const UnitType& type) {
+  const int other = 1 - team;
+  rattle::BodyId body = world_.createBody(bodyAt(rattle::BodyType::Dynamic, position));
+  // The body: blocked by walls and every unit, hit by the other team's shots, seen by the other team's
+  // sight sensors, noticed by doorways, rooms and unit queries.
+  world_.createFixture(body, fixture(rattle::Circle{{0, 0}, type.radius},
+                                     filter(unitBit(team), kWall | kGate | kUnit0 | kUnit1 | shotBit(other) |
+                                                               sightBit(other) | kDoorway | kRoom | kRay),
+                                     false, type.density));
+  // The concentric sight sensor: told only about the other team's bodies.
+  world_.createFixture(body, fixture(rattle::Circle{{0, 0}, type.sight}, filter(sightBit(team), unitBit(other)), true));
+  setTag(body, Tag::Unit, id);
+  return body;
+}
+
+rattle::BodyId Physics::addShot(uint32_t id, int team, Vec2 position, Vec2 velocity, double radius) {
+  rattle::BodyId body = world_.createBody(bodyAt(rattle::BodyType::Dynamic, position, velocity));
+  // Light, so a hit barely pushes the unit; it meets only walls and the other team's units.
+  world_.createFixture(body, fixture(rattle::Circle{{0, 0}, radius}, filter(shotBit(team), kWall | kGate | unitBit(1 - team)),
+                                     false, 0.2));
+  setTag(body, Tag::Shot, id);
+  return body;
+}
+
+void Physics::remove(rattle::BodyId body) { world_.destroyBody(body); }
+
+void Physics::placeGate(size_t gate, Vec2 position) {
+  world_.setVelocity(gates_[gate], {0, 0});
+  world_.setPosition(gates_[gate], position);
+}
+
+const StepEvents& Physics::step(double dt) {
+  const auto start = std::chrono::steady_clock::now();
+  world_.step(dt);
+  lastStepSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  events_.shotContacts.clear();
+  events_.unitContacts.clear();
+  events_.sight.clear();
+  events_.doorways.clear();
+  for (const rattle::ContactEvent& c : world_.contactEvents()) {
+    const SlotTag* a = tagOf(c.bodyA);
+    const SlotTag* b = tagOf(c.bodyB);
+    if (!a || !b) continue;
+    if (a->tag == Tag::Unit && b->tag == Tag::Unit) {
+      events_.unitContacts.push_back({a->id, false, b->id, c.normal});
+      events_.unitContacts.push_back({b->id, false, a->id, -c.normal});
+      continue;
+    }
+    if (a->tag == Tag::Unit && (b->tag == Tag::Wall || b->tag == Tag::Gate)) {
+      events_.unitContacts.push_back({a->id, true, 0, c.normal});
+      continue;
+    }
+    if (b->tag == Tag::Unit && (a->tag == Tag::Wall || a->tag == Tag::Gate)) {
+      events_.unitContacts.push_back({b->id, true, 0, -c.normal});
+      continue;
+    }
+    if (b->tag == Tag::Shot) std::swap(a, b);
+    if (a->tag != Tag::Shot) continue;  // a unit against a wall: the engine already did the work
+    events_.shotContacts.push_back({a->id, b->tag, b->id, c.point});
+  }
+  for (const rattle::SensorEvent& e : world_.sensorEvents()) {
+    const SlotTag* sensor = tagOf(e.sensorBody);
+    const SlotTag* visitor = tagOf(e.visitorBody);
+    if (!sensor || !visitor || visitor->tag != Tag::Unit) continue;  // gone since; the game forgot it already
+    if (sensor->tag == Tag::Unit) {
+      events_.sight.push_back({sensor->id, visitor->id, e.begin});
+    } else if (sensor->tag == Tag::Doorway) {
+      events_.doorways.push_back({sensor->id, visitor->id, e.begin});
+    }
+  }
+  return events_;
+}
+
+bool Physics::clearLine(Vec2 a, Vec2 b) const { return !world_.rayCastFirst(a, b - a, wallQuery()).has_value(); }
+
+double Physics::wallFraction(Vec2 origin, Vec2 translation) const {
+  auto hit = world_.rayCastFirst(origin, translation, wallQuery());
+  return hit ? hit->fraction : 1.0;
+}
+
+bool Physics::freeOfWalls(Vec2 center, double radius) const {
+  return world_.overlapCircle(center, radius, wallQuery()).empty();
+}
+
+bool Physics::freeOfStaticWalls(Vec2 center, double radius) const {
+  return world_.overlapCircle(center, radius, wallQuery(false)).empty();
+}
+
+bool Physics::gateBlocks(size_t gate, bool open, Vec2 p, double radius) const {
+  const MapGate& g = gateShapes_[gate];
+  const Vec2 at = g.origin + (open ? g.openOffset : Vec2{0, 0});
+  return rattle::distanceTo(rattle::Polygon{g.polygon}, p - at) <= radius;
+}
+
+bool Physics::anyUnitIn(const rattle::Box& box) const {
+  rattle::QueryFilter q;
+  q.categoryBits = kRay;
+  q.maskBits = kUnit0 | kUnit1;
+  return !world_.overlapBox(box, q).empty();
+}
+
+void Physics::unitsTouchingRoom(size_t room, std::vector<uint32_t>& out) const {
+  out.clear();
+  for (rattle::FixtureId f : world_.sensorOverlaps(rooms_[room])) {
+    if (const SlotTag* t = tagOf(world_.body(f)); t && t->tag == Tag::Unit) out.push_back(t->id);
+  }
+}
+
+}  // namespace rts

@@ -1,0 +1,103 @@
+// The renderer: the same game state gives the same bytes, and a frame is a picture, not a blank.
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <set>
+
+#include "game/game.h"
+#include "game/opponent.h"
+#include "map/map_loader.h"
+#include "render/offscreen.h"
+#include "render/png.h"
+#include "render/scene_builder.h"
+
+namespace {
+
+std::string assetPath(const std::string& name) { return std::string(RATTLE_SOURCE_DIR) + "/assets/maps/" + name; }
+
+std::unique_ptr<rts::Game> playedGame(int ticks) {
+  rts::GameConfig config;
+  config.unitsPerTeam = 40;
+  auto owned = std::make_unique<rts::Game>(rts::loadMap(assetPath("arena.json")), config);
+  rts::Game& game = *owned;
+  rts::ScriptedOpponent opponent(5);
+  std::vector<rts::Command> commands;
+  for (int t = 0; t < ticks; ++t) {
+    commands.clear();
+    opponent.commandsFor(game.tickCount(), game, commands);
+    for (const rts::Command& c : commands) game.apply(c);
+    game.tick();
+  }
+  return owned;
+}
+
+// Distinct colours, and how many pixels differ from the first one.
+std::pair<size_t, size_t> variety(const std::vector<uint8_t>& rgba) {
+  std::set<uint32_t> colours;
+  size_t differing = 0;
+  for (size_t i = 0; i + 3 < rgba.size(); i += 4) {
+    const uint32_t c = uint32_t(rgba[i]) | uint32_t(rgba[i + 1]) << 8 | uint32_t(rgba[i + 2]) << 16;
+    colours.insert(c);
+    differing += rgba[i] != rgba[0] || rgba[i + 1] != rgba[1] || rgba[i + 2] != rgba[2];
+  }
+  return {colours.size(), differing};
+}
+
+TEST(DemoRender, SameStateSameBytesAndNotBlank) {
+  std::unique_ptr<rts::Game> owned = playedGame(90);
+  const rts::Game& game = *owned;
+  rts::SceneOptions options;
+  options.showTimes = false;  // the one wall-clock number on screen
+  rts::OffscreenRenderer renderer(320, 180, 2);
+  const std::vector<uint8_t> first = renderer.render(rts::buildScene(game, options));
+  const std::vector<uint8_t> second = renderer.render(rts::buildScene(game, options));
+  EXPECT_EQ(first, second);
+  auto [colours, differing] = variety(first);
+  EXPECT_GT(colours, 50u);
+  EXPECT_GT(differing, first.size() / 4 / 2) << "most of the frame is one colour";
+
+  // A second renderer, and a second game played the same way, draw the very same frame.
+  std::unique_ptr<rts::Game> again = playedGame(90);
+  rts::OffscreenRenderer other(320, 180, 2);
+  EXPECT_EQ(other.render(rts::buildScene(*again, options)), first);
+}
+
+TEST(DemoRender, UnitsAreDrawnInTheirTeamColours) {
+  std::unique_ptr<rts::Game> owned = playedGame(1);
+  const rts::Game& game = *owned;
+  rts::SceneOptions options;
+  options.fogTeam = -1;
+  options.showSight = false;
+  const int w = 640, h = 360;
+  rts::OffscreenRenderer renderer(w, h, 2);
+  const std::vector<uint8_t>& px = renderer.render(rts::buildScene(game, options));
+  // The middle of blue's spawn blob is blue, of red's is red.
+  auto at = [&](rts::Vec2 p) {
+    const int x = int(p.x * w / game.map().width), y = int(p.y * h / game.map().height);
+    return &px[(size_t(y) * w + size_t(x)) * 4];
+  };
+  const uint8_t* blue = at(game.units()[0].position);
+  const uint8_t* red = at(game.units()[1].position);
+  EXPECT_GT(blue[2], blue[0] + 60);
+  EXPECT_GT(red[0], red[2] + 60);
+}
+
+TEST(DemoRender, PngRoundTrip) {
+  std::vector<uint8_t> rgba(16 * 8 * 4);
+  for (size_t i = 0; i < rgba.size(); ++i) rgba[i] = uint8_t(i % 4 == 3 ? 255 : i * 7);
+  const std::string path = testing::TempDir() + "/rattle_demo_roundtrip.png";
+  ASSERT_EQ(rts::writePng(path, 16, 8, rgba), "");
+  int w = 0, h = 0;
+  std::vector<uint8_t> back;
+  ASSERT_EQ(rts::readPng(path, w, h, back), "");
+  EXPECT_EQ(w, 16);
+  EXPECT_EQ(h, 8);
+  EXPECT_EQ(back, rgba);
+  EXPECT_NE(rts::writePng("/nonexistent/dir/x.png", 16, 8, rgba), "");
+}
+
+TEST(DemoRender, TooLargeAFrameIsAClearError) {
+  EXPECT_THROW(rts::OffscreenRenderer(20000, 100, 2), rts::RenderError);
+}
+
+}  // namespace
