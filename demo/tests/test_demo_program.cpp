@@ -14,7 +14,9 @@ struct Outcome {
 };
 
 Outcome run(const std::string& arguments) {
-  const std::string log = testing::TempDir() + "/rattle_demo_program.log";
+  // One log per test: ctest runs these tests as parallel processes.
+  const std::string log = testing::TempDir() + "/rattle_demo_program_" +
+                          testing::UnitTest::GetInstance()->current_test_info()->name() + ".log";
   const std::string command = std::string(RATTLE_DEMO_BINARY) + " " + arguments + " > " + log + " 2>&1";
   Outcome r;
   const int raw = std::system(command.c_str());
