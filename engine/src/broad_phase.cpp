@@ -1,5 +1,7 @@
 #include "broad_phase.h"
 
+#include <limits>
+
 namespace rattle::detail {
 
 void BroadPhase::add(uint32_t fixture, const Box& box, bool moving) {
@@ -101,21 +103,41 @@ void BroadPhase::buildQueryBands() {
   if (movingBands_.size() < bandCount_) {
     movingBands_.resize(bandCount_);
     staticBands_.resize(bandCount_);
+    wideBands_.resize(bandCount_);
   }
   if (grownBands_.size() < bandCount_) grownBands_.resize(bandCount_);
+  // Wide: more than four times the width of the narrowest quarter of the moving boxes.
+  std::vector<double> widths;
+  for (uint32_t f : order_) {
+    const Proxy& p = proxies_[f];
+    if (p.moving) widths.push_back(p.box.max.x - p.box.min.x);
+  }
+  double wide = std::numeric_limits<double>::infinity();
+  if (widths.size() >= 64) {
+    auto quarter = widths.begin() + static_cast<std::ptrdiff_t>(widths.size() / 4);
+    std::nth_element(widths.begin(), quarter, widths.end());
+    if (*quarter > 0) wide = 4 * *quarter;
+  }
   movingWidth_ = 0;
+  wideWidth_ = 0;
   for (uint32_t band = 0; band < bandCount_; ++band) {
     auto& moving = movingBands_[band];
     auto& fixed = staticBands_[band];
+    auto& large = wideBands_[band];
     moving.clear();
     fixed.clear();
+    large.clear();
     for (uint32_t f : bands_[band]) {
       const Proxy& p = proxies_[f];
-      if (p.moving) {
-        moving.push_back({p.box.min.x, f});
-        movingWidth_ = std::max(movingWidth_, p.box.max.x - p.box.min.x);
-      } else {
+      const double width = p.box.max.x - p.box.min.x;
+      if (!p.moving) {
         fixed.push_back({p.box.min.x, f});
+      } else if (width > wide) {
+        large.push_back({p.box.min.x, f});
+        wideWidth_ = std::max(wideWidth_, width);
+      } else {
+        moving.push_back({p.box.min.x, f});
+        movingWidth_ = std::max(movingWidth_, width);
       }
     }
   }

@@ -81,7 +81,10 @@ class BroadPhase {
   std::vector<std::vector<Entry>> movingBands_;
   std::vector<std::vector<Entry>> staticBands_;
   std::vector<std::vector<uint32_t>> grownBands_;
-  double movingWidth_ = 0;
+  // Moving boxes much wider than most (a unit's sight sensor beside its body) have their own lists, so
+  // that the reach back of every search is not set by the widest box.
+  std::vector<std::vector<Entry>> wideBands_;
+  double movingWidth_ = 0, wideWidth_ = 0;
   uint32_t queryStamp_ = 0;
   uint32_t sweep_ = 1;  // counts sweeps, so that a proxy is listed in each band's grown list once
 };
@@ -133,6 +136,10 @@ void BroadPhase::query(const Box& q, Found&& found) {
     auto it = std::lower_bound(moving.begin(), moving.end(), q.min.x - movingWidth_,
                                [](const Entry& e, double x) { return e.minX < x; });
     for (; it != moving.end() && it->minX <= q.max.x; ++it) visit(it->fixture);
+    const std::vector<Entry>& wide = wideBands_[band];
+    it = std::lower_bound(wide.begin(), wide.end(), q.min.x - wideWidth_,
+                          [](const Entry& e, double x) { return e.minX < x; });
+    for (; it != wide.end() && it->minX <= q.max.x; ++it) visit(it->fixture);
     for (const Entry& e : staticBands_[band]) {
       if (e.minX > q.max.x) break;
       visit(e.fixture);
