@@ -74,9 +74,9 @@ class BroadPhase {
   double bandOrigin_ = 0;
   double inverseBandHeight_ = 0;
   // Queries (mid-step, after a path changed) use the same bands: in each, the moving proxies in x order
-  // (found by binary search, reaching back by the widest moving box), the static ones in x order (a long
-  // wall starts early: scanned from the band's start), and the proxies grown into the band since the
-  // sweep (few; scanned whole). Built at the first query of a step.
+  // (found by binary search, reaching back by the widest box of their list: narrow or wide), the static
+  // ones in x order (a long wall starts early: scanned from the band's start), and the proxies grown into
+  // the band since the sweep (few; scanned whole). Built at the first query of a step.
   bool queryBandsReady_ = false;
   std::vector<std::vector<Entry>> movingBands_;
   std::vector<std::vector<Entry>> staticBands_;
