@@ -341,23 +341,8 @@ void World::Impl::stepHybrid(double dt) {
     }
   });
   // An overlap whose pair the sweep did not see cannot hold any more (the body was moved away
-  // between steps): it ends at time 0. Sorted, so the map's order does not reach the events.
-  if (!sensorOverlaps.empty()) {
-    std::vector<uint64_t> unseen;
-    for (const auto& [key, seen] : sensorOverlaps) {
-      if (seen == stepStamp) continue;
-      // Unseen because neither body moves (a sleeping body in a static sensor) is no end.
-      const uint32_t sensor = static_cast<uint32_t>(key >> 32), visitor = static_cast<uint32_t>(key);
-      if (!overlaps(fixtures[sensor].geometry, bodyOf(sensor).position, fixtures[visitor].geometry,
-                    bodyOf(visitor).position)) {
-        unseen.push_back(key);
-      }
-    }
-    std::sort(unseen.begin(), unseen.end());
-    for (uint64_t key : unseen) {
-      recordSensorChange(static_cast<uint32_t>(key >> 32), static_cast<uint32_t>(key), 0.0, false, sensorEvents);
-    }
-  }
+  // between steps): it ends at time 0.
+  if (!sensorOverlaps.empty()) endUnseenOverlaps([this](uint32_t body) { return bodies[body].position; });
   for (uint32_t i = 0; i < bodies.size(); ++i) {
     if (bodies[i].alive) predictSlideEnd(i, 0, dt);
   }

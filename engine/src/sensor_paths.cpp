@@ -127,19 +127,7 @@ void World::Impl::sensePaths(PathLog& log, double end) {
 
   // 3. Overlaps whose pair the sweep did not see: the body was moved away between steps (so they are
   // judged where the bodies were at the step's start).
-  std::vector<uint64_t> unseen;
-  for (const auto& [key, seen] : sensorOverlaps) {
-    if (seen == stepStamp) continue;
-    const uint32_t sensor = static_cast<uint32_t>(key >> 32), visitor = static_cast<uint32_t>(key);
-    if (!overlaps(fixtures[sensor].geometry, positionOn(pathOf(fixtures[sensor].body)[0], 0.0),
-                  fixtures[visitor].geometry, positionOn(pathOf(fixtures[visitor].body)[0], 0.0))) {
-      unseen.push_back(key);
-    }
-  }
-  std::sort(unseen.begin(), unseen.end());  // the map's order must not reach the events
-  for (uint64_t key : unseen) {
-    recordSensorChange(static_cast<uint32_t>(key >> 32), static_cast<uint32_t>(key), 0.0, false, sensorEvents);
-  }
+  endUnseenOverlaps([&](uint32_t body) { return positionOn(pathOf(body)[0], 0.0); });
   // One pair's events are in time order already; a stable sort keeps them so at equal times.
   std::stable_sort(found.begin(), found.end(), [](const SensorEvent& x, const SensorEvent& y) {
     if (x.time != y.time) return x.time < y.time;

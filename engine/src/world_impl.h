@@ -154,6 +154,12 @@ struct World::Impl {
   /// Ends every overlap of `fixture` for which `keep(other)` is false, as pending end events.
   template <class Keep>
   void endOverlapsOf(uint32_t fixture, Keep&& keep);
+  /// Ends at time 0 (into sensorEvents) every overlap the step's sweep did not see (its stamp is not
+  /// stepStamp) whose two fixtures no longer overlap where their bodies start the step
+  /// (`startOf(body)`): a body moved away between steps. Unseen because neither body moves (a sleeping
+  /// body in a static sensor) is no end.
+  template <class StartOf>
+  void endUnseenOverlaps(StartOf&& startOf);
   void recomputeMass(detail::BodySlot& body);
 
   // Motion inside a step: a parabola from the body's local time (a straight line without gravity).
@@ -204,6 +210,23 @@ void World::Impl::endOverlapsOf(uint32_t fixture, Keep&& keep) {
   std::sort(ended.begin(), ended.end());  // the map's order must not reach the events
   for (uint64_t key : ended) {
     recordSensorChange(static_cast<uint32_t>(key >> 32), static_cast<uint32_t>(key), 0.0, false, pendingSensorEvents);
+  }
+}
+
+template <class StartOf>
+void World::Impl::endUnseenOverlaps(StartOf&& startOf) {
+  std::vector<uint64_t> unseen;
+  for (const auto& [key, seen] : sensorOverlaps) {
+    if (seen == stepStamp) continue;
+    const uint32_t sensor = static_cast<uint32_t>(key >> 32), visitor = static_cast<uint32_t>(key);
+    if (!overlaps(fixtures[sensor].geometry, startOf(fixtures[sensor].body), fixtures[visitor].geometry,
+                  startOf(fixtures[visitor].body))) {
+      unseen.push_back(key);
+    }
+  }
+  std::sort(unseen.begin(), unseen.end());  // the map's order must not reach the events
+  for (uint64_t key : unseen) {
+    recordSensorChange(static_cast<uint32_t>(key >> 32), static_cast<uint32_t>(key), 0.0, false, sensorEvents);
   }
 }
 
