@@ -1,15 +1,16 @@
 #include "broad_phase.h"
 
+#include <algorithm>
 #include <limits>
 
 namespace rattle::detail {
 
-void BroadPhase::add(uint32_t fixture, const Box& box, bool moving) {
+void BroadPhase::add(uint32_t fixture, const Box& box, bool moving, bool sensor) {
   if (proxies_.size() <= fixture) proxies_.resize(fixture + 1);
   Proxy& p = proxies_[fixture];
   if (!p.present && p.listed) --removed_;  // removed and added again before a sort: listed once
   const bool listed = p.listed;
-  p = Proxy{box, moving, true, true, p.stamp};
+  p = Proxy{box, moving, true, true, sensor, p.stamp};
   if (!listed) order_.push_back(fixture);
 }
 
@@ -60,11 +61,13 @@ void BroadPhase::sortByMinX() {
 }
 
 void BroadPhase::splitIntoBands() {
-  // Band height: twice the mean height of the moving proxies' boxes (static walls can be long and would
-  // say nothing about how crowded the moving ones are). At most 4096 bands, and one when little moves.
-  double low = 0, high = 0, heights = 0;
-  size_t moving = 0;
+  // Band height: twice the height of the lowest quarter of the moving proxies' boxes. Static walls can be
+  // long and say nothing about how crowded the moving ones are; a few tall moving boxes (sight sensors)
+  // should not make every band tall, which would make every query look at a tall band. At most 4096
+  // bands, and one when little moves.
+  double low = 0, high = 0;
   bool first = true;
+  heights_.clear();
   for (uint32_t f : order_) {
     const Box& b = proxies_[f].box;
     if (first) {
@@ -74,16 +77,15 @@ void BroadPhase::splitIntoBands() {
     }
     low = std::min(low, b.min.y);
     high = std::max(high, b.max.y);
-    if (proxies_[f].moving) {
-      heights += b.max.y - b.min.y;
-      ++moving;
-    }
+    if (proxies_[f].moving) heights_.push_back(b.max.y - b.min.y);
   }
   bandCount_ = 1;
   bandOrigin_ = low;
   inverseBandHeight_ = 0;
-  if (moving >= 64) {
-    const double bandHeight = 2 * heights / static_cast<double>(moving);
+  if (heights_.size() >= 64) {
+    auto quarter = heights_.begin() + static_cast<std::ptrdiff_t>(heights_.size() / 4);
+    std::nth_element(heights_.begin(), quarter, heights_.end());
+    const double bandHeight = 2 * *quarter;
     const double count = bandHeight > 0 ? (high - low) / bandHeight : 1;
     if (count > 1 && count < 1e9) {
       bandCount_ = static_cast<uint32_t>(std::min(count, 4096.0)) + 1;

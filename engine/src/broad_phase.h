@@ -22,7 +22,8 @@ namespace rattle::detail {
 
 class BroadPhase {
  public:
-  void add(uint32_t fixture, const Box& box, bool moving);
+  /// `sensor`: two sensors never pair (they only sense physical fixtures), so the sweep skips them.
+  void add(uint32_t fixture, const Box& box, bool moving, bool sensor = false);
   /// Lazy: the proxy leaves the sorted order at the next sort.
   void remove(uint32_t fixture);
   bool contains(uint32_t fixture) const { return fixture < proxies_.size() && proxies_[fixture].present; }
@@ -48,6 +49,7 @@ class BroadPhase {
     bool moving = false;
     bool present = false;
     bool listed = false;   // in order_ (a removed proxy stays listed until the next sort)
+    bool sensor = false;
     uint32_t stamp = 0;    // the last query that reported it
     uint32_t grownSweep = 0;         // the sweep in which grownLow..grownHigh were listed
     uint32_t grownLow = 0, grownHigh = 0;  // the bands whose grown lists hold it
@@ -70,6 +72,7 @@ class BroadPhase {
   // Horizontal bands for the sweep: a single x sweep over a square region compares every proxy with a
   // whole column of others (O(N^1.5)); sweeping bands about two boxes tall keeps it near O(N).
   std::vector<std::vector<uint32_t>> bands_;
+  std::vector<double> heights_;  // scratch of splitIntoBands
   uint32_t bandCount_ = 1;
   double bandOrigin_ = 0;
   double inverseBandHeight_ = 0;
@@ -105,7 +108,7 @@ void BroadPhase::findPairs(Report&& report) {
         const uint32_t fj = list[j];
         const Proxy& pj = proxies_[fj];
         if (pj.box.min.x > pi.box.max.x) break;
-        if (!pi.moving && !pj.moving) continue;
+        if ((!pi.moving && !pj.moving) || (pi.sensor && pj.sensor)) continue;
         if (pj.box.min.y > pi.box.max.y || pi.box.min.y > pj.box.max.y) continue;
         if (std::max(bandOf(pi.box.min.y), bandOf(pj.box.min.y)) != band) continue;
         report(fi, fj);

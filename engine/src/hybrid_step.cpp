@@ -29,6 +29,20 @@ using detail::BodySlot;
 using detail::PredictedContact;
 using detail::pathBox;
 
+namespace {
+
+// A sensor's box is wide (a unit's sight circle) and every query with it finds many candidates, while a
+// path that leaves it costs a new query. Its swept box gets a margin of one more step of the body's
+// motion, so that a collision that turns the body around (the usual change of path) stays inside it.
+// Sensor pairs are solved exactly (timeOfOverlapChange): a larger box adds candidates, never events.
+double sensorMargin(Vec2 velocity, Vec2 acceleration, double h) {
+  return length(velocity) * h + 0.5 * length(acceleration) * h * h;
+}
+
+Box fattened(const Box& b, double margin) { return {b.min - Vec2{margin, margin}, b.max + Vec2{margin, margin}}; }
+
+}  // namespace
+
 void World::Impl::addPair(uint32_t fa, uint32_t fb, bool sensing) {
   const uint32_t ba = fixtures[fa].body, bb = fixtures[fb].body;
   if (bodies[ba].type == BodyType::Dynamic) pairsOfBody[ba].push_back({fa, fb, sensing});
@@ -119,7 +133,9 @@ void World::Impl::repredict(uint32_t bodyIndex, double now, double dt, bool forc
     // The new path leaves the swept box (or the body just woke and the sweep skipped it as resting):
     // grow the box and ask the broad phase again.
     ++stats.requeries;
-    broadPhase.grow(f, unionOf(broadPhase.box(f), box));
+    const bool sensor = fixtures[f].sensor;
+    const Box grown = sensor ? fattened(box, sensorMargin(velocityAt(body, now), body.acceleration, dt - now)) : box;
+    broadPhase.grow(f, unionOf(broadPhase.box(f), grown));
     ++stampCounter;
     for (const auto& p : pairs) {
       if (p.own == f) stamp[p.other] = stampCounter;
@@ -301,9 +317,11 @@ void World::Impl::stepHybrid(double dt) {
     if (moving) speedScale = std::max(speedScale, length(b.velocity) + length(b.acceleration) * dt);
     if (b.type == BodyType::Static) continue;
     const Box path = moving ? pathBox(b.position, b.velocity, b.acceleration, dt) : Box{b.position, b.position};
+    const double margin = moving ? sensorMargin(b.velocity, b.acceleration, dt) : 0.0;
     for (uint32_t f : b.fixtures) {
       broadPhase.setMoving(f, moving);
-      broadPhase.setBox(f, Box{path.min + fixtures[f].localBox.min, path.max + fixtures[f].localBox.max});
+      const Box box{path.min + fixtures[f].localBox.min, path.max + fixtures[f].localBox.max};
+      broadPhase.setBox(f, fixtures[f].sensor ? fattened(box, margin) : box);
     }
   }
 

@@ -311,7 +311,7 @@ FixtureId World::createFixture(BodyId bodyId, const FixtureDef& def) {
   f.filter = def.filter;
   body.fixtures.push_back(index);
   w.recomputeMass(body);
-  w.broadPhase.add(index, w.worldBox(index), body.type != BodyType::Static);
+  w.broadPhase.add(index, w.worldBox(index), body.type != BodyType::Static, f.sensor);
   return FixtureId{index, generation};
 }
 
