@@ -10,6 +10,8 @@
 namespace rts::replay {
 namespace {
 
+constexpr int64_t kMaxUlpsShown = 1 << 20;
+
 const char* teamName(int team) { return team == 0 ? "blue" : "red"; }
 
 std::string exact(double v) {
@@ -23,10 +25,14 @@ class Differ {
   explicit Differ(std::vector<FieldDiff>& out) : out_(out) {}
   void real(const std::string& body, const char* field, double was, double now) {
     if (std::bit_cast<uint64_t>(was) == std::bit_cast<uint64_t>(now)) return;
+    // The distance in ulps says "rounding" (a few) or "something else" (many): shown while it is small.
     char delta[80];
     const int64_t ulps = ulpDistance(was, now);
-    std::snprintf(delta, sizeof delta, "%+.3g (%s%" PRId64 " ulp%s)", now - was, ulps == std::numeric_limits<int64_t>::max() ? ">" : "",
-                  ulps, ulps == 1 ? "" : "s");
+    if (ulps <= kMaxUlpsShown) {
+      std::snprintf(delta, sizeof delta, "%+.3g, %" PRId64 " ulp%s", now - was, ulps, ulps == 1 ? "" : "s");
+    } else {
+      std::snprintf(delta, sizeof delta, "%+.3g", now - was);
+    }
     out_.push_back({body, field, exact(was), exact(now), delta});
   }
   void integer(const std::string& body, const char* field, int64_t was, int64_t now) {

@@ -16,7 +16,7 @@ struct FieldDiff {
   std::string field;     ///< "position.x", "hitPoints", ...
   std::string recorded;  ///< the value in the replay, exactly (%.17g for doubles)
   std::string actual;    ///< the value in this run
-  std::string delta;     ///< "+1.78e-15 (1 ulp)", "-1", or "" when not a number
+  std::string delta;     ///< "+1.78e-15, 1 ulp" (ulps while at most 2^20), "-1", or "" when not a number
 };
 
 /// The names of the bodies whose digests differ (and of bodies present in one only). `game` names them.
