@@ -26,7 +26,7 @@ const char* teamName(int t) { return t == 0 ? "blue" : "red"; }
 
 std::string played(uint8_t teams) {
   switch (teams & 3) {
-    case 0: return "nobody (commands from a script or a person only)";
+    case 0: return "nobody";
     case 1: return "blue";
     case 2: return "red";
     default: return "blue and red";
@@ -71,11 +71,21 @@ int runInfo(const std::vector<std::string>& args) {
   std::printf("map       %s (%zu bytes embedded, FNV-1a %s)\n", r.mapName.c_str(), r.mapJson.size(), hex64(r.mapHash).c_str());
   std::printf("game      %u units per team, %s step mode, weapons %s, %u gates, %u doorways, %u rooms\n", c.unitsPerTeam, modeName(c.stepMode),
               c.weapons ? "on" : "off", c.gateCount, c.doorwayCount, c.roomCount);
-  std::printf("played by scripted opponent (seed %llu) for %s; recorded by %s\n", static_cast<unsigned long long>(c.seed),
-              played(c.opponentTeams).c_str(), c.recordedBy.c_str());
+  if (c.opponentTeams & 3) {
+    std::printf("played by the scripted opponent for %s (seed %llu); recorded by %s\n", played(c.opponentTeams).c_str(),
+                static_cast<unsigned long long>(c.seed), c.recordedBy.c_str());
+  } else {
+    std::printf("played by commands from a script or a person only; recorded by %s\n", c.recordedBy.c_str());
+  }
   std::printf("ticks     %u (%.1f s of game time at 30 ticks a second)\n", r.tickCount(), r.tickCount() / 30.0);
   std::printf("commands  %zu (%zu move, %zu stop, %zu gate)\n", r.commandCount(), moves, stops, gates);
   std::printf("keyframes %zu (every %u ticks, and the last tick)\n", r.keyframes.size(), c.keyframeEvery);
+  const Snapshot& last = r.keyframes.back().state;  // the reader guarantees one at the last tick
+  int alive[2] = {0, 0};
+  for (size_t u = 0; u < last.units.size(); ++u) alive[u % 2] += last.units[u].alive;  // ids alternate blue, red
+  std::printf("at the end blue %d, red %d units; %lld shots (%lld hit walls, %lld hit units); %lld doorway crossings\n", alive[0], alive[1],
+              static_cast<long long>(last.counters.shotsFired), static_cast<long long>(last.counters.wallHits),
+              static_cast<long long>(last.counters.unitHits), static_cast<long long>(last.counters.crossings));
   std::printf("hashes    tick 0 %s, tick %u %s\n", hex64(r.initialStateHash).c_str(), r.tickCount(),
               hex64(r.ticks.empty() ? r.initialStateHash : r.ticks.back().stateHash).c_str());
   std::printf("build\n");

@@ -141,4 +141,34 @@ TEST(ReplayProgram, TheDemoRecordsWhatItPlays) {
   EXPECT_TRUE(has(o, "--record FILE")) << o.output;
 }
 
+TEST(ReplayProgram, TheWindowRecordsThePersonsOrders) {
+  if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0) {
+    FAIL() << "xvfb-run is missing: scripts/install-deps.sh installs it (package xvfb)";
+  }
+  const std::string script = scratch("input.txt"), file = scratch("window.replay");
+  writeFile(script,
+            "5 drag 20 20 330 370\n"  // select the blue units in the west room (640x360 on a 40x24 map)
+            "6 rclick 560 180\n"      // send them east
+            "30 key g\n");            // work the gate
+  Outcome o = run("xvfb-run -a -s '-screen 0 800x600x24' " RATTLE_DEMO_BINARY,
+                  "--window --map " + sourcePath("assets/maps/small.json") + " --units 3 --size 640x360 --ticks 60 --input " + script +
+                      " --record " + file);
+  ASSERT_EQ(o.status, 0) << o.output;
+  const Replay r = parsed(readFile(file));
+  EXPECT_EQ(r.tickCount(), 60u);
+  EXPECT_EQ(r.config.recordedBy, "rattle-demo --window");
+  EXPECT_EQ(r.config.opponentTeams, 2) << "the opponent plays red only";
+  int personMoves = 0, personGates = 0;
+  for (const TickRecord& t : r.ticks) {
+    for (const rts::Command& c : t.commands) {
+      personMoves += c.team == 0 && c.type == rts::CommandType::Move;
+      personGates += c.team == 0 && c.type == rts::CommandType::ToggleGate;
+    }
+  }
+  EXPECT_EQ(personMoves, 1);
+  EXPECT_EQ(personGates, 1);
+  o = replayTool("verify " + file);
+  EXPECT_EQ(o.status, 0) << o.output;
+}
+
 }  // namespace
