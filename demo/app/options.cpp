@@ -59,6 +59,7 @@ bool parseLong(const char* text, long lo, long hi, long& out) {
 ParseResult parseOptions(int argc, char** argv) {
   ParseResult r;
   Options& o = r.options;
+  bool keyframeGiven = false;
   auto fail = [&](const std::string& message) {
     std::fprintf(stderr, "rattle-demo: %s\nTry 'rattle-demo --help'.\n", message.c_str());
     r.action = ParseResult::Action::Exit;
@@ -171,6 +172,7 @@ ParseResult parseOptions(int argc, char** argv) {
     } else if (arg == "--keyframe-every") {
       if (!number(1, 100'000'000, n)) return badNumber(1, 100'000'000);
       o.keyframeEvery = int(n);
+      keyframeGiven = true;
     } else if (arg == "--quiet") {
       o.quiet = true;
     } else {
@@ -181,6 +183,7 @@ ParseResult parseOptions(int argc, char** argv) {
     return fail(std::string(o.screenshot.empty() ? "--input" : "--screenshot") + " needs --window");
   }
   if (o.window && !o.render) return fail("--window and --no-render cannot go together");
+  if (keyframeGiven && o.record.empty()) return fail("--keyframe-every needs --record");
   return r;
 }
 
