@@ -187,18 +187,6 @@ void World::Impl::resolve(const PredictedContact& c, std::vector<uint32_t>& woke
   const double restingSpeed = def.restingSpeed;
   if (a.asleep && (b.type == BodyType::Kinematic || -vn > restingSpeed)) wakeUp(ia, c.time, woken);
   if (b.asleep && (a.type == BodyType::Kinematic || -vn > restingSpeed)) wakeUp(ib, c.time, woken);
-  // Zeno guard: a body wedged where the independent-collision model needs infinitely many bounces (a
-  // narrowing gap between a wall and a resting disk) collides ever faster without coming to rest. Once
-  // it has collided kZenoCollisions times in one step while held up by static or sleeping bodies, it
-  // sleeps where it is, before this contact, so the contact sees it as resting.
-  constexpr int kZenoCollisions = 64;
-  if (restingSpeed > 0 && (def.gravity.x != 0 || def.gravity.y != 0)) {
-    for (uint32_t index : {ia, ib}) {
-      BodySlot& s = bodies[index];
-      if (s.type != BodyType::Dynamic || s.asleep) continue;
-      if (++s.stepCollisions > kZenoCollisions && supportsAt(index, c.time, supporters)) putToSleep(index, supporters);
-    }
-  }
   const double inverseA = a.asleep ? 0.0 : a.inverseMass;
   const double inverseB = b.asleep ? 0.0 : b.inverseMass;
   const double inverseSum = inverseA + inverseB;
@@ -401,6 +389,18 @@ void World::Impl::stepHybrid(double dt) {
       const double speed = length(relativeVelocity);
       if (vn < -16 * std::numeric_limits<double>::epsilon() * speed && speed > restTolerance &&
           stats.eventsProcessed < def.maxEventsPerStep) {
+        const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
+        const bool jamA = isJammed(ia), jamB = isJammed(ib);
+        if (jamA || jamB) {
+          const int used = settleJam(jamA ? ia : ib, c.time, dt, def.maxEventsPerStep - stats.eventsProcessed);
+          if (used < 0) {
+            stats.eventBudgetReached = true;
+            budgetTime = c.time;
+            break;
+          }
+          stats.eventsProcessed += used;
+          continue;
+        }
         absorb(c, vn);
         ++stats.eventsProcessed;  // bounded by the budget like any other change of motion
         for (uint32_t body : {fixtures[c.a].body, fixtures[c.b].body}) {
@@ -414,10 +414,22 @@ void World::Impl::stepHybrid(double dt) {
       budgetTime = c.time;
       break;
     }
+    const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
+    // A body caught in a collapse or a jam collides ever faster without coming to rest (jam.cpp).
+    const bool jamA = isJammed(ia), jamB = isJammed(ib);
+    if (jamA || jamB) {
+      const int used = settleJam(jamA ? ia : ib, c.time, dt, def.maxEventsPerStep - stats.eventsProcessed);
+      if (used < 0) {
+        stats.eventBudgetReached = true;
+        budgetTime = c.time;
+        break;
+      }
+      stats.eventsProcessed += used;
+      continue;
+    }
     woken.clear();
     resolve(c, woken);
     ++stats.eventsProcessed;
-    const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
     for (uint32_t w : woken) {
       if (w != ia && w != ib) repredict(w, c.time, dt, true);
     }

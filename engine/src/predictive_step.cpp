@@ -1361,6 +1361,8 @@ void Engine<W>::step(double dt) {
       if (j != PredictiveState::kNone) fillPairs(j);
     }
     s_.woken.clear();
+    w_.sleepIfZeno(ia, c.time);
+    if (j != PredictiveState::kNone) w_.sleepIfZeno(w_.fixtures[c.b].body, c.time);
     w_.resolve(contact, s_.woken);
     ++w_.stats.eventsProcessed;
     {

@@ -96,6 +96,19 @@ bool World::Impl::supportsAt(uint32_t bodyIndex, double now, std::vector<uint32_
   return false;
 }
 
+void World::Impl::sleepIfZeno(uint32_t bodyIndex, double now) {
+  // A body wedged where the independent-collision model needs infinitely many bounces (a narrowing gap
+  // between a wall and a resting disk) collides ever faster without coming to rest. Once it has collided
+  // kZenoCollisions times in one step while held up by static or sleeping bodies, it sleeps where it is,
+  // before the contact at hand, so that contact sees it as resting. (The hybrid step resolves such
+  // clusters at once instead: jam.cpp.)
+  constexpr int kZenoCollisions = 64;
+  BodySlot& s = bodies[bodyIndex];
+  if (!(def.restingSpeed > 0) || (def.gravity.x == 0 && def.gravity.y == 0)) return;
+  if (s.type != BodyType::Dynamic || s.asleep) return;
+  if (++s.stepCollisions > kZenoCollisions && supportsAt(bodyIndex, now, supporters)) putToSleep(bodyIndex, supporters);
+}
+
 void World::Impl::putToSleep(uint32_t bodyIndex, const std::vector<uint32_t>& supporters) {
   BodySlot& b = bodies[bodyIndex];
   b.asleep = true;

@@ -171,6 +171,8 @@ struct World::Impl {
 
   // resting.cpp
   void putToSleep(uint32_t body, const std::vector<uint32_t>& supporters);
+  /// The predictive mode's guard against a Zeno sequence: counts a collision of `body` in this step.
+  void sleepIfZeno(uint32_t body, double now);
   void wakeUp(uint32_t body, double now, std::vector<uint32_t>& woken);
   void startSliding(uint32_t body, uint32_t fixture, int feature, Vec2 normal);
   void stopSliding(detail::BodySlot& b);
@@ -198,6 +200,14 @@ struct World::Impl {
   void advance(detail::BodySlot& b, double t);
   void resolve(const detail::PredictedContact& c, std::vector<uint32_t>& woken);
   void absorb(const detail::PredictedContact& c, double vn);
+
+  // jam.cpp: a cluster of touching bodies resolved at once when one of them collides too often.
+  static constexpr int kJamCollisions = 64;
+  /// Counts a collision of `body` in this step; true once it has had more than kJamCollisions.
+  bool isJammed(uint32_t body);
+  /// Resolves the touching cluster of `seed` at `now`; returns the contact events it took, or -1 (and
+  /// changes nothing) when they would not fit in `budget`.
+  int settleJam(uint32_t seed, double now, double dt, int budget);
 };
 
 template <class Keep>

@@ -154,11 +154,12 @@ struct ContactEvent {
 struct StepStats {
   int candidatePairs = 0;     ///< fixture pairs the broad phase handed to the narrow phase
   int timeOfImpactTests = 0;  ///< narrow-phase time-of-impact evaluations
-  int eventsProcessed = 0;    ///< collisions resolved
+  int eventsProcessed = 0;    ///< collisions resolved (a jam resolved at once: one per contact)
   int staleEvents = 0;        ///< predictions discarded because a body's motion changed first
   int requeries = 0;          ///< times a body's new path left its swept box and the broad phase was asked again
   int sleeping = 0;           ///< dynamic bodies asleep at the end of the step
-  /// The step reached WorldDef::maxEventsPerStep and stopped every body at that instant.
+  /// The step's next change of motion would have taken it past WorldDef::maxEventsPerStep: every body
+  /// stopped at that instant.
   bool eventBudgetReached = false;
 };
 
