@@ -11,7 +11,7 @@ CMAKE_FLAGS ?=
 # Extra arguments for bench/run_matrix.py, e.g. BENCH_FLAGS=--quick for a small matrix.
 BENCH_FLAGS ?=
 
-.PHONY: all deps configure build demo test test-sanitize bench clean help
+.PHONY: all deps configure build demo test test-sanitize bench replays update-goldens clean help
 
 all: build
 
@@ -21,6 +21,8 @@ help:
 	@echo "make test-sanitize  the same tests built with ASan+UBSan in $(SANITIZE_DIR)/"
 	@echo "make bench          build rattle-bench, run the standard matrix against Box2D and Chipmunk,"
 	@echo "                    write bench/RESULTS.md, bench/results.csv, bench/scaling.csv, bench/figures/"
+	@echo "make replays        record assets/replays/*.replay again (scripts/record-replays.sh)"
+	@echo "make update-goldens render the golden frames of assets/golden/frames.txt again (on purpose only)"
 	@echo "make clean          remove build trees and out/"
 
 deps:
@@ -51,6 +53,15 @@ bench: deps
 	@cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release -DRATTLE_BUILD_BENCH=ON $(CMAKE_FLAGS) > /dev/null
 	@cmake --build $(BUILD_DIR) --target rattle-bench -j $(JOBS)
 	python3 bench/run_matrix.py --bench $(BUILD_DIR)/bin/rattle-bench $(BENCH_FLAGS)
+
+# The recorded replays the tests verify and render (replay/README.md). After `make replays`, run
+# `make update-goldens` as well and look at the new frames before committing them.
+replays: build
+	@bash scripts/record-replays.sh
+
+# Golden frames are written here and nowhere else: the tests only read them.
+update-goldens: build
+	@bash scripts/update-goldens.sh
 
 clean:
 	rm -rf $(BUILD_DIR) $(SANITIZE_DIR) out

@@ -10,10 +10,11 @@
 #include "render/offscreen.h"
 #include "render/png.h"
 #include "render/scene_builder.h"
+#include "tool/recorder.h"
 
 namespace rts {
 
-int runHeadless(Game& game, const Options& o) {
+int runHeadless(Game& game, const Options& o, replay::Recorder* recorder) {
   std::unique_ptr<OffscreenRenderer> renderer;
   if (o.render) {
     std::error_code ec;
@@ -57,10 +58,12 @@ int runHeadless(Game& game, const Options& o) {
     opponent.commandsFor(game.tickCount(), game, commands);
     for (const Command& c : commands) game.apply(c);
     game.tick();
+    if (recorder) recorder->afterTick(game, commands);
     if (renderer && game.tickCount() % unsigned(o.every) == 0 && !frame()) return 1;
     if (!o.quiet) progress(game, o.ticks, false);
   }
   if (!o.quiet) progress(game, o.ticks, true);
+  if (recorder) recorder->finish(game);
   std::sort(frameSeconds.begin(), frameSeconds.end());
   std::sort(drawSeconds.begin(), drawSeconds.end());
   printSummary(game, o, frames, frameSeconds.empty() ? 0 : frameSeconds[frameSeconds.size() / 2],

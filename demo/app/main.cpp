@@ -3,11 +3,13 @@
 // (2 for bad options).
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 
 #include "app/options.h"
 #include "app/run.h"
 #include "map/map_loader.h"
 #include "render/offscreen.h"
+#include "tool/recorder.h"
 
 namespace {
 
@@ -30,8 +32,23 @@ int main(int argc, char** argv) {
     rts::GameConfig config;
     config.unitsPerTeam = o.units;
     config.stepMode = o.mode;
-    rts::Game game(rts::loadMap(o.map), config);
-    return o.window ? rts::runWindow(game, o) : rts::runHeadless(game, o);
+    // Read the map's bytes once: a replay embeds exactly the bytes the game was built from.
+    const std::string mapJson = rts::readMapFile(o.map);
+    rts::Game game(rts::parseMap(mapJson, o.map), config);
+    std::unique_ptr<rts::replay::Recorder> recorder;
+    if (!o.record.empty()) {
+      rts::replay::RecordingInfo info;
+      info.mapName = std::filesystem::path(o.map).filename().string();
+      info.mapJson = mapJson;
+      info.seed = o.seed;
+      info.opponentTeams = o.window ? 2 : 3;
+      info.keyframeEvery = uint32_t(o.keyframeEvery);
+      info.recordedBy = o.window ? "rattle-demo --window" : "rattle-demo";
+      recorder = std::make_unique<rts::replay::Recorder>(o.record, info, game);
+    }
+    const int status = o.window ? rts::runWindow(game, o, recorder.get()) : rts::runHeadless(game, o, recorder.get());
+    if (recorder && status == 0) std::fprintf(stderr, "rattle-demo: replay written to %s\n", o.record.c_str());
+    return status;
   } catch (const rts::MapError& e) {
     std::fprintf(stderr, "rattle-demo: bad map: %s\n", e.what());
   } catch (const rts::GameError& e) {

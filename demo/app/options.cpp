@@ -36,6 +36,11 @@ const char* kUsage =
     "                  v toggles sight ranges, g works the first gate, f changes the fog, Esc quits\n"
     "  --screenshot F  with --window: save the last frame shown as PNG file F when the window closes\n"
     "  --input FILE    with --window: play the scripted input events in FILE (see demo/README.md)\n"
+    "  --record FILE   record the game as a replay in FILE (headless or --window): the map, the\n"
+    "                  commands at their ticks, the state hash of every tick; check or draw it again with\n"
+    "                  build/bin/rattle-replay verify|render FILE (replay/README.md). Recording changes\n"
+    "                  nothing in the game\n"
+    "  --keyframe-every K  with --record: every body's exact state every K ticks (default 30)\n"
     "  --quiet         no progress line\n"
     "  --help          this text\n";
 
@@ -54,6 +59,7 @@ bool parseLong(const char* text, long lo, long hi, long& out) {
 ParseResult parseOptions(int argc, char** argv) {
   ParseResult r;
   Options& o = r.options;
+  bool keyframeGiven = false;
   auto fail = [&](const std::string& message) {
     std::fprintf(stderr, "rattle-demo: %s\nTry 'rattle-demo --help'.\n", message.c_str());
     r.action = ParseResult::Action::Exit;
@@ -159,6 +165,14 @@ ParseResult parseOptions(int argc, char** argv) {
       const char* v = value();
       if (!v || !*v) return fail("--input: expected a file name");
       o.inputScript = v;
+    } else if (arg == "--record") {
+      const char* v = value();
+      if (!v || !*v) return fail("--record: expected a file name");
+      o.record = v;
+    } else if (arg == "--keyframe-every") {
+      if (!number(1, 100'000'000, n)) return badNumber(1, 100'000'000);
+      o.keyframeEvery = int(n);
+      keyframeGiven = true;
     } else if (arg == "--quiet") {
       o.quiet = true;
     } else {
@@ -169,6 +183,7 @@ ParseResult parseOptions(int argc, char** argv) {
     return fail(std::string(o.screenshot.empty() ? "--input" : "--screenshot") + " needs --window");
   }
   if (o.window && !o.render) return fail("--window and --no-render cannot go together");
+  if (keyframeGiven && o.record.empty()) return fail("--keyframe-every needs --record");
   return r;
 }
 

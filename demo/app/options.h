@@ -28,6 +28,8 @@ struct Options {
   std::string screenshot;     ///< window: save the last frame shown
   std::string inputScript;    ///< window: scripted input events (for tests)
   bool quiet = false;
+  std::string record;         ///< write a replay of the game to this file (replay/FORMAT.md)
+  int keyframeEvery = 30;     ///< the replay's keyframe interval, in ticks
 };
 
 /// What parsing decided: run with the options, exit with a status (after --help), or a usage error.

@@ -5,11 +5,15 @@
 #include "game/game.h"
 
 namespace rts {
+namespace replay {
+class Recorder;
+}
 
 /// Runs options.ticks ticks with the scripted opponent playing both teams. Returns the exit status.
-int runHeadless(Game& game, const Options& options);
+/// `recorder` (may be null) is told every tick's commands and finished at the end.
+int runHeadless(Game& game, const Options& options, replay::Recorder* recorder);
 /// Opens an SDL2 window; the person plays team 0, the scripted opponent team 1. Returns the exit status.
-int runWindow(Game& game, const Options& options);
+int runWindow(Game& game, const Options& options, replay::Recorder* recorder);
 
 /// The closing paragraph: ticks, units left, shots, wall hits, crossings, median engine step time.
 /// `medianFrameSeconds`: to draw and write a frame; `medianDrawSeconds`: to draw it (scene and OSMesa).

@@ -28,6 +28,7 @@
 #include "render/png.h"
 #include "render/renderer.h"
 #include "render/scene_builder.h"
+#include "tool/recorder.h"
 
 namespace rts {
 namespace {
@@ -123,7 +124,7 @@ struct Sdl {
 
 }  // namespace
 
-int runWindow(Game& game, const Options& o) {
+int runWindow(Game& game, const Options& o, replay::Recorder* recorder) {
   // Software SDL rendering: the picture is already made; this only copies it to the window. No OpenGL
   // on SDL's side at all (not even to speed up the window surface): a second Mesa driver loaded next to
   // OSMesa would share its dispatch table and crash.
@@ -251,6 +252,7 @@ int runWindow(Game& game, const Options& o) {
       mine.clear();
       for (const Command& c : commands) game.apply(c);
       game.tick();
+      if (recorder) recorder->afterTick(game, commands);
       if (o.ticks > 0 && game.tickCount() >= unsigned(o.ticks)) quit = true;
     }
 
@@ -277,6 +279,7 @@ int runWindow(Game& game, const Options& o) {
     }
     SDL_RenderPresent(sdl.renderer);
   }
+  if (recorder) recorder->finish(game);
   printSummary(game, o, 0, 0, 0);
   return 0;
 }

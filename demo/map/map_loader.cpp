@@ -592,7 +592,7 @@ Map parseMap(std::string_view text, const std::string& sourceName) {
   return std::move(L.map);
 }
 
-Map loadMap(const std::string& path) {
+std::string readMapFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw MapError(path + ": cannot open the map file");
   in.seekg(0, std::ios::end);
@@ -606,7 +606,9 @@ Map loadMap(const std::string& path) {
   std::string text(static_cast<size_t>(size), '\0');
   in.read(text.data(), size);
   if (!in) throw MapError(path + ": cannot read the map file");
-  return parseMap(text, path);
+  return text;
 }
+
+Map loadMap(const std::string& path) { return parseMap(readMapFile(path), path); }
 
 }  // namespace rts

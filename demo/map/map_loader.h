@@ -24,6 +24,9 @@ inline constexpr size_t kMaxMapFileBytes = 16u << 20;
 /// Parses a Tiled JSON map held in memory. `sourceName` only labels error messages.
 Map parseMap(std::string_view json, const std::string& sourceName);
 
+/// Reads a map file's bytes (at most kMaxMapFileBytes), unparsed: for a replay, which embeds them.
+std::string readMapFile(const std::string& path);
+
 /// Reads and parses a map file.
 Map loadMap(const std::string& path);
 

@@ -1,0 +1,174 @@
+// rattle-replay and rattle-demo --record as programs: help, exit statuses, messages.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+
+#include "replay_test_support.h"
+
+namespace {
+
+using namespace rts::replay;
+using namespace replay_test;
+
+struct Outcome {
+  int status = -1;
+  std::string output;  // stdout and stderr
+};
+
+Outcome run(const std::string& binary, const std::string& arguments) {
+  const std::string log = scratch("output.log");
+  const std::string command = binary + " " + arguments + " > " + log + " 2>&1";
+  Outcome r;
+  const int raw = std::system(command.c_str());
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  r.output = readFile(log);
+  return r;
+}
+
+Outcome replayTool(const std::string& arguments) { return run(RATTLE_REPLAY_BINARY, arguments); }
+
+bool has(const Outcome& o, const std::string& text) { return o.output.find(text) != std::string::npos; }
+
+TEST(ReplayProgram, HelpOnEverySubcommand) {
+  Outcome o = replayTool("--help");
+  EXPECT_EQ(o.status, 0);
+  for (const char* sub : {"info", "verify", "render", "record"}) {
+    EXPECT_TRUE(has(o, sub)) << sub;
+    Outcome s = replayTool(std::string(sub) + " --help");
+    EXPECT_EQ(s.status, 0) << sub;
+    EXPECT_TRUE(has(s, std::string("usage: rattle-replay ") + sub)) << s.output;
+    EXPECT_TRUE(has(s, "Exit status")) << sub;
+  }
+}
+
+TEST(ReplayProgram, BadUsageIsStatus2) {
+  Outcome o = replayTool("frobnicate");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_TRUE(has(o, "unknown command 'frobnicate'")) << o.output;
+  o = replayTool("verify");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_TRUE(has(o, "expected a replay FILE")) << o.output;
+  o = replayTool("render " + sourcePath("assets/replays/arena.replay"));
+  EXPECT_EQ(o.status, 2);
+  EXPECT_TRUE(has(o, "--frames DIR is required")) << o.output;
+  o = replayTool("render x --frames d --size 10by10");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_TRUE(has(o, "--size 10by10")) << o.output;
+  o = replayTool("record --map m --seed -1 --ticks 3 f");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_TRUE(has(o, "--seed -1: expected a whole number")) << o.output;
+}
+
+TEST(ReplayProgram, InfoDescribesAnAsset) {
+  Outcome o = replayTool("info --commands " + sourcePath("assets/replays/projectile-storm.replay"));
+  EXPECT_EQ(o.status, 0) << o.output;
+  for (const char* part : {"storm.json", "50 units per team", "ticks     300", "commands  20 (20 move", "compiler", "0 move blue 29.5 6 0,2,4"}) {
+    EXPECT_TRUE(has(o, part)) << part << " in " << o.output;
+  }
+}
+
+TEST(ReplayProgram, MalformedFilesAreStatus2WithTheOffsetAndField) {
+  const std::string bytes = smallReplay(10, 5);
+  const std::string cut = scratch("cut.replay");
+  writeFile(cut, bytes.substr(0, bytes.size() / 2));
+  for (const char* sub : {"info", "verify", "render --frames /tmp/never"}) {
+    Outcome o = replayTool(std::string(sub) + " " + cut);
+    EXPECT_EQ(o.status, 2) << sub << ": " << o.output;
+    EXPECT_TRUE(has(o, "not a valid replay: byte ")) << o.output;
+    EXPECT_TRUE(has(o, "truncated")) << o.output;
+  }
+  Outcome o = replayTool("verify /nonexistent.replay");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_TRUE(has(o, "/nonexistent.replay: cannot open")) << o.output;
+}
+
+TEST(ReplayProgram, VerifyPassesAnAssetAndFailsATamperedCopyNamingTheTick) {
+  const std::string asset = sourcePath("assets/replays/doorway-rush.replay");
+  Outcome o = replayTool("verify " + asset);
+  EXPECT_EQ(o.status, 0) << o.output;
+  EXPECT_TRUE(has(o, "all 360 ticks match")) << o.output;
+
+  Replay r = parsed(readFile(asset));
+  // The red rush of tick 120 (record 121) sent elsewhere.
+  ASSERT_FALSE(r.ticks[120].commands.empty());
+  r.ticks[120].commands[0].target.y += 3;
+  const std::string tampered = scratch("tampered.replay");
+  writeFile(tampered, encodeReplay(r));
+  o = replayTool("verify --quiet " + tampered);
+  EXPECT_EQ(o.status, 1) << o.output;
+  EXPECT_TRUE(has(o, "diverges at tick 121 of 360 (ticks 1 to 120 match)")) << o.output;
+  EXPECT_TRUE(has(o, "bodies that differ at tick 121")) << o.output;
+  EXPECT_TRUE(has(o, "order.target.y: recorded")) << o.output;
+}
+
+TEST(ReplayProgram, RecordThenRenderThenVerify) {
+  const std::string file = scratch("rec.replay");
+  Outcome o = replayTool("record --quiet --map " + sourcePath("assets/maps/small.json") + " --seed 5 --ticks 40 --units 6 " + file);
+  EXPECT_EQ(o.status, 0) << o.output;
+  EXPECT_TRUE(has(o, "recorded 40 ticks")) << o.output;
+  o = replayTool("verify " + file);
+  EXPECT_EQ(o.status, 0) << o.output;
+  const std::string frames = scratch("frames");
+  o = replayTool("render --quiet " + file + " --frames " + frames + " --from 10 --to 30 --every 10 --size 160x96");
+  EXPECT_EQ(o.status, 0) << o.output;
+  EXPECT_TRUE(has(o, "3 frames in")) << o.output;
+  for (const char* f : {"/frame_000010.png", "/frame_000020.png", "/frame_000030.png"}) {
+    EXPECT_TRUE(std::filesystem::exists(frames + f)) << f;
+  }
+  EXPECT_FALSE(std::filesystem::exists(frames + "/frame_000000.png"));
+}
+
+TEST(ReplayProgram, TheDemoRecordsWhatItPlays) {
+  const std::string file = scratch("demo.replay");
+  Outcome plain = run(RATTLE_DEMO_BINARY, "--map " + sourcePath("assets/maps/small.json") + " --units 5 --ticks 60 --no-render --quiet --seed 4");
+  Outcome recorded = run(RATTLE_DEMO_BINARY, "--map " + sourcePath("assets/maps/small.json") + " --units 5 --ticks 60 --no-render --quiet --seed 4 --record " + file);
+  ASSERT_EQ(recorded.status, 0) << recorded.output;
+  auto finalHash = [](const std::string& s) {
+    const size_t at = s.find("Final state hash ");
+    return at == std::string::npos ? std::string("none") : s.substr(at, 33);
+  };
+  EXPECT_EQ(finalHash(plain.output), finalHash(recorded.output)) << "recording changed the game";
+  EXPECT_TRUE(has(recorded, "replay written to " + file)) << recorded.output;
+  const Replay r = parsed(readFile(file));
+  EXPECT_EQ(r.tickCount(), 60u);
+  EXPECT_EQ(r.config.seed, 4u);
+  EXPECT_EQ(r.config.recordedBy, "rattle-demo");
+  Outcome o = replayTool("verify " + file);
+  EXPECT_EQ(o.status, 0) << o.output;
+  // --help mentions it.
+  o = run(RATTLE_DEMO_BINARY, "--help");
+  EXPECT_TRUE(has(o, "--record FILE")) << o.output;
+}
+
+TEST(ReplayProgram, TheWindowRecordsThePersonsOrders) {
+  if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0) {
+    FAIL() << "xvfb-run is missing: scripts/install-deps.sh installs it (package xvfb)";
+  }
+  const std::string script = scratch("input.txt"), file = scratch("window.replay");
+  writeFile(script,
+            "5 drag 20 20 330 370\n"  // select the blue units in the west room (640x360 on a 40x24 map)
+            "6 rclick 560 180\n"      // send them east
+            "30 key g\n");            // work the gate
+  Outcome o = run("xvfb-run -a -s '-screen 0 800x600x24' " RATTLE_DEMO_BINARY,
+                  "--window --map " + sourcePath("assets/maps/small.json") + " --units 3 --size 640x360 --ticks 60 --input " + script +
+                      " --record " + file);
+  ASSERT_EQ(o.status, 0) << o.output;
+  const Replay r = parsed(readFile(file));
+  EXPECT_EQ(r.tickCount(), 60u);
+  EXPECT_EQ(r.config.recordedBy, "rattle-demo --window");
+  EXPECT_EQ(r.config.opponentTeams, 2) << "the opponent plays red only";
+  int personMoves = 0, personGates = 0;
+  for (const TickRecord& t : r.ticks) {
+    for (const rts::Command& c : t.commands) {
+      personMoves += c.team == 0 && c.type == rts::CommandType::Move;
+      personGates += c.team == 0 && c.type == rts::CommandType::ToggleGate;
+    }
+  }
+  EXPECT_EQ(personMoves, 1);
+  EXPECT_EQ(personGates, 1);
+  o = replayTool("verify " + file);
+  EXPECT_EQ(o.status, 0) << o.output;
+}
+
+}  // namespace

@@ -1,0 +1,82 @@
+#include "tool/snapshot.h"
+
+namespace rts::replay {
+
+Snapshot snapshotOf(const Game& game) {
+  Snapshot s;
+  const GameStats& st = game.stats();
+  s.counters.shotsFired = st.shotsFired;
+  s.counters.wallHits = st.wallHits;
+  s.counters.unitHits = st.unitHits;
+  s.counters.crossings = st.crossings;
+  s.counters.losses[0] = st.losses[0];
+  s.counters.losses[1] = st.losses[1];
+  for (const DoorwayState& d : game.doorways()) s.counters.doorwayCrossings.push_back({uint32_t(d.crossings[0]), uint32_t(d.crossings[1])});
+  for (const RoomState& r : game.rooms()) s.counters.roomHolders.push_back(int8_t(r.holder));
+
+  const rattle::World& world = game.physics().world();
+  s.units.reserve(game.units().size());
+  for (const Unit& u : game.units()) {
+    UnitState x;
+    x.alive = u.alive;
+    x.hitPoints = u.hitPoints;
+    x.reloadTicks = u.reloadTicks;
+    if (u.alive) {
+      x.orderActive = u.order.active;
+      x.bodyIndex = u.body.index;
+      x.bodyGeneration = u.body.generation;
+      const Vec2 p = world.position(u.body), v = world.velocity(u.body);
+      x.px = p.x;
+      x.py = p.y;
+      x.vx = v.x;
+      x.vy = v.y;
+      if (u.order.active) {
+        x.targetX = u.order.target.x;
+        x.targetY = u.order.target.y;
+      }
+    }
+    s.units.push_back(x);
+  }
+  s.shots.reserve(game.shots().size());
+  for (const Shot& sh : game.shots()) {
+    ShotState x;
+    x.id = sh.id;
+    x.team = sh.team;
+    x.shooter = sh.shooter;
+    x.ticksLeft = sh.ticksLeft;
+    x.bodyIndex = sh.body.index;
+    x.bodyGeneration = sh.body.generation;
+    const Vec2 p = world.position(sh.body), v = world.velocity(sh.body);
+    x.px = p.x;
+    x.py = p.y;
+    x.vx = v.x;
+    x.vy = v.y;
+    s.shots.push_back(x);
+  }
+  for (size_t g = 0; g < game.gates().size(); ++g) {
+    GateBodyState x;
+    x.wantOpen = game.gates()[g].wantOpen;
+    x.openness = game.gates()[g].openness;
+    const Vec2 p = game.physics().gatePosition(g), v = game.physics().gateVelocity(g);
+    x.px = p.x;
+    x.py = p.y;
+    x.vx = v.x;
+    x.vy = v.y;
+    s.gates.push_back(x);
+  }
+  return s;
+}
+
+ReplayConfig configOf(const Game& game) {
+  ReplayConfig c;
+  c.unitsPerTeam = uint32_t(game.config().unitsPerTeam);
+  c.stepMode = uint8_t(game.config().stepMode);
+  c.weapons = game.config().weapons;
+  c.unitCount = uint32_t(game.units().size());
+  c.gateCount = uint32_t(game.gates().size());
+  c.doorwayCount = uint32_t(game.doorways().size());
+  c.roomCount = uint32_t(game.rooms().size());
+  return c;
+}
+
+}  // namespace rts::replay
