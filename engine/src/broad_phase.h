@@ -31,10 +31,12 @@ class BroadPhase {
   void setBox(uint32_t fixture, const Box& box) { proxies_[fixture].box = box; }
   void setMoving(uint32_t fixture, bool moving) { proxies_[fixture].moving = moving; }
 
-  /// Sorts by lower x edge and calls report(a, b) for every overlapping pair of which one moves.
-  /// Then prepares `query` for this step's boxes.
+  /// Sorts by lower x edge and calls report(a, b) for every overlapping pair of which one moves (and,
+  /// with `withSensorOnly`, of which one is a sensor). Then prepares `query` for this step's boxes.
   template <class Report>
-  void findPairs(Report&& report);
+  void findPairs(bool withSensorOnly, Report&& report);
+  template <class Report>
+  void findPairs(Report&& report) { findPairs(false, report); }
 
   /// Grows a moving proxy's box mid-step (the new box must contain the old one).
   void grow(uint32_t fixture, const Box& grown);
@@ -93,7 +95,7 @@ class BroadPhase {
 };
 
 template <class Report>
-void BroadPhase::findPairs(Report&& report) {
+void BroadPhase::findPairs(bool withSensorOnly, Report&& report) {
   sortByMinX();
   splitIntoBands();
   // Within each band the proxies are in x order already; a pair is reported only in the lowest band both
@@ -109,6 +111,7 @@ void BroadPhase::findPairs(Report&& report) {
         const Proxy& pj = proxies_[fj];
         if (pj.box.min.x > pi.box.max.x) break;
         if ((!pi.moving && !pj.moving) || (pi.sensor && pj.sensor)) continue;
+        if (withSensorOnly && !pi.sensor && !pj.sensor) continue;
         if (pj.box.min.y > pi.box.max.y || pi.box.min.y > pj.box.max.y) continue;
         if (std::max(bandOf(pi.box.min.y), bandOf(pj.box.min.y)) != band) continue;
         report(fi, fj);

@@ -2,16 +2,20 @@
 //
 //  1. Every fixture of a moving body gets the box of its path over the step (a straight line, or a
 //     parabola under gravity); sleeping bodies count as resting.
-//  2. Sort-and-sweep turns overlapping boxes into candidate pairs (static-static, sensor-sensor and
-//     filtered pairs never get this far).
-//  3. Each candidate pair gets its exact time of impact within the step (a sensor pair: its next begin or
-//     end); the predictions go into one queue ordered by time, kind and then ids.
+//  2. Sort-and-sweep turns overlapping boxes into candidate pairs (static-static and filtered pairs
+//     never get this far; sensors wait for step 6).
+//  3. Each candidate pair gets its exact time of impact within the step; the predictions go into one
+//     queue ordered by time, kind and then ids.
 //  4. Events are resolved in time order. A prediction carries the collision counters its bodies had when
 //     it was made; when one has changed since, the prediction is stale and dropped (lazy invalidation:
 //     Sedgewick & Wayne, Algorithms 6.1). After a collision the two bodies are predicted again from that
 //     instant, and when a body's new path leaves the swept box the sweep saw, the broad phase is asked
 //     again for it, so a path changed mid-step misses nothing.
 //  5. Every body moves to the end of the step.
+//  6. (Before 5.) When the world has sensors, each body's path was recorded piece by piece (one piece
+//     from each change of its motion), and the sensor events are found along those paths, exactly, as
+//     the predictive mode finds them (sensor_paths.cpp). Re-predicting every sensor pair of a body at
+//     each of its collisions instead cost most of a crowd's step: a unit sits in dozens of sight circles.
 //
 // Within a step each body keeps its position at its own local time (the time of its last collision), so
 // bodies that do not collide are moved once per step and times stay in [0, dt] where they are precise.
@@ -29,46 +33,10 @@ using detail::BodySlot;
 using detail::PredictedContact;
 using detail::pathBox;
 
-namespace {
-
-// A sensor's box is wide (a unit's sight circle) and every query with it finds many candidates, while a
-// path that leaves it costs a new query. Its swept box gets a margin of one more step of the body's
-// motion, so that a collision that turns the body around (the usual change of path) stays inside it.
-// Sensor pairs are solved exactly (timeOfOverlapChange): a larger box adds candidates, never events.
-double sensorMargin(Vec2 velocity, Vec2 acceleration, double h) {
-  return length(velocity) * h + 0.5 * length(acceleration) * h * h;
-}
-
-Box fattened(const Box& b, double margin) { return {b.min - Vec2{margin, margin}, b.max + Vec2{margin, margin}}; }
-
-}  // namespace
-
-void World::Impl::addPair(uint32_t fa, uint32_t fb, bool sensing) {
+void World::Impl::addPair(uint32_t fa, uint32_t fb) {
   const uint32_t ba = fixtures[fa].body, bb = fixtures[fb].body;
-  if (bodies[ba].type == BodyType::Dynamic) pairsOfBody[ba].push_back({fa, fb, sensing});
-  if (bodies[bb].type == BodyType::Dynamic) pairsOfBody[bb].push_back({fb, fa, sensing});
-}
-
-void World::Impl::predictSensor(uint32_t own, uint32_t other, double now, double dt) {
-  const BodySlot& a = bodyOf(own);
-  const BodySlot& b = bodyOf(other);
-  ++stats.timeOfImpactTests;
-  const Vec2 pa = positionAt(a, now);
-  const Vec2 pb = positionAt(b, now);
-  const Motion relative{velocityAt(a, now) - velocityAt(b, now), a.acceleration - b.acceleration};
-  const auto h = timeOfOverlapChange(fixtures[own].geometry, pa, fixtures[other].geometry, pb, relative, dt - now,
-                                     isOverlapping(own, other));
-  if (!h) return;
-  queue.push_back(PredictedContact{std::min(now + *h, dt),
-                                   detail::EventKind::SensorChange,
-                                   own,
-                                   other,
-                                   0,
-                                   a.collisionCount,
-                                   b.collisionCount,
-                                   {},
-                                   {}});
-  std::push_heap(queue.begin(), queue.end(), detail::later);
+  if (bodies[ba].type == BodyType::Dynamic) pairsOfBody[ba].push_back({fa, fb});
+  if (bodies[bb].type == BodyType::Dynamic) pairsOfBody[bb].push_back({fb, fa});
 }
 
 void World::Impl::predict(uint32_t own, uint32_t other, double now, double dt) {
@@ -125,39 +93,30 @@ void World::Impl::predictSlideEnd(uint32_t bodyIndex, double now, double dt) {
 
 void World::Impl::repredict(uint32_t bodyIndex, double now, double dt, bool forceRequery) {
   BodySlot& body = bodies[bodyIndex];
+  recordPath(bodyIndex, now);
   auto& pairs = pairsOfBody[bodyIndex];
   const Box path = pathBox(positionAt(body, now), velocityAt(body, now), body.acceleration, dt - now);
   for (uint32_t f : body.fixtures) {
+    if (fixtures[f].sensor) continue;  // sensed along the paths after the step (sensor_paths.cpp)
     const Box box{path.min + fixtures[f].localBox.min, path.max + fixtures[f].localBox.max};
     if (!forceRequery && broadPhase.box(f).contains(box)) continue;
     // The new path leaves the swept box (or the body just woke and the sweep skipped it as resting):
     // grow the box and ask the broad phase again.
     ++stats.requeries;
-    const bool sensor = fixtures[f].sensor;
-    const Box grown = sensor ? fattened(box, sensorMargin(velocityAt(body, now), body.acceleration, dt - now)) : box;
-    broadPhase.grow(f, unionOf(broadPhase.box(f), grown));
+    broadPhase.grow(f, unionOf(broadPhase.box(f), box));
     ++stampCounter;
     for (const auto& p : pairs) {
       if (p.own == f) stamp[p.other] = stampCounter;
     }
     broadPhase.query(broadPhase.box(f), [&](uint32_t g) {
-      if (stamp[g] == stampCounter) return;
-      const bool collides = canCollide(f, g);
-      if (!collides && !canSense(f, g)) return;
+      if (stamp[g] == stampCounter || !canCollide(f, g)) return;
       stamp[g] = stampCounter;
       ++stats.candidatePairs;
-      addPair(f, g, !collides);
-      if (!collides) sensorOverlapsSeen(f, g);
+      addPair(f, g);
     });
   }
   // `pairs` may have grown above (addPair); index, do not iterate by reference.
-  for (size_t i = 0; i < pairs.size(); ++i) {
-    if (pairs[i].sensing) {
-      predictSensor(pairs[i].own, pairs[i].other, now, dt);
-    } else {
-      predict(pairs[i].own, pairs[i].other, now, dt);
-    }
-  }
+  for (size_t i = 0; i < pairs.size(); ++i) predict(pairs[i].own, pairs[i].other, now, dt);
   predictSlideEnd(bodyIndex, now, dt);
 }
 
@@ -283,12 +242,6 @@ void World::Impl::resolve(const PredictedContact& c, std::vector<uint32_t>& woke
   contactEvents.push_back(event);
 }
 
-void World::Impl::sensorOverlapsSeen(uint32_t fa, uint32_t fb) {
-  const uint32_t sensor = fixtures[fa].sensor ? fa : fb, visitor = fixtures[fa].sensor ? fb : fa;
-  auto it = sensorOverlaps.find(detail::overlapKey(sensor, visitor));
-  if (it != sensorOverlaps.end()) it->second = stepStamp;
-}
-
 void World::Impl::stepHybrid(double dt) {
   contactEvents.clear();
   sensorEvents.swap(pendingSensorEvents);
@@ -317,13 +270,16 @@ void World::Impl::stepHybrid(double dt) {
     if (moving) speedScale = std::max(speedScale, length(b.velocity) + length(b.acceleration) * dt);
     if (b.type == BodyType::Static) continue;
     const Box path = moving ? pathBox(b.position, b.velocity, b.acceleration, dt) : Box{b.position, b.position};
-    const double margin = moving ? sensorMargin(b.velocity, b.acceleration, dt) : 0.0;
     for (uint32_t f : b.fixtures) {
-      broadPhase.setMoving(f, moving);
-      const Box box{path.min + fixtures[f].localBox.min, path.max + fixtures[f].localBox.max};
-      broadPhase.setBox(f, fixtures[f].sensor ? fattened(box, margin) : box);
+      // A sensor takes no part in the collisions: it waits, as a point, for the sweep of the paths after
+      // the step (sensor_paths.cpp), which pairs it with what its body's whole path passed.
+      const bool sensor = fixtures[f].sensor;
+      broadPhase.setMoving(f, moving && !sensor);
+      broadPhase.setBox(f, sensor ? Box{b.position, b.position}
+                                  : Box{path.min + fixtures[f].localBox.min, path.max + fixtures[f].localBox.max});
     }
   }
+  startPaths();
 
   // Approach speeds below this are round-off: 1e-13 of the fastest speed in the world this step.
   const double approachTolerance = 1e-13 * speedScale;
@@ -332,23 +288,15 @@ void World::Impl::stepHybrid(double dt) {
   broadPhase.findPairs([&](uint32_t fa, uint32_t fb) {
     if (canCollide(fa, fb)) {
       ++stats.candidatePairs;
-      addPair(fa, fb, false);
+      addPair(fa, fb);
       // Predict with a dynamic body's circle first (the time-of-impact functions' moving side).
       if (bodyOf(fa).type == BodyType::Dynamic) {
         predict(fa, fb, 0, dt);
       } else {
         predict(fb, fa, 0, dt);
       }
-    } else if (canSense(fa, fb)) {
-      ++stats.candidatePairs;
-      addPair(fa, fb, true);
-      sensorOverlapsSeen(fa, fb);
-      predictSensor(fa, fb, 0, dt);
     }
   });
-  // An overlap whose pair the sweep did not see cannot hold any more (the body was moved away
-  // between steps): it ends at time 0.
-  if (!sensorOverlaps.empty()) endUnseenOverlaps([this](uint32_t body) { return bodies[body].position; });
   for (uint32_t i = 0; i < bodies.size(); ++i) {
     if (bodies[i].alive) predictSlideEnd(i, 0, dt);
   }
@@ -362,16 +310,6 @@ void World::Impl::stepHybrid(double dt) {
     queue.pop_back();
     BodySlot& a = bodyOf(c.a);
     const BodySlot& b = bodyOf(c.b);
-    if (c.kind == detail::EventKind::SensorChange) {
-      if (a.collisionCount != c.countA || b.collisionCount != c.countB) {
-        ++stats.staleEvents;
-        continue;
-      }
-      const bool begin = !isOverlapping(c.a, c.b);
-      recordSensorChange(c.a, c.b, c.time, begin, sensorEvents);
-      predictSensor(c.a, c.b, c.time, dt);
-      continue;
-    }
     if (c.kind == detail::EventKind::SlideEnd) {
       if (a.collisionCount != c.countA || a.support.generation == 0) {
         ++stats.staleEvents;
@@ -462,6 +400,11 @@ void World::Impl::stepHybrid(double dt) {
   // 5. Everyone to the end of the step; out of budget, to the instant the budget ran out, which is a
   // state every resolved event is consistent with (nothing overlaps, nothing has passed through).
   const double end = stats.eventBudgetReached ? budgetTime : dt;
+  // 6. Sensor events, from the paths the bodies took (sensor_paths.cpp).
+  if (pathLog.active) {
+    sensePaths(pathLog, end);
+    pathLog.active = false;
+  }
   for (BodySlot& b : bodies) {
     if (!b.alive || !moves(b)) continue;
     if (b.type == BodyType::Dynamic) {

@@ -58,7 +58,6 @@ int World::Impl::settleJam(uint32_t seed, double now, double dt, int budget) {
     BodySlot& body = bodies[i];
     advance(body, now);
     for (const auto& pair : pairsOfBody[i]) {
-      if (pair.sensing) continue;
       const detail::FixtureSlot& own = fixtures[pair.own];
       const detail::FixtureSlot& other = fixtures[pair.other];
       const uint32_t j = other.body;

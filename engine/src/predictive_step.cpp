@@ -157,7 +157,6 @@ class Engine {
   double sparseCellSize(double size, double limit) const;
   void reorder();
   void snapshot();
-  void startPaths();
   void sync(uint32_t slot);
   void syncBody(uint32_t body) {
     const uint32_t slot = s_.slotOfBody[body];
@@ -315,25 +314,6 @@ void Engine<W>::computeConstants(double dt) {
 }
 
 template <class W>
-void Engine<W>::startPaths() {
-  // Only a world with sensors records paths (sync() adds a piece whenever a body's motion changes).
-  PathLog& log = s_.paths;
-  log.active = std::any_of(w_.fixtures.begin(), w_.fixtures.end(),
-                           [](const detail::FixtureSlot& f) { return f.alive && f.sensor; });
-  if (!log.active) return;
-  const size_t nb = w_.bodies.size();
-  log.first.resize(nb);
-  log.asleepAtStart.resize(nb);
-  log.lastPiece.assign(nb, PathLog::kNoPiece);
-  log.changes.clear();
-  for (size_t i = 0; i < nb; ++i) {
-    const BodySlot& b = w_.bodies[i];
-    log.first[i] = {b.localTime, b.position, b.velocity, b.acceleration};
-    log.asleepAtStart[i] = b.asleep;
-  }
-}
-
-template <class W>
 void Engine<W>::sync(uint32_t slot) {
   // The copy from the body, after anything changed it.
   const BodySlot& b = w_.bodies[s_.bodyOfSlot[slot]];
@@ -351,7 +331,7 @@ void Engine<W>::sync(uint32_t slot) {
   c.lastLow = b.last.fixtureLow;
   c.lastHigh = b.last.fixtureHigh;
   c.lastFeature = b.last.feature;
-  if (s_.paths.active) s_.paths.record(s_.bodyOfSlot[slot], {b.localTime, b.position, b.velocity, b.acceleration});
+  if (w_.pathLog.active) w_.pathLog.record(s_.bodyOfSlot[slot], {b.localTime, b.position, b.velocity, b.acceleration});
 }
 
 template <class W>
@@ -962,7 +942,7 @@ void Engine<W>::fillPairs(uint32_t i) {
   auto& pairs = w_.pairsOfBody[s_.bodyOfSlot[i]];
   pairs.clear();
   auto add = [&](uint32_t f, uint32_t g) {
-    if (w_.canCollide(f, g)) pairs.push_back({f, g, false});
+    if (w_.canCollide(f, g)) pairs.push_back({f, g});
   };
   forEachNeighbour(i, [&](uint32_t j) {
     forEachPhysical(i, [&](uint32_t f) { forEachPhysical(j, [&](uint32_t g) { add(f, g); }); });
@@ -1243,7 +1223,7 @@ void Engine<W>::step(double dt) {
   }
   s_.dismissedSlots.clear();
   retune(0);
-  startPaths();
+  w_.startPaths();
 
   // 2. Events in time order, up to the step's end.
   const double restTolerance = s_.restTolerance;
@@ -1401,9 +1381,9 @@ void Engine<W>::step(double dt) {
   // 3. Sensor events, from the paths the bodies took. Then every body to the end of the step (out of
   // budget: to the instant the budget ran out, as the hybrid step does); the clocks start again from there.
   const double end = w_.stats.eventBudgetReached ? budgetTime : dt;
-  if (s_.paths.active) {
-    w_.sensePaths(s_.paths, end);
-    s_.paths.active = false;
+  if (w_.pathLog.active) {
+    w_.sensePaths(w_.pathLog, end);
+    w_.pathLog.active = false;
   }
   for (BodySlot& b : w_.bodies) {
     if (!b.alive || b.type == BodyType::Static) continue;

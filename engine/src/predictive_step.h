@@ -163,8 +163,6 @@ struct PredictiveState {
   int64_t limit = 0;    // events of buckets >= limit wait in the overflow array
   static constexpr int32_t kNotQueued = -1, kInHeap = -2, kInBucket = -3, kInOverflow = -4;
 
-  // The paths bodies take through the step, when the world has sensors (sensor_paths.cpp).
-  PathLog paths;
 
   // Scratch.
   std::vector<uint32_t> dirty;

@@ -1,11 +1,9 @@
-// Sensor events after the fact, from the paths bodies took through the step (the predictive mode).
+// Sensor events after the fact, from the paths bodies took through the step (hybrid and predictive).
 //
-// The hybrid step predicts a sensor pair's next begin or end whenever either body's path changes, and
-// keeps that prediction in its queue with the contacts. The predictive mode keeps one event per body in
-// its queue (predictive_step.cpp), and a body may sit in many sensors at once (a unit's sight circle over
-// its neighbours); rather than schedule those too, it records each body's path through the step as pieces
-// (a line or a parabola from each instant its motion changed: PathLog) and finds the sensor events once
-// the step is over:
+// A body may sit in many sensors at once (a unit's sight circle over its neighbours). Re-predicting each
+// of its sensor pairs at every collision, with the contacts, made sensors most of the cost of a crowd;
+// instead both modes record each body's path through the step as pieces (a line or a parabola from each
+// instant its motion changed: PathLog) and find the sensor events once the step's collisions are done:
 //  1. Every fixture of a moving body gets the box of its whole piecewise path; sort-and-sweep (the
 //     world's broad phase, as in the hybrid step) gives the pairs of a sensor and a physical fixture whose
 //     boxes meet.
@@ -49,6 +47,22 @@ Vec2 velocityOn(const PathPiece& p, double t) { return p.velocity + p.accelerati
 constexpr int kMaxChangesPerPair = 1024;
 
 }  // namespace
+
+void World::Impl::startPaths() {
+  PathLog& log = pathLog;
+  log.active = liveSensors > 0;
+  if (!log.active) return;
+  const size_t nb = bodies.size();
+  log.first.resize(nb);
+  log.asleepAtStart.resize(nb);
+  log.lastPiece.assign(nb, PathLog::kNoPiece);
+  log.changes.clear();
+  for (size_t i = 0; i < nb; ++i) {
+    const detail::BodySlot& b = bodies[i];
+    log.first[i] = {b.localTime, b.position, b.velocity, b.acceleration};
+    log.asleepAtStart[i] = b.asleep;
+  }
+}
 
 void World::Impl::sensePaths(PathLog& log, double end) {
   ++stepStamp;
@@ -115,7 +129,7 @@ void World::Impl::sensePaths(PathLog& log, double end) {
       t = next;
     }
   };
-  broadPhase.findPairs([&](uint32_t fa, uint32_t fb) {
+  broadPhase.findPairs(/*withSensorOnly=*/true, [&](uint32_t fa, uint32_t fb) {
     if (!canSense(fa, fb)) return;
     sensorOverlapsSeen(fa, fb);
     if (fixtures[fa].sensor) {

@@ -63,6 +63,12 @@ bool World::Impl::isOverlapping(uint32_t fa, uint32_t fb) const {
   return sensorOverlaps.count(detail::overlapKey(aIsSensor ? fa : fb, aIsSensor ? fb : fa)) != 0;
 }
 
+void World::Impl::sensorOverlapsSeen(uint32_t fa, uint32_t fb) {
+  const uint32_t sensor = fixtures[fa].sensor ? fa : fb, visitor = fixtures[fa].sensor ? fb : fa;
+  auto it = sensorOverlaps.find(detail::overlapKey(sensor, visitor));
+  if (it != sensorOverlaps.end()) it->second = stepStamp;
+}
+
 void World::Impl::recordSensorChange(uint32_t fa, uint32_t fb, double time, bool begin, std::vector<SensorEvent>& out) {
   const uint32_t sensor = fixtures[fa].sensor ? fa : fb, visitor = fixtures[fa].sensor ? fb : fa;
   const uint64_t key = detail::overlapKey(sensor, visitor);
@@ -185,6 +191,7 @@ void World::destroyBody(BodyId id) {
   for (uint32_t f : b.fixtures) {
     w.broadPhase.remove(f);
     FixtureSlot& fs = w.fixtures[f];
+    if (fs.sensor) --w.liveSensors;
     fs.alive = false;
     fs.generation = nextGeneration(fs.generation);
     fs.geometry = Point{};
@@ -312,6 +319,7 @@ FixtureId World::createFixture(BodyId bodyId, const FixtureDef& def) {
   body.fixtures.push_back(index);
   w.recomputeMass(body);
   w.broadPhase.add(index, w.worldBox(index), body.type != BodyType::Static, f.sensor);
+  if (f.sensor) ++w.liveSensors;
   return FixtureId{index, generation};
 }
 
@@ -322,6 +330,7 @@ void World::destroyFixture(FixtureId id) {
   w.endOverlapsOf(id.index, [](uint32_t) { return false; });
   body.fixtures.erase(std::find(body.fixtures.begin(), body.fixtures.end(), id.index));
   w.broadPhase.remove(id.index);
+  if (f.sensor) --w.liveSensors;
   f.alive = false;
   f.generation = nextGeneration(f.generation);
   f.geometry = Point{};

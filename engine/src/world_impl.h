@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "broad_phase.h"
+#include "path_log.h"
 #include "rattle/world.h"
 
 namespace rattle {
@@ -18,7 +19,6 @@ namespace rattle {
 namespace detail {
 
 struct PredictiveState;  // predictive_step.h
-struct PathLog;          // path_log.h
 
 // The last collision a body took part in, within the current step. A pair that was resolved at an
 // instant and whose bodies have done nothing since cannot be approaching at that instant; remembering it
@@ -73,7 +73,7 @@ struct FixtureSlot {
   Filter filter;
 };
 
-enum class EventKind : uint8_t { Contact = 0, SlideEnd = 1, SensorChange = 2 };
+enum class EventKind : uint8_t { Contact = 0, SlideEnd = 1 };
 
 // A predicted event. Contact: `a` is the fixture whose body was moving forward (a dynamic circle), `b`
 // the other one; `normal` points from b toward a. SlideEnd: `a` is a fixture of the sliding body, `b`
@@ -106,7 +106,6 @@ inline bool later(const PredictedContact& x, const PredictedContact& y) {
 struct CandidatePair {
   uint32_t own;  // a fixture of the body whose list this is
   uint32_t other;
-  bool sensing;  // one of the two is a sensor: the pair has overlap changes, not collisions
 };
 
 // Key of a sensor overlap: the sensor fixture in the high half, the visitor in the low half.
@@ -149,6 +148,19 @@ struct World::Impl {
   std::unordered_map<uint64_t, uint32_t> sensorOverlaps;
   std::vector<SensorEvent> pendingSensorEvents;  // ends caused between steps, reported at time 0 of the next
   uint32_t stepStamp = 0;
+  int liveSensors = 0;
+  // The paths bodies take through a step, recorded when the world has sensors: both the hybrid and the
+  // predictive mode find sensor events from them once the step's collisions are done (sensor_paths.cpp).
+  detail::PathLog pathLog;
+  /// Starts recording when the world has sensors: every body's motion at the step's start.
+  void startPaths();
+  /// Records a body's motion from `now` on, after it changed.
+  void recordPath(uint32_t body, double now) {
+    if (pathLog.active) {
+      const detail::BodySlot& b = bodies[body];
+      pathLog.record(body, {now, positionAt(b, now), velocityAt(b, now), b.acceleration});
+    }
+  }
   bool isOverlapping(uint32_t fa, uint32_t fb) const;
   void recordSensorChange(uint32_t fa, uint32_t fb, double time, bool begin, std::vector<SensorEvent>& out);
   /// Ends every overlap of `fixture` for which `keep(other)` is false, as pending end events.
@@ -191,8 +203,7 @@ struct World::Impl {
 
   // hybrid_step.cpp
   void stepHybrid(double dt);
-  void addPair(uint32_t fa, uint32_t fb, bool sensing);
-  void predictSensor(uint32_t own, uint32_t other, double now, double dt);
+  void addPair(uint32_t fa, uint32_t fb);
   void sensorOverlapsSeen(uint32_t fa, uint32_t fb);
   void predict(uint32_t own, uint32_t other, double now, double dt);
   void predictSlideEnd(uint32_t body, double now, double dt);
