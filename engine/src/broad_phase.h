@@ -31,12 +31,16 @@ class BroadPhase {
   void setBox(uint32_t fixture, const Box& box) { proxies_[fixture].box = box; }
   void setMoving(uint32_t fixture, bool moving) { proxies_[fixture].moving = moving; }
 
-  /// Sorts by lower x edge and calls report(a, b) for every overlapping pair of which one moves (and,
-  /// with `withSensorOnly`, of which one is a sensor). Then prepares `query` for this step's boxes.
+  /// Sorts by lower x edge and calls report(a, b) for every overlapping pair of which one moves.
+  /// Then prepares `query` for this step's boxes.
   template <class Report>
-  void findPairs(bool withSensorOnly, Report&& report);
+  void findPairs(Report&& report);
+
+  /// The same for the pairs of a sensor and a fixture that is not one, only: within each band the
+  /// sensors and the others are swept as two lists against each other, so a crowd's sight circles never
+  /// look at one another.
   template <class Report>
-  void findPairs(Report&& report) { findPairs(false, report); }
+  void findSensorPairs(Report&& report);
 
   /// Grows a moving proxy's box mid-step (the new box must contain the old one).
   void grow(uint32_t fixture, const Box& grown);
@@ -75,6 +79,7 @@ class BroadPhase {
   // whole column of others (O(N^1.5)); sweeping bands about two boxes tall keeps it near O(N).
   std::vector<std::vector<uint32_t>> bands_;
   std::vector<double> heights_;  // scratch of splitIntoBands
+  std::vector<uint32_t> sensorList_, otherList_;  // scratch of findSensorPairs
   uint32_t bandCount_ = 1;
   double bandOrigin_ = 0;
   double inverseBandHeight_ = 0;
@@ -95,7 +100,7 @@ class BroadPhase {
 };
 
 template <class Report>
-void BroadPhase::findPairs(bool withSensorOnly, Report&& report) {
+void BroadPhase::findPairs(Report&& report) {
   sortByMinX();
   splitIntoBands();
   // Within each band the proxies are in x order already; a pair is reported only in the lowest band both
@@ -111,10 +116,47 @@ void BroadPhase::findPairs(bool withSensorOnly, Report&& report) {
         const Proxy& pj = proxies_[fj];
         if (pj.box.min.x > pi.box.max.x) break;
         if ((!pi.moving && !pj.moving) || (pi.sensor && pj.sensor)) continue;
-        if (withSensorOnly && !pi.sensor && !pj.sensor) continue;
         if (pj.box.min.y > pi.box.max.y || pi.box.min.y > pj.box.max.y) continue;
         if (std::max(bandOf(pi.box.min.y), bandOf(pj.box.min.y)) != band) continue;
         report(fi, fj);
+      }
+    }
+  }
+  queryBandsReady_ = false;
+  for (auto& g : grownBands_) g.clear();
+  ++sweep_;
+}
+
+template <class Report>
+void BroadPhase::findSensorPairs(Report&& report) {
+  sortByMinX();
+  splitIntoBands();
+  for (uint32_t band = 0; band < bandCount_; ++band) {
+    sensorList_.clear();
+    otherList_.clear();
+    for (uint32_t f : bands_[band]) (proxies_[f].sensor ? sensorList_ : otherList_).push_back(f);
+    // Two sorted lists swept against each other: whichever next box starts further left scans the other
+    // list for the boxes that start before it ends.
+    auto test = [&](uint32_t fi, uint32_t fj) {
+      const Proxy& pi = proxies_[fi];
+      const Proxy& pj = proxies_[fj];
+      if (!pi.moving && !pj.moving) return;
+      if (pj.box.min.y > pi.box.max.y || pi.box.min.y > pj.box.max.y) return;
+      if (std::max(bandOf(pi.box.min.y), bandOf(pj.box.min.y)) != band) return;
+      report(fi, fj);
+    };
+    size_t i = 0, j = 0;
+    const size_t ns = sensorList_.size(), no = otherList_.size();
+    while (i < ns && j < no) {
+      const uint32_t s = sensorList_[i], o = otherList_[j];
+      if (proxies_[s].box.min.x <= proxies_[o].box.min.x) {
+        const double reach = proxies_[s].box.max.x;
+        for (size_t k = j; k < no && proxies_[otherList_[k]].box.min.x <= reach; ++k) test(s, otherList_[k]);
+        ++i;
+      } else {
+        const double reach = proxies_[o].box.max.x;
+        for (size_t k = i; k < ns && proxies_[sensorList_[k]].box.min.x <= reach; ++k) test(sensorList_[k], o);
+        ++j;
       }
     }
   }

@@ -271,12 +271,13 @@ void World::Impl::stepHybrid(double dt) {
     if (b.type == BodyType::Static) continue;
     const Box path = moving ? pathBox(b.position, b.velocity, b.acceleration, dt) : Box{b.position, b.position};
     for (uint32_t f : b.fixtures) {
-      // A sensor takes no part in the collisions: it waits, as a point, for the sweep of the paths after
-      // the step (sensor_paths.cpp), which pairs it with what its body's whole path passed.
+      // A sensor takes no part in the collisions: it waits, as a resting point, for the sweep of the
+      // paths after the step (sensor_paths.cpp). The point is its box's lower corner, so that both sweeps
+      // see nearly the same x order and the insertion sort between them stays short.
       const bool sensor = fixtures[f].sensor;
+      const Box box{path.min + fixtures[f].localBox.min, path.max + fixtures[f].localBox.max};
       broadPhase.setMoving(f, moving && !sensor);
-      broadPhase.setBox(f, sensor ? Box{b.position, b.position}
-                                  : Box{path.min + fixtures[f].localBox.min, path.max + fixtures[f].localBox.max});
+      broadPhase.setBox(f, sensor ? Box{box.min, box.min} : box);
     }
   }
   startPaths();

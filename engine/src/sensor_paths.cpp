@@ -129,7 +129,7 @@ void World::Impl::sensePaths(PathLog& log, double end) {
       t = next;
     }
   };
-  broadPhase.findPairs(/*withSensorOnly=*/true, [&](uint32_t fa, uint32_t fb) {
+  broadPhase.findSensorPairs([&](uint32_t fa, uint32_t fb) {
     if (!canSense(fa, fb)) return;
     sensorOverlapsSeen(fa, fb);
     if (fixtures[fa].sensor) {
