@@ -65,9 +65,13 @@ void BroadPhase::splitIntoBands() {
   // long and say nothing about how crowded the moving ones are; a few tall moving boxes (sight sensors)
   // should not make every band tall, which would make every query look at a tall band. At most 4096
   // bands, and one when little moves.
+  // The quarter is taken from a sample of at most a few thousand boxes, every stride-th in x order (which
+  // depends only on the data), so that choosing the bands stays a small part of a large sweep.
   double low = 0, high = 0;
   bool first = true;
   heights_.clear();
+  const size_t stride = std::max<size_t>(1, order_.size() / 4096);
+  size_t movingSeen = 0;
   for (uint32_t f : order_) {
     const Box& b = proxies_[f].box;
     if (first) {
@@ -77,12 +81,12 @@ void BroadPhase::splitIntoBands() {
     }
     low = std::min(low, b.min.y);
     high = std::max(high, b.max.y);
-    if (proxies_[f].moving) heights_.push_back(b.max.y - b.min.y);
+    if (proxies_[f].moving && movingSeen++ % stride == 0) heights_.push_back(b.max.y - b.min.y);
   }
   bandCount_ = 1;
   bandOrigin_ = low;
   inverseBandHeight_ = 0;
-  if (heights_.size() >= 64) {
+  if (movingSeen >= 64) {
     auto quarter = heights_.begin() + static_cast<std::ptrdiff_t>(heights_.size() / 4);
     std::nth_element(heights_.begin(), quarter, heights_.end());
     const double bandHeight = 2 * *quarter;
@@ -97,7 +101,8 @@ void BroadPhase::splitIntoBands() {
   for (uint32_t f : order_) {
     const Box& box = proxies_[f].box;
     const uint32_t last = bandOf(box.max.y);
-    for (uint32_t b = bandOf(box.min.y); b <= last; ++b) bands_[b].push_back(f);
+    const Proxy& p = proxies_[f];
+    for (uint32_t b = bandOf(box.min.y); b <= last; ++b) bands_[b].push_back({box, f, p.moving, p.sensor});
   }
 }
 
@@ -108,14 +113,18 @@ void BroadPhase::buildQueryBands() {
     wideBands_.resize(bandCount_);
   }
   if (grownBands_.size() < bandCount_) grownBands_.resize(bandCount_);
-  // Wide: more than four times the width of the narrowest quarter of the moving boxes.
-  std::vector<double> widths;
+  // Wide: more than four times the width of the narrowest quarter of the moving boxes (from a sample,
+  // as for the band height).
+  std::vector<double>& widths = heights_;
+  widths.clear();
+  const size_t stride = std::max<size_t>(1, order_.size() / 4096);
+  size_t movingSeen = 0;
   for (uint32_t f : order_) {
     const Proxy& p = proxies_[f];
-    if (p.moving) widths.push_back(p.box.max.x - p.box.min.x);
+    if (p.moving && movingSeen++ % stride == 0) widths.push_back(p.box.max.x - p.box.min.x);
   }
   double wide = std::numeric_limits<double>::infinity();
-  if (widths.size() >= 64) {
+  if (movingSeen >= 64 && !widths.empty()) {
     auto quarter = widths.begin() + static_cast<std::ptrdiff_t>(widths.size() / 4);
     std::nth_element(widths.begin(), quarter, widths.end());
     if (*quarter > 0) wide = 4 * *quarter;
@@ -129,8 +138,9 @@ void BroadPhase::buildQueryBands() {
     moving.clear();
     fixed.clear();
     large.clear();
-    for (uint32_t f : bands_[band]) {
-      const Proxy& p = proxies_[f];
+    for (const BandEntry& e : bands_[band]) {
+      const uint32_t f = e.fixture;
+      const BandEntry& p = e;
       const double width = p.box.max.x - p.box.min.x;
       if (!p.moving) {
         fixed.push_back({p.box.min.x, f});

@@ -77,7 +77,15 @@ class BroadPhase {
   size_t removed_ = 0;           // proxies removed since the last sort (still listed in order_)
   // Horizontal bands for the sweep: a single x sweep over a square region compares every proxy with a
   // whole column of others (O(N^1.5)); sweeping bands about two boxes tall keeps it near O(N).
-  std::vector<std::vector<uint32_t>> bands_;
+  // Each entry carries a copy of its box, so the sweep reads each band's list in order instead of jumping
+  // through proxies_ by fixture index (a cache miss per comparison in a large world).
+  struct BandEntry {
+    Box box;
+    uint32_t fixture;
+    bool moving;
+    bool sensor;
+  };
+  std::vector<std::vector<BandEntry>> bands_;
   std::vector<double> heights_;  // scratch of splitIntoBands
   std::vector<uint32_t> sensorList_, otherList_;  // scratch of findSensorPairs
   uint32_t bandCount_ = 1;
@@ -106,19 +114,17 @@ void BroadPhase::findPairs(Report&& report) {
   // Within each band the proxies are in x order already; a pair is reported only in the lowest band both
   // are in, so a pair that shares several bands is reported once.
   for (uint32_t band = 0; band < bandCount_; ++band) {
-    const std::vector<uint32_t>& list = bands_[band];
+    const std::vector<BandEntry>& list = bands_[band];
     const size_t n = list.size();
     for (size_t i = 0; i < n; ++i) {
-      const uint32_t fi = list[i];
-      const Proxy& pi = proxies_[fi];
+      const BandEntry& pi = list[i];
       for (size_t j = i + 1; j < n; ++j) {
-        const uint32_t fj = list[j];
-        const Proxy& pj = proxies_[fj];
+        const BandEntry& pj = list[j];
         if (pj.box.min.x > pi.box.max.x) break;
         if ((!pi.moving && !pj.moving) || (pi.sensor && pj.sensor)) continue;
         if (pj.box.min.y > pi.box.max.y || pi.box.min.y > pj.box.max.y) continue;
         if (std::max(bandOf(pi.box.min.y), bandOf(pj.box.min.y)) != band) continue;
-        report(fi, fj);
+        report(pi.fixture, pj.fixture);
       }
     }
   }
@@ -134,7 +140,7 @@ void BroadPhase::findSensorPairs(Report&& report) {
   for (uint32_t band = 0; band < bandCount_; ++band) {
     sensorList_.clear();
     otherList_.clear();
-    for (uint32_t f : bands_[band]) (proxies_[f].sensor ? sensorList_ : otherList_).push_back(f);
+    for (const BandEntry& e : bands_[band]) (e.sensor ? sensorList_ : otherList_).push_back(e.fixture);
     // Two sorted lists swept against each other: whichever next box starts further left scans the other
     // list for the boxes that start before it ends.
     auto test = [&](uint32_t fi, uint32_t fj) {
