@@ -43,7 +43,9 @@ enum class BodyType : uint8_t {
 /// How World::step advances time. All three use the same bodies, events and rules.
 enum class StepMode : uint8_t {
   /// The default. Each step: swept boxes through sort-and-sweep, then exact times of impact inside the
-  /// step, in time order. Nothing tunnels; a body may collide many times in one step.
+  /// step, in time order. Nothing tunnels; a body may collide many times in one step. Sensor events are
+  /// found after the step's collisions, exactly, along the paths the bodies took (one more sort-and-sweep
+  /// per step when the world has sensors).
   Hybrid,
   /// Step-and-check, the cheap baseline: every body moves a whole step, then overlapping pairs found by
   /// sort-and-sweep are pushed apart and reflected, once per pair per step. Fast bodies can pass through
@@ -52,8 +54,7 @@ enum class StepMode : uint8_t {
   /// Event-driven throughout: every future collision is predicted exactly and kept in one queue; step(dt)
   /// just processes the events up to the new time. A cell grid with cell-crossing events and lazy
   /// per-body clocks keeps the cost per collision near log N, as in event-driven molecular dynamics.
-  /// Sensor events are found after each step's collisions, along the paths the bodies took: exact, like
-  /// the hybrid step's, at the cost of one sort-and-sweep per step when the world has sensors.
+  /// Sensor events are found as in the hybrid step, along the paths the bodies took.
   Predictive,
 };
 
