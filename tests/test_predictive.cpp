@@ -350,6 +350,7 @@ void mutate(Scene& s, int step) {
     s.world.setFilter(f, filterOf(0x0002, 0xFFFFFFFD));
   }
   if (step == 60) s.world.setVelocity(s.paddle, {0, -1.5});  // the paddle turns back
+  if (step == 70) s.world.setDensity(s.world.fixtures(s.disks[11].body)[0], 8.0);  // a heavier disk
 }
 
 TEST(PredictiveChanges, ChangesBetweenStepsMatchHybrid) {

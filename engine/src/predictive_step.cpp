@@ -26,9 +26,10 @@
 //  - What predictions read is copied into compact records in cell order (PredictiveState::HotBody),
 //    refreshed whenever a body changes; the BodySlot stays the truth, and resolve() works on it.
 //  - Between steps the world may change (bodies created, destroyed, moved, given a velocity, woken; a
-//    filter changed). A snapshot taken at the end of each step notices it: a dynamic body whose state
-//    changed is relocated and predicted again (its counter is bumped so that predictions against its old
-//    path go stale); anything structural rebuilds the grid and the queue.
+//    filter changed). The World API reports every change (World::Impl::touched), so a step costs nothing
+//    for bodies nobody touched: a dynamic body that was changed is relocated and predicted again (its
+//    counter is bumped so that predictions against its old path go stale); anything structural rebuilds
+//    the grid and the queue.
 //
 // Sensors: when the world has any, every change of a body's motion is recorded (PathLog), and the sensor
 // events are found from those paths when the step's events are done (sensor_paths.cpp).
@@ -148,7 +149,6 @@ class Engine {
 
   // Setup.
   void normalize();
-  bool structuralChange() const;
   void rebase(double by);
   void computeConstants(double dt);
   void buildGrid();
@@ -156,7 +156,6 @@ class Engine {
   double meanNeighbours(double size) const;
   double sparseCellSize(double size, double limit) const;
   void reorder();
-  void snapshot();
   void sync(uint32_t slot);
   void syncBody(uint32_t body) {
     const uint32_t slot = s_.slotOfBody[body];
@@ -254,31 +253,6 @@ void Engine<W>::normalize() {
     }
     if (b.type == BodyType::Dynamic && !b.asleep && b.support.generation == 0) b.acceleration = w_.def.gravity;
   }
-}
-
-template <class W>
-bool Engine<W>::structuralChange() const {
-  if (s_.bodySnapshot.size() != w_.bodies.size() || s_.fixtureSnapshot.size() != w_.fixtures.size()) return true;
-  for (size_t f = 0; f < w_.fixtures.size(); ++f) {
-    const detail::FixtureSlot& x = w_.fixtures[f];
-    const detail::FixtureSnapshot& o = s_.fixtureSnapshot[f];
-    if (x.alive != o.alive || x.generation != o.generation) return true;
-    if (!x.alive) continue;
-    if (x.body != o.body || x.sensor != o.sensor || x.filter.categoryBits != o.filter.categoryBits ||
-        x.filter.maskBits != o.filter.maskBits || x.filter.group != o.filter.group) {
-      return true;
-    }
-  }
-  for (size_t i = 0; i < w_.bodies.size(); ++i) {
-    const BodySlot& b = w_.bodies[i];
-    const detail::BodySnapshot& o = s_.bodySnapshot[i];
-    if (b.alive != o.alive || b.generation != o.generation) return true;
-    if (!b.alive) continue;
-    if (b.type != o.type || b.fixtures.size() != o.fixtureCount) return true;
-    if (b.type == BodyType::Static && !(b.position == o.position)) return true;
-    if (b.type == BodyType::Kinematic && (!(b.position == o.position) || !(b.velocity == o.velocity))) return true;
-  }
-  return false;
 }
 
 template <class W>
@@ -596,37 +570,6 @@ void Engine<W>::reorder() {
   for (uint32_t k = static_cast<uint32_t>(n); k-- > 0;) link(k);
   s_.popsSinceReorder = 0;
 }
-
-template <class W>
-void Engine<W>::snapshot() {
-  s_.bodySnapshot.resize(w_.bodies.size());
-  for (size_t i = 0; i < w_.bodies.size(); ++i) {
-    const BodySlot& b = w_.bodies[i];
-    detail::BodySnapshot& o = s_.bodySnapshot[i];
-    o.alive = b.alive;
-    o.generation = b.generation;
-    o.type = b.type;
-    o.position = b.position;
-    o.velocity = b.velocity;
-    o.acceleration = b.acceleration;
-    o.collisionCount = b.collisionCount;
-    o.supportGeneration = b.support.generation;
-    o.asleep = b.asleep;
-    o.fixtureCount = static_cast<uint32_t>(b.fixtures.size());
-  }
-  s_.fixtureSnapshot.resize(w_.fixtures.size());
-  for (size_t f = 0; f < w_.fixtures.size(); ++f) {
-    const detail::FixtureSlot& x = w_.fixtures[f];
-    detail::FixtureSnapshot& o = s_.fixtureSnapshot[f];
-    o.alive = x.alive;
-    o.generation = x.generation;
-    o.body = x.body;
-    o.sensor = x.sensor;
-    o.filter = x.filter;
-  }
-}
-
-// ---- The grid --------------------------------------------------------------------------------------
 
 template <class W>
 void Engine<W>::link(uint32_t slot) {
@@ -1175,20 +1118,21 @@ void Engine<W>::step(double dt) {
 
   // 1. Notice what changed since the last step; re-base the clocks to this step's start.
   normalize();
-  bool rebuild = !s_.valid || structuralChange();
+  // What the World API changed since the last step (World::Impl::touched): the dynamic bodies touched are
+  // predicted again; a change of structure starts afresh.
+  bool rebuild = !s_.valid || w_.structureChanged;
   s_.dirty.clear();
   if (!rebuild) {
     rebase(s_.lastStep);
-    double extent = 0;
-    for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) {
-      const uint32_t body = s_.bodyOfSlot[slot];
+    double extent = s_.endExtent;
+    std::vector<uint32_t>& touched = w_.touchedBodies;
+    std::sort(touched.begin(), touched.end());
+    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    for (uint32_t body : touched) {
       const BodySlot& b = w_.bodies[body];
-      const detail::BodySnapshot& o = s_.bodySnapshot[body];
+      if (!b.alive || body >= s_.slotOfBody.size() || s_.slotOfBody[body] == PredictiveState::kNone) continue;
       extent = std::max({extent, std::fabs(b.position.x), std::fabs(b.position.y)});
-      if (!(b.position == o.position) || !(b.velocity == o.velocity) || !(b.acceleration == o.acceleration) ||
-          b.asleep != o.asleep || b.support.generation != o.supportGeneration || b.collisionCount != o.collisionCount) {
-        s_.dirty.push_back(slot);
-      }
+      s_.dirty.push_back(s_.slotOfBody[body]);
     }
     // Bodies far beyond where the grid was made: its margins, sized for the round-off of coordinates
     // there, may be too thin here. Make it again.
@@ -1385,6 +1329,7 @@ void Engine<W>::step(double dt) {
     w_.sensePaths(w_.pathLog, end);
     w_.pathLog.active = false;
   }
+  double extent = 0;
   for (BodySlot& b : w_.bodies) {
     if (!b.alive || b.type == BodyType::Static) continue;
     if (b.type == BodyType::Dynamic) {
@@ -1394,13 +1339,14 @@ void Engine<W>::step(double dt) {
       b.position = b.position + b.velocity * end;
     }
     b.localTime = 0;
+    extent = std::max({extent, std::fabs(b.position.x), std::fabs(b.position.y)});
   }
   for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) sync(slot);
   w_.time += dt;
   s_.lastStep = end;
+  s_.endExtent = extent;
   // Cut short, the bodies lost the rest of the step: every prediction is off; start afresh.
   if (w_.stats.eventBudgetReached) s_.valid = false;
-  snapshot();
 }
 
 }  // namespace

@@ -38,20 +38,6 @@ struct Dismissal {
   uint32_t countOwn, countOther;
 };
 
-// What a body looked like at the end of the last step, to notice changes made between steps.
-struct BodySnapshot {
-  Vec2 position, velocity, acceleration;
-  uint32_t generation = 0, collisionCount = 0, supportGeneration = 0, fixtureCount = 0;
-  bool alive = false, asleep = false;
-  BodyType type = BodyType::Static;
-};
-
-struct FixtureSnapshot {
-  uint32_t generation = 0, body = 0;
-  Filter filter;
-  bool alive = false, sensor = false;
-};
-
 // A tracked body's copy of what predictions read, split in two records kept in spatial order
 // (bodies of one cell next to each other), so that scanning a neighbourhood touches a few cache lines
 // instead of scattered BodySlots. The BodySlot stays the truth; the copy is refreshed whenever the body
@@ -135,9 +121,7 @@ struct PredictiveState {
   uint64_t popsSinceReorder = 0;
   uint64_t popsSinceRetune = 0;
 
-  // What the world looked like at the end of the last step, by body and fixture index.
-  std::vector<BodySnapshot> bodySnapshot;
-  std::vector<FixtureSnapshot> fixtureSnapshot;
+  double endExtent = 0;  // the largest coordinate of a moving body at the end of the last step
 
   // The event queue, a calendar (G. Paul, J. Comput. Phys. 221, 615, 2007; Smallenburg 2022): time is cut
   // into buckets of equal width. Events of the current bucket and before are in `heap`, a small 4-ary

@@ -177,6 +177,7 @@ BodyId World::createBody(const BodyDef& def) {
   b.userData = def.userData;
   w.recomputeMass(b);
   ++w.liveBodies;
+  w.structureChanged = true;
   return BodyId{index, generation};
 }
 
@@ -202,6 +203,7 @@ void World::destroyBody(BodyId id) {
   b.generation = nextGeneration(b.generation);
   w.freeBodies.push_back(id.index);
   --w.liveBodies;
+  w.structureChanged = true;
 }
 
 bool World::isValid(BodyId id) const {
@@ -219,6 +221,7 @@ void World::wake(BodyId id) {
   lookUp(impl_->bodies, id);
   std::vector<uint32_t> woken;
   impl_->wakeUp(id.index, 0.0, woken);
+  impl_->touched(woken);
 }
 uint64_t World::userData(BodyId id) const { return lookUp(impl_->bodies, id).userData; }
 int World::bodyCount() const { return impl_->liveBodies; }
@@ -240,6 +243,8 @@ void World::setPosition(BodyId id, Vec2 position) {
   b.position = position;
   // Static proxies are not refreshed each step, so move their boxes now.
   for (uint32_t f : b.fixtures) impl_->broadPhase.setBox(f, impl_->worldBox(f));
+  impl_->touched(id.index);
+  impl_->touched(woken);
 }
 
 void World::setVelocity(BodyId id, Vec2 velocity) {
@@ -251,6 +256,8 @@ void World::setVelocity(BodyId id, Vec2 velocity) {
   impl_->wakeUp(id.index, 0.0, woken);
   if (b.support.generation != 0) impl_->stopSliding(b);
   b.velocity = velocity;
+  impl_->touched(id.index);
+  impl_->touched(woken);
 }
 
 std::vector<FixtureId> World::fixtures(BodyId id) const {
@@ -318,6 +325,7 @@ FixtureId World::createFixture(BodyId bodyId, const FixtureDef& def) {
   f.filter = def.filter;
   body.fixtures.push_back(index);
   w.recomputeMass(body);
+  w.structureChanged = true;
   w.broadPhase.add(index, w.worldBox(index), body.type != BodyType::Static, f.sensor);
   if (f.sensor) ++w.liveSensors;
   return FixtureId{index, generation};
@@ -331,6 +339,7 @@ void World::destroyFixture(FixtureId id) {
   body.fixtures.erase(std::find(body.fixtures.begin(), body.fixtures.end(), id.index));
   w.broadPhase.remove(id.index);
   if (f.sensor) --w.liveSensors;
+  w.structureChanged = true;
   f.alive = false;
   f.generation = nextGeneration(f.generation);
   f.geometry = Point{};
@@ -372,6 +381,7 @@ void World::setDensity(FixtureId id, double density) {
     w.recomputeMass(body);
     throw Error("density = " + str(density) + ": gives the body an infinite mass");
   }
+  w.touched(f.body);
 }
 
 void World::setRestitution(FixtureId id, double restitution) {
@@ -382,6 +392,7 @@ void World::setRestitution(FixtureId id, double restitution) {
 
 void World::setFilter(FixtureId id, const Filter& filter) {
   lookUp(impl_->fixtures, id).filter = filter;
+  impl_->structureChanged = true;
   // Overlaps the new filter forbids end now; new ones begin when the next step finds them.
   impl_->endOverlapsOf(id.index, [&](uint32_t other) { return impl_->canSense(id.index, other); });
 }
@@ -412,6 +423,8 @@ void World::step(double dt) {
       impl_->stepPredictive(dt);
       break;
   }
+  impl_->structureChanged = false;
+  impl_->touchedBodies.clear();
 }
 
 void World::advanceTo(double t) {

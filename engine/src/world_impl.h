@@ -149,6 +149,22 @@ struct World::Impl {
   std::vector<SensorEvent> pendingSensorEvents;  // ends caused between steps, reported at time 0 of the next
   uint32_t stepStamp = 0;
   int liveSensors = 0;
+  // What the World API changed since the last step, for the predictive mode, which keeps its predictions
+  // from one step to the next: after a change of structure (a body or fixture created or destroyed, a
+  // filter, a static or kinematic body moved) it starts afresh; the dynamic bodies touched (moved, given a
+  // velocity, woken, given a mass) are predicted again. Every mutator of World reports here.
+  bool structureChanged = true;
+  std::vector<uint32_t> touchedBodies;
+  void touched(uint32_t body) {
+    if (bodies[body].type == BodyType::Dynamic) {
+      touchedBodies.push_back(body);
+    } else {
+      structureChanged = true;
+    }
+  }
+  void touched(const std::vector<uint32_t>& woken) {
+    for (uint32_t body : woken) touched(body);
+  }
   // The paths bodies take through a step, recorded when the world has sensors: both the hybrid and the
   // predictive mode find sensor events from them once the step's collisions are done (sensor_paths.cpp).
   detail::PathLog pathLog;
