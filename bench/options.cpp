@@ -201,7 +201,8 @@ usage: rattle-bench [--scene S] [--engine E] [--n N] [--dt DT] [--seconds T] [--
                      rattle's default)
   --bisect-depths M,S  bisect: M levels of sampling the step, then S bisections (default 4,10)
   --no-reference     skip the exact reference run (collision_count_error and sensor_missed left empty)
-  --measure-every K  measure overlaps and tunnelling after every K-th step and the last (default 1)
+  --measure-every K  measure overlaps and tunnelling after every K-th step and the last (default 1);
+                     arena: overlaps only (its other measures need every tick)
   --quiet            no progress line on stderr
 
 engines:
@@ -228,8 +229,8 @@ energy_drift, packing and speed are empty; shots, shots_out_of_range and crossin
 and reference_shots, reference_shots_out_of_range and reference_crossings the predictive game's.
 
 exit codes: 0 done; 1 the run failed; 2 bad command line (or a scene that cannot be built from it);
-3 the engine or scene asked for is not compiled in; 4 the engine cannot run the scene asked for (arena runs only
-with discrete, hybrid and predictive).
+3 the engine or scene asked for is not compiled in; 4 the engine cannot run the scene asked for
+(arena runs only with discrete, hybrid and predictive).
 )";
 }
 
