@@ -8,7 +8,6 @@
 // time is kept as a column of its own. Reading the thread's CPU clock is a system call (about 0.3 to 0.6 us
 // here), so the cost of an empty measurement, taken before the run, is subtracted from every step.
 #include <time.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -19,10 +18,12 @@
 #include <string>
 #include <vector>
 
+#include "arena_run.h"
 #include "engine.h"
 #include "measure.h"
 #include "options.h"
 #include "reference.h"
+#include "row.h"
 
 namespace rattle_bench {
 
@@ -77,56 +78,6 @@ class StepTimer {
   double cpu0_ = 0;
   Interval overhead_;
 };
-
-/// A progress line on stderr for long runs: nothing in the first two seconds, then at most one update a
-/// second (rewritten in place on a terminal, one line every ten seconds otherwise).
-class Progress {
- public:
-  Progress(bool enabled, std::string label)
-      : enabled_(enabled), tty_(isatty(2) != 0), label_(std::move(label)), start_(Clock::now()) {}
-  void update(const std::string& what, long long done, long long total) {
-    if (!enabled_) return;
-    const double t = secondsSince(start_);
-    if (t < 2.0 || t - last_ < (tty_ ? 1.0 : 10.0)) return;
-    last_ = t;
-    std::fprintf(stderr, "%srattle-bench %s: %s %lld/%lld (%.0f%%), %.0f s%s", tty_ ? "\r" : "", label_.c_str(),
-                 what.c_str(), done, total, 100.0 * static_cast<double>(done) / static_cast<double>(total), t,
-                 tty_ ? "   " : "\n");
-    shown_ = true;
-  }
-  void finish() {
-    if (shown_ && tty_) std::fprintf(stderr, "\n");
-  }
-
- private:
-  bool enabled_, tty_;
-  std::string label_;
-  Clock::time_point start_;
-  double last_ = 0;
-  bool shown_ = false;
-};
-
-std::string num(double v, const char* format = "%.6g") {
-  if (std::isnan(v)) return "";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
-
-std::string quoted(const std::string& s) {
-  std::string q = "\"";
-  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return std::nan("");
-  const size_t mid = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + static_cast<long>(mid), v.end());
-  if (v.size() % 2 == 1) return v[mid];
-  const double upper = v[mid];
-  return 0.5 * (upper + *std::max_element(v.begin(), v.begin() + static_cast<long>(mid)));
-}
 
 int run(const Options& o) {
   const Clock::time_point setupStart = Clock::now();
@@ -200,50 +151,33 @@ int run(const Options& o) {
   const double sensorMissed =
       hasSensors && !ref.sensorBegins.empty() ? static_cast<double>(sensorMisses(ref.sensorBegins, engine->sensorBegins)) : nan;
 
-  struct Field {
-    const char* name;
-    std::string value;
-  };
-  const std::vector<Field> fields = {
-      {"scene", scene.name},
-      {"engine", o.engine},
-      {"n", std::to_string(n)},
-      {"dt", num(o.dt, "%.10g")},
-      {"seconds", num(static_cast<double>(steps) * o.dt, "%.10g")},
-      {"ms_per_step", num(msPerStep)},
-      {"ms_per_simulated_second", num(msPerSimulatedSecond)},
-      {"collisions_per_s", num(collisionsPerSecond)},
-      {"energy_drift", num(energyDrift, "%.3e")},
-      {"max_overlap", num(overlaps.max, "%.3e")},
-      {"mean_overlap", num(overlaps.mean(), "%.3e")},
-      {"tunnelled", std::to_string(tunnelled)},
-      {"sensor_missed", num(sensorMissed, "%.0f")},
-      {"collision_count_error", num(countError, "%.4e")},
-      // Beyond the issue's columns: what the row was run with, and the raw counts.
-      {"seed", std::to_string(scene.seed)},
-      {"packing", num(scene.packing, "%.4g")},
-      {"speed", num(scene.speed, "%.6g")},
-      {"steps", std::to_string(steps)},
-      {"collisions", engine->collisions >= 0 ? std::to_string(engine->collisions) : ""},
-      {"reference_collisions", ref.collisions >= 0 ? std::to_string(ref.collisions) : ""},
-      {"sensor_visits", hasSensors ? std::to_string(sensorVisits) : ""},
-      {"reference_sensor_visits", hasSensors && !ref.sensorBegins.empty() ? std::to_string(referenceVisits) : ""},
-      {"wall_ms_per_step", num(1e3 * median(timedWall))},
-      {"setup_s", num(setupSeconds, "%.3g")},
-      {"notes", engine->notes},
-  };
-  if (o.csv) {
-    std::string header, row;
-    for (size_t i = 0; i < fields.size(); ++i) {
-      header += (i ? "," : "") + std::string(fields[i].name);
-      const bool text = std::string(fields[i].name) == "notes";
-      row += (i ? "," : "") + (text ? quoted(fields[i].value) : fields[i].value);
-    }
-    std::printf("%s\n%s\n", header.c_str(), row.c_str());
-  } else {
-    for (const Field& f : fields) std::printf("%-24s %s\n", f.name, f.value.empty() ? "-" : f.value.c_str());
-    if (!ref.how.empty()) std::printf("%-24s %s\n", "reference", ref.how.c_str());
-  }
+  Row row;
+  row.set("scene", scene.name);
+  row.set("engine", o.engine);
+  row.set("n", std::to_string(n));
+  row.set("dt", num(o.dt, "%.10g"));
+  row.set("seconds", num(static_cast<double>(steps) * o.dt, "%.10g"));
+  row.set("ms_per_step", num(msPerStep));
+  row.set("ms_per_simulated_second", num(msPerSimulatedSecond));
+  row.set("collisions_per_s", num(collisionsPerSecond));
+  row.set("energy_drift", num(energyDrift, "%.3e"));
+  row.set("max_overlap", num(overlaps.max, "%.3e"));
+  row.set("mean_overlap", num(overlaps.mean(), "%.3e"));
+  row.set("tunnelled", std::to_string(tunnelled));
+  row.set("sensor_missed", num(sensorMissed, "%.0f"));
+  row.set("collision_count_error", num(countError, "%.4e"));
+  row.set("seed", std::to_string(scene.seed));
+  row.set("packing", num(scene.packing, "%.4g"));
+  row.set("speed", num(scene.speed, "%.6g"));
+  row.set("steps", std::to_string(steps));
+  row.set("collisions", engine->collisions >= 0 ? std::to_string(engine->collisions) : "");
+  row.set("reference_collisions", ref.collisions >= 0 ? std::to_string(ref.collisions) : "");
+  row.set("sensor_visits", hasSensors ? std::to_string(sensorVisits) : "");
+  row.set("reference_sensor_visits", hasSensors && !ref.sensorBegins.empty() ? std::to_string(referenceVisits) : "");
+  row.set("wall_ms_per_step", num(1e3 * median(timedWall)));
+  row.set("setup_s", num(setupSeconds, "%.3g"));
+  row.set("notes", engine->notes);
+  row.print(o.csv, ref.how);
   return 0;
 }
 
@@ -270,7 +204,10 @@ int main(int argc, char** argv) {
     return 0;
   }
   try {
-    return run(o);
+    return o.scene.name == "arena" ? runArena(o) : run(o);
+  } catch (const ArenaUnavailable& e) {
+    std::fprintf(stderr, "rattle-bench: %s\n", e.what());
+    return 4;
   } catch (const EngineUnavailable& e) {
     std::fprintf(stderr, "rattle-bench: %s\n", e.what());
     return 3;

@@ -48,7 +48,8 @@ bool parseUnsigned(const std::string& s, unsigned long long max, unsigned long l
 
 Options parseOptions(const std::vector<std::string>& args) {
   Options o;
-  bool nGiven = false;
+  bool nGiven = false, dtGiven = false;
+  std::vector<std::string> diskOnly;  // options given that only the disk scenes take
   for (size_t i = 0; i < args.size(); ++i) {
     std::string name = args[i], value;
     bool hasValue = false;
@@ -86,9 +87,9 @@ Options parseOptions(const std::vector<std::string>& args) {
       o.quiet = true;
     } else if (name == "--scene") {
       o.scene.name = take();
-      bool known = false;
+      bool known = value == "arena";
       for (const std::string& s : sceneNames()) known = known || s == value;
-      if (!known) throw bad("unknown scene (gas, pile, bullets, cradle, sensors)");
+      if (!known) throw bad("unknown scene (gas, pile, bullets, cradle, sensors, arena)");
     } else if (name == "--engine") {
       o.engine = take();
       bool known = false;
@@ -105,6 +106,7 @@ Options parseOptions(const std::vector<std::string>& args) {
         throw bad("must be a positive number of seconds, or a fraction like 1/60");
       o.dt = dt;
       o.dtText = value;
+      dtGiven = true;
     } else if (name == "--seconds") {
       double t;
       if (!parseNumberOrFraction(take(), t) || !std::isfinite(t) || !(t > 0))
@@ -119,14 +121,17 @@ Options parseOptions(const std::vector<std::string>& args) {
       double p;
       if (!parseDouble(take(), p) || !(p > 0 && p < 0.9)) throw bad("must be a packing fraction in (0, 0.9)");
       o.scene.packing = p;
+      diskOnly.push_back(name + " " + value);
     } else if (name == "--speed") {
       double v;
       if (!parseDouble(take(), v) || !std::isfinite(v) || !(v >= 0)) throw bad("must be a speed >= 0");
       o.scene.speed = v;
+      diskOnly.push_back(name + " " + value);
     } else if (name == "--collapse-time") {
       double t;
       if (!parseDouble(take(), t) || !std::isfinite(t) || !(t >= 0)) throw bad("must be a time in seconds >= 0");
       o.settings.collapseTime = t;
+      diskOnly.push_back(name + " " + value);
     } else if (name == "--bisect-depths") {
       const std::string& v = take();
       const size_t comma = v.find(',');
@@ -135,6 +140,7 @@ Options parseOptions(const std::vector<std::string>& args) {
           !parseUnsigned(v.substr(comma + 1), 60, s))
         throw bad("must be M,S: 1 <= M <= 20 sampling levels, 0 <= S <= 60 bisections");
       o.settings.bisect = {static_cast<int>(m), static_cast<int>(s)};
+      diskOnly.push_back(name + " " + value);
     } else if (name == "--measure-every") {
       unsigned long long k;
       if (!parseUnsigned(take(), 1'000'000'000ull, k) || k < 1) throw bad("must be a whole number >= 1");
@@ -143,7 +149,21 @@ Options parseOptions(const std::vector<std::string>& args) {
       throw UsageError(name + ": unknown option");
     }
   }
-  if (!nGiven) o.scene.n = defaultDiskCount(o.scene.name);
+  if (o.scene.name == "arena") {
+    // The demo's game ticks at a fixed rate, so the arena runs at that step or not at all; a --dt that
+    // differs only by the rounding of its decimal digits is taken as the tick.
+    if (dtGiven && std::fabs(o.dt - kArenaTickSeconds) > 1e-9 * kArenaTickSeconds)
+      throw UsageError("--dt " + o.dtText + ": the arena scene plays the demo's game, whose tick is fixed at 1/30 s "
+                       "(rts::Game::kTickSeconds); give --dt 1/30 or leave --dt out");
+    o.dt = kArenaTickSeconds;
+    o.dtText = "1/30";
+    if (!diskOnly.empty())
+      throw UsageError(diskOnly.front() + ": the arena scene does not take it (the demo's map, units and game "
+                       "settings make the scene)");
+    if (!nGiven) o.scene.n = 100;
+  } else if (!nGiven) {
+    o.scene.n = defaultDiskCount(o.scene.name);
+  }
   const double steps = std::round(o.seconds / o.dt);
   const std::string both = "--seconds " + o.secondsText + " with --dt " + o.dtText;
   if (!(steps >= 1)) throw UsageError(both + ": less than one step");
@@ -163,13 +183,15 @@ usage: rattle-bench [--scene S] [--engine E] [--n N] [--dt DT] [--seconds T] [--
                     [--no-reference] [--measure-every K] [--quiet]
        rattle-bench --help | --version
 
-  --scene S          gas (default), pile, bullets, cradle, sensors (bench/scenes.h says what each is)
-  --engine E         one of the engines below (default hybrid)
+  --scene S          gas (default), pile, bullets, cradle, sensors (bench/scenes.h says what each is),
+                     arena (the demo's game on assets/maps/arena.json; bench/arena.h)
+  --engine E         one of the engines below (default hybrid); arena: discrete, hybrid, predictive
   --n N              number of disks (defaults: gas and pile 1000, bullets 100, cradle 60 (a multiple
-                     of 6), sensors 200)
-  --dt DT            step in seconds, a number or a fraction (default 1/60)
+                     of 6), sensors 200); arena: units per team (default 100)
+  --dt DT            step in seconds, a number or a fraction (default 1/60); arena: the game's fixed
+                     tick, 1/30, is the default and the only step it takes
   --seconds T        simulated seconds (default 2); steps = round(T / DT)
-  --seed K           the seed of the random start (default 1)
+  --seed K           the seed of the random start (default 1); arena: the scripted opponent's seed
   --csv              print a header line and one CSV row instead of named values
   --packing P        gas only: packing fraction (default 0.3)
   --speed V          speed of every disk (defaults: gas 1, pile up to 1, bullets 10..10^4 in turn,
@@ -179,7 +201,8 @@ usage: rattle-bench [--scene S] [--engine E] [--n N] [--dt DT] [--seconds T] [--
                      rattle's default)
   --bisect-depths M,S  bisect: M levels of sampling the step, then S bisections (default 4,10)
   --no-reference     skip the exact reference run (collision_count_error and sensor_missed left empty)
-  --measure-every K  measure overlaps and tunnelling after every K-th step and the last (default 1)
+  --measure-every K  measure overlaps and tunnelling after every K-th step and the last (default 1);
+                     arena: overlaps only (its other measures need every tick)
   --quiet            no progress line on stderr
 
 engines:
@@ -196,7 +219,18 @@ collision_count_error (count - exact) / exact. The exact reference is run in the
 rattle's predictive mode for the collision count, rattle's hybrid mode at DT <= 1/240 for sensor events
 (the predictive mode reports none yet).
 
-exit codes: 0 done; 1 the run failed; 2 bad command line; 3 the engine asked for is not compiled in.
+The arena row: the step times are the game's own measure of World::step (rattle-demo prints its
+median); n is units per team; tunnelled counts projectiles whose centre crossed a wall, a building or
+a standing gate inside a tick; max_overlap and mean_overlap are those of units (against units, walls
+and gates); sensor_missed counts the sight and doorway begins seen from the positions at the end of each
+tick that the engine did not report; collision_count_error compares the contact events with those of
+the predictive mode's game from the same seed, a game of its own (bench/README.md says how to read it).
+energy_drift, packing and speed are empty; shots, shots_out_of_range and crossings are the game's counts,
+and reference_shots, reference_shots_out_of_range and reference_crossings the predictive game's.
+
+exit codes: 0 done; 1 the run failed; 2 bad command line (or a scene that cannot be built from it);
+3 the engine or scene asked for is not compiled in; 4 the engine cannot run the scene asked for
+(arena runs only with discrete, hybrid and predictive).
 )";
 }
 

@@ -11,6 +11,10 @@
 
 namespace rattle_bench {
 
+/// The arena scene's step: the demo game's fixed tick (rts::Game::kTickSeconds; arena_run.cpp checks that
+/// they agree). The only --dt the arena scene takes.
+inline constexpr double kArenaTickSeconds = 1.0 / 30;
+
 struct Options {
   SceneParams scene;
   std::string engine = "hybrid";

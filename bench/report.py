@@ -80,6 +80,9 @@ def scene_tables(rows):
         elif scene == "bullets":
             key = "bullets"
             title = "bullets, %s disks of radius 0.05 in a 20 x 20 box, one run per speed" % r["n"]
+        elif scene == "arena":
+            key = "arena-%s" % r["n"]
+            title = "arena, the demo's game with %s units per team for %s s" % (r["n"], r["seconds"])
         else:
             key = scene
             title = {"pile": "pile, %s disks poured under gravity, restitution 0.5",
@@ -116,6 +119,28 @@ def generic_table(rows):
             missed = r.get("sensor_missed", "")
             cells.append("%s of %s" % (missed, r.get("reference_sensor_visits", "")) if missed != "" else "-")
         cells += [fmt(num(r, "collision_count_error"), "e"), row_notes(r)]
+        out.append("| " + " | ".join(cells) + " |")
+    return "\n".join(out)
+
+
+def arena_table(rows):
+    """The demo's game: its own error measures, and step time as a ratio to the discrete mode's in this run."""
+    discrete = [r for r in rows if r["engine"] == "discrete"]
+    base = num(discrete[0], "ms_per_step") if discrete else float("nan")
+    head = ["engine", "ms/step", "x discrete", "ms/sim s", "contacts/s", "shots tunnelled", "shots out of range",
+            "max overlap", "mean overlap", "sensor missed", "contact count error", "notes"]
+    out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for r in order(rows):
+        ref = r.get("reference_shots_out_of_range", "")
+        cells = [r["engine"], fmt(num(r, "ms_per_step"), "ms"), fmt(num(r, "ms_per_step") / base),
+                 fmt(num(r, "ms_per_simulated_second"), "ms"), fmt(num(r, "collisions_per_s"), "rate"),
+                 "%s of %s" % (r["tunnelled"], r.get("shots", "")),
+                 "%s of %s" % (r.get("shots_out_of_range", ""), r.get("shots", "")) +
+                 (" (predictive game: %s of %s)" % (ref, r.get("reference_shots", "")) if ref != "" and
+                  r["engine"] != "predictive" else ""),
+                 fmt(num(r, "max_overlap"), "e"), fmt(num(r, "mean_overlap"), "e"),
+                 "%s of %s" % (r["sensor_missed"], r.get("reference_sensor_visits", "")),
+                 fmt(num(r, "collision_count_error"), "e"), row_notes(r)]
         out.append("| " + " | ".join(cells) + " |")
     return "\n".join(out)
 
@@ -159,6 +184,10 @@ def measures(key):
     if key == "bullets":
         return [("fraction of bullets tunnelled (speed 10^4)", frac("tunnelled"), FRACTION_FLOOR),
                 ("|energy drift| (speed 10^4)", absol("energy_drift"), FLOOR)]
+    if key.startswith("arena"):
+        shots = lambda r: num(r, "tunnelled") / num(r, "shots") if num(r, "shots") > 0 else float("nan")
+        return [("fraction of shots tunnelled", shots, FRACTION_FLOOR),
+                ("max overlap / radius", absol("max_overlap"), FLOOR)]
     if key == "cradle":
         return [("|collision count error|", absol("collision_count_error"), FLOOR),
                 ("|energy drift|", absol("energy_drift"), FLOOR)]
@@ -317,6 +346,12 @@ def targets(rows, scaling_rows):
         out.append("| bullets: hybrid and predictive tunnel 0 times at every speed | %d tunnelled over %d runs "
                    "(speeds %s, dt 1/30..1/240) | %s |" % (tunnelled, len(bl), ", ".join("%g" % s for s in speeds),
                                                             "yes" if tunnelled == 0 else "**no**"))
+    ar = [r for r in rows if r["scene"] == "arena" and r["engine"] in ("hybrid", "predictive")]
+    if ar:
+        tunnelled = sum(int(num(r, "tunnelled")) for r in ar)
+        shots = sum(int(num(r, "shots")) for r in ar)
+        out.append("| arena: hybrid and predictive shoot no projectile through a wall | %d tunnelled of %d shots over "
+                   "%d runs | %s |" % (tunnelled, shots, len(ar), "yes" if tunnelled == 0 else "**no**"))
     for series, what in (("predictive-one-look", "one look at the end"), ("predictive-1/60", "a look every 1/60 s")):
         p = find(scaling_rows, series=series, n="100000")
         if p:
@@ -399,7 +434,11 @@ def write_report(out_dir, bench, matrix_seconds=None, load=None):
            "- Box2D moves no body more than 2 units per step (b2_maxTranslation, compiled in), so faster "
            "bodies are slowed; Debian's Chipmunk is a debug build (runtime assertion checks on). Both are "
            "measured as packaged.",
-           "- The `arena` scene comes with the demo; it is not in this matrix yet.",
+           "- The `arena` tables are the demo's game (rattle's three modes only, at the game's tick of 1/30 s): "
+           "the step time is the game's own measure of the engine step; tunnelled counts projectiles whose "
+           "centre crossed a wall, sensor missed the begins the positions show and the engine did not report, "
+           "and the contact count error compares with the predictive mode's game from the same seed, which is "
+           "a game of its own (the hybrid row shows how far two exact games drift apart).",
            "", "## Targets (issue 4), measured side by side in this run", "", targets(rows, scaling_rows), ""]
     for key, title, trs in scene_tables(rows):
         png = os.path.join(figures, key + ".png")
@@ -412,7 +451,9 @@ def write_report(out_dir, bench, matrix_seconds=None, load=None):
                    "%s (WorldDef::collapseTime, the TC model); with rattle's default (0) this pile reaches the "
                    "event budget of 10^6 collisions per step once it lands (see bench/README.md)." %
                    ", ".join(extra), ""]
-        md += [bullets_table(trs) if key == "bullets" else generic_table(trs), "",
+        table = bullets_table(trs) if key == "bullets" else arena_table(trs) if key.startswith("arena") else \
+            generic_table(trs)
+        md += [table, "",
                "![%s](figures/%s.png)" % (title, key), ""]
     if scaling_rows:
         with tempfile.TemporaryDirectory() as tmp:

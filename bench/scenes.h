@@ -23,7 +23,7 @@
 //             but not with each other (so every engine should trace the same billiard paths), speeds
 //             uniform in [10, 40] (or --speed), crossing six thin sensor strips (0.05 wide: three
 //             vertical, three horizontal).
-// The `arena` scene (the demo's default map) is not here yet: it comes with the demo.
+// The `arena` scene is not plain data: it is the demo's game itself (bench/arena.h).
 #pragma once
 
 #include <cstdint>

@@ -88,8 +88,10 @@ void Game::tick() {
 
   // 2. The engine moves everything and reports what touched what.
   for (Unit& u : units_) u.previous = u.position;
+  for (Shot& s : shots_) s.previous = s.position;
   const StepEvents& events = physics_.step(kTickSeconds);
   stats_.stepSeconds.push_back(physics_.lastStepSeconds());
+  stats_.stepCpuSeconds.push_back(physics_.lastStepCpuSeconds());
   if (physics_.lastStepStats().eventBudgetReached) ++stats_.eventBudgetSteps;
   ++tick_;
 
@@ -125,8 +127,11 @@ void Game::removeDead() {
       u.doorways.clear();
     }
   }
+  spentShots_.clear();
   for (Shot& s : shots_) {
-    if (!s.alive) physics_.remove(s.body);
+    if (s.alive) continue;
+    physics_.remove(s.body);
+    spentShots_.push_back(s);
   }
   std::erase_if(shots_, [](const Shot& s) { return !s.alive; });
 }

@@ -86,6 +86,7 @@ struct Shot {
   uint32_t shooter = 0;
   rattle::BodyId body;
   Vec2 position, velocity;
+  Vec2 previous;  ///< before the last tick (where it was fired, for a shot fired in it)
   int ticksLeft = 0;
 };
 
@@ -123,7 +124,8 @@ struct GameStats {
   long commandsApplied = 0;
   long commandsIgnored = 0;
   long eventBudgetSteps = 0;        ///< steps that hit the engine's per-step event budget
-  std::vector<double> stepSeconds;  ///< engine step time of every tick
+  std::vector<double> stepSeconds;     ///< engine step time of every tick (wall clock)
+  std::vector<double> stepCpuSeconds;  ///< the same steps by this thread's CPU time
 };
 
 class Game {
@@ -150,6 +152,9 @@ class Game {
   const GameConfig& config() const { return config_; }
   const std::vector<Unit>& units() const { return units_; }
   const std::vector<Shot>& shots() const { return shots_; }
+  /// The shots removed in the last tick (spent on a unit or a wall, or out of range), as they were at
+  /// its end: with shots(), every shot that moved in the last tick (the benchmark checks their paths).
+  const std::vector<Shot>& spentShots() const { return spentShots_; }
   const std::vector<Impact>& impacts() const { return impacts_; }
   const std::vector<DoorwayState>& doorways() const { return doorways_; }
   const std::vector<RoomState>& rooms() const { return rooms_; }
@@ -201,6 +206,7 @@ class Game {
   uint32_t tick_ = 0;
   std::vector<Unit> units_;
   std::vector<Shot> shots_;  // live shots, in id order
+  std::vector<Shot> spentShots_;  // removed in the last tick, in id order
   uint32_t nextShotId_ = 0;
   std::vector<Impact> impacts_;
   std::vector<DoorwayState> doorways_;

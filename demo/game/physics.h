@@ -71,7 +71,13 @@ class Physics {
 
   /// Steps the world by dt and collects its events. Only world.step is inside the timed part.
   const StepEvents& step(double dt);
+  /// The events of the last step (what step returned).
+  const StepEvents& lastEvents() const { return events_; }
+  /// Wall-clock time of the last world.step.
   double lastStepSeconds() const { return lastStepSeconds_; }
+  /// CPU time of this thread during the last world.step: unlike the wall clock, it does not count the
+  /// time another process held the core (the benchmark's arena scene reports it).
+  double lastStepCpuSeconds() const { return lastStepCpuSeconds_; }
   const rattle::StepStats& lastStepStats() const { return world_.stats(); }
 
   /// No wall, building or gate touches the segment from a to b (units never block sight).
@@ -111,6 +117,7 @@ class Physics {
   std::vector<rattle::FixtureId> rooms_;
   StepEvents events_;
   double lastStepSeconds_ = 0;
+  double lastStepCpuSeconds_ = 0;
 };
 
 }  // namespace rts
