@@ -417,4 +417,25 @@ TEST(DiscreteSensors, DestroyEndsAtTimeZeroOfTheNextStep) {
   EXPECT_EQ(ev[0].visitor, d.fixture);
 }
 
+TEST(DiscreteSensors, ABodyPushedIntoASensorBeginsThere) {
+  // Sensors see where the step ends, and that is after the push-apart: disk B (radius 0.5, at x = -0.65,
+  // speed 5) ends its step at x = -0.15, overlapping disk A (radius 0.5, at rest at x = 0.4) by 0.45; A
+  // takes half the push, 0.225, to x = 0.625, which is 0.375 from the sensor segment at x = 1, inside its
+  // radius. The sensor must report A's begin, and list it.
+  World world(modeDef(StepMode::Discrete));
+  const BodyId door = world.createBody(bodyDef(BodyType::Static, {1, 0}));
+  FixtureDef fd;
+  fd.geometry = Segment{{0, -1}, {0, 1}};
+  fd.sensor = true;
+  const FixtureId sensor = world.createFixture(door, fd);
+  const Disk a = addDisk(world, DiskSpec{{0.4, 0}, {0, 0}, 0.5, 1, 0});
+  addDisk(world, DiskSpec{{-0.65, 0}, {5, 0}, 0.5, 1, 0});
+  const auto ev = stepEvents(world, 0.1);
+  EXPECT_NEAR(world.position(a.body).x, 0.625, 1e-12);
+  ASSERT_EQ(ev.size(), 1u);
+  EXPECT_TRUE(ev[0].begin);
+  EXPECT_EQ(ev[0].visitor, a.fixture);
+  EXPECT_EQ(world.sensorOverlaps(sensor), std::vector<FixtureId>{a.fixture});
+}
+
 }  // namespace

@@ -83,23 +83,17 @@ void World::Impl::stepDiscrete(double dt) {
   // 2. Overlapping pairs where the bodies ended.
   struct Pair {
     uint32_t a, b;
-    bool sensing;
   };
+  auto byIds = [](const Pair& x, const Pair& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; };
   std::vector<Pair> pairs;
   broadPhase.findPairs([&](uint32_t fa, uint32_t fb) {
-    if (canCollide(fa, fb)) {
-      pairs.push_back({std::min(fa, fb), std::max(fa, fb), false});
-    } else if (canSense(fa, fb)) {
-      pairs.push_back({std::min(fa, fb), std::max(fa, fb), true});
-    }
+    if (canCollide(fa, fb)) pairs.push_back({std::min(fa, fb), std::max(fa, fb)});
   });
-  std::sort(pairs.begin(), pairs.end(),
-            [](const Pair& x, const Pair& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
+  std::sort(pairs.begin(), pairs.end(), byIds);
   stats.candidatePairs = static_cast<int>(pairs.size());
 
   // 3. Push apart and reflect, in fixture order.
   for (const Pair& p : pairs) {
-    if (p.sensing) continue;
     // The dynamic circle is `own`; `other` may be anything.
     const bool aDynamic = bodyOf(p.a).type == BodyType::Dynamic;
     const uint32_t own = aDynamic ? p.a : p.b, other = aDynamic ? p.b : p.a;
@@ -155,9 +149,21 @@ void World::Impl::stepDiscrete(double dt) {
     contactEvents.push_back(event);
   }
 
-  // 4. Sensors: what overlaps where the bodies ended, against what overlapped before.
-  for (const Pair& p : pairs) {
-    if (!p.sensing) continue;
+  // 4. Sensors: what overlaps where the bodies ended, after the pushes (a push can move a body into a
+  // sensor or out of one), against what overlapped before.
+  std::vector<Pair> sensing;
+  if (liveSensors > 0) {
+    for (const BodySlot& b : bodies) {
+      if (!b.alive || b.type == BodyType::Static || b.asleep) continue;
+      for (uint32_t f : b.fixtures) broadPhase.setBox(f, worldBox(f));
+    }
+    broadPhase.findSensorPairs([&](uint32_t fa, uint32_t fb) {
+      if (canSense(fa, fb)) sensing.push_back({std::min(fa, fb), std::max(fa, fb)});
+    });
+    std::sort(sensing.begin(), sensing.end(), byIds);
+    stats.candidatePairs += static_cast<int>(sensing.size());
+  }
+  for (const Pair& p : sensing) {
     sensorOverlapsSeen(p.a, p.b);
     const bool now =
         overlaps(fixtures[p.a].geometry, bodyOf(p.a).position, fixtures[p.b].geometry, bodyOf(p.b).position);
