@@ -263,9 +263,7 @@ void Engine<W>::rebase(double by) {
     if (e.kind != PredictiveKind::None) e.time -= by;
   }
   for (detail::HeapNode& n : s_.heap) n.time = s_.event[n.slot].time;
-  for (BodySlot& b : w_.bodies) {
-    if (b.alive && b.last.time >= 0) b.last.time -= by;
-  }
+  // The bodies' own times (localTime, last.time) were re-based at the end of the last step.
 }
 
 template <class W>
@@ -1150,7 +1148,8 @@ void Engine<W>::step(double dt) {
       ++b.collisionCount;
       b.last = detail::LastContact{};
     }
-    for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) sync(slot);
+    // The copies of the others are as the end of the last step left them.
+    for (uint32_t slot : s_.dirty) sync(slot);
     for (uint32_t slot : s_.dirty) {
       unlink(slot);
       placeInCell(slot, centreOf(slot, s_.hot[slot].localTime));
@@ -1339,6 +1338,7 @@ void Engine<W>::step(double dt) {
       b.position = b.position + b.velocity * end;
     }
     b.localTime = 0;
+    if (b.last.time >= 0) b.last.time -= end;  // the next step starts at this one's end
     extent = std::max({extent, std::fabs(b.position.x), std::fabs(b.position.y)});
   }
   for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) sync(slot);
