@@ -64,13 +64,13 @@ void BroadPhase::splitIntoBands() {
   // Band height: twice the height of the lowest quarter of the moving proxies' boxes. Static walls can be
   // long and say nothing about how crowded the moving ones are; a few tall moving boxes (sight sensors)
   // should not make every band tall, which would make every query look at a tall band. At most 4096
-  // bands, and one when little moves.
-  // The quarter is taken from a sample of at most a few thousand boxes, every stride-th in x order (which
-  // depends only on the data), so that choosing the bands stays a small part of a large sweep.
+  // bands, and one when little moves. The quarter is taken from a sample of about 512 boxes, every
+  // stride-th in x order (which depends only on the data), so that choosing the bands stays a small
+  // part of a large sweep.
   double low = 0, high = 0;
   bool first = true;
   heights_.clear();
-  const size_t stride = std::max<size_t>(1, order_.size() / 4096);
+  const size_t stride = std::max<size_t>(1, order_.size() / 512);
   size_t movingSeen = 0;
   for (uint32_t f : order_) {
     const Box& b = proxies_[f].box;
@@ -107,53 +107,47 @@ void BroadPhase::splitIntoBands() {
 }
 
 void BroadPhase::buildQueryBands() {
-  if (movingBands_.size() < bandCount_) {
-    movingBands_.resize(bandCount_);
-    staticBands_.resize(bandCount_);
-    wideBands_.resize(bandCount_);
-  }
+  if (queryBands_.size() < bandCount_) queryBands_.resize(bandCount_);
   if (grownBands_.size() < bandCount_) grownBands_.resize(bandCount_);
   // Wide: more than four times the width of the narrowest quarter of the moving boxes (from a sample,
   // as for the band height).
   std::vector<double>& widths = heights_;
   widths.clear();
-  const size_t stride = std::max<size_t>(1, order_.size() / 4096);
+  const size_t stride = std::max<size_t>(1, order_.size() / 512);
   size_t movingSeen = 0;
   for (uint32_t f : order_) {
     const Proxy& p = proxies_[f];
     if (p.moving && movingSeen++ % stride == 0) widths.push_back(p.box.max.x - p.box.min.x);
   }
-  double wide = std::numeric_limits<double>::infinity();
+  wideThreshold_ = std::numeric_limits<double>::infinity();
   if (movingSeen >= 64 && !widths.empty()) {
     auto quarter = widths.begin() + static_cast<std::ptrdiff_t>(widths.size() / 4);
     std::nth_element(widths.begin(), quarter, widths.end());
-    if (*quarter > 0) wide = 4 * *quarter;
-  }
-  movingWidth_ = 0;
-  wideWidth_ = 0;
-  for (uint32_t band = 0; band < bandCount_; ++band) {
-    auto& moving = movingBands_[band];
-    auto& fixed = staticBands_[band];
-    auto& large = wideBands_[band];
-    moving.clear();
-    fixed.clear();
-    large.clear();
-    for (const BandEntry& e : bands_[band]) {
-      const uint32_t f = e.fixture;
-      const BandEntry& p = e;
-      const double width = p.box.max.x - p.box.min.x;
-      if (!p.moving) {
-        fixed.push_back({p.box.min.x, f});
-      } else if (width > wide) {
-        large.push_back({p.box.min.x, f});
-        wideWidth_ = std::max(wideWidth_, width);
-      } else {
-        moving.push_back({p.box.min.x, f});
-        movingWidth_ = std::max(movingWidth_, width);
-      }
-    }
+    if (*quarter > 0) wideThreshold_ = 4 * *quarter;
   }
   queryBandsReady_ = true;
+}
+
+void BroadPhase::buildQueryBand(uint32_t band) {
+  QueryBand& qb = queryBands_[band];
+  qb.moving.clear();
+  qb.fixed.clear();
+  qb.wide.clear();
+  qb.movingWidth = 0;
+  qb.wideWidth = 0;
+  for (const BandEntry& e : bands_[band]) {
+    const double width = e.box.max.x - e.box.min.x;
+    if (!e.moving) {
+      qb.fixed.push_back({e.box.min.x, e.fixture});
+    } else if (width > wideThreshold_) {
+      qb.wide.push_back({e.box.min.x, e.fixture});
+      qb.wideWidth = std::max(qb.wideWidth, width);
+    } else {
+      qb.moving.push_back({e.box.min.x, e.fixture});
+      qb.movingWidth = std::max(qb.movingWidth, width);
+    }
+  }
+  qb.builtSweep = sweep_;
 }
 
 void BroadPhase::grow(uint32_t fixture, const Box& grown) {

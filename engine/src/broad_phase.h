@@ -94,15 +94,20 @@ class BroadPhase {
   // Queries (mid-step, after a path changed) use the same bands: in each, the moving proxies in x order
   // (found by binary search, reaching back by the widest box of their list: narrow or wide), the static
   // ones in x order (a long wall starts early: scanned from the band's start), and the proxies grown into
-  // the band since the sweep (few; scanned whole). Built at the first query of a step.
-  bool queryBandsReady_ = false;
-  std::vector<std::vector<Entry>> movingBands_;
-  std::vector<std::vector<Entry>> staticBands_;
-  std::vector<std::vector<uint32_t>> grownBands_;
+  // the band since the sweep (few; scanned whole). A band's lists are built at its first query of a step:
+  // a step's queries touch few of the bands.
   // Moving boxes much wider than most (a unit's sight sensor beside its body) have their own lists, so
   // that the reach back of every search is not set by the widest box.
-  std::vector<std::vector<Entry>> wideBands_;
-  double movingWidth_ = 0, wideWidth_ = 0;
+  struct QueryBand {
+    std::vector<Entry> moving, fixed, wide;
+    double movingWidth = 0, wideWidth = 0;  // the widest box of each moving list
+    uint32_t builtSweep = 0;
+  };
+  void buildQueryBand(uint32_t band);
+  bool queryBandsReady_ = false;  // wideThreshold_ is set for this sweep
+  double wideThreshold_ = 0;
+  std::vector<QueryBand> queryBands_;
+  std::vector<std::vector<uint32_t>> grownBands_;
   uint32_t queryStamp_ = 0;
   uint32_t sweep_ = 1;  // counts sweeps, so that a proxy is listed in each band's grown list once
 };
@@ -186,15 +191,15 @@ void BroadPhase::query(const Box& q, Found&& found) {
   };
   const uint32_t last = bandOf(q.max.y);
   for (uint32_t band = bandOf(q.min.y); band <= last; ++band) {
-    const std::vector<Entry>& moving = movingBands_[band];
-    auto it = std::lower_bound(moving.begin(), moving.end(), q.min.x - movingWidth_,
+    if (queryBands_[band].builtSweep != sweep_) buildQueryBand(band);
+    const QueryBand& qb = queryBands_[band];
+    auto it = std::lower_bound(qb.moving.begin(), qb.moving.end(), q.min.x - qb.movingWidth,
                                [](const Entry& e, double x) { return e.minX < x; });
-    for (; it != moving.end() && it->minX <= q.max.x; ++it) visit(it->fixture);
-    const std::vector<Entry>& wide = wideBands_[band];
-    it = std::lower_bound(wide.begin(), wide.end(), q.min.x - wideWidth_,
+    for (; it != qb.moving.end() && it->minX <= q.max.x; ++it) visit(it->fixture);
+    it = std::lower_bound(qb.wide.begin(), qb.wide.end(), q.min.x - qb.wideWidth,
                           [](const Entry& e, double x) { return e.minX < x; });
-    for (; it != wide.end() && it->minX <= q.max.x; ++it) visit(it->fixture);
-    for (const Entry& e : staticBands_[band]) {
+    for (; it != qb.wide.end() && it->minX <= q.max.x; ++it) visit(it->fixture);
+    for (const Entry& e : qb.fixed) {
       if (e.minX > q.max.x) break;
       visit(e.fixture);
     }
