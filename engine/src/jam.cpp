@@ -5,11 +5,13 @@
 // Young 1994; NUMERICS.md). Resolving one pair at a time is then Gauss-Seidel on the cluster's contacts,
 // one iteration per event, converging slowly and stopping the step at its event budget. When a body
 // collides more than kJamCollisions times in one step, the whole touching cluster is resolved at once
-// instead, as a perfectly inelastic simultaneous contact: the impulses lambda >= 0 that leave no
-// touching pair approaching with the least kinetic energy, the linear complementarity problem of
-// Moreau's sweeping process, solved by projected Gauss-Seidel to convergence (Erleben 2007). Each
-// projection lowers kinetic energy, so the solve never adds energy. Then every body of the cluster that
-// is slow and held up (resting.cpp) sleeps, bottom up, so the cluster settles instead of chattering.
+// instead, as a simultaneous contact: the impulses lambda >= 0 that leave no touching pair approaching
+// with the least kinetic energy, the linear complementarity problem of Moreau's sweeping process, solved
+// by projected Gauss-Seidel to convergence (Erleben 2007). With a target of zero every projection lowers
+// kinetic energy. The one exception: two awake bodies that gravity presses together part at restingSpeed,
+// as a single slow contact does (the minimum bounce of resting.cpp), which is where energy can rise, by
+// the same kind of bounded amount. Then every body of the cluster that is slow and held up sleeps,
+// bottom up, so the cluster settles instead of chattering.
 #include <algorithm>
 #include <cmath>
 
@@ -50,7 +52,8 @@ int World::Impl::settleJam(uint32_t seed, double now, double dt, int budget) {
   // 1. The cluster: awake dynamic bodies connected by touching pairs, in the order found from the seed
   // (each body's pairs are in a deterministic order), and every touching contact of theirs.
   std::vector<uint32_t> cluster{seed};
-  std::vector<int> slot(bodies.size(), -1);  // body -> index into cluster
+  std::vector<int>& slot = jamSlot;  // body -> index into cluster; -1 outside it (reset on the way out)
+  if (slot.size() < bodies.size()) slot.resize(bodies.size(), -1);
   slot[seed] = 0;
   std::vector<JamContact> contacts;
   for (size_t k = 0; k < cluster.size(); ++k) {
@@ -94,6 +97,7 @@ int World::Impl::settleJam(uint32_t seed, double now, double dt, int budget) {
       contacts.push_back(c);
     }
   }
+  for (uint32_t i : cluster) slot[i] = -1;
   // Each contact may report an event: the whole solve fits in the step's budget or waits for the next.
   if (static_cast<long long>(contacts.size()) > budget) return -1;
   for (uint32_t i : cluster) advance(bodies[i], now);

@@ -230,6 +230,7 @@ struct World::Impl {
 
   // jam.cpp: a cluster of touching bodies resolved at once when one of them collides too often.
   static constexpr int kJamCollisions = 64;
+  std::vector<int> jamSlot;  // scratch of settleJam, all -1 between calls
   /// Counts a collision of `body` in this step; true once it has had more than kJamCollisions.
   bool isJammed(uint32_t body);
   /// Resolves the touching cluster of `seed` at `now`; returns the contact events it took, or -1 (and
