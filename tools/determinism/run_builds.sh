@@ -120,8 +120,8 @@ for b in "${builds[@]}"; do
     mkdir -p "$(dirname "$output")"
     echo "determinism: $name: $check" >&2
     status=0
-    # shellcheck disable=SC2086  # the command is a word list with globs (replay files) on purpose
-    eval $command > "$output" 2> "$output.err" || status=$?
+    # A shell command line (globs, loops), in a subshell so that an `exit` in it ends only the check.
+    (eval "$command") > "$output" 2> "$output.err" || status=$?
     if [[ $status -ne 0 ]]; then
       echo "determinism: $name: $check exited with status $status; the end of $output.err:" >&2
       tail -n 20 "$output.err" >&2
