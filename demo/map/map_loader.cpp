@@ -500,7 +500,9 @@ std::string tidied(std::string what) {
   constexpr size_t kMaxQuoted = 40, kMaxMessage = 300;
   if (size_t open = what.find("last read: '"); open != std::string::npos) {
     const size_t start = open + 12, close = what.rfind('\'');
-    if (close != std::string::npos && close > start + kMaxQuoted) what.replace(start + kMaxQuoted, close - start - kMaxQuoted, "...");
+    if (close != std::string::npos && close > start + kMaxQuoted) {
+      what.replace(start + kMaxQuoted, close - start - kMaxQuoted, "...");
+    }
   }
   if (what.size() > kMaxMessage) what = what.substr(0, kMaxMessage) + "...";
   for (char& c : what) {
@@ -588,8 +590,8 @@ Map parseMap(std::string_view text, const std::string& sourceName) {
          std::to_string(kMaxMapFileBytes) + " bytes");
   }
   if (size_t at = tooDeep(text); at != std::string_view::npos) {
-    fail(sourceName + ": " + lineAndColumn(text, at + 1) + ": arrays and objects nested more than " + std::to_string(kMaxJsonDepth) +
-         " deep (a Tiled map needs far fewer)");
+    fail(sourceName + ": " + lineAndColumn(text, at + 1) + ": arrays and objects nested more than " +
+         std::to_string(kMaxJsonDepth) + " deep (a Tiled map needs far fewer)");
   }
   json doc;
   try {

@@ -30,7 +30,7 @@ namespace {
 
 struct Options {
   std::string map = RATTLE_TRACE_DEFAULT_MAP;
-  int gameTicks = 300;
+  int gameTicks = 600;
   int engineSteps = 240;
   int disks = 200;
   int units = 100;
@@ -54,7 +54,8 @@ Scenes, each in the discrete, hybrid and predictive step modes:
 
 options:
   --map FILE        the game's map (default: assets/maps/arena.json of the source tree)
-  --game-ticks N    ticks of each game run (default 300, 10 seconds of game time)
+  --game-ticks N    ticks of each game run (default 600, 20 seconds of game time: the teams meet,
+                    fire, and lose units)
   --units N         units per team in the game (default 100)
   --seed N          the scripted opponent's seed (default 1)
   --steps N         steps of each engine scene, at dt = 1/60 (default 240)
@@ -89,7 +90,8 @@ int parseOptions(int argc, char** argv, Options& o) {
     long v = 0;
     auto number = [&](long lo, long hi) {
       if (parseInt(value, lo, hi, v)) return true;
-      std::fprintf(stderr, "rattle-trace: %s %s: expected a whole number from %ld to %ld\n", arg.c_str(), value, lo, hi);
+      std::fprintf(stderr, "rattle-trace: %s %s: expected a whole number from %ld to %ld\n", arg.c_str(), value,
+                   lo, hi);
       return false;
     };
     if (arg == "--map") {
