@@ -71,19 +71,20 @@ fi
 mkdir -p "$out"
 read -r -a extra <<< "${CMAKE_FLAGS:-}"
 
-# Configures and builds one build; prints its directory.
+# Configures and builds one build; prints its directory. (Called as `if ! dir=$(...)`, where set -e does
+# not apply, hence the explicit returns.)
 build_one() {
   local name="$1" cxx="$2" type="$3" flags="$4" dir log
   log="$out/$name.log"
   if [[ "$flags" == sanitize ]]; then
     dir="$sanitize_dir"
-    cmake -S "$root" -B "$dir" -DCMAKE_BUILD_TYPE="$type" -DRATTLE_SANITIZE=ON "${extra[@]}" > "$log" 2>&1
+    cmake -S "$root" -B "$dir" -DCMAKE_BUILD_TYPE="$type" -DRATTLE_SANITIZE=ON "${extra[@]}" > "$log" 2>&1 || return 1
   else
     dir="$out/$name"
     cmake -S "$root" -B "$dir" -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_TYPE="$type" -DCMAKE_CXX_FLAGS="$flags" \
-      -DRATTLE_BUILD_TESTS=OFF -DRATTLE_BUILD_EXAMPLES=OFF "${extra[@]}" > "$log" 2>&1
+      -DRATTLE_BUILD_TESTS=OFF -DRATTLE_BUILD_EXAMPLES=OFF "${extra[@]}" > "$log" 2>&1 || return 1
   fi
-  cmake --build "$dir" --target "${targets[@]}" -j "$jobs" >> "$log" 2>&1
+  cmake --build "$dir" --target "${targets[@]}" -j "$jobs" >> "$log" 2>&1 || return 1
   echo "$dir"
 }
 
