@@ -8,10 +8,14 @@ JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 BUILD_DIR ?= build
 SANITIZE_DIR ?= build-sanitize
 CMAKE_FLAGS ?=
+DETERMINISM_DIR ?= build-determinism
+FUZZ_DIR ?= build-fuzz
+# Seconds each fuzz target runs in `make fuzz`.
+FUZZ_SECONDS ?= 60
 # Extra arguments for bench/run_matrix.py, e.g. BENCH_FLAGS=--quick for a small matrix.
 BENCH_FLAGS ?=
 
-.PHONY: all deps configure build demo test test-sanitize bench replays update-goldens clean help
+.PHONY: all deps configure build demo test test-sanitize test-determinism fuzz bench replays update-goldens clean help
 
 all: build
 
@@ -19,6 +23,10 @@ help:
 	@echo "make demo           build and run the RTS demo for 600 ticks (frames in out/demo/)"
 	@echo "make test           build and run every test"
 	@echo "make test-sanitize  the same tests built with ASan+UBSan in $(SANITIZE_DIR)/"
+	@echo "make test-determinism  build rattle-trace with g++ -O0/-O2/-O3, ASan+UBSan and clang++ -O2 and"
+	@echo "                    check that every build prints the same per-tick state hashes"
+	@echo "make fuzz           build the libFuzzer targets with clang++ in $(FUZZ_DIR)/ and run each for"
+	@echo "                    FUZZ_SECONDS (default 60) seconds; fails on any finding (fuzz/README.md)"
 	@echo "make bench          build rattle-bench, run the standard matrix against Box2D and Chipmunk,"
 	@echo "                    write bench/RESULTS.md, bench/results.csv, bench/scaling.csv, bench/figures/"
 	@echo "make replays        record assets/replays/*.replay again (scripts/record-replays.sh)"
@@ -48,6 +56,22 @@ test-sanitize: deps
 	@cd $(SANITIZE_DIR) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  ctest --output-on-failure -j $(JOBS)
 
+# rattle-trace built with g++ -O0/-O2/-O3, g++ ASan+UBSan (in $(SANITIZE_DIR)) and clang++ -O2, one
+# build directory each under $(DETERMINISM_DIR)/; fails unless every build prints the same trace.
+test-determinism: deps
+	@bash scripts/install-deps.sh scripts/packages-clang.txt
+	@CMAKE_FLAGS="$(CMAKE_FLAGS)" bash tools/determinism/run_builds.sh --out $(DETERMINISM_DIR) \
+	  --sanitize-dir $(SANITIZE_DIR) --jobs $(JOBS)
+
+# The libFuzzer targets of fuzz/ (clang++, ASan+UBSan), each run for FUZZ_SECONDS from the seeds in
+# fuzz/corpus/; findings go to $(FUZZ_DIR)/findings/ and make this fail.
+fuzz: deps
+	@bash scripts/install-deps.sh scripts/packages-clang.txt
+	@cmake -S . -B $(FUZZ_DIR) -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRATTLE_BUILD_FUZZ=ON \
+	  -DRATTLE_BUILD_TESTS=OFF -DRATTLE_BUILD_EXAMPLES=OFF $(CMAKE_FLAGS) > /dev/null
+	@cmake --build $(FUZZ_DIR) --target rattle_fuzzers -j $(JOBS)
+	@bash fuzz/run.sh --build $(FUZZ_DIR) --seconds $(FUZZ_SECONDS)
+
 bench: deps
 	@bash scripts/install-deps.sh scripts/packages-bench.txt
 	@cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release -DRATTLE_BUILD_BENCH=ON $(CMAKE_FLAGS) > /dev/null
@@ -64,4 +88,4 @@ update-goldens: build
 	@bash scripts/update-goldens.sh
 
 clean:
-	rm -rf $(BUILD_DIR) $(SANITIZE_DIR) out
+	rm -rf $(BUILD_DIR) $(SANITIZE_DIR) $(FUZZ_DIR) $(DETERMINISM_DIR) out

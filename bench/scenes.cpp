@@ -158,7 +158,12 @@ Scene pile(const SceneParams& p) {
   const double gap = kGapPerRadius * r;
   for (Vec2 c : jitteredLattice(rng, p.n, {r + gap, S + r + gap}, {S - r - gap, 2 * S - r - gap}, r, gap, "pile"))
     s.disks.push_back({c, {}, r, 1.0});
-  for (DiskStart& d : s.disks) d.velocity = rng.uniform(0.0, maxSpeed) * randomDirection(rng);
+  for (DiskStart& d : s.disks) {
+    // Two draws in one expression run in an order C++ leaves open (g++ and clang++ chose differently,
+    // giving two piles from one seed): the direction is drawn first, as g++ did.
+    const Vec2 direction = randomDirection(rng);
+    d.velocity = rng.uniform(0.0, maxSpeed) * direction;
+  }
   return s;
 }
 
@@ -218,8 +223,10 @@ Scene sensors(const SceneParams& p) {
     s.disks.push_back({c, {}, r, 1.0});
   if (!std::isnan(p.speed)) requireSpeed("sensors", p.speed);
   s.speed = orDefault(p.speed, 0);
-  for (DiskStart& d : s.disks)
-    d.velocity = (std::isnan(p.speed) ? rng.uniform(10.0, 40.0) : p.speed) * randomDirection(rng);
+  for (DiskStart& d : s.disks) {
+    const Vec2 direction = randomDirection(rng);  // first, as in pile()
+    d.velocity = (std::isnan(p.speed) ? rng.uniform(10.0, 40.0) : p.speed) * direction;
+  }
   return s;
 }
 

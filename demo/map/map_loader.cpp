@@ -21,6 +21,14 @@ using json = nlohmann::json;
 // but they keep the numbers the game works with sane.
 constexpr size_t kMaxObjects = 100'000;
 constexpr size_t kMaxPointsPerObject = 10'000;
+// The engine checks a polygon's convexity in O(n^2) (rattle::validationError); a convex piece needs a
+// handful of corners, and this keeps a file of 10,000-corner polygons from costing minutes.
+constexpr size_t kMaxPolygonPoints = 256;
+// nlohmann-json copies and compares nested values recursively (a property value is copied), so the
+// depth of arrays and objects is bounded before parsing; a Tiled map needs about 40 at most.
+constexpr int kMaxJsonDepth = 64;
+// The game lays a grid of one cell per square world unit over the map (demo/game/navigation.h).
+constexpr double kMaxMapArea = 1 << 20;
 constexpr size_t kMaxPropertiesPerObject = 64;
 constexpr size_t kMaxStringBytes = 256;
 constexpr int kMaxLayerDepth = 16;
@@ -313,6 +321,10 @@ std::vector<Vec2> convexArea(const Place& at, const Shape& s, const std::string&
     return {{0, 0}, {s.width, 0}, {s.width, s.height}, {0, s.height}};
   }
   if (s.kind == ShapeKind::Polygon) {
+    if (s.points.size() > kMaxPolygonPoints) {
+      fail(at.str() + ": polygon has " + std::to_string(s.points.size()) + " points, at most " +
+           std::to_string(kMaxPolygonPoints) + " (split it into convex pieces)");
+    }
     requireConvex(at, s.points, "polygon");
     return s.points;
   }
@@ -482,8 +494,25 @@ int positiveInt(const Place& at, const json& doc, const char* field, int64_t max
   return static_cast<int>(it->get<int64_t>());
 }
 
-// nlohmann reports a byte offset; a map author wants a line and column and, if we can tell, which object.
-std::string describeParseError(std::string_view text, size_t byte, const std::string& what) {
+// nlohmann's messages quote the token it read last ("last read: '...'"), which can be a whole megabyte
+// string with newlines in it: keep messages one short line.
+std::string tidied(std::string what) {
+  constexpr size_t kMaxQuoted = 40, kMaxMessage = 300;
+  if (size_t open = what.find("last read: '"); open != std::string::npos) {
+    const size_t start = open + 12, close = what.rfind('\'');
+    if (close != std::string::npos && close > start + kMaxQuoted) {
+      what.replace(start + kMaxQuoted, close - start - kMaxQuoted, "...");
+    }
+  }
+  if (what.size() > kMaxMessage) what = what.substr(0, kMaxMessage) + "...";
+  for (char& c : what) {
+    if (static_cast<unsigned char>(c) < 32 || c == 127) c = '?';
+  }
+  return what;
+}
+
+// "line L, column C" of the byte numbered `byte` (counting from 1, as nlohmann does).
+std::string lineAndColumn(std::string_view text, size_t byte) {
   byte = std::min(byte, text.size());
   size_t line = 1, column = 1;
   for (size_t i = 0; i + 1 < byte; ++i) {
@@ -494,7 +523,13 @@ std::string describeParseError(std::string_view text, size_t byte, const std::st
       ++column;
     }
   }
-  std::string out = "line " + std::to_string(line) + ", column " + std::to_string(column) + ": not valid JSON (" + what + ")";
+  return "line " + std::to_string(line) + ", column " + std::to_string(column);
+}
+
+// nlohmann reports a byte offset; a map author wants a line and column and, if we can tell, which object.
+std::string describeParseError(std::string_view text, size_t byte, const std::string& what) {
+  byte = std::min(byte, text.size());
+  std::string out = lineAndColumn(text, byte) + ": not valid JSON (" + what + ")";
   // Best effort: the last key read and the last object id seen before the error, by a small forward scan.
   std::string_view before = text.substr(0, byte);
   std::string field, id;
@@ -524,6 +559,28 @@ std::string describeParseError(std::string_view text, size_t byte, const std::st
   return out;
 }
 
+// The first bracket that opens a level deeper than kMaxJsonDepth, or npos. Brackets inside strings do not
+// count. On text that is valid JSON up to some point this counts exactly what the parser will see up to
+// there, and the parser stops at its first error, so the parser never goes deeper than this allows.
+size_t tooDeep(std::string_view text) {
+  int depth = 0;
+  bool inString = false;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (inString) {
+      if (c == '\\') ++i;
+      else if (c == '"') inString = false;
+    } else if (c == '"') {
+      inString = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxJsonDepth) return i;
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return std::string_view::npos;
+}
+
 }  // namespace
 
 Map parseMap(std::string_view text, const std::string& sourceName) {
@@ -532,6 +589,10 @@ Map parseMap(std::string_view text, const std::string& sourceName) {
     fail(sourceName + ": " + std::to_string(text.size()) + " bytes: a map may be at most " +
          std::to_string(kMaxMapFileBytes) + " bytes");
   }
+  if (size_t at = tooDeep(text); at != std::string_view::npos) {
+    fail(sourceName + ": " + lineAndColumn(text, at + 1) + ": arrays and objects nested more than " +
+         std::to_string(kMaxJsonDepth) + " deep (a Tiled map needs far fewer)");
+  }
   json doc;
   try {
     doc = json::parse(text.begin(), text.end());
@@ -539,7 +600,7 @@ Map parseMap(std::string_view text, const std::string& sourceName) {
     std::string what = e.what();
     if (size_t p = what.find("] "); p != std::string::npos) what = what.substr(p + 2);  // "[json.exception...] "
     if (size_t p = what.find(": "); what.rfind("parse error", 0) == 0 && p != std::string::npos) what = what.substr(p + 2);
-    fail(sourceName + ": " + describeParseError(text, e.byte, what));
+    fail(sourceName + ": " + describeParseError(text, e.byte, tidied(what)));
   } catch (const json::exception& e) {
     // A number too large for a double: nlohmann names the literal but not its place; find it.
     std::string what = e.what();
@@ -547,9 +608,9 @@ Map parseMap(std::string_view text, const std::string& sourceName) {
     size_t open = what.find('\''), close = what.rfind('\'');
     if (open != std::string::npos && close > open + 1) {
       size_t at = text.find(what.substr(open + 1, close - open - 1));
-      if (at != std::string_view::npos) fail(sourceName + ": " + describeParseError(text, at + 1, what));
+      if (at != std::string_view::npos) fail(sourceName + ": " + describeParseError(text, at + 1, tidied(what)));
     }
-    fail(sourceName + ": not valid JSON (" + what + ")");
+    fail(sourceName + ": not valid JSON (" + tidied(what) + ")");
   }
   if (!doc.is_object()) fail(sourceName + ": the top level is not a JSON object (expected a Tiled map)");
   if (doc.contains("type") && doc["type"] != "map") fail(sourceName + ": type = " + shown(doc["type"]) + ": expected \"map\"");
@@ -577,6 +638,11 @@ Map parseMap(std::string_view text, const std::string& sourceName) {
   if (L.map.width > 1e5 || L.map.height > 1e5) {
     fail(sourceName + ": the map is " + formatNumber(L.map.width) + " x " + formatNumber(L.map.height) +
          " world units: at most 100000 each way");
+  }
+  if (L.map.width * L.map.height > kMaxMapArea) {
+    fail(sourceName + ": the map is " + formatNumber(L.map.width) + " x " + formatNumber(L.map.height) +
+         " world units: its area may be at most " + formatNumber(kMaxMapArea) +
+         " square units (the game lays a one-unit grid over it)");
   }
 
   auto layers = doc.find("layers");

@@ -1,0 +1,145 @@
+// gas, pile, bullets and sensors are the benchmark's scenes (bench/scenes.h, one seed, no libm in their
+// placement; the pile with collapseTime 1e-3, as the benchmark runs it). kinematic is written here: two
+// kinematic pushers, one carrying a sensor, that turn around every 40 steps among bouncing disks.
+#include "engine_scenes.h"
+
+#include <rattle/rattle.h>
+#include <scenes.h>
+
+#include <bit>
+#include <stdexcept>
+
+namespace rattle_trace {
+namespace {
+
+uint64_t mix(uint64_t h, uint64_t v) {
+  h ^= v + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+  return h * 0xFF51AFD7ED558CCDull;
+}
+uint64_t bits(double d) { return std::bit_cast<uint64_t>(d); }
+uint64_t ids(uint32_t index, uint32_t generation) { return uint64_t(index) << 32 | generation; }
+
+// The same world the benchmark builds for rattle (bench/engine_rattle.cpp): walls and sensors on one
+// static body, a circle per disk, disks that must not meet in collision group 1.
+void addBenchScene(rattle::World& world, const rattle_bench::Scene& scene) {
+  rattle::BodyDef ground;
+  const rattle::BodyId g = world.createBody(ground);
+  for (const rattle_bench::Wall& w : scene.walls) {
+    rattle::FixtureDef fd;
+    fd.geometry = rattle::Segment{w.a, w.b};
+    fd.restitution = scene.restitution;
+    world.createFixture(g, fd);
+  }
+  for (const rattle_bench::SensorStrip& s : scene.sensors) {
+    rattle::FixtureDef fd;
+    fd.geometry = rattle::Polygon{s.points};
+    fd.sensor = true;
+    world.createFixture(g, fd);
+  }
+  for (const rattle_bench::DiskStart& d : scene.disks) {
+    rattle::BodyDef bd;
+    bd.type = rattle::BodyType::Dynamic;
+    bd.position = d.position;
+    bd.velocity = d.velocity;
+    rattle::FixtureDef fd;
+    fd.geometry = rattle::Circle{{0, 0}, d.radius};
+    fd.density = d.density;
+    fd.restitution = scene.restitution;
+    if (!scene.disksCollide) fd.filter.group = 1;
+    world.createFixture(world.createBody(bd), fd);
+  }
+}
+
+void turnPushers(EngineScene& s, int step) {
+  if (step == 0 || step % 40 != 0) return;
+  for (rattle::BodyId b : s.movers) s.world.setVelocity(b, -s.world.velocity(b));
+}
+
+// A 30 x 20 box, disks of restitution 0.9 on a lattice with seeded speeds, a kinematic polygon sweeping
+// left and right through them, and a kinematic circle with a larger sensor ring moving diagonally.
+void addKinematicScene(EngineScene& s, int disks) {
+  rattle_bench::SceneParams p;
+  p.name = "gas";
+  p.n = disks;
+  p.seed = 3;
+  p.packing = 0.2;
+  p.speed = 2;
+  const rattle_bench::Scene gas = rattle_bench::buildScene(p);
+  const double L = gas.bounds.max.x;
+  addBenchScene(s.world, gas);
+
+  rattle::BodyDef paddle;
+  paddle.type = rattle::BodyType::Kinematic;
+  paddle.position = {0.25 * L, 0.5 * L};
+  paddle.velocity = {3, 0};
+  const rattle::BodyId a = s.world.createBody(paddle);
+  rattle::FixtureDef bar;
+  bar.geometry = rattle::Polygon{{{-0.3, -2}, {0.3, -2}, {0.3, 2}, {-0.3, 2}}};
+  bar.restitution = 0.9;
+  s.world.createFixture(a, bar);
+
+  rattle::BodyDef rover;
+  rover.type = rattle::BodyType::Kinematic;
+  rover.position = {0.6 * L, 0.3 * L};
+  rover.velocity = {-1.5, 2};
+  const rattle::BodyId b = s.world.createBody(rover);
+  rattle::FixtureDef hull;
+  hull.geometry = rattle::Circle{{0, 0}, 1};
+  hull.restitution = 0.9;
+  s.world.createFixture(b, hull);
+  rattle::FixtureDef ring;
+  ring.geometry = rattle::Circle{{0, 0}, 3};
+  ring.sensor = true;
+  s.world.createFixture(b, ring);
+
+  s.movers = {a, b};
+  s.beforeStep = turnPushers;
+}
+
+}  // namespace
+
+const std::vector<std::string>& engineSceneNames() {
+  static const std::vector<std::string> names = {"gas", "pile", "bullets", "sensors", "kinematic"};
+  return names;
+}
+
+EngineScene buildEngineScene(const std::string& name, rattle::StepMode mode, int disks) {
+  rattle::WorldDef def;
+  def.mode = mode;
+  if (name == "kinematic") {
+    EngineScene s{name, rattle::World(def)};
+    addKinematicScene(s, disks);
+    return s;
+  }
+  rattle_bench::SceneParams p;
+  p.name = name;
+  p.n = name == "bullets" || name == "sensors" ? disks / 2 : disks;
+  p.seed = 1;
+  const rattle_bench::Scene scene = rattle_bench::buildScene(p);  // throws SceneError for an unknown name
+  def.gravity = scene.gravity;
+  // As the benchmark runs the pile (bench/README.md): without the TC model the landed block collapses
+  // inelastically and every step spends the whole event budget.
+  if (name == "pile") def.collapseTime = 1e-3;
+  EngineScene s{name, rattle::World(def)};
+  addBenchScene(s.world, scene);
+  return s;
+}
+
+uint64_t stepHash(const rattle::World& world) {
+  uint64_t h = world.stateHash();
+  for (const rattle::ContactEvent& e : world.contactEvents()) {
+    h = mix(h, bits(e.time));
+    h = mix(h, ids(e.fixtureA.index, e.fixtureA.generation) ^ ids(e.fixtureB.index, e.fixtureB.generation) << 1);
+    h = mix(h, bits(e.point.x) ^ bits(e.point.y) << 1);
+    h = mix(h, bits(e.normal.x) ^ bits(e.normal.y) << 1);
+    h = mix(h, bits(e.impulse));
+  }
+  for (const rattle::SensorEvent& e : world.sensorEvents()) {
+    h = mix(h, bits(e.time));
+    h = mix(h, ids(e.sensor.index, e.sensor.generation) ^ ids(e.visitor.index, e.visitor.generation) << 1);
+    h = mix(h, uint64_t(e.begin));
+  }
+  return h;
+}
+
+}  // namespace rattle_trace
