@@ -16,19 +16,20 @@ builds=(
   "clang-O2  clang++  None            -O2 -DNDEBUG"
 )
 # What each build compiles: only what the checks run.
-targets=(rattle-trace)
+targets=(rattle-trace rattle-replay)
 # What runs in every build. "same NAME COMMAND": COMMAND's stdout must be byte-identical in every build
 # (the first build is the reference); "pass NAME COMMAND": COMMAND must exit 0 in every build.
 # {bin} is the build's bin/ directory, {src} the source tree.
 checks=(
   "same trace {bin}/rattle-trace"
+  "pass replays for r in {src}/assets/replays/*.replay; do {bin}/rattle-replay verify --quiet \"\$r\" || exit 1; done"
 )
 
 usage() {
   cat <<'EOF'
 usage: tools/determinism/run_builds.sh [--out DIR] [--sanitize-dir DIR] [--only NAME] [--jobs N]
 
-Builds the determinism checks (rattle-trace) with g++ -O2, -O0, -O3, g++ with ASan+UBSan and clang++ -O2,
+Builds the determinism checks (rattle-trace, rattle-replay) with g++ -O2, -O0, -O3, g++ with ASan+UBSan and clang++ -O2,
 runs them in each build, and compares the outputs: every build must print the same bytes as the first.
 On a difference it names the first differing line, "<scene>/<mode> <tick> <hash>" for the trace.
 
