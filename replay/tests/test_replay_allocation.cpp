@@ -42,6 +42,18 @@ void operator delete(void* p) noexcept {
 
 void operator delete(void* p, size_t) noexcept { operator delete(p); }
 
+// The nothrow forms too (std::stable_sort's temporary buffer uses them and frees with the plain delete):
+// under AddressSanitizer they would otherwise stay the sanitizer's, without the size header.
+void* operator new(size_t size, const std::nothrow_t&) noexcept {
+  try {
+    return operator new(size);
+  } catch (...) {
+    return nullptr;
+  }
+}
+
+void operator delete(void* p, const std::nothrow_t&) noexcept { operator delete(p); }
+
 namespace {
 
 using namespace rts::replay;
