@@ -146,7 +146,7 @@ void World::Impl::absorb(const PredictedContact& c, double vn) {
   }
 }
 
-void World::Impl::resolve(const PredictedContact& c, std::vector<uint32_t>& woken) {
+void World::Impl::resolve(const PredictedContact& c, std::vector<uint32_t>& woken, bool zenoGuard) {
   const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
   BodySlot& a = bodies[ia];
   BodySlot& b = bodies[ib];
@@ -162,6 +162,12 @@ void World::Impl::resolve(const PredictedContact& c, std::vector<uint32_t>& woke
   const double restingSpeed = def.restingSpeed;
   if (a.asleep && (b.type == BodyType::Kinematic || -vn > restingSpeed)) wakeUp(ia, c.time, woken);
   if (b.asleep && (a.type == BodyType::Kinematic || -vn > restingSpeed)) wakeUp(ib, c.time, woken);
+  // The predictive mode's guard against a Zeno sequence, after the wakes (a body woken here and already
+  // caught in one sleeps again at once); the hybrid step resolves such clusters at once instead (jam.cpp).
+  if (zenoGuard) {
+    sleepIfZeno(ia, c.time);
+    sleepIfZeno(ib, c.time);
+  }
   const double inverseA = a.asleep ? 0.0 : a.inverseMass;
   const double inverseB = b.asleep ? 0.0 : b.inverseMass;
   const double inverseSum = inverseA + inverseB;

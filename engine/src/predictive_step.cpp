@@ -1284,9 +1284,7 @@ void Engine<W>::step(double dt) {
       if (j != PredictiveState::kNone) fillPairs(j);
     }
     s_.woken.clear();
-    w_.sleepIfZeno(ia, c.time);
-    if (j != PredictiveState::kNone) w_.sleepIfZeno(w_.fixtures[c.b].body, c.time);
-    w_.resolve(contact, s_.woken);
+    w_.resolve(contact, s_.woken, /*zenoGuard=*/true);
     ++w_.stats.eventsProcessed;
     {
       // The round-off guard (LastContact) takes a pair just resolved to be separating. When the resolution

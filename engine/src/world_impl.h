@@ -225,7 +225,7 @@ struct World::Impl {
   void predictSlideEnd(uint32_t body, double now, double dt);
   void repredict(uint32_t body, double now, double dt, bool forceRequery = false);
   void advance(detail::BodySlot& b, double t);
-  void resolve(const detail::PredictedContact& c, std::vector<uint32_t>& woken);
+  void resolve(const detail::PredictedContact& c, std::vector<uint32_t>& woken, bool zenoGuard = false);
   void absorb(const detail::PredictedContact& c, double vn);
 
   // jam.cpp: a cluster of touching bodies resolved at once when one of them collides too often.
