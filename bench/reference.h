@@ -18,8 +18,8 @@ struct Reference {
 /// any timing): the collision count from rattle's predictive mode (exact times of impact, every event in
 /// time order, whatever dt) at the same frames, and, when the scene has sensors, the sensor begins from
 /// rattle's hybrid mode (exact sensor times inside a step) at a step of at most 1/240 s covering the same
-/// time, because the predictive mode reports no sensor events yet. When it does, the sensor part becomes
-/// the predictive run's too: this function is the one place to change.
+/// time (a second exact run, made by other collision code than the predictive one; reference.cpp says how
+/// to take the sensor events from the predictive run instead).
 /// `collapseTime` is rattle's WorldDef::collapseTime, as the run being measured used it.
 Reference exactReference(const Scene& scene, double dt, long long steps, double collapseTime);
 

@@ -429,8 +429,8 @@ def write_report(out_dir, bench, matrix_seconds=None, load=None):
            "A shared machine still adds noise (caches, memory bandwidth): the load average above says how busy "
            "it was, and ratios between engines measured in the same run are steadier than absolute times.",
            "- The exact reference runs in each invocation: rattle's predictive mode for collision counts, "
-           "rattle's hybrid mode at dt <= 1/240 for sensor events, as the predictive mode reports no sensor "
-           "events yet (its own rows in the sensors table miss every visit until it does).",
+           "rattle's hybrid mode at dt <= 1/240 for sensor events (exact like the predictive mode, whose "
+           "collisions are the other reference: both find sensor events along the paths the bodies took).",
            "- Box2D moves no body more than 2 units per step (b2_maxTranslation, compiled in), so faster "
            "bodies are slowed; Debian's Chipmunk is a debug build (runtime assertion checks on). Both are "
            "measured as packaged.",
