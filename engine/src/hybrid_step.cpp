@@ -352,18 +352,12 @@ void World::Impl::stepHybrid(double dt) {
       const double speed = length(relativeVelocity);
       if (vn < -16 * std::numeric_limits<double>::epsilon() * speed && speed > restTolerance &&
           stats.eventsProcessed < def.maxEventsPerStep) {
-        const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
-        const bool jamA = isJammed(ia), jamB = isJammed(ib);
-        if (jamA || jamB) {
-          const int used = settleJam(jamA ? ia : ib, c.time, dt, def.maxEventsPerStep - stats.eventsProcessed);
-          if (used < 0) {
-            stats.eventBudgetReached = true;
-            budgetTime = c.time;
-            break;
-          }
-          stats.eventsProcessed += used;
-          continue;
+        const Jam jam = settleJamAt(c, dt);
+        if (jam == Jam::OverBudget) {
+          budgetTime = c.time;
+          break;
         }
+        if (jam == Jam::Settled) continue;
         absorb(c, vn);
         ++stats.eventsProcessed;  // bounded by the budget like any other change of motion
         for (uint32_t body : {fixtures[c.a].body, fixtures[c.b].body}) {
@@ -377,19 +371,14 @@ void World::Impl::stepHybrid(double dt) {
       budgetTime = c.time;
       break;
     }
-    const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
     // A body caught in a collapse or a jam collides ever faster without coming to rest (jam.cpp).
-    const bool jamA = isJammed(ia), jamB = isJammed(ib);
-    if (jamA || jamB) {
-      const int used = settleJam(jamA ? ia : ib, c.time, dt, def.maxEventsPerStep - stats.eventsProcessed);
-      if (used < 0) {
-        stats.eventBudgetReached = true;
-        budgetTime = c.time;
-        break;
-      }
-      stats.eventsProcessed += used;
-      continue;
+    const Jam jam = settleJamAt(c, dt);
+    if (jam == Jam::OverBudget) {
+      budgetTime = c.time;
+      break;
     }
+    if (jam == Jam::Settled) continue;
+    const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
     woken.clear();
     resolve(c, woken);
     ++stats.eventsProcessed;

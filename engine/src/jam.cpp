@@ -47,6 +47,19 @@ bool World::Impl::isJammed(uint32_t bodyIndex) {
   return ++s.stepCollisions > kJamCollisions;
 }
 
+World::Impl::Jam World::Impl::settleJamAt(const detail::PredictedContact& c, double dt) {
+  const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
+  const bool jamA = isJammed(ia), jamB = isJammed(ib);
+  if (!jamA && !jamB) return Jam::None;
+  const int used = settleJam(jamA ? ia : ib, c.time, dt, def.maxEventsPerStep - stats.eventsProcessed);
+  if (used < 0) {
+    stats.eventBudgetReached = true;
+    return Jam::OverBudget;
+  }
+  stats.eventsProcessed += used;
+  return Jam::Settled;
+}
+
 int World::Impl::settleJam(uint32_t seed, double now, double dt, int budget) {
   const double reachBase = def.restingSpeed * def.restingSpeed / length(def.gravity);
   // 1. The cluster: awake dynamic bodies connected by touching pairs, in the order found from the seed

@@ -236,6 +236,10 @@ struct World::Impl {
   /// Resolves the touching cluster of `seed` at `now`; returns the contact events it took, or -1 (and
   /// changes nothing) when they would not fit in `budget`.
   int settleJam(uint32_t seed, double now, double dt, int budget);
+  enum class Jam { None, Settled, OverBudget };
+  /// Counts the contact's collision for both bodies; when one of them is jammed, resolves its cluster
+  /// (counting its events against the step's budget), or reports that the cluster does not fit in it.
+  Jam settleJamAt(const detail::PredictedContact& c, double dt);
 };
 
 template <class Keep>
