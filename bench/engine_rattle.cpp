@@ -1,10 +1,9 @@
 // rattle-bench: rattle's three step modes (discrete, hybrid, predictive) behind the Engine interface.
 //
-// One static body holds the walls (Segment fixtures) and the sensor strips (Polygon sensor fixtures);
-// each disk is a dynamic body with one Circle fixture of the scene's density and restitution (walls get
-// the same restitution; rattle combines two by taking the larger). In a scene whose disks must not meet,
-// every disk is in collision group 1 (members of one nonzero group never touch) and the walls and sensors
-// in none. Everything else is rattle's default (WorldDef), except collapseTime when --collapse-time sets it.
+// The world is the scene as addToWorld (scenes.h) builds it: one static body with the walls and sensor
+// strips, a dynamic circle per disk (rattle combines two restitutions by taking the larger; disks that must
+// not meet share collision group 1, whose members never touch). Everything else is rattle's default
+// (WorldDef), except collapseTime when --collapse-time sets it.
 // The collisions counted are the contact events of each step.
 #include <stdexcept>
 #include <string>
@@ -20,36 +19,11 @@ class RattleEngine final : public Engine {
  public:
   RattleEngine(const Scene& scene, RattleMode mode, double collapseTime)
       : world_(worldDef(scene, mode, collapseTime)) {
-    rattle::BodyDef ground;
-    ground.type = rattle::BodyType::Static;
-    const rattle::BodyId groundId = world_.createBody(ground);
-    for (const Wall& w : scene.walls) {
-      rattle::FixtureDef fd;
-      fd.geometry = rattle::Segment{w.a, w.b};
-      fd.restitution = scene.restitution;
-      world_.createFixture(groundId, fd);
-    }
-    for (const SensorStrip& s : scene.sensors) {
-      rattle::FixtureDef fd;
-      fd.geometry = rattle::Polygon{s.points};
-      fd.sensor = true;
-      sensorIndex_.push_back(world_.createFixture(groundId, fd).index);
-    }
-    bodies_.reserve(scene.disks.size());
-    for (size_t i = 0; i < scene.disks.size(); ++i) {
-      const DiskStart& d = scene.disks[i];
-      rattle::BodyDef bd;
-      bd.type = rattle::BodyType::Dynamic;
-      bd.position = d.position;
-      bd.velocity = d.velocity;
-      const rattle::BodyId id = world_.createBody(bd);
-      rattle::FixtureDef fd;
-      fd.geometry = rattle::Circle{{0, 0}, d.radius};
-      fd.density = d.density;
-      fd.restitution = scene.restitution;
-      if (!scene.disksCollide) fd.filter.group = 1;
-      world_.createFixture(id, fd);
-      bodies_.push_back(id);
+    const RattleScene built = addToWorld(world_, scene);
+    for (const rattle::FixtureId f : built.sensors) sensorIndex_.push_back(f.index);
+    bodies_ = built.disks;
+    for (size_t i = 0; i < bodies_.size(); ++i) {
+      const rattle::BodyId id = bodies_[i];
       if (id.index >= diskOfBody_.size()) diskOfBody_.resize(id.index + 1, -1);
       diskOfBody_[id.index] = static_cast<int>(i);
     }

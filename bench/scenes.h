@@ -33,7 +33,12 @@
 #include <vector>
 
 #include "rattle/geometry.h"
+#include "rattle/types.h"
 #include "rattle/vec2.h"
+
+namespace rattle {
+class World;
+}
 
 namespace rattle_bench {
 
@@ -106,5 +111,15 @@ double massOf(const DiskStart& d);
 
 /// A 64-bit FNV-1a hash of the exact bits of everything in the scene (for determinism checks).
 uint64_t sceneHash(const Scene& scene);
+
+/// The scene in a rattle world: one static body with the walls (Segment fixtures) and the sensor strips
+/// (Polygon sensor fixtures), then a dynamic body with one Circle fixture per disk, of the scene's
+/// density and restitution (walls get the same restitution); in a scene whose disks must not meet, every
+/// disk is in collision group 1. The same world whoever builds it: rattle-bench, the tests, rattle-trace.
+struct RattleScene {
+  std::vector<rattle::BodyId> disks;        ///< in the scene's order
+  std::vector<rattle::FixtureId> sensors;   ///< the sensor strips' fixtures, in the scene's order
+};
+RattleScene addToWorld(rattle::World& world, const Scene& scene);
 
 }  // namespace rattle_bench

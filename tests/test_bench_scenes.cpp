@@ -163,25 +163,7 @@ TEST(BenchScenesPhysics, PredictivePileSettlesWithinItsEventBudget) {
   def.collapseTime = 1e-3;
   def.maxEventsPerStep = 50'000;
   rattle::World world(def);
-  const rattle::BodyId box = world.createBody({});
-  for (const rattle_bench::Wall& w : s.walls) {
-    rattle::FixtureDef fd;
-    fd.geometry = rattle::Segment{w.a, w.b};
-    fd.restitution = s.restitution;
-    world.createFixture(box, fd);
-  }
-  for (const rattle_bench::DiskStart& d : s.disks) {
-    rattle::BodyDef bd;
-    bd.type = rattle::BodyType::Dynamic;
-    bd.position = d.position;
-    bd.velocity = d.velocity;
-    const rattle::BodyId b = world.createBody(bd);
-    rattle::FixtureDef fd;
-    fd.geometry = rattle::Circle{{0, 0}, d.radius};
-    fd.density = d.density;
-    fd.restitution = s.restitution;
-    world.createFixture(b, fd);
-  }
+  rattle_bench::addToWorld(world, s);
   int worst = 0;
   for (int frame = 0; frame < 150; ++frame) {
     world.step(1.0 / 30);

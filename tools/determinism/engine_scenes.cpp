@@ -19,37 +19,6 @@ uint64_t mix(uint64_t h, uint64_t v) {
 uint64_t bits(double d) { return std::bit_cast<uint64_t>(d); }
 uint64_t ids(uint32_t index, uint32_t generation) { return uint64_t(index) << 32 | generation; }
 
-// The same world the benchmark builds for rattle (bench/engine_rattle.cpp): walls and sensors on one
-// static body, a circle per disk, disks that must not meet in collision group 1.
-void addBenchScene(rattle::World& world, const rattle_bench::Scene& scene) {
-  rattle::BodyDef ground;
-  const rattle::BodyId g = world.createBody(ground);
-  for (const rattle_bench::Wall& w : scene.walls) {
-    rattle::FixtureDef fd;
-    fd.geometry = rattle::Segment{w.a, w.b};
-    fd.restitution = scene.restitution;
-    world.createFixture(g, fd);
-  }
-  for (const rattle_bench::SensorStrip& s : scene.sensors) {
-    rattle::FixtureDef fd;
-    fd.geometry = rattle::Polygon{s.points};
-    fd.sensor = true;
-    world.createFixture(g, fd);
-  }
-  for (const rattle_bench::DiskStart& d : scene.disks) {
-    rattle::BodyDef bd;
-    bd.type = rattle::BodyType::Dynamic;
-    bd.position = d.position;
-    bd.velocity = d.velocity;
-    rattle::FixtureDef fd;
-    fd.geometry = rattle::Circle{{0, 0}, d.radius};
-    fd.density = d.density;
-    fd.restitution = scene.restitution;
-    if (!scene.disksCollide) fd.filter.group = 1;
-    world.createFixture(world.createBody(bd), fd);
-  }
-}
-
 void turnPushers(EngineScene& s, int step) {
   if (step == 0 || step % 40 != 0) return;
   for (rattle::BodyId b : s.movers) s.world.setVelocity(b, -s.world.velocity(b));
@@ -66,7 +35,7 @@ void addKinematicScene(EngineScene& s, int disks) {
   p.speed = 2;
   const rattle_bench::Scene gas = rattle_bench::buildScene(p);
   const double L = gas.bounds.max.x;
-  addBenchScene(s.world, gas);
+  rattle_bench::addToWorld(s.world, gas);
 
   rattle::BodyDef paddle;
   paddle.type = rattle::BodyType::Kinematic;
@@ -121,7 +90,7 @@ EngineScene buildEngineScene(const std::string& name, rattle::StepMode mode, int
   // inelastically and every step spends the whole event budget.
   if (name == "pile") def.collapseTime = 1e-3;
   EngineScene s{name, rattle::World(def)};
-  addBenchScene(s.world, scene);
+  rattle_bench::addToWorld(s.world, scene);
   return s;
 }
 
