@@ -15,6 +15,19 @@ int usageError(const std::string& sub, const std::string& message) {
   return kBadInput;
 }
 
+const std::string* nextValue(const std::vector<std::string>& args, size_t& i) {
+  return i + 1 < args.size() ? &args[++i] : nullptr;
+}
+
+int nextNumber(const std::string& sub, const std::vector<std::string>& args, size_t& i, uint64_t lo, uint64_t hi,
+               uint64_t& out) {
+  const std::string& option = args[i];
+  const std::string* v = nextValue(args, i);
+  if (v && parseNumber(*v, lo, hi, out)) return -1;
+  return usageError(sub, option + " " + (v ? *v : "(missing)") + ": expected a whole number from " + std::to_string(lo) +
+                             " to " + std::to_string(hi));
+}
+
 bool parseNumber(const std::string& text, uint64_t lo, uint64_t hi, uint64_t& out) {
   if (text.empty() || text.size() > 20 || !std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; })) return false;
   errno = 0;

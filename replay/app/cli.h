@@ -21,6 +21,12 @@ int runRecord(const std::vector<std::string>& args);
 int usageError(const std::string& sub, const std::string& message);
 /// A whole number in [lo, hi].
 bool parseNumber(const std::string& text, uint64_t lo, uint64_t hi, uint64_t& out);
+/// The argument after args[i], advancing i to it; nullptr when args[i] is the last.
+const std::string* nextValue(const std::vector<std::string>& args, size_t& i);
+/// The argument after the option args[i] (advancing i) as a whole number in [lo, hi]: -1 when it is one,
+/// otherwise the status of the usage error it printed, naming the option and the value.
+int nextNumber(const std::string& sub, const std::vector<std::string>& args, size_t& i, uint64_t lo, uint64_t hi,
+               uint64_t& out);
 /// WIDTHxHEIGHT, each 16 to 8192.
 bool parseSize(const std::string& text, int& width, int& height);
 

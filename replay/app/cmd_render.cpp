@@ -39,12 +39,8 @@ int runRender(const std::vector<std::string>& args) {
   bool quiet = false;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
-    auto value = [&]() -> const std::string* { return i + 1 < args.size() ? &args[++i] : nullptr; };
-    auto number = [&](uint64_t lo, uint64_t hi, uint64_t& out) -> int {
-      const std::string* v = value();
-      if (v && parseNumber(*v, lo, hi, out)) return -1;
-      return usageError("render", a + " " + (v ? *v : "(missing)") + ": expected a whole number from " + std::to_string(lo) + " to " + std::to_string(hi));
-    };
+    auto value = [&] { return nextValue(args, i); };
+    auto number = [&](uint64_t lo, uint64_t hi, uint64_t& out) { return nextNumber("render", args, i, lo, hi, out); };
     uint64_t n = 0;
     int bad = -1;
     if (a == "--help" || a == "-h") {
