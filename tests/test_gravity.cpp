@@ -1000,4 +1000,56 @@ TEST(GravityPile, TwoThousandDisksPouredIntoAContainer) {
   EXPECT_EQ(failures, 0);
 }
 
+
+// A settling lattice pile used to freeze the hybrid step at one instant. 2,000 disks (restitution 0.5)
+// start as a hexagonal packing whose rows are 0.0015 apart, in a container as wide as 50 disks, and
+// compact under gravity. A jam (jam.cpp) leaves the contacts of its cluster touching, with approaches at
+// the round-off of its solve; each such approach was absorbed or counted toward the next jam, which
+// settled the same cluster again at the same instant, and from the seventh step on every step spent its
+// whole budget at time 0 (one distinct event time, no motion at all). Expected instead: a jam's own
+// round-off is not a new collision, so every step that reaches the budget still spreads its events over
+// many instants and simulated time advances.
+TEST(GravityPile, SettlingLatticeNeverFreezesAtOneInstant) {
+  WorldDef def;
+  def.gravity = {0, -10};
+  def.maxEventsPerStep = 20000;
+  World world(def);
+  const BodyId container = world.createBody(bodyDef(BodyType::Static));
+  FixtureDef cd;
+  cd.geometry = rattle::Polyline{{{0, 100}, {0, 0}, {50, 0}, {50, 100}}};
+  world.createFixture(container, cd);
+  Rng rng(2026);
+  std::vector<DiskSpec> specs;
+  for (int row = 0; specs.size() < 2000; ++row) {
+    const int n = row % 2 == 0 ? 49 : 48;
+    for (int i = 0; i < n && specs.size() < 2000; ++i) {
+      const double gap = 1.002;
+      specs.push_back({{0.52 + (row % 2 ? 0.5 * gap : 0) + i * gap + rng.uniform(-0.001, 0.001), 0.501 + row * 0.8675},
+                       {rng.uniform(-0.05, 0.05), rng.uniform(-0.05, 0.05)},
+                       0.5,
+                       1.0,
+                       0.5});
+    }
+  }
+  const auto disks = addDisks(world, specs);
+  double simulated = 0;
+  for (int step = 0; step < 12; ++step) {
+    world.step(1.0 / 40);
+    const auto events = world.contactEvents();
+    std::vector<double> times;
+    for (const ContactEvent& ev : events) times.push_back(ev.time);
+    std::sort(times.begin(), times.end());
+    const auto distinct = std::unique(times.begin(), times.end()) - times.begin();
+    if (world.stats().eventBudgetReached) {
+      EXPECT_GT(distinct, 100) << "step " << step << ": the budget was spent at " << distinct << " instant(s)";
+      simulated += times.empty() ? 0.0 : times.back();
+    } else {
+      simulated += 1.0 / 40;
+    }
+    EXPECT_LE(hard_case::maxRelativeOverlapGrid(world, disks, nullptr), 0.01) << "step " << step;
+  }
+  std::printf("[ settling lattice of 2000 ] motion simulated in 12 steps: at least %.4f s\n", simulated);
+  EXPECT_GT(simulated, 12 * 0.001);
+}
+
 }  // namespace

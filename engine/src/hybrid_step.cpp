@@ -266,6 +266,7 @@ void World::Impl::stepHybrid(double dt) {
     pairsOfBody[i].clear();
     b.localTime = 0;
     b.last = detail::LastContact{};
+    b.jamTime = -1;
     b.stepCollisions = 0;
     if (b.support.generation != 0 &&
         (!fixtures[b.support.fixture].alive || fixtures[b.support.fixture].generation != b.support.generation)) {
@@ -347,6 +348,9 @@ void World::Impl::stepHybrid(double dt) {
     const double tolerance = approachTolerance + restTolerance;
     if (!(vn < -tolerance) && !pressing) {
       ++stats.staleEvents;
+      // A jam just settled these two together: what approach is left is its solve's round-off, and
+      // absorbing it (or settling the cluster again) would repeat at this instant without end.
+      if (settledTogether(a, b, c.time)) continue;
       // Absorbing is pointless (and would repeat forever) when vn is itself the round-off of the
       // velocities, or when the two are at rest relative to each other.
       const double speed = length(relativeVelocity);

@@ -60,6 +60,15 @@ World::Impl::Jam World::Impl::settleJamAt(const detail::PredictedContact& c, dou
   return Jam::Settled;
 }
 
+bool World::Impl::settledTogether(const BodySlot& a, const BodySlot& b, double now) const {
+  const bool aFree = a.type == BodyType::Dynamic && !a.asleep, bFree = b.type == BodyType::Dynamic && !b.asleep;
+  if (!aFree && !bFree) return false;
+  const BodySlot& settled = aFree ? a : b;
+  const BodySlot& other = aFree ? b : a;
+  if (settled.jamTime != now) return false;
+  return !(other.type == BodyType::Dynamic && !other.asleep) || (other.jam == settled.jam && other.jamTime == now);
+}
+
 int World::Impl::settleJam(uint32_t seed, double now, double dt, int budget) {
   const double reachBase = def.restingSpeed * def.restingSpeed / length(def.gravity);
   // 1. The cluster: awake dynamic bodies connected by touching pairs, in the order found from the seed
@@ -137,9 +146,12 @@ int World::Impl::settleJam(uint32_t seed, double now, double dt, int budget) {
     if (worst <= tolerance) break;
   }
   const double end = time + now;
+  ++jamCounter;
   for (size_t k = 0; k < cluster.size(); ++k) {
     BodySlot& b = bodies[cluster[k]];
     b.velocity = v[k];
+    b.jam = jamCounter;
+    b.jamTime = now;
     // A slide goes on when the solve left the body moving along its face; otherwise it has left it.
     if (b.support.generation != 0) {
       const double vn = dot(b.velocity, b.support.normal);

@@ -59,6 +59,9 @@ struct BodySlot {
   // Step-local state.
   uint32_t collisionCount = 0;  // bumps on every velocity change; predictions carry it to detect staleness
   LastContact last;
+  // The jam that last settled it (World::Impl::jamCounter) and when, in step time; < 0: none this step.
+  uint32_t jam = 0;
+  double jamTime = -1;
 };
 
 struct FixtureSlot {
@@ -231,6 +234,10 @@ struct World::Impl {
   // jam.cpp: a cluster of touching bodies resolved at once when one of them collides too often.
   static constexpr int kJamCollisions = 64;
   std::vector<int> jamSlot;  // scratch of settleJam, all -1 between calls
+  uint32_t jamCounter = 0;   // numbers the jams, so that two clusters settled at one instant differ
+  /// Whether a jam settled this pair's contact at this very instant: both dynamic bodies were in it (or
+  /// the other one was held fixed), so any approach left between them is the solve's round-off.
+  bool settledTogether(const detail::BodySlot& a, const detail::BodySlot& b, double now) const;
   /// Counts a collision of `body` in this step; true once it has had more than kJamCollisions.
   bool isJammed(uint32_t body);
   /// Resolves the touching cluster of `seed` at `now`; returns the contact events it took, or -1 (and
