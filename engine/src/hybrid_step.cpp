@@ -260,6 +260,7 @@ void World::Impl::stepHybrid(double dt) {
 
   // 1. Swept boxes. A sleeping body does not move this step: its proxies count as resting.
   double speedScale = 0;
+  sliding.clear();
   for (uint32_t i = 0; i < bodies.size(); ++i) {
     BodySlot& b = bodies[i];
     if (!b.alive) continue;
@@ -273,6 +274,7 @@ void World::Impl::stepHybrid(double dt) {
       stopSliding(b);
     }
     if (b.type == BodyType::Dynamic && !b.asleep && b.support.generation == 0) b.acceleration = def.gravity;
+    if (b.support.generation != 0) sliding.push_back(i);
     const bool moving = moves(b) && !b.asleep;
     if (moving) speedScale = std::max(speedScale, length(b.velocity) + length(b.acceleration) * dt);
     if (b.type == BodyType::Static) continue;
@@ -305,9 +307,7 @@ void World::Impl::stepHybrid(double dt) {
       }
     }
   });
-  for (uint32_t i = 0; i < bodies.size(); ++i) {
-    if (bodies[i].alive) predictSlideEnd(i, 0, dt);
-  }
+  for (uint32_t i : sliding) predictSlideEnd(i, 0, dt);
 
   // 4. Events in time order.
   std::vector<uint32_t> woken;

@@ -65,15 +65,17 @@ struct BodySlot {
 };
 
 struct FixtureSlot {
+  // What the step reads for every fixture (its box) and for every candidate pair (canCollide) comes
+  // first, in one cache line: a pair's two fixtures are rarely near each other in memory.
   uint32_t generation = 1;
   bool alive = false;
+  bool sensor = false;
   uint32_t body = 0;
-  Geometry geometry;
+  Filter filter;
   Box localBox;  // box of the geometry relative to the body's position
+  Geometry geometry;
   double density = 1;
   double restitution = 0;
-  bool sensor = false;
-  Filter filter;
 };
 
 enum class EventKind : uint8_t { Contact = 0, SlideEnd = 1 };
@@ -137,6 +139,7 @@ struct World::Impl {
   std::vector<uint32_t> stamp;                                  // by fixture index, for de-duplication
   uint32_t stampCounter = 0;
   std::vector<uint32_t> supporters;
+  std::vector<uint32_t> sliding;  // scratch of stepHybrid: the bodies that start the step sliding
 
   detail::BodySlot& bodyOf(uint32_t fixture) { return bodies[fixtures[fixture].body]; }
   const detail::BodySlot& bodyOf(uint32_t fixture) const { return bodies[fixtures[fixture].body]; }
