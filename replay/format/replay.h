@@ -49,6 +49,12 @@ struct CountersState {
   friend bool operator==(const CountersState&, const CountersState&) = default;
 };
 
+/// A body's exact motion: World::position and World::velocity.
+struct MotionState {
+  double px = 0, py = 0, vx = 0, vy = 0;
+  friend bool operator==(const MotionState&, const MotionState&) = default;
+};
+
 struct UnitState {
   bool alive = false;
   bool orderActive = false;
@@ -56,7 +62,7 @@ struct UnitState {
   int32_t reloadTicks = 0;
   // Only while alive:
   uint32_t bodyIndex = 0, bodyGeneration = 0;  ///< the engine's BodyId
-  double px = 0, py = 0, vx = 0, vy = 0;       ///< World::position / velocity
+  MotionState motion;
   // Only while the order is active:
   double targetX = 0, targetY = 0;
   friend bool operator==(const UnitState&, const UnitState&) = default;
@@ -68,14 +74,14 @@ struct ShotState {
   uint32_t shooter = 0;
   int32_t ticksLeft = 0;
   uint32_t bodyIndex = 0, bodyGeneration = 0;
-  double px = 0, py = 0, vx = 0, vy = 0;
+  MotionState motion;
   friend bool operator==(const ShotState&, const ShotState&) = default;
 };
 
 struct GateBodyState {
   bool wantOpen = false;
   double openness = 0;
-  double px = 0, py = 0, vx = 0, vy = 0;
+  MotionState motion;
   friend bool operator==(const GateBodyState&, const GateBodyState&) = default;
 };
 

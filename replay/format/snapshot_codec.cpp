@@ -42,6 +42,22 @@ CountersState decodeCounters(ByteReader& in, const ReplayConfig& c, const std::s
   return s;
 }
 
+MotionState decodeMotion(ByteReader& in, const std::string& field) {
+  MotionState m;
+  m.px = in.finite(field + " position.x");
+  m.py = in.finite(field + " position.y");
+  m.vx = in.finite(field + " velocity.x");
+  m.vy = in.finite(field + " velocity.y");
+  return m;
+}
+
+void encodeMotion(ByteWriter& out, const MotionState& m) {
+  out.f64(m.px);
+  out.f64(m.py);
+  out.f64(m.vx);
+  out.f64(m.vy);
+}
+
 UnitState decodeUnit(ByteReader& in, const std::string& field) {
   UnitState s;
   const size_t flagsAt = in.offset();
@@ -55,10 +71,7 @@ UnitState decodeUnit(ByteReader& in, const std::string& field) {
   if (s.alive) {
     s.bodyIndex = uint32_t(in.varint(field + " body index", 0, UINT32_MAX));
     s.bodyGeneration = uint32_t(in.varint(field + " body generation", 1, UINT32_MAX));
-    s.px = in.finite(field + " position.x");
-    s.py = in.finite(field + " position.y");
-    s.vx = in.finite(field + " velocity.x");
-    s.vy = in.finite(field + " velocity.y");
+    s.motion = decodeMotion(in, field);
   }
   if (s.orderActive) {
     s.targetX = in.finite(field + " order.target.x");
@@ -76,10 +89,7 @@ ShotState decodeShot(ByteReader& in, const std::string& field) {
   s.ticksLeft = int32_t(in.zigzag(field + " ticksLeft", kInt32Min, kInt32Max));
   s.bodyIndex = uint32_t(in.varint(field + " body index", 0, UINT32_MAX));
   s.bodyGeneration = uint32_t(in.varint(field + " body generation", 1, UINT32_MAX));
-  s.px = in.finite(field + " position.x");
-  s.py = in.finite(field + " position.y");
-  s.vx = in.finite(field + " velocity.x");
-  s.vy = in.finite(field + " velocity.y");
+  s.motion = decodeMotion(in, field);
   return s;
 }
 
@@ -87,10 +97,7 @@ GateBodyState decodeGate(ByteReader& in, const std::string& field) {
   GateBodyState s;
   s.wantOpen = in.flag(field + " wantOpen");
   s.openness = in.finite(field + " openness");
-  s.px = in.finite(field + " position.x");
-  s.py = in.finite(field + " position.y");
-  s.vx = in.finite(field + " velocity.x");
-  s.vy = in.finite(field + " velocity.y");
+  s.motion = decodeMotion(in, field);
   return s;
 }
 
@@ -117,10 +124,7 @@ void encodeUnit(ByteWriter& out, const UnitState& s) {
   if (s.alive) {
     out.varint(s.bodyIndex);
     out.varint(s.bodyGeneration);
-    out.f64(s.px);
-    out.f64(s.py);
-    out.f64(s.vx);
-    out.f64(s.vy);
+    encodeMotion(out, s.motion);
     if (s.orderActive) {
       out.f64(s.targetX);
       out.f64(s.targetY);
@@ -135,19 +139,13 @@ void encodeShot(ByteWriter& out, const ShotState& s) {
   out.zigzag(s.ticksLeft);
   out.varint(s.bodyIndex);
   out.varint(s.bodyGeneration);
-  out.f64(s.px);
-  out.f64(s.py);
-  out.f64(s.vx);
-  out.f64(s.vy);
+  encodeMotion(out, s.motion);
 }
 
 void encodeGate(ByteWriter& out, const GateBodyState& s) {
   out.u8(uint8_t(s.wantOpen));
   out.f64(s.openness);
-  out.f64(s.px);
-  out.f64(s.py);
-  out.f64(s.vx);
-  out.f64(s.vy);
+  encodeMotion(out, s.motion);
 }
 
 void encodeSnapshot(ByteWriter& out, const Snapshot& s) {

@@ -118,7 +118,7 @@ TEST(ReplayVerify, ATamperedKeyframeNamesTheBodyTheFieldAndTheAmount) {
   ASSERT_GE(r.keyframes.size(), 3u);
   UnitState& u = r.keyframes[2].state.units[3];  // tick 20
   ASSERT_TRUE(u.alive);
-  u.px = std::nextafter(u.px, 1e9);
+  u.motion.px = std::nextafter(u.motion.px, 1e9);
   const VerifyReport report = verifyReplay(parsed(encodeReplay(r)));
   ASSERT_FALSE(report.ok());
   EXPECT_EQ(report.divergence->tick, 20u);

@@ -23,6 +23,12 @@ std::string exact(double v) {
 class Differ {
  public:
   explicit Differ(std::vector<FieldDiff>& out) : out_(out) {}
+  void motion(const std::string& body, const MotionState& was, const MotionState& now) {
+    real(body, "position.x", was.px, now.px);
+    real(body, "position.y", was.py, now.py);
+    real(body, "velocity.x", was.vx, now.vx);
+    real(body, "velocity.y", was.vy, now.vy);
+  }
   void real(const std::string& body, const char* field, double was, double now) {
     if (std::bit_cast<uint64_t>(was) == std::bit_cast<uint64_t>(now)) return;
     // The distance in ulps says "rounding" (a few) or "something else" (many): shown while it is small.
@@ -137,10 +143,7 @@ std::vector<FieldDiff> snapshotDifferences(const Snapshot& was, const Snapshot& 
     if (a.alive && b.alive) {
       d.integer(body, "body.index", a.bodyIndex, b.bodyIndex);
       d.integer(body, "body.generation", a.bodyGeneration, b.bodyGeneration);
-      d.real(body, "position.x", a.px, b.px);
-      d.real(body, "position.y", a.py, b.py);
-      d.real(body, "velocity.x", a.vx, b.vx);
-      d.real(body, "velocity.y", a.vy, b.vy);
+      d.motion(body, a.motion, b.motion);
       d.flag(body, "order.active", a.orderActive, b.orderActive);
       if (a.orderActive && b.orderActive) {
         d.real(body, "order.target.x", a.targetX, b.targetX);
@@ -164,10 +167,7 @@ std::vector<FieldDiff> snapshotDifferences(const Snapshot& was, const Snapshot& 
       d.integer(body, "ticksLeft", a.ticksLeft, b.ticksLeft);
       d.integer(body, "body.index", a.bodyIndex, b.bodyIndex);
       d.integer(body, "body.generation", a.bodyGeneration, b.bodyGeneration);
-      d.real(body, "position.x", a.px, b.px);
-      d.real(body, "position.y", a.py, b.py);
-      d.real(body, "velocity.x", a.vx, b.vx);
-      d.real(body, "velocity.y", a.vy, b.vy);
+      d.motion(body, a.motion, b.motion);
     }
   }
   for (size_t g = 0; g < std::min(was.gates.size(), now.gates.size()); ++g) {
@@ -175,10 +175,7 @@ std::vector<FieldDiff> snapshotDifferences(const Snapshot& was, const Snapshot& 
     const GateBodyState &a = was.gates[g], &b = now.gates[g];
     d.flag(body, "wantOpen", a.wantOpen, b.wantOpen);
     d.real(body, "openness", a.openness, b.openness);
-    d.real(body, "position.x", a.px, b.px);
-    d.real(body, "position.y", a.py, b.py);
-    d.real(body, "velocity.x", a.vx, b.vx);
-    d.real(body, "velocity.y", a.vy, b.vy);
+    d.motion(body, a.motion, b.motion);
   }
   return out;
 }

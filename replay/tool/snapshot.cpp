@@ -1,6 +1,11 @@
 #include "tool/snapshot.h"
 
 namespace rts::replay {
+namespace {
+
+MotionState motionOf(Vec2 p, Vec2 v) { return {p.x, p.y, v.x, v.y}; }
+
+}  // namespace
 
 Snapshot snapshotOf(const Game& game) {
   Snapshot s;
@@ -25,11 +30,7 @@ Snapshot snapshotOf(const Game& game) {
       x.orderActive = u.order.active;
       x.bodyIndex = u.body.index;
       x.bodyGeneration = u.body.generation;
-      const Vec2 p = world.position(u.body), v = world.velocity(u.body);
-      x.px = p.x;
-      x.py = p.y;
-      x.vx = v.x;
-      x.vy = v.y;
+      x.motion = motionOf(world.position(u.body), world.velocity(u.body));
       if (u.order.active) {
         x.targetX = u.order.target.x;
         x.targetY = u.order.target.y;
@@ -46,22 +47,14 @@ Snapshot snapshotOf(const Game& game) {
     x.ticksLeft = sh.ticksLeft;
     x.bodyIndex = sh.body.index;
     x.bodyGeneration = sh.body.generation;
-    const Vec2 p = world.position(sh.body), v = world.velocity(sh.body);
-    x.px = p.x;
-    x.py = p.y;
-    x.vx = v.x;
-    x.vy = v.y;
+    x.motion = motionOf(world.position(sh.body), world.velocity(sh.body));
     s.shots.push_back(x);
   }
   for (size_t g = 0; g < game.gates().size(); ++g) {
     GateBodyState x;
     x.wantOpen = game.gates()[g].wantOpen;
     x.openness = game.gates()[g].openness;
-    const Vec2 p = game.physics().gatePosition(g), v = game.physics().gateVelocity(g);
-    x.px = p.x;
-    x.py = p.y;
-    x.vx = v.x;
-    x.vy = v.y;
+    x.motion = motionOf(game.physics().gatePosition(g), game.physics().gateVelocity(g));
     s.gates.push_back(x);
   }
   return s;
