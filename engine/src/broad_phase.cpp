@@ -11,7 +11,7 @@ void BroadPhase::add(uint32_t fixture, const Box& box, bool moving, bool sensor)
   if (!p.present && p.listed) --removed_;  // removed and added again before a sort: listed once
   const bool listed = p.listed;
   p = Proxy{box, moving, true, true, sensor, p.stamp};
-  if (!listed) order_.push_back({box, fixture, moving, sensor});
+  if (!listed) order_.push_back(fixture);
 }
 
 void BroadPhase::remove(uint32_t fixture) {
@@ -22,19 +22,18 @@ void BroadPhase::remove(uint32_t fixture) {
 }
 
 void BroadPhase::sortByMinX() {
-  // The one pass in x order that reads proxies_: drop the removed ones, copy the boxes of the others.
-  size_t kept = 0;
-  for (size_t i = 0; i < order_.size(); ++i) {
-    const uint32_t f = order_[i].fixture;
-    Proxy& p = proxies_[f];
-    if (!p.present) {
-      p.listed = false;
-      continue;
+  if (removed_ > 0) {
+    size_t kept = 0;
+    for (uint32_t f : order_) {
+      if (proxies_[f].present) {
+        order_[kept++] = f;
+      } else {
+        proxies_[f].listed = false;
+      }
     }
-    order_[kept++] = BandEntry{p.box, f, p.moving, p.sensor};
+    order_.resize(kept);
+    removed_ = 0;
   }
-  order_.resize(kept);
-  removed_ = 0;
   // Insertion sort: near-linear on the nearly sorted order left by the previous step. When the order is
   // far from sorted (the first step, many new proxies, a teleport) it would go quadratic, so past a
   // budget of moves it hands over to a full sort. Both orders are total (ties by fixture index in the
@@ -42,19 +41,18 @@ void BroadPhase::sortByMinX() {
   const size_t n = order_.size();
   size_t budget = 8 * n + 64;
   for (size_t i = 1; i < n; ++i) {
-    const double x = order_[i].box.min.x;
-    if (!(order_[i - 1].box.min.x > x)) continue;
-    const BandEntry e = order_[i];
+    const uint32_t f = order_[i];
+    const double x = proxies_[f].box.min.x;
     size_t j = i;
-    while (j > 0 && order_[j - 1].box.min.x > x) {
+    while (j > 0 && proxies_[order_[j - 1]].box.min.x > x) {
       order_[j] = order_[j - 1];
       --j;
     }
-    order_[j] = e;
+    order_[j] = f;
     if (i - j > budget) {
-      std::sort(order_.begin(), order_.end(), [](const BandEntry& a, const BandEntry& b) {
-        const double xa = a.box.min.x, xb = b.box.min.x;
-        return xa < xb || (xa == xb && a.fixture < b.fixture);
+      std::sort(order_.begin(), order_.end(), [this](uint32_t a, uint32_t b) {
+        const double xa = proxies_[a].box.min.x, xb = proxies_[b].box.min.x;
+        return xa < xb || (xa == xb && a < b);
       });
       return;
     }
@@ -74,8 +72,8 @@ void BroadPhase::splitIntoBands() {
   heights_.clear();
   const size_t stride = std::max<size_t>(1, order_.size() / 512);
   size_t movingSeen = 0;
-  for (const BandEntry& e : order_) {
-    const Box& b = e.box;
+  for (uint32_t f : order_) {
+    const Box& b = proxies_[f].box;
     if (first) {
       low = b.min.y;
       high = b.max.y;
@@ -83,7 +81,7 @@ void BroadPhase::splitIntoBands() {
     }
     low = std::min(low, b.min.y);
     high = std::max(high, b.max.y);
-    if (e.moving && movingSeen++ % stride == 0) heights_.push_back(b.max.y - b.min.y);
+    if (proxies_[f].moving && movingSeen++ % stride == 0) heights_.push_back(b.max.y - b.min.y);
   }
   bandCount_ = 1;
   bandOrigin_ = low;
@@ -100,9 +98,11 @@ void BroadPhase::splitIntoBands() {
   }
   if (bands_.size() < bandCount_) bands_.resize(bandCount_);
   for (uint32_t b = 0; b < bandCount_; ++b) bands_[b].clear();
-  for (const BandEntry& e : order_) {
-    const uint32_t last = bandOf(e.box.max.y);
-    for (uint32_t b = bandOf(e.box.min.y); b <= last; ++b) bands_[b].push_back(e);
+  for (uint32_t f : order_) {
+    const Box& box = proxies_[f].box;
+    const uint32_t last = bandOf(box.max.y);
+    const Proxy& p = proxies_[f];
+    for (uint32_t b = bandOf(box.min.y); b <= last; ++b) bands_[b].push_back({box, f, p.moving, p.sensor});
   }
 }
 
@@ -115,8 +115,9 @@ void BroadPhase::buildQueryBands() {
   widths.clear();
   const size_t stride = std::max<size_t>(1, order_.size() / 512);
   size_t movingSeen = 0;
-  for (const BandEntry& e : order_) {
-    if (e.moving && movingSeen++ % stride == 0) widths.push_back(e.box.max.x - e.box.min.x);
+  for (uint32_t f : order_) {
+    const Proxy& p = proxies_[f];
+    if (p.moving && movingSeen++ % stride == 0) widths.push_back(p.box.max.x - p.box.min.x);
   }
   wideThreshold_ = std::numeric_limits<double>::infinity();
   if (movingSeen >= 64 && !widths.empty()) {

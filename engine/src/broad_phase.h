@@ -72,22 +72,19 @@ class BroadPhase {
     return b <= 0 ? 0 : b >= bandCount_ - 1 ? bandCount_ - 1 : static_cast<uint32_t>(b);
   }
 
+  std::vector<Proxy> proxies_;   // indexed by fixture index
+  std::vector<uint32_t> order_;  // fixture indices, sorted by box.min.x at the last sweep
+  size_t removed_ = 0;           // proxies removed since the last sort (still listed in order_)
+  // Horizontal bands for the sweep: a single x sweep over a square region compares every proxy with a
+  // whole column of others (O(N^1.5)); sweeping bands about two boxes tall keeps it near O(N).
+  // Each entry carries a copy of its box, so the sweep reads each band's list in order instead of jumping
+  // through proxies_ by fixture index (a cache miss per comparison in a large world).
   struct BandEntry {
     Box box;
     uint32_t fixture;
     bool moving;
     bool sensor;
   };
-  std::vector<Proxy> proxies_;  // indexed by fixture index
-  // Every listed proxy, sorted by box.min.x at the last sweep. Each entry carries a copy of its proxy's
-  // box, taken once per sweep in one pass, so that sorting and splitting into bands read one array in
-  // order: the x order and the fixture order of a large world differ, and reading proxies_ in x order
-  // costs a cache miss per comparison.
-  std::vector<BandEntry> order_;
-  size_t removed_ = 0;  // proxies removed since the last sort (still listed in order_)
-  // Horizontal bands for the sweep: a single x sweep over a square region compares every proxy with a
-  // whole column of others (O(N^1.5)); sweeping bands about two boxes tall keeps it near O(N).
-  // Band lists hold copies of the entries too, so the sweep reads each band's list in order.
   std::vector<std::vector<BandEntry>> bands_;
   std::vector<double> heights_;  // scratch of splitIntoBands
   std::vector<uint32_t> sensorList_, otherList_;  // scratch of findSensorPairs
