@@ -4,6 +4,7 @@
 #include <time.h>
 
 #include <chrono>
+#include <variant>
 
 namespace rts {
 namespace {
@@ -83,7 +84,16 @@ Physics::Physics(const Map& map, rattle::StepMode mode) : world_([&] {
   const uint32_t everything = 0xFFFFFFFFu;
   for (const MapWall& w : map.walls) {
     rattle::BodyId body = world_.createBody(bodyAt(rattle::BodyType::Static, w.origin));
-    world_.createFixture(body, fixture(w.shape, filter(kWall, everything)));
+    if (const auto* line = std::get_if<rattle::Polyline>(&w.shape); line && line->points.size() > 2) {
+      // One fixture per segment, each with its own box: the arena's outer wall as one polyline has a box
+      // round the whole map, and every moving unit would be tested against all of it every tick. Each
+      // piece keeps its ends, so the corners still collide (from either piece: the second is then stale).
+      for (size_t i = 0; i + 1 < line->points.size(); ++i) {
+        world_.createFixture(body, fixture(rattle::Polyline{{line->points[i], line->points[i + 1]}}, filter(kWall, everything)));
+      }
+    } else {
+      world_.createFixture(body, fixture(w.shape, filter(kWall, everything)));
+    }
     setTag(body, Tag::Wall, uint32_t(w.objectId));
   }
   for (size_t i = 0; i < map.doorways.size(); ++i) {

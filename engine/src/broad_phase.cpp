@@ -5,12 +5,12 @@
 
 namespace rattle::detail {
 
-void BroadPhase::add(uint32_t fixture, const Box& box, bool moving, bool sensor) {
+void BroadPhase::add(uint32_t fixture, const Box& box, bool moving, bool sensor, uint32_t category, uint32_t mask) {
   if (proxies_.size() <= fixture) proxies_.resize(fixture + 1);
   Proxy& p = proxies_[fixture];
   if (!p.present && p.listed) --removed_;  // removed and added again before a sort: listed once
   const bool listed = p.listed;
-  p = Proxy{box, moving, true, true, sensor, p.stamp};
+  p = Proxy{box, moving, true, true, sensor, category, mask, p.stamp};
   if (!listed) order_.push_back(fixture);
 }
 
@@ -60,20 +60,28 @@ void BroadPhase::sortByMinX() {
   }
 }
 
-void BroadPhase::splitIntoBands() {
+void BroadPhase::splitIntoBands(bool withSensors) {
   // Band height: twice the height of the lowest quarter of the moving proxies' boxes. Static walls can be
   // long and say nothing about how crowded the moving ones are; a few tall moving boxes (sight sensors)
   // should not make every band tall, which would make every query look at a tall band. At most 4096
   // bands, and one when little moves. The quarter is taken from a sample of about 512 boxes, every
   // stride-th in x order (which depends only on the data), so that choosing the bands stays a small
   // part of a large sweep.
+  // For the sensor sweep, when many sensors move, the band height is the height of the lowest quarter
+  // of the moving sensors' boxes instead: a sight circle is many times a body's height, and in bands
+  // cut for the bodies each circle would be listed in a dozen of them (most of the sweep's work, with
+  // a crowd's sensors), while what it is swept against has been filtered down to what it can sense.
   double low = 0, high = 0;
   bool first = true;
   heights_.clear();
   const size_t stride = std::max<size_t>(1, order_.size() / 512);
-  size_t movingSeen = 0;
+  size_t movingSeen = 0, sensorsSeen = 0;
+  sensorHeights_.clear();
   for (uint32_t f : order_) {
     const Box& b = proxies_[f].box;
+    if (withSensors && proxies_[f].sensor && proxies_[f].moving && sensorsSeen++ % stride == 0) {
+      sensorHeights_.push_back(b.max.y - b.min.y);
+    }
     if (first) {
       low = b.min.y;
       high = b.max.y;
@@ -86,10 +94,12 @@ void BroadPhase::splitIntoBands() {
   bandCount_ = 1;
   bandOrigin_ = low;
   inverseBandHeight_ = 0;
+  const bool bySensors = sensorsSeen >= 64;
+  std::vector<double>& sample = bySensors ? sensorHeights_ : heights_;
   if (movingSeen >= 64) {
-    auto quarter = heights_.begin() + static_cast<std::ptrdiff_t>(heights_.size() / 4);
-    std::nth_element(heights_.begin(), quarter, heights_.end());
-    const double bandHeight = 2 * *quarter;
+    auto quarter = sample.begin() + static_cast<std::ptrdiff_t>(sample.size() / 4);
+    std::nth_element(sample.begin(), quarter, sample.end());
+    const double bandHeight = (bySensors ? 1 : 2) * *quarter;
     const double count = bandHeight > 0 ? (high - low) / bandHeight : 1;
     if (count > 1 && count < 1e9) {
       bandCount_ = static_cast<uint32_t>(std::min(count, 4096.0)) + 1;
@@ -98,11 +108,14 @@ void BroadPhase::splitIntoBands() {
   }
   if (bands_.size() < bandCount_) bands_.resize(bandCount_);
   for (uint32_t b = 0; b < bandCount_; ++b) bands_[b].clear();
+  // The bands themselves are chosen with the sensors counted either way, so that the collision sweep's
+  // bands and the order of its pairs do not depend on which sweep ran last.
   for (uint32_t f : order_) {
-    const Box& box = proxies_[f].box;
-    const uint32_t last = bandOf(box.max.y);
     const Proxy& p = proxies_[f];
-    for (uint32_t b = bandOf(box.min.y); b <= last; ++b) bands_[b].push_back({box, f, p.moving, p.sensor});
+    if (p.sensor && !withSensors) continue;
+    const Box& box = p.box;
+    const uint32_t last = bandOf(box.max.y);
+    for (uint32_t b = bandOf(box.min.y); b <= last; ++b) bands_[b].push_back({box, f, p.moving, p.sensor, p.category, p.mask});
   }
 }
 
@@ -136,6 +149,7 @@ void BroadPhase::buildQueryBand(uint32_t band) {
   qb.movingWidth = 0;
   qb.wideWidth = 0;
   for (const BandEntry& e : bands_[band]) {
+    if (e.sensor) continue;
     const double width = e.box.max.x - e.box.min.x;
     if (!e.moving) {
       qb.fixed.push_back({e.box.min.x, e.fixture});

@@ -23,7 +23,14 @@ namespace rattle::detail {
 class BroadPhase {
  public:
   /// `sensor`: two sensors never pair (they only sense physical fixtures), so the sweep skips them.
-  void add(uint32_t fixture, const Box& box, bool moving, bool sensor = false);
+  /// `category` and `mask`: the fixture's filter bits, so that findSensorPairs sweeps each sensor only
+  /// against the fixtures it may sense.
+  void add(uint32_t fixture, const Box& box, bool moving, bool sensor = false, uint32_t category = ~0u,
+           uint32_t mask = ~0u);
+  void setFilter(uint32_t fixture, uint32_t category, uint32_t mask) {
+    proxies_[fixture].category = category;
+    proxies_[fixture].mask = mask;
+  }
   /// Lazy: the proxy leaves the sorted order at the next sort.
   void remove(uint32_t fixture);
   bool contains(uint32_t fixture) const { return fixture < proxies_.size() && proxies_[fixture].present; }
@@ -31,21 +38,24 @@ class BroadPhase {
   void setBox(uint32_t fixture, const Box& box) { proxies_[fixture].box = box; }
   void setMoving(uint32_t fixture, bool moving) { proxies_[fixture].moving = moving; }
 
-  /// Sorts by lower x edge and calls report(a, b) for every overlapping pair of which one moves.
+  /// Sorts by lower x edge and calls report(a, b) for every overlapping pair of which one moves and
+  /// neither is a sensor (sensors are paired by findSensorPairs alone), and whose filter bits meet.
   /// Then prepares `query` for this step's boxes.
   template <class Report>
   void findPairs(Report&& report);
 
   /// The same for the pairs of a sensor and a fixture that is not one, only: within each band the
   /// sensors and the others are swept as two lists against each other, so a crowd's sight circles never
-  /// look at one another.
+  /// look at one another; and the sensors of each filter only against the fixtures whose filter bits
+  /// meet theirs, so a sight circle that senses only the other team never looks at its own team either
+  /// (a packed crowd puts hundreds of friends in each one). Groups are left to the caller.
   template <class Report>
   void findSensorPairs(Report&& report);
 
   /// Grows a moving proxy's box mid-step (the new box must contain the old one).
   void grow(uint32_t fixture, const Box& grown);
 
-  /// Calls found(f) once for every proxy whose current box overlaps `q`.
+  /// Calls found(f) once for every proxy that is not a sensor and whose current box overlaps `q`.
   template <class Found>
   void query(const Box& q, Found&& found);
 
@@ -56,6 +66,7 @@ class BroadPhase {
     bool present = false;
     bool listed = false;   // in order_ (a removed proxy stays listed until the next sort)
     bool sensor = false;
+    uint32_t category = ~0u, mask = ~0u;  // the fixture's filter bits
     uint32_t stamp = 0;    // the last query that reported it
     uint32_t grownSweep = 0;         // the sweep in which grownLow..grownHigh were listed
     uint32_t grownLow = 0, grownHigh = 0;  // the bands whose grown lists hold it
@@ -65,7 +76,10 @@ class BroadPhase {
     uint32_t fixture;
   };
   void sortByMinX();
-  void splitIntoBands();
+  /// `withSensors`: false leaves the sensors out of the bands. A unit's sight circle spans several
+  /// bands, so a crowd's sensors would be most of the entries that the collision sweep and the queries
+  /// step over, for nothing: only findSensorPairs pairs them.
+  void splitIntoBands(bool withSensors);
   void buildQueryBands();
   uint32_t bandOf(double y) const {
     const double b = (y - bandOrigin_) * inverseBandHeight_;
@@ -84,10 +98,15 @@ class BroadPhase {
     uint32_t fixture;
     bool moving;
     bool sensor;
+    uint32_t category, mask;
   };
   std::vector<std::vector<BandEntry>> bands_;
-  std::vector<double> heights_;  // scratch of splitIntoBands
-  std::vector<uint32_t> sensorList_, otherList_;  // scratch of findSensorPairs
+  std::vector<double> heights_, sensorHeights_;  // scratch of splitIntoBands
+  std::vector<uint32_t> sensorList_, otherList_;  // scratch of findSensorPairs: indices into a band's list
+  struct FilterBits {
+    uint32_t category, mask;
+  };
+  std::vector<FilterBits> sensorFilters_;  // scratch of findSensorPairs: the sensors' filters in a band
   uint32_t bandCount_ = 1;
   double bandOrigin_ = 0;
   double inverseBandHeight_ = 0;
@@ -115,7 +134,7 @@ class BroadPhase {
 template <class Report>
 void BroadPhase::findPairs(Report&& report) {
   sortByMinX();
-  splitIntoBands();
+  splitIntoBands(false);
   // Within each band the proxies are in x order already; a pair is reported only in the lowest band both
   // are in, so a pair that shares several bands is reported once.
   for (uint32_t band = 0; band < bandCount_; ++band) {
@@ -126,7 +145,8 @@ void BroadPhase::findPairs(Report&& report) {
       for (size_t j = i + 1; j < n; ++j) {
         const BandEntry& pj = list[j];
         if (pj.box.min.x > pi.box.max.x) break;
-        if ((!pi.moving && !pj.moving) || (pi.sensor && pj.sensor)) continue;
+        if (!pi.moving && !pj.moving) continue;
+        if ((pi.category & pj.mask) == 0 || (pj.category & pi.mask) == 0) continue;
         if (pj.box.min.y > pi.box.max.y || pi.box.min.y > pj.box.max.y) continue;
         if (std::max(bandOf(pi.box.min.y), bandOf(pj.box.min.y)) != band) continue;
         report(pi.fixture, pj.fixture);
@@ -141,33 +161,59 @@ void BroadPhase::findPairs(Report&& report) {
 template <class Report>
 void BroadPhase::findSensorPairs(Report&& report) {
   sortByMinX();
-  splitIntoBands();
+  splitIntoBands(true);
+  // Past this many different sensor filters in one band, one sweep of all sensors against all others
+  // costs less than a filtered sweep per filter.
+  constexpr size_t kMaxFilters = 8;
   for (uint32_t band = 0; band < bandCount_; ++band) {
-    sensorList_.clear();
-    otherList_.clear();
-    for (const BandEntry& e : bands_[band]) (e.sensor ? sensorList_ : otherList_).push_back(e.fixture);
-    // Two sorted lists swept against each other: whichever next box starts further left scans the other
-    // list for the boxes that start before it ends.
-    auto test = [&](uint32_t fi, uint32_t fj) {
-      const Proxy& pi = proxies_[fi];
-      const Proxy& pj = proxies_[fj];
-      if (!pi.moving && !pj.moving) return;
-      if (pj.box.min.y > pi.box.max.y || pi.box.min.y > pj.box.max.y) return;
-      if (std::max(bandOf(pi.box.min.y), bandOf(pj.box.min.y)) != band) return;
-      report(fi, fj);
-    };
-    size_t i = 0, j = 0;
-    const size_t ns = sensorList_.size(), no = otherList_.size();
-    while (i < ns && j < no) {
-      const uint32_t s = sensorList_[i], o = otherList_[j];
-      if (proxies_[s].box.min.x <= proxies_[o].box.min.x) {
-        const double reach = proxies_[s].box.max.x;
-        for (size_t k = j; k < no && proxies_[otherList_[k]].box.min.x <= reach; ++k) test(s, otherList_[k]);
-        ++i;
-      } else {
-        const double reach = proxies_[o].box.max.x;
-        for (size_t k = i; k < ns && proxies_[sensorList_[k]].box.min.x <= reach; ++k) test(sensorList_[k], o);
-        ++j;
+    const std::vector<BandEntry>& list = bands_[band];
+    sensorFilters_.clear();
+    bool anySensor = false;
+    for (const BandEntry& e : list) {
+      if (!e.sensor) continue;
+      anySensor = true;
+      if (sensorFilters_.size() > kMaxFilters) break;
+      bool known = false;
+      for (const FilterBits& f : sensorFilters_) known = known || (f.category == e.category && f.mask == e.mask);
+      if (!known) sensorFilters_.push_back({e.category, e.mask});
+    }
+    if (!anySensor) continue;
+    const bool filtered = sensorFilters_.size() <= kMaxFilters;
+    const size_t passes = filtered ? sensorFilters_.size() : 1;
+    for (size_t pass = 0; pass < passes; ++pass) {
+      sensorList_.clear();
+      otherList_.clear();
+      const FilterBits f = filtered ? sensorFilters_[pass] : FilterBits{~0u, ~0u};
+      for (uint32_t k = 0; k < list.size(); ++k) {
+        const BandEntry& e = list[k];
+        if (e.sensor) {
+          if (!filtered || (e.category == f.category && e.mask == f.mask)) sensorList_.push_back(k);
+        } else if (!filtered || ((e.category & f.mask) != 0 && (f.category & e.mask) != 0)) {
+          otherList_.push_back(k);
+        }
+      }
+      // Two sorted lists swept against each other: whichever next box starts further left scans the other
+      // list for the boxes that start before it ends.
+      auto test = [&](const BandEntry& pi, const BandEntry& pj) {
+        if (!pi.moving && !pj.moving) return;
+        if (pj.box.min.y > pi.box.max.y || pi.box.min.y > pj.box.max.y) return;
+        if (std::max(bandOf(pi.box.min.y), bandOf(pj.box.min.y)) != band) return;
+        report(pi.fixture, pj.fixture);
+      };
+      size_t i = 0, j = 0;
+      const size_t ns = sensorList_.size(), no = otherList_.size();
+      while (i < ns && j < no) {
+        const BandEntry& s = list[sensorList_[i]];
+        const BandEntry& o = list[otherList_[j]];
+        if (s.box.min.x <= o.box.min.x) {
+          const double reach = s.box.max.x;
+          for (size_t k = j; k < no && list[otherList_[k]].box.min.x <= reach; ++k) test(s, list[otherList_[k]]);
+          ++i;
+        } else {
+          const double reach = o.box.max.x;
+          for (size_t k = i; k < ns && list[sensorList_[k]].box.min.x <= reach; ++k) test(list[sensorList_[k]], o);
+          ++j;
+        }
       }
     }
   }
