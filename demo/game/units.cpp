@@ -1,9 +1,12 @@
 // Units: where they start, how they take orders, how they steer.
 //
-// Steering is deliberately simple: each tick a unit's velocity is set to its top speed down its group's
-// flow field (navigation.h), along whatever it touches rather than into it, slowing down on the last
-// stretch. The engine does the rest: units never overlap a wall or each other, they slide along what
-// they touch (no friction), and a crowd pushing into a doorway forms a queue on its own.
+// Steering: each tick a unit wants its top speed down its group's flow field (navigation.h), slowing
+// down on the last stretch, never into a wall it touched lately. Then it keeps clear of the units
+// around it (keepApart): it never moves toward another unit faster than leaves a gap between them at
+// the end of the tick, so units do not collide at all while they move as steered. The engine still
+// guarantees that nothing overlaps or passes through a wall; it just has almost nothing to resolve. A
+// crowd driven into itself instead cost the engine a collision per unit per tick (90,000 a tick at
+// 10,000 units), and queues, arrival and making way are rules here rather than side effects of shoving.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -276,13 +279,18 @@ Vec2 Game::keepApart(Unit& u, Vec2 desired) {
     if (into > limits[i].bound) scale = std::min(scale, limits[i].bound / into);
   }
   desired = desired * scale;
+  const bool hemmedIn = rattle::dot(desired, wanted) < 0.25 * want * rattle::length(wanted);
   // Near the target, hemmed in by friends that have stopped there: the places nearer are taken. A unit
   // that can still slide round them goes on, so a group arriving fills out round its target instead of
   // freezing in the column it came in.
-  if (nearTarget && idleFriendAhead && rattle::dot(desired, wanted) < 0.25 * want * rattle::length(wanted)) {
+  if (nearTarget && idleFriendAhead && hemmedIn) {
     order = Order{};
-    desired = {0, 0};
+    return {0, 0};
   }
+  // A unit that could only creep waits for the gap ahead to open: a queue moves in steps, as a crowd
+  // does, and a waiting unit costs the engine nothing (a crowd creeping forward at a tenth of its speed
+  // costs it a time-of-impact test per neighbour, every tick, for the whole jam).
+  if (hemmedIn && rattle::length(desired) < 0.25 * want) return {0, 0};
   return desired;
 }
 
