@@ -107,7 +107,11 @@ void BroadPhase::splitIntoBands(bool withSensors) {
     }
   }
   if (bands_.size() < bandCount_) bands_.resize(bandCount_);
-  for (uint32_t b = 0; b < bandCount_; ++b) bands_[b].clear();
+  if (sensorBands_.size() < bandCount_) sensorBands_.resize(bandCount_);
+  for (uint32_t b = 0; b < bandCount_; ++b) {
+    bands_[b].clear();
+    sensorBands_[b].clear();
+  }
   // The bands themselves are chosen with the sensors counted either way, so that the collision sweep's
   // bands and the order of its pairs do not depend on which sweep ran last.
   for (uint32_t f : order_) {
@@ -115,7 +119,8 @@ void BroadPhase::splitIntoBands(bool withSensors) {
     if (p.sensor && !withSensors) continue;
     const Box& box = p.box;
     const uint32_t last = bandOf(box.max.y);
-    for (uint32_t b = bandOf(box.min.y); b <= last; ++b) bands_[b].push_back({box, f, p.moving, p.sensor, p.category, p.mask});
+    std::vector<std::vector<BandEntry>>& into = p.sensor ? sensorBands_ : bands_;
+    for (uint32_t b = bandOf(box.min.y); b <= last; ++b) into[b].push_back({box, f, p.moving, p.sensor, p.category, p.mask});
   }
 }
 

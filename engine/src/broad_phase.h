@@ -101,8 +101,10 @@ class BroadPhase {
     uint32_t category, mask;
   };
   std::vector<std::vector<BandEntry>> bands_;
+  std::vector<std::vector<BandEntry>> sensorBands_;  // the sensors, when the bands were split with them
   std::vector<double> heights_, sensorHeights_;  // scratch of splitIntoBands
-  std::vector<uint32_t> sensorList_, otherList_;  // scratch of findSensorPairs: indices into a band's list
+  // Scratch of findSensorPairs: per sensor filter, indices into a band's sensors and into its others.
+  std::vector<std::vector<uint32_t>> sensorLists_, otherLists_;
   struct FilterBits {
     uint32_t category, mask;
   };
@@ -165,53 +167,67 @@ void BroadPhase::findSensorPairs(Report&& report) {
   // Past this many different sensor filters in one band, one sweep of all sensors against all others
   // costs less than a filtered sweep per filter.
   constexpr size_t kMaxFilters = 8;
+  if (sensorLists_.size() < kMaxFilters) sensorLists_.resize(kMaxFilters);
+  if (otherLists_.size() < kMaxFilters) otherLists_.resize(kMaxFilters);
   for (uint32_t band = 0; band < bandCount_; ++band) {
-    const std::vector<BandEntry>& list = bands_[band];
+    const std::vector<BandEntry>& sensors = sensorBands_[band];
+    const std::vector<BandEntry>& others = bands_[band];
+    if (sensors.empty() || others.empty()) continue;
+    // The sensors by filter, then each filter's list of the others it may sense.
     sensorFilters_.clear();
-    bool anySensor = false;
-    for (const BandEntry& e : list) {
-      if (!e.sensor) continue;
-      anySensor = true;
-      if (sensorFilters_.size() > kMaxFilters) break;
-      bool known = false;
-      for (const FilterBits& f : sensorFilters_) known = known || (f.category == e.category && f.mask == e.mask);
-      if (!known) sensorFilters_.push_back({e.category, e.mask});
-    }
-    if (!anySensor) continue;
-    const bool filtered = sensorFilters_.size() <= kMaxFilters;
-    const size_t passes = filtered ? sensorFilters_.size() : 1;
-    for (size_t pass = 0; pass < passes; ++pass) {
-      sensorList_.clear();
-      otherList_.clear();
-      const FilterBits f = filtered ? sensorFilters_[pass] : FilterBits{~0u, ~0u};
-      for (uint32_t k = 0; k < list.size(); ++k) {
-        const BandEntry& e = list[k];
-        if (e.sensor) {
-          if (!filtered || (e.category == f.category && e.mask == f.mask)) sensorList_.push_back(k);
-        } else if (!filtered || ((e.category & f.mask) != 0 && (f.category & e.mask) != 0)) {
-          otherList_.push_back(k);
+    bool filtered = true;
+    for (uint32_t k = 0; k < sensors.size() && filtered; ++k) {
+      const BandEntry& e = sensors[k];
+      size_t g = 0;
+      while (g < sensorFilters_.size() && (sensorFilters_[g].category != e.category || sensorFilters_[g].mask != e.mask)) ++g;
+      if (g == sensorFilters_.size()) {
+        if (g == kMaxFilters) {
+          filtered = false;
+          break;
         }
+        sensorFilters_.push_back({e.category, e.mask});
+        sensorLists_[g].clear();
+        otherLists_[g].clear();
       }
-      // Two sorted lists swept against each other: whichever next box starts further left scans the other
-      // list for the boxes that start before it ends.
-      auto test = [&](const BandEntry& pi, const BandEntry& pj) {
-        if (!pi.moving && !pj.moving) return;
-        if (pj.box.min.y > pi.box.max.y || pi.box.min.y > pj.box.max.y) return;
-        if (std::max(bandOf(pi.box.min.y), bandOf(pj.box.min.y)) != band) return;
-        report(pi.fixture, pj.fixture);
-      };
+      sensorLists_[g].push_back(k);
+    }
+    if (!filtered) {
+      // One group: every sensor against every other.
+      sensorFilters_.assign(1, FilterBits{~0u, ~0u});
+      sensorLists_[0].clear();
+      otherLists_[0].clear();
+      for (uint32_t k = 0; k < sensors.size(); ++k) sensorLists_[0].push_back(k);
+    }
+    for (uint32_t k = 0; k < others.size(); ++k) {
+      const BandEntry& e = others[k];
+      for (size_t g = 0; g < sensorFilters_.size(); ++g) {
+        const FilterBits f = sensorFilters_[g];
+        if ((e.category & f.mask) != 0 && (f.category & e.mask) != 0) otherLists_[g].push_back(k);
+      }
+    }
+    // Two sorted lists swept against each other: whichever next box starts further left scans the other
+    // list for the boxes that start before it ends.
+    auto test = [&](const BandEntry& pi, const BandEntry& pj) {
+      if (!pi.moving && !pj.moving) return;
+      if (pj.box.min.y > pi.box.max.y || pi.box.min.y > pj.box.max.y) return;
+      if (std::max(bandOf(pi.box.min.y), bandOf(pj.box.min.y)) != band) return;
+      report(pi.fixture, pj.fixture);
+    };
+    for (size_t g = 0; g < sensorFilters_.size(); ++g) {
+      const std::vector<uint32_t>& sl = sensorLists_[g];
+      const std::vector<uint32_t>& ol = otherLists_[g];
       size_t i = 0, j = 0;
-      const size_t ns = sensorList_.size(), no = otherList_.size();
+      const size_t ns = sl.size(), no = ol.size();
       while (i < ns && j < no) {
-        const BandEntry& s = list[sensorList_[i]];
-        const BandEntry& o = list[otherList_[j]];
+        const BandEntry& s = sensors[sl[i]];
+        const BandEntry& o = others[ol[j]];
         if (s.box.min.x <= o.box.min.x) {
           const double reach = s.box.max.x;
-          for (size_t k = j; k < no && list[otherList_[k]].box.min.x <= reach; ++k) test(s, list[otherList_[k]]);
+          for (size_t k = j; k < no && others[ol[k]].box.min.x <= reach; ++k) test(s, others[ol[k]]);
           ++i;
         } else {
           const double reach = o.box.max.x;
-          for (size_t k = i; k < ns && list[sensorList_[k]].box.min.x <= reach; ++k) test(list[sensorList_[k]], o);
+          for (size_t k = i; k < ns && sensors[sl[k]].box.min.x <= reach; ++k) test(sensors[sl[k]], o);
           ++j;
         }
       }
