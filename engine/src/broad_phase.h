@@ -64,7 +64,7 @@ class BroadPhase {
     Box box;
     bool moving = false;
     bool present = false;
-    bool listed = false;   // in order_ (a removed proxy stays listed until the next sort)
+    bool listed = false;   // in order_ or sensorOrder_ (a removed proxy stays listed until the next sort)
     bool sensor = false;
     uint32_t category = ~0u, mask = ~0u;  // the fixture's filter bits
     uint32_t stamp = 0;    // the last query that reported it
@@ -75,7 +75,10 @@ class BroadPhase {
     double minX;  // lower x edge at the sweep
     uint32_t fixture;
   };
-  void sortByMinX();
+  /// Sorts the proxies that are not sensors, and the sensors too when `withSensors`: the collision
+  /// sweep never looks at sensors, and a crowd's sight sensors are half its proxies.
+  void sortByMinX(bool withSensors);
+  void sortList(std::vector<uint32_t>& order);
   /// `withSensors`: false leaves the sensors out of the bands. A unit's sight circle spans several
   /// bands, so a crowd's sensors would be most of the entries that the collision sweep and the queries
   /// step over, for nothing: only findSensorPairs pairs them.
@@ -87,8 +90,10 @@ class BroadPhase {
   }
 
   std::vector<Proxy> proxies_;   // indexed by fixture index
-  std::vector<uint32_t> order_;  // fixture indices, sorted by box.min.x at the last sweep
-  size_t removed_ = 0;           // proxies removed since the last sort (still listed in order_)
+  std::vector<uint32_t> order_;  // fixture indices, sorted by box.min.x at the last sweep: not sensors
+  std::vector<uint32_t> sensorOrder_;  // the same for the sensors (sorted by the last sensor sweep)
+  size_t removed_ = 0;           // proxies removed since the last sort (still listed)
+  size_t misfiled_ = 0;          // indices reused since the last sort by a proxy of the other kind
   // Horizontal bands for the sweep: a single x sweep over a square region compares every proxy with a
   // whole column of others (O(N^1.5)); sweeping bands about two boxes tall keeps it near O(N).
   // Each entry carries a copy of its box, so the sweep reads each band's list in order instead of jumping
@@ -135,7 +140,7 @@ class BroadPhase {
 
 template <class Report>
 void BroadPhase::findPairs(Report&& report) {
-  sortByMinX();
+  sortByMinX(false);
   splitIntoBands(false);
   // Within each band the proxies are in x order already; a pair is reported only in the lowest band both
   // are in, so a pair that shares several bands is reported once.
@@ -162,7 +167,7 @@ void BroadPhase::findPairs(Report&& report) {
 
 template <class Report>
 void BroadPhase::findSensorPairs(Report&& report) {
-  sortByMinX();
+  sortByMinX(true);
   splitIntoBands(true);
   // Past this many different sensor filters in one band, one sweep of all sensors against all others
   // costs less than a filtered sweep per filter.
