@@ -85,10 +85,16 @@ void BroadPhase::splitIntoBands(bool withSensors) {
   heights_.clear();
   sensorHeights_.clear();
   size_t movingSeen = 0, sensorsSeen = 0;
-  auto measure = [&](const std::vector<uint32_t>& order, std::vector<double>& sample, size_t& seen) {
+  // Each proxy is read once, in x order, into `entries`; the bands are then filled from that copy, not
+  // by a second pass of jumps through proxies_ by fixture index (a cache miss each in a large world).
+  auto measure = [&](const std::vector<uint32_t>& order, std::vector<double>& sample, size_t& seen,
+                     std::vector<BandEntry>& entries) {
     const size_t stride = std::max<size_t>(1, order.size() / 512);
+    entries.clear();
     for (uint32_t f : order) {
-      const Box& b = proxies_[f].box;
+      const Proxy& p = proxies_[f];
+      entries.push_back({p.box, f, p.moving, p.sensor, p.category, p.mask});
+      const Box& b = p.box;
       if (first) {
         low = b.min.y;
         high = b.max.y;
@@ -96,11 +102,11 @@ void BroadPhase::splitIntoBands(bool withSensors) {
       }
       low = std::min(low, b.min.y);
       high = std::max(high, b.max.y);
-      if (proxies_[f].moving && seen++ % stride == 0) sample.push_back(b.max.y - b.min.y);
+      if (p.moving && seen++ % stride == 0) sample.push_back(b.max.y - b.min.y);
     }
   };
-  measure(order_, heights_, movingSeen);
-  if (withSensors) measure(sensorOrder_, sensorHeights_, sensorsSeen);
+  measure(order_, heights_, movingSeen, entries_);
+  if (withSensors) measure(sensorOrder_, sensorHeights_, sensorsSeen, sensorEntries_);
   bandCount_ = 1;
   bandOrigin_ = low;
   inverseBandHeight_ = 0;
@@ -122,16 +128,14 @@ void BroadPhase::splitIntoBands(bool withSensors) {
     bands_[b].clear();
     sensorBands_[b].clear();
   }
-  for (uint32_t f : order_) {
-    const Proxy& p = proxies_[f];
-    const uint32_t last = bandOf(p.box.max.y);
-    for (uint32_t b = bandOf(p.box.min.y); b <= last; ++b) bands_[b].push_back({p.box, f, p.moving, false, p.category, p.mask});
+  for (const BandEntry& e : entries_) {
+    const uint32_t last = bandOf(e.box.max.y);
+    for (uint32_t b = bandOf(e.box.min.y); b <= last; ++b) bands_[b].push_back(e);
   }
   if (!withSensors) return;
-  for (uint32_t f : sensorOrder_) {
-    const Proxy& p = proxies_[f];
-    const uint32_t last = bandOf(p.box.max.y);
-    for (uint32_t b = bandOf(p.box.min.y); b <= last; ++b) sensorBands_[b].push_back({p.box, f, p.moving, true, p.category, p.mask});
+  for (const BandEntry& e : sensorEntries_) {
+    const uint32_t last = bandOf(e.box.max.y);
+    for (uint32_t b = bandOf(e.box.min.y); b <= last; ++b) sensorBands_[b].push_back(e);
   }
 }
 

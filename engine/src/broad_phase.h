@@ -107,6 +107,7 @@ class BroadPhase {
   };
   std::vector<std::vector<BandEntry>> bands_;
   std::vector<std::vector<BandEntry>> sensorBands_;  // the sensors, when the bands were split with them
+  std::vector<BandEntry> entries_, sensorEntries_;   // scratch of splitIntoBands: the proxies in x order
   std::vector<double> heights_, sensorHeights_;  // scratch of splitIntoBands
   // Scratch of findSensorPairs: per sensor filter, indices into a band's sensors and into its others.
   std::vector<std::vector<uint32_t>> sensorLists_, otherLists_;
