@@ -9,7 +9,8 @@
 namespace rts {
 namespace {
 
-double percentile(std::vector<double> v, double p) {
+template <class T>
+T percentile(std::vector<T> v, double p) {
   if (v.empty()) return 0;
   std::sort(v.begin(), v.end());
   return v[size_t(p * double(v.size() - 1) + 0.5)];
@@ -66,6 +67,10 @@ void printSummary(const Game& game, const Options& o, int framesWritten, double 
       game.alive(0), game.alive(1), s.shotsFired, s.unitHits, s.wallHits, std::max(0l, outOfRange), s.crossings,
       rooms.empty() ? "none" : rooms.c_str(), median, p95, worst, s.stepSeconds.size(),
       s.eventBudgetSteps ? (", " + std::to_string(s.eventBudgetSteps) + " of them hit the event budget").c_str() : "");
+  // The engine's work, which unlike the times does not depend on what else the machine is doing.
+  std::printf(" Engine work a step: median %d collisions and %d time-of-impact tests (95th percentile %d and %d).",
+              percentile(s.stepCollisions, 0.5), percentile(s.stepImpactTests, 0.5), percentile(s.stepCollisions, 0.95),
+              percentile(s.stepImpactTests, 0.95));
   if (framesWritten > 0) {
     std::printf(" Frames: %d PNG files in %s/ (median %.0f ms each: %.0f ms to draw at %dx%d with %dx%d supersampling, the rest to write).",
                 framesWritten, o.framesDir.c_str(), medianFrameSeconds * 1e3, medianDrawSeconds * 1e3, o.width, o.height,

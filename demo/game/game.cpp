@@ -92,6 +92,8 @@ void Game::tick() {
   const StepEvents& events = physics_.step(kTickSeconds);
   stats_.stepSeconds.push_back(physics_.lastStepSeconds());
   stats_.stepCpuSeconds.push_back(physics_.lastStepCpuSeconds());
+  stats_.stepCollisions.push_back(physics_.lastStepStats().eventsProcessed);
+  stats_.stepImpactTests.push_back(physics_.lastStepStats().timeOfImpactTests);
   if (physics_.lastStepStats().eventBudgetReached) ++stats_.eventBudgetSteps;
   ++tick_;
 

@@ -70,7 +70,9 @@ struct Unit {
     Vec2 normal;  ///< toward the other
     int ticksLeft = 0;
   };
-  std::array<Touch, 4> touches{};
+  std::array<Touch, 4> touches{};  ///< walls only: units are kept apart before they touch (units.cpp)
+  /// Asked this tick by friends it stands in the way of: where to step aside to (summed; idle units only).
+  Vec2 makeWay;
   std::vector<uint32_t> inSensor;  ///< enemy unit ids inside the sight sensor (may hold dead ones)
   struct DoorTouch {
     uint32_t doorway;
@@ -126,6 +128,8 @@ struct GameStats {
   long eventBudgetSteps = 0;        ///< steps that hit the engine's per-step event budget
   std::vector<double> stepSeconds;     ///< engine step time of every tick (wall clock)
   std::vector<double> stepCpuSeconds;  ///< the same steps by this thread's CPU time
+  std::vector<int> stepCollisions;     ///< collisions the engine resolved in each step
+  std::vector<int> stepImpactTests;    ///< time-of-impact (and sensor) tests of each step
 };
 
 class Game {
@@ -182,6 +186,8 @@ class Game {
   void steer();
   void onBump(const UnitContact& contact);
   Vec2 alongTouches(Unit& u, Vec2 desired);
+  void fillUnitGrid();
+  Vec2 keepApart(Unit& u, Vec2 desired);
   // sight.cpp
   void onSight(const SensorChange& change);
   // projectiles.cpp
@@ -214,6 +220,13 @@ class Game {
   std::vector<GateState> gates_;
   std::array<int, 2> aliveCount_{0, 0};
   GameStats stats_;
+  // Where the live units stood at the start of the tick (a counting sort by grid cell), for steering.
+  struct UnitGrid {
+    double cell = 1;
+    int nx = 0, ny = 0;
+    std::vector<uint32_t> start;  // per cell, into `units`; one more than cells
+    std::vector<uint32_t> units;  // unit ids by cell, ascending within a cell
+  } grid_;
 };
 
 }  // namespace rts

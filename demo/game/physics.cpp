@@ -4,6 +4,7 @@
 #include <time.h>
 
 #include <chrono>
+#include <variant>
 
 namespace rts {
 namespace {
@@ -18,7 +19,7 @@ enum : uint32_t {
   kSight0 = 1u << 5,  // team 0's sight sensors
   kSight1 = 1u << 6,
   kDoorway = 1u << 7,
-  kRoom = 1u << 8,
+  // 1u << 8 was rooms' sensors: rooms are now counted by the game from unit centres (doorways.cpp).
   kRay = 1u << 9,  // the category of line-of-sight queries
   kGate = 1u << 10,  // gates: like walls, but they move
 };
@@ -83,7 +84,16 @@ Physics::Physics(const Map& map, rattle::StepMode mode) : world_([&] {
   const uint32_t everything = 0xFFFFFFFFu;
   for (const MapWall& w : map.walls) {
     rattle::BodyId body = world_.createBody(bodyAt(rattle::BodyType::Static, w.origin));
-    world_.createFixture(body, fixture(w.shape, filter(kWall, everything)));
+    if (const auto* line = std::get_if<rattle::Polyline>(&w.shape); line && line->points.size() > 2) {
+      // One fixture per segment, each with its own box: the arena's outer wall as one polyline has a box
+      // round the whole map, and every moving unit would be tested against all of it every tick. Each
+      // piece keeps its ends, so the corners still collide (from either piece: the second is then stale).
+      for (size_t i = 0; i + 1 < line->points.size(); ++i) {
+        world_.createFixture(body, fixture(rattle::Polyline{{line->points[i], line->points[i + 1]}}, filter(kWall, everything)));
+      }
+    } else {
+      world_.createFixture(body, fixture(w.shape, filter(kWall, everything)));
+    }
     setTag(body, Tag::Wall, uint32_t(w.objectId));
   }
   for (size_t i = 0; i < map.doorways.size(); ++i) {
@@ -91,12 +101,6 @@ Physics::Physics(const Map& map, rattle::StepMode mode) : world_([&] {
     rattle::BodyId body = world_.createBody(bodyAt(rattle::BodyType::Static, d.a));
     world_.createFixture(body, fixture(rattle::Segment{{0, 0}, d.b - d.a}, filter(kDoorway, kUnit0 | kUnit1), true));
     setTag(body, Tag::Doorway, uint32_t(i));
-  }
-  for (size_t i = 0; i < map.rooms.size(); ++i) {
-    rattle::BodyId body = world_.createBody(bodyAt(rattle::BodyType::Static, {0, 0}));
-    rooms_.push_back(
-        world_.createFixture(body, fixture(rattle::Polygon{map.rooms[i].polygon}, filter(kRoom, kUnit0 | kUnit1), true)));
-    setTag(body, Tag::Room, uint32_t(i));
   }
   for (size_t i = 0; i < map.gates.size(); ++i) {
     rattle::BodyId body = world_.createBody(bodyAt(rattle::BodyType::Kinematic, map.gates[i].origin));
@@ -122,10 +126,10 @@ rattle::BodyId Physics::addUnit(uint32_t id, int team, Vec2 position, const Unit
   const int other = 1 - team;
   rattle::BodyId body = world_.createBody(bodyAt(rattle::BodyType::Dynamic, position));
   // The body: blocked by walls and every unit, hit by the other team's shots, seen by the other team's
-  // sight sensors, noticed by doorways, rooms and unit queries.
+  // sight sensors, noticed by doorways and unit queries.
   world_.createFixture(body, fixture(rattle::Circle{{0, 0}, type.radius},
                                      filter(unitBit(team), kWall | kGate | kUnit0 | kUnit1 | shotBit(other) |
-                                                               sightBit(other) | kDoorway | kRoom | kRay),
+                                                               sightBit(other) | kDoorway | kRay),
                                      false, type.density));
   // The concentric sight sensor: told only about the other team's bodies.
   world_.createFixture(body, fixture(rattle::Circle{{0, 0}, type.sight}, filter(sightBit(team), unitBit(other)), true));
@@ -222,13 +226,6 @@ bool Physics::anyUnitIn(const rattle::Box& box) const {
   q.categoryBits = kRay;
   q.maskBits = kUnit0 | kUnit1;
   return !world_.overlapBox(box, q).empty();
-}
-
-void Physics::unitsTouchingRoom(size_t room, std::vector<uint32_t>& out) const {
-  out.clear();
-  for (rattle::FixtureId f : world_.sensorOverlaps(rooms_[room])) {
-    if (const SlotTag* t = tagOf(world_.body(f)); t && t->tag == Tag::Unit) out.push_back(t->id);
-  }
 }
 
 }  // namespace rts

@@ -4,8 +4,9 @@
 // a unit touched a doorway). The rules in the other files never see a fixture.
 //
 // Collision filtering does most of the game's work for free: a team's sight sensors only ever report
-// the other team's units, a projectile only ever hits walls and enemies, doorways and rooms only
-// notice units (see the category table in physics.cpp).
+// the other team's units, a projectile only ever hits walls and enemies, doorways only notice units
+// (see the category table in physics.cpp). Rooms are not in the engine: the game counts unit centres
+// in them itself (doorways.cpp).
 #pragma once
 
 #include <rattle/world.h>
@@ -92,8 +93,6 @@ class Physics {
   bool gateBlocks(size_t gate, bool open, Vec2 p, double radius) const;
   /// Whether any unit overlaps the box.
   bool anyUnitIn(const rattle::Box& box) const;
-  /// Ids of the units whose bodies overlap room `room` now (ascending fixture order).
-  void unitsTouchingRoom(size_t room, std::vector<uint32_t>& out) const;
 
   /// The engine's hash of every body's exact state.
   uint64_t stateHash() const { return world_.stateHash(); }
@@ -114,7 +113,6 @@ class Physics {
   std::vector<SlotTag> tags_;
   std::vector<rattle::BodyId> gates_;
   std::vector<MapGate> gateShapes_;
-  std::vector<rattle::FixtureId> rooms_;
   StepEvents events_;
   double lastStepSeconds_ = 0;
   double lastStepCpuSeconds_ = 0;

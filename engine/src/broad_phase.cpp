@@ -5,13 +5,14 @@
 
 namespace rattle::detail {
 
-void BroadPhase::add(uint32_t fixture, const Box& box, bool moving, bool sensor) {
+void BroadPhase::add(uint32_t fixture, const Box& box, bool moving, bool sensor, uint32_t category, uint32_t mask) {
   if (proxies_.size() <= fixture) proxies_.resize(fixture + 1);
   Proxy& p = proxies_[fixture];
   if (!p.present && p.listed) --removed_;  // removed and added again before a sort: listed once
   const bool listed = p.listed;
-  p = Proxy{box, moving, true, true, sensor, p.stamp};
-  if (!listed) order_.push_back(fixture);
+  if (listed && p.sensor != sensor) ++misfiled_;  // in the other list until the next sort moves it
+  p = Proxy{box, moving, true, true, sensor, category, mask, p.stamp};
+  if (!listed) (sensor ? sensorOrder_ : order_).push_back(fixture);
 }
 
 void BroadPhase::remove(uint32_t fixture) {
@@ -21,36 +22,45 @@ void BroadPhase::remove(uint32_t fixture) {
   ++removed_;
 }
 
-void BroadPhase::sortByMinX() {
-  if (removed_ > 0) {
-    size_t kept = 0;
-    for (uint32_t f : order_) {
-      if (proxies_[f].present) {
-        order_[kept++] = f;
-      } else {
-        proxies_[f].listed = false;
+void BroadPhase::sortByMinX(bool withSensors) {
+  if (removed_ > 0 || misfiled_ > 0) {
+    std::vector<uint32_t> kept, keptSensors;
+    for (const std::vector<uint32_t>* list : {&order_, &sensorOrder_}) {
+      for (uint32_t f : *list) {
+        if (proxies_[f].present) {
+          (proxies_[f].sensor ? keptSensors : kept).push_back(f);
+        } else {
+          proxies_[f].listed = false;
+        }
       }
     }
-    order_.resize(kept);
+    order_ = std::move(kept);
+    sensorOrder_ = std::move(keptSensors);
     removed_ = 0;
+    misfiled_ = 0;
   }
+  sortList(order_);
+  if (withSensors) sortList(sensorOrder_);
+}
+
+void BroadPhase::sortList(std::vector<uint32_t>& order) {
   // Insertion sort: near-linear on the nearly sorted order left by the previous step. When the order is
   // far from sorted (the first step, many new proxies, a teleport) it would go quadratic, so past a
   // budget of moves it hands over to a full sort. Both orders are total (ties by fixture index in the
   // full sort, by the previous order in insertion sort), so the result depends only on the data.
-  const size_t n = order_.size();
+  const size_t n = order.size();
   size_t budget = 8 * n + 64;
   for (size_t i = 1; i < n; ++i) {
-    const uint32_t f = order_[i];
+    const uint32_t f = order[i];
     const double x = proxies_[f].box.min.x;
     size_t j = i;
-    while (j > 0 && proxies_[order_[j - 1]].box.min.x > x) {
-      order_[j] = order_[j - 1];
+    while (j > 0 && proxies_[order[j - 1]].box.min.x > x) {
+      order[j] = order[j - 1];
       --j;
     }
-    order_[j] = f;
+    order[j] = f;
     if (i - j > budget) {
-      std::sort(order_.begin(), order_.end(), [this](uint32_t a, uint32_t b) {
+      std::sort(order.begin(), order.end(), [this](uint32_t a, uint32_t b) {
         const double xa = proxies_[a].box.min.x, xb = proxies_[b].box.min.x;
         return xa < xb || (xa == xb && a < b);
       });
@@ -60,36 +70,52 @@ void BroadPhase::sortByMinX() {
   }
 }
 
-void BroadPhase::splitIntoBands() {
-  // Band height: twice the height of the lowest quarter of the moving proxies' boxes. Static walls can be
-  // long and say nothing about how crowded the moving ones are; a few tall moving boxes (sight sensors)
-  // should not make every band tall, which would make every query look at a tall band. At most 4096
+void BroadPhase::splitIntoBands(bool withSensors) {
+  // Band height: twice the height of the lowest quarter of the moving bodies' boxes (sensors do not
+  // count). Static walls can be long and say nothing about how crowded the moving ones are. At most 4096
   // bands, and one when little moves. The quarter is taken from a sample of about 512 boxes, every
   // stride-th in x order (which depends only on the data), so that choosing the bands stays a small
   // part of a large sweep.
+  // For the sensor sweep, when many sensors move, the band height is the height of the lowest quarter
+  // of the moving sensors' boxes instead: a sight circle is many times a body's height, and in bands
+  // cut for the bodies each circle would be listed in a dozen of them (most of the sweep's work, with
+  // a crowd's sensors), while what it is swept against has been filtered down to what it can sense.
   double low = 0, high = 0;
   bool first = true;
   heights_.clear();
-  const size_t stride = std::max<size_t>(1, order_.size() / 512);
-  size_t movingSeen = 0;
-  for (uint32_t f : order_) {
-    const Box& b = proxies_[f].box;
-    if (first) {
-      low = b.min.y;
-      high = b.max.y;
-      first = false;
+  sensorHeights_.clear();
+  size_t movingSeen = 0, sensorsSeen = 0;
+  // Each proxy is read once, in x order, into `entries`; the bands are then filled from that copy, not
+  // by a second pass of jumps through proxies_ by fixture index (a cache miss each in a large world).
+  auto measure = [&](const std::vector<uint32_t>& order, std::vector<double>& sample, size_t& seen,
+                     std::vector<BandEntry>& entries) {
+    const size_t stride = std::max<size_t>(1, order.size() / 512);
+    entries.clear();
+    for (uint32_t f : order) {
+      const Proxy& p = proxies_[f];
+      entries.push_back({p.box, f, p.moving, p.sensor, p.category, p.mask});
+      const Box& b = p.box;
+      if (first) {
+        low = b.min.y;
+        high = b.max.y;
+        first = false;
+      }
+      low = std::min(low, b.min.y);
+      high = std::max(high, b.max.y);
+      if (p.moving && seen++ % stride == 0) sample.push_back(b.max.y - b.min.y);
     }
-    low = std::min(low, b.min.y);
-    high = std::max(high, b.max.y);
-    if (proxies_[f].moving && movingSeen++ % stride == 0) heights_.push_back(b.max.y - b.min.y);
-  }
+  };
+  measure(order_, heights_, movingSeen, entries_);
+  if (withSensors) measure(sensorOrder_, sensorHeights_, sensorsSeen, sensorEntries_);
   bandCount_ = 1;
   bandOrigin_ = low;
   inverseBandHeight_ = 0;
-  if (movingSeen >= 64) {
-    auto quarter = heights_.begin() + static_cast<std::ptrdiff_t>(heights_.size() / 4);
-    std::nth_element(heights_.begin(), quarter, heights_.end());
-    const double bandHeight = 2 * *quarter;
+  const bool bySensors = sensorsSeen >= 64;
+  std::vector<double>& sample = bySensors ? sensorHeights_ : heights_;
+  if (movingSeen >= 64 || bySensors) {
+    auto quarter = sample.begin() + static_cast<std::ptrdiff_t>(sample.size() / 4);
+    std::nth_element(sample.begin(), quarter, sample.end());
+    const double bandHeight = (bySensors ? 1 : 2) * *quarter;
     const double count = bandHeight > 0 ? (high - low) / bandHeight : 1;
     if (count > 1 && count < 1e9) {
       bandCount_ = static_cast<uint32_t>(std::min(count, 4096.0)) + 1;
@@ -97,12 +123,19 @@ void BroadPhase::splitIntoBands() {
     }
   }
   if (bands_.size() < bandCount_) bands_.resize(bandCount_);
-  for (uint32_t b = 0; b < bandCount_; ++b) bands_[b].clear();
-  for (uint32_t f : order_) {
-    const Box& box = proxies_[f].box;
-    const uint32_t last = bandOf(box.max.y);
-    const Proxy& p = proxies_[f];
-    for (uint32_t b = bandOf(box.min.y); b <= last; ++b) bands_[b].push_back({box, f, p.moving, p.sensor});
+  if (sensorBands_.size() < bandCount_) sensorBands_.resize(bandCount_);
+  for (uint32_t b = 0; b < bandCount_; ++b) {
+    bands_[b].clear();
+    sensorBands_[b].clear();
+  }
+  for (const BandEntry& e : entries_) {
+    const uint32_t last = bandOf(e.box.max.y);
+    for (uint32_t b = bandOf(e.box.min.y); b <= last; ++b) bands_[b].push_back(e);
+  }
+  if (!withSensors) return;
+  for (const BandEntry& e : sensorEntries_) {
+    const uint32_t last = bandOf(e.box.max.y);
+    for (uint32_t b = bandOf(e.box.min.y); b <= last; ++b) sensorBands_[b].push_back(e);
   }
 }
 
@@ -136,6 +169,7 @@ void BroadPhase::buildQueryBand(uint32_t band) {
   qb.movingWidth = 0;
   qb.wideWidth = 0;
   for (const BandEntry& e : bands_[band]) {
+    if (e.sensor) continue;
     const double width = e.box.max.x - e.box.min.x;
     if (!e.moving) {
       qb.fixed.push_back({e.box.min.x, e.fixture});

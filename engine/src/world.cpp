@@ -326,7 +326,8 @@ FixtureId World::createFixture(BodyId bodyId, const FixtureDef& def) {
   body.fixtures.push_back(index);
   w.recomputeMass(body);
   w.structureChanged = true;
-  w.broadPhase.add(index, w.worldBox(index), body.type != BodyType::Static, f.sensor);
+  w.broadPhase.add(index, w.worldBox(index), body.type != BodyType::Static, f.sensor, f.filter.categoryBits,
+                   f.filter.maskBits);
   if (f.sensor) ++w.liveSensors;
   return FixtureId{index, generation};
 }
@@ -392,6 +393,7 @@ void World::setRestitution(FixtureId id, double restitution) {
 
 void World::setFilter(FixtureId id, const Filter& filter) {
   lookUp(impl_->fixtures, id).filter = filter;
+  impl_->broadPhase.setFilter(id.index, filter.categoryBits, filter.maskBits);
   impl_->structureChanged = true;
   // Overlaps the new filter forbids end now; new ones begin when the next step finds them.
   impl_->endOverlapsOf(id.index, [&](uint32_t other) { return impl_->canSense(id.index, other); });
