@@ -124,6 +124,12 @@ Vec2 positionAt(const HotBody& b, Vec2 acceleration, double t) {
 }
 Vec2 velocityAt(const HotBody& b, Vec2 acceleration, double t) { return b.velocity + acceleration * (t - b.localTime); }
 bool isMoving(const HotBody& b) { return !(b.velocity == Vec2{}) || (b.flags & HotBody::kAccelerating) != 0; }
+// The common body of a gas: one circle centred on the body, no acceleration, the default filter. Two such
+// bodies need nothing from their ColdBody until a contact is found (Engine::pairPlain).
+bool isPlain(const HotBody& b) {
+  constexpr uint8_t mask = HotBody::kSingle | HotBody::kAccelerating | HotBody::kOffCentre | HotBody::kCustomFilter;
+  return (b.flags & mask) == HotBody::kSingle;
+}
 
 // A body being predicted, as every pair test reads it.
 struct Predicting {
@@ -146,6 +152,10 @@ class Engine {
  private:
   W& w_;
   PredictiveState& s_;
+  // The slot whose event was just taken from the queue and is being handled. Its entry stays in the heap
+  // until the body's next prediction replaces it in place (one sift instead of a removal and an
+  // insertion); until then it counts as having no event.
+  uint32_t popped_ = PredictiveState::kNone;
 
   // Setup.
   void normalize();
@@ -199,9 +209,11 @@ class Engine {
     PredictiveEvent best;
     double horizon = 0;
     bool moving = false, hasDismissals = false, single = false;
+    bool plain = false;  // isPlain(), and nothing dismissed: pairPlain() applies to its plain neighbours
   };
   void startPrediction(uint32_t slot, double now, Prediction& q) const;
   void pairWith(Prediction& q, uint32_t other, double until);
+  void pairPlain(Prediction& q, uint32_t other);
   void finishPrediction(Prediction& q);
   void predictBody(uint32_t slot, double now);
   void crossing(const Predicting& p, double& h, int& side) const;
@@ -785,6 +797,7 @@ void Engine<W>::startPrediction(uint32_t i, double now, Prediction& q) const {
   q.moving = isMoving(hb);
   q.hasDismissals = dismissals(i);
   q.single = (hb.flags & HotBody::kSingle) != 0;
+  q.plain = isPlain(hb) && !q.hasDismissals;
   PredictiveEvent& best = q.best;
   best = PredictiveEvent{};
   best.time = kInf;
@@ -820,6 +833,62 @@ void Engine<W>::pairWith(Prediction& q, uint32_t j, double until) {
       predictPair(f, g, q.p.now, until, q.best);
     });
   });
+}
+
+template <class W>
+inline void Engine<W>::pairPlain(Prediction& q, uint32_t j) {
+  // pairWith() and predictCircles() for two plain bodies (isPlain(), the predicted one without dismissals),
+  // the moving one's neighbour up to its horizon: the same expressions with the zero acceleration and
+  // centre written in, so the same values, without the branches on flags and the call per pair. A scene
+  // of plain disks (a gas) pays only for this.
+  const Predicting& p = q.p;
+  const HotBody& b = s_.hot[j];
+  ++w_.stats.candidatePairs;
+  ++w_.stats.timeOfImpactTests;
+  const double now = p.now;
+  const Vec2 pb = positionAt(b, Vec2{}, now);
+  const Vec2 vb = velocityAt(b, Vec2{}, now);
+  const Motion relative{p.velocity - vb, p.acceleration - Vec2{}};
+  Circle circleA{p.centre + p.position, p.hot->radius};
+  circleA.center -= pb;
+  const double maxTime = q.horizon - now;
+  {
+    // As predictCircles: a straight relative path, approaching, and close enough to meet in time.
+    const Vec2 r = circleA.center - Vec2{};
+    const double rv = dot(r, relative.velocity);
+    if (!(rv < 0)) return;
+    const double reach = circleA.radius + b.radius;
+    const double c = dot(r, r) - reach * reach;
+    if (c > 0 && c > -2 * rv * maxTime * (1 + 1e-9)) return;
+  }
+  const ColdBody& ca = *p.cold;
+  const ColdBody& cb = s_.cold[j];
+  int resolved = kNoFeature;
+  if (ca.lastTime == now) {
+    const uint32_t low = std::min(ca.fixture, cb.fixture), high = std::max(ca.fixture, cb.fixture);
+    if (ca.lastLow == low && ca.lastHigh == high && cb.lastTime == now && cb.lastLow == low && cb.lastHigh == high) {
+      resolved = ca.lastFeature;
+    }
+  }
+  auto impact = timeOfImpactCircleCircle(circleA, relative, Circle{Vec2{}, b.radius}, maxTime, resolved);
+  if (!impact) return;
+  const double h = impact->time;
+  const double time = std::min(now + h, q.horizon);
+  PredictiveEvent& best = q.best;
+  if (time > best.time) return;
+  impact->point += pb;
+  const Vec2 travelOfB = vb * h + Vec2{} * (0.5 * h * h);
+  const PredictiveEvent e{time,
+                          ca.fixture,
+                          cb.fixture,
+                          impact->feature,
+                          p.hot->collisionCount,
+                          b.collisionCount,
+                          PredictiveKind::Contact,
+                          j,
+                          impact->point + travelOfB,
+                          impact->normal};
+  if (earlier(e, best)) best = e;
 }
 
 template <class W>
@@ -859,18 +928,27 @@ void Engine<W>::finishPrediction(Prediction& q) {
   } else {
     schedule(i, q.best);
   }
+  if (i == popped_) popped_ = PredictiveState::kNone;
 }
 
 template <class W>
 void Engine<W>::predictBody(uint32_t i, double now) {
   Prediction q;
   startPrediction(i, now, q);
-  if (q.moving) {
+  if (q.plain && q.moving) {
+    forEachNeighbour(i, [&](uint32_t j) {
+      if (isPlain(s_.hot[j])) {
+        pairPlain(q, j);
+      } else {
+        pairWith(q, j, q.horizon);
+      }
+    });
+  } else if (q.moving) {
     forEachNeighbour(i, [&](uint32_t j) { pairWith(q, j, q.horizon); });
   } else {
     forEachNeighbour(i, [&](uint32_t j) {
       // A neighbour without an event is at rest too, or is about to be predicted (and then sees this).
-      if (s_.event[j].kind == PredictiveKind::None || !isMoving(s_.hot[j])) return;
+      if (j == popped_ || s_.event[j].kind == PredictiveKind::None || !isMoving(s_.hot[j])) return;
       pairWith(q, j, std::max(s_.event[j].time, now));
     });
   }
@@ -1182,7 +1260,8 @@ void Engine<W>::step(double dt) {
     // A heap grown large (events denser than the calendar was cut for): cut it again from here.
     if (++s_.popsSinceRetune > s_.hot.size() && s_.heap.size() > 4096) retune(c.time);
     const uint32_t j = c.kind == PredictiveKind::Contact ? c.partner : PredictiveState::kNone;
-    unschedule(i);
+    // Every way on from here predicts `i` again (or ends the step, which then starts afresh).
+    popped_ = i;
 
     if (c.kind == PredictiveKind::Cross) {
       if (c.feature >= 0) {
