@@ -325,6 +325,9 @@ void Engine<W>::buildGrid() {
   s_.bodyOfSlot.clear();
   s_.hot.clear();
   s_.cold.clear();
+  s_.bodyOfSlot.reserve(nb);
+  s_.hot.reserve(nb);
+  s_.cold.reserve(nb);
 
   // Tracked bodies: dynamic ones with a physical fixture.
   double diameter = 0;
@@ -512,17 +515,27 @@ double Engine<W>::meanNeighbours(double size) const {
     keys[slot] = key(cellCoord(c.x, s_.x0, size) + int64_t{kMaxCoord} + 1, cellCoord(c.y, s_.y0, size) + 1);
   }
   std::sort(keys.begin(), keys.end());
+  // Cells are visited in key order, so each of the nine neighbouring keys (x + dx, y + dy) only grows:
+  // nine cursors that only move forward find every neighbouring cell's run of keys in O(n) in all. Cell
+  // coordinates here are >= 0 (the origin is the bodies' lowest corner), so y + dy never wraps the key.
+  struct Cursor {
+    size_t begin = 0, end = 0;
+  };
+  Cursor cursors[9];
   double total = 0;
   for (size_t k = 0; k < n;) {
     size_t end = k;
     while (end < n && keys[end] == keys[k]) ++end;
     const int64_t x = static_cast<int64_t>(keys[k] >> 32), y = static_cast<int64_t>(keys[k] & 0xFFFFFFFFu);
     size_t around = 0;
+    Cursor* cursor = cursors;
     for (int64_t dx = -1; dx <= 1; ++dx) {
-      for (int64_t dy = -1; dy <= 1; ++dy) {
+      for (int64_t dy = -1; dy <= 1; ++dy, ++cursor) {
         const uint64_t q = key(x + dx, y + dy);
-        around += static_cast<size_t>(std::upper_bound(keys.begin(), keys.end(), q) -
-                                      std::lower_bound(keys.begin(), keys.end(), q));
+        while (cursor->begin < n && keys[cursor->begin] < q) ++cursor->begin;
+        if (cursor->end < cursor->begin) cursor->end = cursor->begin;
+        while (cursor->end < n && keys[cursor->end] <= q) ++cursor->end;
+        around += cursor->end - cursor->begin;
       }
     }
     total += static_cast<double>(end - k) * static_cast<double>(around - 1);
@@ -859,7 +872,11 @@ inline void Engine<W>::pairPlain(Prediction& q, uint32_t j) {
     if (!(rv < 0)) return;
     const double reach = circleA.radius + b.radius;
     const double c = dot(r, r) - reach * reach;
-    if (c > 0 && c > -2 * rv * maxTime * (1 + 1e-9)) return;
+    // An impact is kept only if no later than the best so far (q.best): no earlier than c / (-2 r.v) (as
+    // predictCircles), it is then past best.time even after rounding now + h (the margin covers the
+    // round-off of best.time - now and of now + h), and would be turned down below.
+    const double soonest = std::min(maxTime, (q.best.time - now) * (1 + 1e-9) + 8 * kEps * (std::fabs(q.best.time) + std::fabs(now)));
+    if (c > 0 && c > -2 * rv * soonest * (1 + 1e-9)) return;
   }
   const ColdBody& ca = *p.cold;
   const ColdBody& cb = s_.cold[j];
@@ -1059,7 +1076,7 @@ void Engine<W>::retune(double now) {
       count = ahead.size();
     }
   }
-  double width = span > 0 ? 32 * span / static_cast<double>(count) : 1.0;
+  double width = span > 0 ? 8 * span / static_cast<double>(count) : 1.0;
   if (!(width > 0) || !std::isfinite(width)) width = 1.0;
   size_t buckets = 16;
   while (buckets < ahead.size() / 8 && buckets < (size_t{1} << 22)) buckets *= 2;
