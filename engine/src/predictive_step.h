@@ -58,8 +58,8 @@ struct alignas(64) HotBody {
   double localTime = 0;
   double radius = 0;  // of the primary fixture, when kSingle
   uint32_t collisionCount = 0;
-  uint32_t cell = 0;  // its cell's table entry (PredictiveState::cells)
-  int32_t next = -1;  // the next slot in the cell's list, or -1
+  uint32_t fixture = 0;  // the primary (first physical) fixture, as ColdBody::fixture
+  int32_t next = -1;     // the next slot in the cell's list, or -1
   uint8_t flags = 0;
 };
 
@@ -72,7 +72,8 @@ struct alignas(64) ColdBody {
   uint32_t fixture = 0;  // the primary (first physical) fixture
   uint32_t categoryBits = 0, maskBits = 0;
   int32_t group = 0;
-  int32_t cx = 0, cy = 0;  // its cell (HotBody::cell is where the cell is folded to)
+  int32_t cx = 0, cy = 0;  // its cell
+  uint32_t cell = 0;       // where the cell is folded to: its table entry (PredictiveState::cells)
 };
 
 struct HeapNode {
