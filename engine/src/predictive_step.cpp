@@ -241,7 +241,7 @@ class Engine {
   }
   void place(size_t k, detail::HeapNode node) {
     s_.heap[k] = node;
-    s_.heapPos[node.slot] = static_cast<int32_t>(k);
+    s_.queue[node.slot].heapPos = static_cast<int32_t>(k);
   }
   void siftUp(size_t k);
   void siftDown(size_t k);
@@ -418,7 +418,6 @@ void Engine<W>::buildGrid() {
   s_.foldY = foldY;
   const size_t cells = static_cast<size_t>(foldX) * foldY;
   s_.cells.assign(cells + 1, PredictiveState::Cell{});
-  s_.prev.assign(n, -1);
   s_.event.assign(n, PredictiveEvent{});
   resetQueue();
   s_.dismissed.resize(n);
@@ -619,22 +618,23 @@ template <class W>
 void Engine<W>::link(uint32_t slot) {
   const size_t cell = cellOf(slot);
   const int32_t head = s_.cells[cell].head;
-  s_.prev[slot] = -1;
+  s_.cold[slot].prev = -1;
   s_.hot[slot].next = head;
-  if (head >= 0) s_.prev[head] = static_cast<int32_t>(slot);
+  if (head >= 0) s_.cold[head].prev = static_cast<int32_t>(slot);
   s_.cells[cell].head = static_cast<int32_t>(slot);
 }
 
 template <class W>
 void Engine<W>::unlink(uint32_t slot) {
-  const int32_t p = s_.prev[slot], n = s_.hot[slot].next;
+  const int32_t p = s_.cold[slot].prev, n = s_.hot[slot].next;
   if (p >= 0) {
     s_.hot[p].next = n;
   } else {
     s_.cells[cellOf(slot)].head = n;
   }
-  if (n >= 0) s_.prev[n] = p;
-  s_.prev[slot] = s_.hot[slot].next = -1;
+  if (n >= 0) s_.cold[n].prev = p;
+  s_.cold[slot].prev = -1;
+  s_.hot[slot].next = -1;
 }
 
 template <class W>
@@ -1021,9 +1021,7 @@ template <class W>
 void Engine<W>::resetQueue() {
   const size_t n = s_.hot.size();
   s_.heap.clear();
-  s_.heapPos.assign(n, -1);
-  s_.queuedIn.assign(n, PredictiveState::kNotQueued);
-  s_.ticket.assign(n, 0);
+  s_.queue.assign(n, PredictiveState::QueueSlot{});
   for (auto& b : s_.buckets) b.clear();
   s_.overflow.clear();
   s_.inBuckets = s_.inOverflow = 0;
@@ -1036,29 +1034,29 @@ void Engine<W>::enqueue(uint32_t slot) {
   const int64_t k = bucketOf(t);
   if (k <= s_.current) {
     s_.heap.push_back({t, slot});
-    s_.heapPos[slot] = static_cast<int32_t>(s_.heap.size() - 1);
-    s_.queuedIn[slot] = PredictiveState::kInHeap;
+    s_.queue[slot].heapPos = static_cast<int32_t>(s_.heap.size() - 1);
+    s_.queue[slot].where = PredictiveState::kInHeap;
     siftUp(s_.heap.size() - 1);
   } else if (k < s_.limit) {
     s_.buckets[static_cast<size_t>(k & static_cast<int64_t>(s_.buckets.size() - 1))].push_back(
-        {t, slot, ++s_.ticket[slot]});
-    s_.queuedIn[slot] = PredictiveState::kInBucket;
+        {t, slot, ++s_.queue[slot].ticket});
+    s_.queue[slot].where = PredictiveState::kInBucket;
     ++s_.inBuckets;
   } else {
-    s_.overflow.push_back({t, slot, ++s_.ticket[slot]});
-    s_.queuedIn[slot] = PredictiveState::kInOverflow;
+    s_.overflow.push_back({t, slot, ++s_.queue[slot].ticket});
+    s_.queue[slot].where = PredictiveState::kInOverflow;
     ++s_.inOverflow;
   }
 }
 
 template <class W>
 void Engine<W>::dequeue(uint32_t slot) {
-  const int32_t where = s_.queuedIn[slot];
+  const int32_t where = s_.queue[slot].where;
   if (where == PredictiveState::kNotQueued) return;
-  s_.queuedIn[slot] = PredictiveState::kNotQueued;
+  s_.queue[slot].where = PredictiveState::kNotQueued;
   if (where == PredictiveState::kInHeap) {
-    const size_t k = static_cast<size_t>(s_.heapPos[slot]);
-    s_.heapPos[slot] = -1;
+    const size_t k = static_cast<size_t>(s_.queue[slot].heapPos);
+    s_.queue[slot].heapPos = -1;
     const detail::HeapNode last = s_.heap.back();
     s_.heap.pop_back();
     if (k == s_.heap.size()) return;
@@ -1070,7 +1068,7 @@ void Engine<W>::dequeue(uint32_t slot) {
     }
     return;
   }
-  ++s_.ticket[slot];  // its entry is left behind, and dropped when read
+  ++s_.queue[slot].ticket;  // its entry is left behind, and dropped when read
   --(where == PredictiveState::kInOverflow ? s_.inOverflow : s_.inBuckets);
 }
 
@@ -1125,7 +1123,7 @@ uint32_t Engine<W>::top() {
       // Nothing left but the overflow: skip to its first bucket.
       int64_t first = int64_t{1} << 62;
       for (const auto& e : s_.overflow) {
-        if (s_.ticket[e.slot] == e.ticket) first = std::min(first, bucketOf(e.time));
+        if (s_.queue[e.slot].ticket == e.ticket) first = std::min(first, bucketOf(e.time));
       }
       s_.current = std::max(s_.current, first - 1);
       s_.limit = s_.current + 1;
@@ -1143,8 +1141,8 @@ uint32_t Engine<W>::top() {
       waiting.swap(s_.overflow);
       s_.inOverflow = 0;
       for (const auto& e : waiting) {
-        if (s_.ticket[e.slot] != e.ticket) continue;
-        s_.queuedIn[e.slot] = PredictiveState::kNotQueued;
+        if (s_.queue[e.slot].ticket != e.ticket) continue;
+        s_.queue[e.slot].where = PredictiveState::kNotQueued;
         enqueue(e.slot);
       }
       waiting.clear();
@@ -1152,11 +1150,11 @@ uint32_t Engine<W>::top() {
     }
     auto& bucket = s_.buckets[static_cast<size_t>(s_.current & static_cast<int64_t>(s_.buckets.size() - 1))];
     for (const auto& e : bucket) {
-      if (s_.ticket[e.slot] != e.ticket) continue;
+      if (s_.queue[e.slot].ticket != e.ticket) continue;
       --s_.inBuckets;
-      s_.heapPos[e.slot] = static_cast<int32_t>(s_.heap.size());
+      s_.queue[e.slot].heapPos = static_cast<int32_t>(s_.heap.size());
       s_.heap.push_back({e.time, e.slot});
-      s_.queuedIn[e.slot] = PredictiveState::kInHeap;
+      s_.queue[e.slot].where = PredictiveState::kInHeap;
     }
     bucket.clear();
     for (size_t p = s_.heap.size() / 4 + 1; p-- > 0;) {
@@ -1199,10 +1197,10 @@ void Engine<W>::siftDown(size_t k) {
 
 template <class W>
 void Engine<W>::schedule(uint32_t slot, const PredictiveEvent& e) {
-  if (s_.queuedIn[slot] == PredictiveState::kInHeap && bucketOf(e.time) <= s_.current) {
+  if (s_.queue[slot].where == PredictiveState::kInHeap && bucketOf(e.time) <= s_.current) {
     // Stays in the heap: move it up or down.
     s_.event[slot] = e;
-    const size_t k = static_cast<size_t>(s_.heapPos[slot]);
+    const size_t k = static_cast<size_t>(s_.queue[slot].heapPos);
     s_.heap[k].time = e.time;
     if (k > 0 && before(s_.heap[k], s_.heap[(k - 1) / 4])) {
       siftUp(k);

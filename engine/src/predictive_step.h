@@ -74,6 +74,7 @@ struct alignas(64) ColdBody {
   int32_t group = 0;
   int32_t cx = 0, cy = 0;  // its cell
   uint32_t cell = 0;       // where the cell is folded to: its table entry (PredictiveState::cells)
+  int32_t prev = -1;       // the previous slot in the cell's list (HotBody::next the other way), or -1
 };
 
 struct HeapNode {
@@ -115,7 +116,6 @@ struct PredictiveState {
   std::vector<uint32_t> bodyOfSlot;
   std::vector<HotBody> hot;
   std::vector<ColdBody> cold;
-  std::vector<int32_t> prev;  // the cell's list (HotBody::next the other way)
   std::vector<PredictiveEvent> event;
   std::vector<std::vector<Dismissal>> dismissed;
   std::vector<uint32_t> dismissedSlots;  // slots whose `dismissed` is not empty
@@ -137,9 +137,13 @@ struct PredictiveState {
     uint32_t ticket;
   };
   std::vector<HeapNode> heap;
-  std::vector<int32_t> heapPos;                  // by slot: position in `heap`, or -1
-  std::vector<int32_t> queuedIn;                 // by slot: kNotQueued, kInHeap, kInBucket or kInOverflow
-  std::vector<uint32_t> ticket;                  // by slot
+  // By slot, in one record (a queue operation reads and writes them together, one cache line).
+  struct QueueSlot {
+    int32_t heapPos = -1;     // position in `heap`, or -1
+    int32_t where = -1;       // kNotQueued, kInHeap, kInBucket or kInOverflow
+    uint32_t ticket = 0;
+  };
+  std::vector<QueueSlot> queue;
   std::vector<std::vector<QueueEntry>> buckets;  // a power of two of them
   std::vector<QueueEntry> overflow;
   size_t inBuckets = 0, inOverflow = 0;  // live entries
