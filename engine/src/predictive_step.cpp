@@ -99,6 +99,15 @@ double exitTime(double c, double b, double A) {
   return 2 * c / (-b + std::sqrt(disc));
 }
 
+// A hint to the cache (no result depends on it).
+inline void prefetch(const void* p) {
+#if defined(__GNUC__) || defined(__clang__)
+  __builtin_prefetch(p);
+#else
+  (void)p;
+#endif
+}
+
 // Cell coordinates are clamped to +-kMaxCoord; the cells there reach to infinity.
 constexpr int32_t kMaxCoord = int32_t{1} << 30;
 
@@ -176,7 +185,7 @@ class Engine {
   Vec2 centreOf(uint32_t slot, double now) const {
     const HotBody& h = s_.hot[slot];
     const ColdBody& c = s_.cold[slot];
-    return positionAt(h, accelerationOf(h, c), now) + c.centre;
+    return positionAt(h, accelerationOf(h, c), now) + s_.rare[slot].centre;
   }
   uint32_t folded(int32_t x, int32_t y) const {
     return (static_cast<uint32_t>(y) & (s_.foldY - 1)) * s_.foldX + (static_cast<uint32_t>(x) & (s_.foldX - 1));
@@ -248,6 +257,28 @@ class Engine {
   void schedule(uint32_t slot, const PredictiveEvent& e);
   void unschedule(uint32_t slot);
   void resetQueue();
+
+  // Hints only (no value read depends on them): the records the next moments will need, fetched while
+  // this event is handled. Events come in time order, scattered over the whole box, so each one's
+  // records are cache misses otherwise. The partner is predicted right after the popped body; the
+  // next event is most likely the earliest of the heap root's children.
+  void prefetchSlot(uint32_t slot) const {
+    prefetch(&s_.hot[slot]);
+    prefetch(&s_.cold[slot]);
+  }
+  void prefetchAround(uint32_t partner) const {
+    if (partner != PredictiveState::kNone) prefetchSlot(partner);
+    const size_t n = std::min<size_t>(s_.heap.size(), 5);
+    if (n < 2) return;
+    size_t next = 1;
+    for (size_t k = 2; k < n; ++k) {
+      if (s_.heap[k].time < s_.heap[next].time) next = k;
+    }
+    const uint32_t slot = s_.heap[next].slot;
+    prefetch(&s_.event[slot]);
+    prefetch(&s_.queue[slot]);
+    prefetchSlot(slot);
+  }
 };
 
 // ---- Setup -----------------------------------------------------------------------------------------
@@ -325,9 +356,11 @@ void Engine<W>::buildGrid() {
   s_.bodyOfSlot.clear();
   s_.hot.clear();
   s_.cold.clear();
+  s_.rare.clear();
   s_.bodyOfSlot.reserve(nb);
   s_.hot.reserve(nb);
   s_.cold.reserve(nb);
+  s_.rare.reserve(nb);
 
   // Tracked bodies: dynamic ones with a physical fixture.
   double diameter = 0;
@@ -340,20 +373,21 @@ void Engine<W>::buildGrid() {
     int physical = 0;
     HotBody h;
     ColdBody c;
+    detail::RareBody r;
     for (uint32_t f : b.fixtures) {
       const detail::FixtureSlot& fs = w_.fixtures[f];
       if (fs.sensor) continue;
       if (physical == 0) {
         c.fixture = f;
         h.fixture = f;
-        c.centre = detail::circleCentre(fs.geometry);
-        c.categoryBits = fs.filter.categoryBits;
-        c.maskBits = fs.filter.maskBits;
-        c.group = fs.filter.group;
+        r.centre = detail::circleCentre(fs.geometry);
+        r.categoryBits = fs.filter.categoryBits;
+        r.maskBits = fs.filter.maskBits;
+        r.group = fs.filter.group;
         h.radius = detail::circleRadius(fs.geometry);
         if (std::holds_alternative<Circle>(fs.geometry)) h.flags |= HotBody::kSingle;
-        if (!(c.centre == Vec2{})) h.flags |= HotBody::kOffCentre;
-        if (c.categoryBits != Filter{}.categoryBits || c.maskBits != Filter{}.maskBits || c.group != 0) {
+        if (!(r.centre == Vec2{})) h.flags |= HotBody::kOffCentre;
+        if (r.categoryBits != Filter{}.categoryBits || r.maskBits != Filter{}.maskBits || r.group != 0) {
           h.flags |= HotBody::kCustomFilter;
         }
       }
@@ -366,7 +400,8 @@ void Engine<W>::buildGrid() {
     s_.bodyOfSlot.push_back(body);
     s_.hot.push_back(h);
     s_.cold.push_back(c);
-    const Vec2 centre = b.position + c.centre;
+    s_.rare.push_back(r);
+    const Vec2 centre = b.position + r.centre;
     minX = std::min(minX, centre.x);
     minY = std::min(minY, centre.y);
     maxX = std::max(maxX, centre.x);
@@ -411,7 +446,7 @@ void Engine<W>::buildGrid() {
   s_.hysteresis = 0.25 * (size - diameter);
   s_.extent = 0;
   for (uint32_t slot = 0; slot < n; ++slot) {
-    const Vec2 c = w_.bodies[s_.bodyOfSlot[slot]].position + s_.cold[slot].centre;
+    const Vec2 c = w_.bodies[s_.bodyOfSlot[slot]].position + s_.rare[slot].centre;
     s_.extent = std::max({s_.extent, std::fabs(c.x), std::fabs(c.y)});
   }
   s_.foldX = foldX;
@@ -491,7 +526,7 @@ double Engine<W>::sceneExtent() const {
   // The size of the box around every tracked body's centre and every static and kinematic fixture.
   Box box{{kInf, kInf}, {-kInf, -kInf}};
   for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) {
-    const Vec2 c = w_.bodies[s_.bodyOfSlot[slot]].position + s_.cold[slot].centre;
+    const Vec2 c = w_.bodies[s_.bodyOfSlot[slot]].position + s_.rare[slot].centre;
     box = unionOf(box, Box{c, c});
   }
   for (const BodySlot& b : w_.bodies) {
@@ -511,7 +546,7 @@ double Engine<W>::meanNeighbours(double size) const {
   std::vector<uint64_t> keys(n);
   auto key = [](int64_t x, int64_t y) { return (static_cast<uint64_t>(x) << 32) | static_cast<uint32_t>(y); };
   for (uint32_t slot = 0; slot < n; ++slot) {
-    const Vec2 c = w_.bodies[s_.bodyOfSlot[slot]].position + s_.cold[slot].centre;
+    const Vec2 c = w_.bodies[s_.bodyOfSlot[slot]].position + s_.rare[slot].centre;
     keys[slot] = key(cellCoord(c.x, s_.x0, size) + int64_t{kMaxCoord} + 1, cellCoord(c.y, s_.y0, size) + 1);
   }
   std::sort(keys.begin(), keys.end());
@@ -596,6 +631,7 @@ void Engine<W>::reorder() {
   };
   permute(s_.hot);
   permute(s_.cold);
+  permute(s_.rare);
   permute(s_.bodyOfSlot);
   permute(s_.event);
   permute(s_.dismissed);
@@ -754,8 +790,8 @@ void Engine<W>::predictCircles(const Predicting& p, uint32_t j, double horizon, 
   const HotBody& b = s_.hot[j];
   if ((a.flags | b.flags) & HotBody::kCustomFilter) {
     // canCollide() (the bodies differ, are dynamic and physical): the filters.
-    const ColdBody& ca = *p.cold;
-    const ColdBody& cb = s_.cold[j];
+    const detail::RareBody& ca = s_.rare[p.slot];
+    const detail::RareBody& cb = s_.rare[j];
     if (ca.group != 0 && ca.group == cb.group) return;
     if ((ca.categoryBits & cb.maskBits) == 0 || (cb.categoryBits & ca.maskBits) == 0) return;
   }
@@ -763,7 +799,7 @@ void Engine<W>::predictCircles(const Predicting& p, uint32_t j, double horizon, 
   const double now = p.now;
   ++w_.stats.timeOfImpactTests;
   const Vec2 accB = (b.flags & HotBody::kAccelerating) ? s_.cold[j].acceleration : Vec2{};
-  const Vec2 centreB = (b.flags & HotBody::kOffCentre) ? s_.cold[j].centre : Vec2{};
+  const Vec2 centreB = (b.flags & HotBody::kOffCentre) ? s_.rare[j].centre : Vec2{};
   const Vec2 pb = positionAt(b, accB, now);
   const Vec2 vb = velocityAt(b, accB, now);
   const Motion relative{p.velocity - vb, p.acceleration - accB};
@@ -827,7 +863,7 @@ void Engine<W>::startPrediction(uint32_t i, double now, Prediction& q) const {
   p.acceleration = accelerationOf(hb, cb);
   p.position = positionAt(hb, p.acceleration, now);
   p.velocity = velocityAt(hb, p.acceleration, now);
-  p.centre = (hb.flags & HotBody::kOffCentre) ? cb.centre : Vec2{};
+  p.centre = (hb.flags & HotBody::kOffCentre) ? s_.rare[i].centre : Vec2{};
   q.moving = isMoving(hb);
   q.hasDismissals = dismissals(i);
   q.single = (hb.flags & HotBody::kSingle) != 0;
@@ -1300,6 +1336,7 @@ void Engine<W>::step(double dt) {
     const uint32_t j = c.kind == PredictiveKind::Contact ? c.partner : PredictiveState::kNone;
     // Every way on from here predicts `i` again (or ends the step, which then starts afresh).
     popped_ = i;
+    prefetchAround(j);
 
     if (c.kind == PredictiveKind::Cross) {
       if (c.feature >= 0) {
