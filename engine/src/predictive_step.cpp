@@ -174,7 +174,7 @@ class Engine {
   double sceneExtent() const;
   double meanNeighbours(double size) const;
   double sparseCellSize(double size, double limit) const;
-  void reorder();
+  void reorder(bool fresh = false);
   void sync(uint32_t slot);
   void syncBody(uint32_t body) {
     const uint32_t slot = s_.slotOfBody[body];
@@ -462,7 +462,7 @@ void Engine<W>::buildGrid() {
     placeInCell(slot, centreOf(slot, s_.hot[slot].localTime));
     link(slot);
   }
-  reorder();
+  reorder(/*fresh=*/true);
 
   // Static fixtures: in every cell whose region, grown by half a cell (the reach of any dynamic body
   // whose centre is in it), the fixture overlaps.
@@ -593,7 +593,7 @@ double Engine<W>::sparseCellSize(double size, double limit) const {
 }
 
 template <class W>
-void Engine<W>::reorder() {
+void Engine<W>::reorder(bool fresh) {
   // Slots in cell order, so that neighbours sit close in memory. The cells are taken along a Z-order
   // (Morton) curve over the table rather than row by row: a 3 x 3 block of cells, which every prediction
   // reads, then lies in a few short runs of slots instead of three runs a whole row apart. Only where
@@ -624,26 +624,31 @@ void Engine<W>::reorder() {
   }
   std::vector<uint32_t> newSlot(n);
   for (uint32_t k = 0; k < n; ++k) newSlot[order[k]] = k;
-  auto permute = [&](auto& v) {
-    std::remove_reference_t<decltype(v)> out(n);
-    for (uint32_t k = 0; k < n; ++k) out[k] = std::move(v[order[k]]);
-    v.swap(out);
+  // Into the spare arrays, which then change places with the live ones: memory is reused from one
+  // re-ordering to the next instead of being allocated (and faulted in) afresh.
+  auto permute = [&](auto& v, auto& spare) {
+    spare.resize(n);
+    for (uint32_t k = 0; k < n; ++k) spare[k] = std::move(v[order[k]]);
+    v.swap(spare);
   };
-  permute(s_.hot);
-  permute(s_.cold);
-  permute(s_.rare);
-  permute(s_.bodyOfSlot);
-  permute(s_.event);
-  permute(s_.dismissed);
+  permute(s_.hot, s_.spareHot);
+  permute(s_.cold, s_.spareCold);
+  permute(s_.rare, s_.spareRare);
+  permute(s_.bodyOfSlot, s_.spareBodies);
   for (uint32_t k = 0; k < n; ++k) s_.slotOfBody[s_.bodyOfSlot[k]] = k;
-  for (PredictiveEvent& e : s_.event) {
-    if (e.partner != PredictiveState::kNone) e.partner = newSlot[e.partner];
-  }
-  for (uint32_t& slot : s_.dismissedSlots) slot = newSlot[slot];
-  // The queue again, with the same calendar.
-  resetQueue();
-  for (uint32_t k = 0; k < n; ++k) {
-    if (s_.event[k].kind != PredictiveKind::None) enqueue(k);
+  if (!fresh) {
+    // (Fresh from buildGrid: no events and no dismissals yet, nothing to carry over.)
+    permute(s_.event, s_.spareEvents);
+    permute(s_.dismissed, s_.spareDismissed);
+    for (PredictiveEvent& e : s_.event) {
+      if (e.partner != PredictiveState::kNone) e.partner = newSlot[e.partner];
+    }
+    for (uint32_t& slot : s_.dismissedSlots) slot = newSlot[slot];
+    // The queue again, with the same calendar.
+    resetQueue();
+    for (uint32_t k = 0; k < n; ++k) {
+      if (s_.event[k].kind != PredictiveKind::None) enqueue(k);
+    }
   }
   for (auto& c : s_.cells) c.head = -1;
   for (uint32_t k = static_cast<uint32_t>(n); k-- > 0;) link(k);

@@ -163,6 +163,12 @@ struct PredictiveState {
 
 
   // Scratch.
+  std::vector<HotBody> spareHot;  // reorder() permutes into these
+  std::vector<ColdBody> spareCold;
+  std::vector<RareBody> spareRare;
+  std::vector<uint32_t> spareBodies;
+  std::vector<PredictiveEvent> spareEvents;
+  std::vector<std::vector<Dismissal>> spareDismissed;
   std::vector<uint32_t> dirty;
   std::vector<uint32_t> woken;
   std::vector<uint32_t> order;
