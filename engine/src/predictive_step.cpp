@@ -234,10 +234,14 @@ class Engine {
   // The queue (see PredictiveState): the calendar's buckets, and the heap of the current one, a 4-ary
   // heap (shallower than a binary one, and a node's children share a cache line).
   int64_t bucketOf(double t) const {
-    const double q = std::floor((t - s_.base) * s_.inverseWidth);
-    if (!(q < 4e18)) return int64_t{1} << 62;  // also infinity and NaN: the overflow list
-    if (q < -4e18) return -(int64_t{1} << 62);
-    return static_cast<int64_t>(q);
+    // floor() of the scaled time, by truncation and a step down for negatives that were not whole: the
+    // same value (for an integer N, floor(x) < N exactly when x < N), without a call into libm on
+    // every queue operation.
+    const double x = (t - s_.base) * s_.inverseWidth;
+    if (!(x < 4e18)) return int64_t{1} << 62;  // also infinity and NaN: the overflow list
+    if (x < -4e18) return -(int64_t{1} << 62);
+    const int64_t k = static_cast<int64_t>(x);
+    return static_cast<double>(k) > x ? k - 1 : k;
   }
   void enqueue(uint32_t slot);
   void dequeue(uint32_t slot);
