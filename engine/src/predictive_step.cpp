@@ -930,19 +930,22 @@ inline void Engine<W>::pairPlain(Prediction& q, uint32_t j) {
   const Motion relative{p.velocity - vb, p.acceleration - Vec2{}};
   Circle circleA{p.centre + p.position, p.hot->radius};
   circleA.center -= pb;
-  const double maxTime = q.horizon - now;
+  double within;
   {
-    // As predictCircles: a straight relative path, approaching, and close enough to meet in time.
+    // As predictCircles: a straight relative path, approaching, and close enough to meet in time (no
+    // impact before c / (-2 r.v)).
     const Vec2 r = circleA.center - Vec2{};
     const double rv = dot(r, relative.velocity);
     if (!(rv < 0)) return;
+    // An impact is kept only if no later than the best so far (q.best). One later than `within` is past
+    // best.time even after rounding now + h (the margin covers the round-off of best.time - now and of
+    // now + h) and would be turned down below, so the search stops there (the time of impact depends on
+    // its limit only through the final t <= maxTime).
+    within = std::min(q.horizon - now,
+                      (q.best.time - now) * (1 + 1e-9) + 8 * kEps * (std::fabs(q.best.time) + std::fabs(now)));
     const double reach = circleA.radius + b.radius;
     const double c = dot(r, r) - reach * reach;
-    // An impact is kept only if no later than the best so far (q.best): no earlier than c / (-2 r.v) (as
-    // predictCircles), it is then past best.time even after rounding now + h (the margin covers the
-    // round-off of best.time - now and of now + h), and would be turned down below.
-    const double soonest = std::min(maxTime, (q.best.time - now) * (1 + 1e-9) + 8 * kEps * (std::fabs(q.best.time) + std::fabs(now)));
-    if (c > 0 && c > -2 * rv * soonest * (1 + 1e-9)) return;
+    if (c > 0 && c > -2 * rv * within * (1 + 1e-9)) return;
   }
   // As predictCircles, with the neighbour's ColdBody read only when the pair is the body's own last
   // contact (the neighbour's record is a cache miss more often than not).
@@ -955,7 +958,7 @@ inline void Engine<W>::pairPlain(Prediction& q, uint32_t j) {
       if (cb.lastTime == now && cb.lastLow == low && cb.lastHigh == high) resolved = ca.lastFeature;
     }
   }
-  auto impact = timeOfImpactCircleCircle(circleA, relative, Circle{Vec2{}, b.radius}, maxTime, resolved);
+  auto impact = timeOfImpactCircleCircle(circleA, relative, Circle{Vec2{}, b.radius}, within, resolved);
   if (!impact) return;
   const double h = impact->time;
   const double time = std::min(now + h, q.horizon);
