@@ -940,9 +940,10 @@ inline void Engine<W>::pairPlain(Prediction& q, uint32_t j) {
     // An impact is kept only if no later than the best so far (q.best). One later than `within` is past
     // best.time even after rounding now + h (the margin covers the round-off of best.time - now and of
     // now + h) and would be turned down below, so the search stops there (the time of impact depends on
-    // its limit only through the final t <= maxTime).
-    within = std::min(q.horizon - now,
-                      (q.best.time - now) * (1 + 1e-9) + 8 * kEps * (std::fabs(q.best.time) + std::fabs(now)));
+    // its limit only through the final t <= maxTime). The last term keeps a time of impact that would
+    // underflow to 0 (best.time = now = 0) from being cut.
+    within = std::min(q.horizon - now, (q.best.time - now) * (1 + 1e-9) +
+                                           8 * kEps * (std::fabs(q.best.time) + std::fabs(now)) + 1e-300);
     const double reach = circleA.radius + b.radius;
     const double c = dot(r, r) - reach * reach;
     if (c > 0 && c > -2 * rv * within * (1 + 1e-9)) return;
