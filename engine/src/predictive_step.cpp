@@ -165,9 +165,13 @@ class Engine {
   // until the body's next prediction replaces it in place (one sift instead of a removal and an
   // insertion); until then it counts as having no event.
   uint32_t popped_ = PredictiveState::kNone;
+  // Gathered by normalize() for computeConstants(): the fastest body's speed scale, and whether a
+  // kinematic body with a fixture moves.
+  double speedScale_ = 0;
+  bool movingKinematic_ = false;
 
   // Setup.
-  void normalize();
+  void normalize(double dt);
   void rebase(double by);
   void computeConstants(double dt);
   void buildGrid();
@@ -288,9 +292,13 @@ class Engine {
 // ---- Setup -----------------------------------------------------------------------------------------
 
 template <class W>
-void Engine<W>::normalize() {
+void Engine<W>::normalize(double dt) {
   // As at the start of a hybrid step: the Zeno guard's count starts again, a slide on a fixture that is
-  // gone ends, and an awake free dynamic body falls with gravity.
+  // gone ends, and an awake free dynamic body falls with gravity. The same pass gathers what
+  // computeConstants() needs from every body (one pass over the bodies instead of two; nothing in
+  // between changes a body's motion, type or sleep).
+  double speedScale = 0;
+  bool movingKinematic = false;
   for (BodySlot& b : w_.bodies) {
     if (!b.alive) continue;
     b.stepCollisions = 0;
@@ -299,7 +307,13 @@ void Engine<W>::normalize() {
       w_.stopSliding(b);
     }
     if (b.type == BodyType::Dynamic && !b.asleep && b.support.generation == 0) b.acceleration = w_.def.gravity;
+    // As the hybrid step: approach speeds below 1e-13 of the fastest body's are round-off.
+    if (b.type == BodyType::Static || b.asleep) continue;
+    speedScale = std::max(speedScale, length(b.velocity) + length(b.acceleration) * dt);
+    if (b.type == BodyType::Kinematic && !(b.velocity == Vec2{}) && !b.fixtures.empty()) movingKinematic = true;
   }
+  speedScale_ = speedScale;
+  movingKinematic_ = movingKinematic;
 }
 
 template <class W>
@@ -315,14 +329,8 @@ void Engine<W>::rebase(double by) {
 
 template <class W>
 void Engine<W>::computeConstants(double dt) {
-  // As the hybrid step: approach speeds below 1e-13 of the fastest body's are round-off.
-  double speedScale = 0;
-  bool movingKinematic = false;
-  for (const BodySlot& b : w_.bodies) {
-    if (!b.alive || b.type == BodyType::Static || b.asleep) continue;
-    speedScale = std::max(speedScale, length(b.velocity) + length(b.acceleration) * dt);
-    if (b.type == BodyType::Kinematic && !(b.velocity == Vec2{}) && !b.fixtures.empty()) movingKinematic = true;
-  }
+  const double speedScale = speedScale_;
+  const bool movingKinematic = movingKinematic_;
   s_.approachTolerance = 1e-13 * speedScale;
   s_.restTolerance = 8 * kEps / dt;
   s_.movingKinematic = movingKinematic;
@@ -1280,7 +1288,7 @@ void Engine<W>::step(double dt) {
   if (w_.pairsOfBody.size() < w_.bodies.size()) w_.pairsOfBody.resize(w_.bodies.size());
 
   // 1. Notice what changed since the last step; re-base the clocks to this step's start.
-  normalize();
+  normalize(dt);
   // What the World API changed since the last step (World::Impl::touched): the dynamic bodies touched are
   // predicted again; a change of structure starts afresh.
   bool rebuild = !s_.valid || w_.structureChanged;
