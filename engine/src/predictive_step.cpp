@@ -1501,12 +1501,8 @@ void Engine<W>::step(double dt) {
     w_.sensePaths(w_.pathLog, end);
     w_.pathLog.active = false;
   }
-  // The copies are refreshed in the same pass, while the body is in cache (every tracked body is alive
-  // and dynamic: creating or destroying a body rebuilds the grid, and a body's type never changes).
   double extent = 0;
-  const size_t nb = w_.bodies.size();
-  for (uint32_t body = 0; body < nb; ++body) {
-    BodySlot& b = w_.bodies[body];
+  for (BodySlot& b : w_.bodies) {
     if (!b.alive || b.type == BodyType::Static) continue;
     if (b.type == BodyType::Dynamic) {
       w_.advance(b, end);
@@ -1517,8 +1513,8 @@ void Engine<W>::step(double dt) {
     b.localTime = 0;
     if (b.last.time >= 0) b.last.time -= end;  // the next step starts at this one's end
     extent = std::max({extent, std::fabs(b.position.x), std::fabs(b.position.y)});
-    if (body < s_.slotOfBody.size() && s_.slotOfBody[body] != PredictiveState::kNone) sync(s_.slotOfBody[body]);
   }
+  for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) sync(slot);
   w_.time += dt;
   s_.lastStep = end;
   s_.endExtent = extent;
