@@ -99,6 +99,15 @@ double exitTime(double c, double b, double A) {
   return 2 * c / (-b + std::sqrt(disc));
 }
 
+// A hint to the cache (no result depends on it).
+inline void prefetch(const void* p) {
+#if defined(__GNUC__) || defined(__clang__)
+  __builtin_prefetch(p);
+#else
+  (void)p;
+#endif
+}
+
 // Cell coordinates are clamped to +-kMaxCoord; the cells there reach to infinity.
 constexpr int32_t kMaxCoord = int32_t{1} << 30;
 
@@ -124,6 +133,12 @@ Vec2 positionAt(const HotBody& b, Vec2 acceleration, double t) {
 }
 Vec2 velocityAt(const HotBody& b, Vec2 acceleration, double t) { return b.velocity + acceleration * (t - b.localTime); }
 bool isMoving(const HotBody& b) { return !(b.velocity == Vec2{}) || (b.flags & HotBody::kAccelerating) != 0; }
+// The common body of a gas: one circle centred on the body, no acceleration, the default filter. Two such
+// bodies need nothing from their ColdBody until a contact is found (Engine::pairPlain).
+bool isPlain(const HotBody& b) {
+  constexpr uint8_t mask = HotBody::kSingle | HotBody::kAccelerating | HotBody::kOffCentre | HotBody::kCustomFilter;
+  return (b.flags & mask) == HotBody::kSingle;
+}
 
 // A body being predicted, as every pair test reads it.
 struct Predicting {
@@ -146,16 +161,24 @@ class Engine {
  private:
   W& w_;
   PredictiveState& s_;
+  // The slot whose event was just taken from the queue and is being handled. Its entry stays in the heap
+  // until the body's next prediction replaces it in place (one sift instead of a removal and an
+  // insertion); until then it counts as having no event.
+  uint32_t popped_ = PredictiveState::kNone;
+  // Gathered by normalize() for computeConstants(): the fastest body's speed scale, and whether a
+  // kinematic body with a fixture moves.
+  double speedScale_ = 0;
+  bool movingKinematic_ = false;
 
   // Setup.
-  void normalize();
+  void normalize(double dt);
   void rebase(double by);
   void computeConstants(double dt);
   void buildGrid();
   double sceneExtent() const;
   double meanNeighbours(double size) const;
   double sparseCellSize(double size, double limit) const;
-  void reorder();
+  void reorder(bool fresh = false);
   void sync(uint32_t slot);
   void syncBody(uint32_t body) {
     const uint32_t slot = s_.slotOfBody[body];
@@ -166,7 +189,7 @@ class Engine {
   Vec2 centreOf(uint32_t slot, double now) const {
     const HotBody& h = s_.hot[slot];
     const ColdBody& c = s_.cold[slot];
-    return positionAt(h, accelerationOf(h, c), now) + c.centre;
+    return positionAt(h, accelerationOf(h, c), now) + s_.rare[slot].centre;
   }
   uint32_t folded(int32_t x, int32_t y) const {
     return (static_cast<uint32_t>(y) & (s_.foldY - 1)) * s_.foldX + (static_cast<uint32_t>(x) & (s_.foldX - 1));
@@ -175,9 +198,9 @@ class Engine {
     ColdBody& c = s_.cold[slot];
     c.cx = cellCoord(centre.x, s_.x0, s_.cellSize);
     c.cy = cellCoord(centre.y, s_.y0, s_.cellSize);
-    s_.hot[slot].cell = folded(c.cx, c.cy);
+    c.cell = folded(c.cx, c.cy);
   }
-  size_t cellOf(uint32_t slot) const { return s_.hot[slot].cell; }
+  size_t cellOf(uint32_t slot) const { return s_.cold[slot].cell; }
   void link(uint32_t slot);
   void unlink(uint32_t slot);
   template <class Visit>
@@ -199,9 +222,11 @@ class Engine {
     PredictiveEvent best;
     double horizon = 0;
     bool moving = false, hasDismissals = false, single = false;
+    bool plain = false;  // isPlain(), and nothing dismissed: pairPlain() applies to its plain neighbours
   };
   void startPrediction(uint32_t slot, double now, Prediction& q) const;
   void pairWith(Prediction& q, uint32_t other, double until);
+  void pairPlain(Prediction& q, uint32_t other);
   void finishPrediction(Prediction& q);
   void predictBody(uint32_t slot, double now);
   void crossing(const Predicting& p, double& h, int& side) const;
@@ -213,10 +238,14 @@ class Engine {
   // The queue (see PredictiveState): the calendar's buckets, and the heap of the current one, a 4-ary
   // heap (shallower than a binary one, and a node's children share a cache line).
   int64_t bucketOf(double t) const {
-    const double q = std::floor((t - s_.base) * s_.inverseWidth);
-    if (!(q < 4e18)) return int64_t{1} << 62;  // also infinity and NaN: the overflow list
-    if (q < -4e18) return -(int64_t{1} << 62);
-    return static_cast<int64_t>(q);
+    // floor() of the scaled time, by truncation and a step down for negatives that were not whole: the
+    // same value (for an integer N, floor(x) < N exactly when x < N), without a call into libm on
+    // every queue operation.
+    const double x = (t - s_.base) * s_.inverseWidth;
+    if (!(x < 4e18)) return int64_t{1} << 62;  // also infinity and NaN: the overflow list
+    if (x < -4e18) return -(int64_t{1} << 62);
+    const int64_t k = static_cast<int64_t>(x);
+    return static_cast<double>(k) > x ? k - 1 : k;
   }
   void enqueue(uint32_t slot);
   void dequeue(uint32_t slot);
@@ -229,21 +258,47 @@ class Engine {
   }
   void place(size_t k, detail::HeapNode node) {
     s_.heap[k] = node;
-    s_.heapPos[node.slot] = static_cast<int32_t>(k);
+    s_.queue[node.slot].heapPos = static_cast<int32_t>(k);
   }
   void siftUp(size_t k);
   void siftDown(size_t k);
   void schedule(uint32_t slot, const PredictiveEvent& e);
   void unschedule(uint32_t slot);
   void resetQueue();
+
+  // Hints only (no value read depends on them): the records the next moments will need, fetched while
+  // this event is handled. Events come in time order, scattered over the whole box, so each one's
+  // records are cache misses otherwise. The partner is predicted right after the popped body; the
+  // next event is most likely the earliest of the heap root's children.
+  void prefetchSlot(uint32_t slot) const {
+    prefetch(&s_.hot[slot]);
+    prefetch(&s_.cold[slot]);
+  }
+  void prefetchAround(uint32_t partner) const {
+    if (partner != PredictiveState::kNone) prefetchSlot(partner);
+    const size_t n = std::min<size_t>(s_.heap.size(), 5);
+    if (n < 2) return;
+    size_t next = 1;
+    for (size_t k = 2; k < n; ++k) {
+      if (s_.heap[k].time < s_.heap[next].time) next = k;
+    }
+    const uint32_t slot = s_.heap[next].slot;
+    prefetch(&s_.event[slot]);
+    prefetch(&s_.queue[slot]);
+    prefetchSlot(slot);
+  }
 };
 
 // ---- Setup -----------------------------------------------------------------------------------------
 
 template <class W>
-void Engine<W>::normalize() {
+void Engine<W>::normalize(double dt) {
   // As at the start of a hybrid step: the Zeno guard's count starts again, a slide on a fixture that is
-  // gone ends, and an awake free dynamic body falls with gravity.
+  // gone ends, and an awake free dynamic body falls with gravity. The same pass gathers what
+  // computeConstants() needs from every body (one pass over the bodies instead of two; nothing in
+  // between changes a body's motion, type or sleep).
+  double speedScale = 0;
+  bool movingKinematic = false;
   for (BodySlot& b : w_.bodies) {
     if (!b.alive) continue;
     b.stepCollisions = 0;
@@ -252,7 +307,13 @@ void Engine<W>::normalize() {
       w_.stopSliding(b);
     }
     if (b.type == BodyType::Dynamic && !b.asleep && b.support.generation == 0) b.acceleration = w_.def.gravity;
+    // As the hybrid step: approach speeds below 1e-13 of the fastest body's are round-off.
+    if (b.type == BodyType::Static || b.asleep) continue;
+    speedScale = std::max(speedScale, length(b.velocity) + length(b.acceleration) * dt);
+    if (b.type == BodyType::Kinematic && !(b.velocity == Vec2{}) && !b.fixtures.empty()) movingKinematic = true;
   }
+  speedScale_ = speedScale;
+  movingKinematic_ = movingKinematic;
 }
 
 template <class W>
@@ -268,14 +329,8 @@ void Engine<W>::rebase(double by) {
 
 template <class W>
 void Engine<W>::computeConstants(double dt) {
-  // As the hybrid step: approach speeds below 1e-13 of the fastest body's are round-off.
-  double speedScale = 0;
-  bool movingKinematic = false;
-  for (const BodySlot& b : w_.bodies) {
-    if (!b.alive || b.type == BodyType::Static || b.asleep) continue;
-    speedScale = std::max(speedScale, length(b.velocity) + length(b.acceleration) * dt);
-    if (b.type == BodyType::Kinematic && !(b.velocity == Vec2{}) && !b.fixtures.empty()) movingKinematic = true;
-  }
+  const double speedScale = speedScale_;
+  const bool movingKinematic = movingKinematic_;
   s_.approachTolerance = 1e-13 * speedScale;
   s_.restTolerance = 8 * kEps / dt;
   s_.movingKinematic = movingKinematic;
@@ -313,6 +368,11 @@ void Engine<W>::buildGrid() {
   s_.bodyOfSlot.clear();
   s_.hot.clear();
   s_.cold.clear();
+  s_.rare.clear();
+  s_.bodyOfSlot.reserve(nb);
+  s_.hot.reserve(nb);
+  s_.cold.reserve(nb);
+  s_.rare.reserve(nb);
 
   // Tracked bodies: dynamic ones with a physical fixture.
   double diameter = 0;
@@ -325,19 +385,21 @@ void Engine<W>::buildGrid() {
     int physical = 0;
     HotBody h;
     ColdBody c;
+    detail::RareBody r;
     for (uint32_t f : b.fixtures) {
       const detail::FixtureSlot& fs = w_.fixtures[f];
       if (fs.sensor) continue;
       if (physical == 0) {
         c.fixture = f;
-        c.centre = detail::circleCentre(fs.geometry);
-        c.categoryBits = fs.filter.categoryBits;
-        c.maskBits = fs.filter.maskBits;
-        c.group = fs.filter.group;
+        h.fixture = f;
+        r.centre = detail::circleCentre(fs.geometry);
+        r.categoryBits = fs.filter.categoryBits;
+        r.maskBits = fs.filter.maskBits;
+        r.group = fs.filter.group;
         h.radius = detail::circleRadius(fs.geometry);
         if (std::holds_alternative<Circle>(fs.geometry)) h.flags |= HotBody::kSingle;
-        if (!(c.centre == Vec2{})) h.flags |= HotBody::kOffCentre;
-        if (c.categoryBits != Filter{}.categoryBits || c.maskBits != Filter{}.maskBits || c.group != 0) {
+        if (!(r.centre == Vec2{})) h.flags |= HotBody::kOffCentre;
+        if (r.categoryBits != Filter{}.categoryBits || r.maskBits != Filter{}.maskBits || r.group != 0) {
           h.flags |= HotBody::kCustomFilter;
         }
       }
@@ -350,7 +412,8 @@ void Engine<W>::buildGrid() {
     s_.bodyOfSlot.push_back(body);
     s_.hot.push_back(h);
     s_.cold.push_back(c);
-    const Vec2 centre = b.position + c.centre;
+    s_.rare.push_back(r);
+    const Vec2 centre = b.position + r.centre;
     minX = std::min(minX, centre.x);
     minY = std::min(minY, centre.y);
     maxX = std::max(maxX, centre.x);
@@ -395,14 +458,13 @@ void Engine<W>::buildGrid() {
   s_.hysteresis = 0.25 * (size - diameter);
   s_.extent = 0;
   for (uint32_t slot = 0; slot < n; ++slot) {
-    const Vec2 c = w_.bodies[s_.bodyOfSlot[slot]].position + s_.cold[slot].centre;
+    const Vec2 c = w_.bodies[s_.bodyOfSlot[slot]].position + s_.rare[slot].centre;
     s_.extent = std::max({s_.extent, std::fabs(c.x), std::fabs(c.y)});
   }
   s_.foldX = foldX;
   s_.foldY = foldY;
   const size_t cells = static_cast<size_t>(foldX) * foldY;
   s_.cells.assign(cells + 1, PredictiveState::Cell{});
-  s_.prev.assign(n, -1);
   s_.event.assign(n, PredictiveEvent{});
   resetQueue();
   s_.dismissed.resize(n);
@@ -412,7 +474,7 @@ void Engine<W>::buildGrid() {
     placeInCell(slot, centreOf(slot, s_.hot[slot].localTime));
     link(slot);
   }
-  reorder();
+  reorder(/*fresh=*/true);
 
   // Static fixtures: in every cell whose region, grown by half a cell (the reach of any dynamic body
   // whose centre is in it), the fixture overlaps.
@@ -476,7 +538,7 @@ double Engine<W>::sceneExtent() const {
   // The size of the box around every tracked body's centre and every static and kinematic fixture.
   Box box{{kInf, kInf}, {-kInf, -kInf}};
   for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) {
-    const Vec2 c = w_.bodies[s_.bodyOfSlot[slot]].position + s_.cold[slot].centre;
+    const Vec2 c = w_.bodies[s_.bodyOfSlot[slot]].position + s_.rare[slot].centre;
     box = unionOf(box, Box{c, c});
   }
   for (const BodySlot& b : w_.bodies) {
@@ -496,21 +558,31 @@ double Engine<W>::meanNeighbours(double size) const {
   std::vector<uint64_t> keys(n);
   auto key = [](int64_t x, int64_t y) { return (static_cast<uint64_t>(x) << 32) | static_cast<uint32_t>(y); };
   for (uint32_t slot = 0; slot < n; ++slot) {
-    const Vec2 c = w_.bodies[s_.bodyOfSlot[slot]].position + s_.cold[slot].centre;
+    const Vec2 c = w_.bodies[s_.bodyOfSlot[slot]].position + s_.rare[slot].centre;
     keys[slot] = key(cellCoord(c.x, s_.x0, size) + int64_t{kMaxCoord} + 1, cellCoord(c.y, s_.y0, size) + 1);
   }
   std::sort(keys.begin(), keys.end());
+  // Cells are visited in key order, so each of the nine neighbouring keys (x + dx, y + dy) only grows:
+  // nine cursors that only move forward find every neighbouring cell's run of keys in O(n) in all. Cell
+  // coordinates here are >= 0 (the origin is the bodies' lowest corner), so y + dy never wraps the key.
+  struct Cursor {
+    size_t begin = 0, end = 0;
+  };
+  Cursor cursors[9];
   double total = 0;
   for (size_t k = 0; k < n;) {
     size_t end = k;
     while (end < n && keys[end] == keys[k]) ++end;
     const int64_t x = static_cast<int64_t>(keys[k] >> 32), y = static_cast<int64_t>(keys[k] & 0xFFFFFFFFu);
     size_t around = 0;
+    Cursor* cursor = cursors;
     for (int64_t dx = -1; dx <= 1; ++dx) {
-      for (int64_t dy = -1; dy <= 1; ++dy) {
+      for (int64_t dy = -1; dy <= 1; ++dy, ++cursor) {
         const uint64_t q = key(x + dx, y + dy);
-        around += static_cast<size_t>(std::upper_bound(keys.begin(), keys.end(), q) -
-                                      std::lower_bound(keys.begin(), keys.end(), q));
+        while (cursor->begin < n && keys[cursor->begin] < q) ++cursor->begin;
+        if (cursor->end < cursor->begin) cursor->end = cursor->begin;
+        while (cursor->end < n && keys[cursor->end] <= q) ++cursor->end;
+        around += cursor->end - cursor->begin;
       }
     }
     total += static_cast<double>(end - k) * static_cast<double>(around - 1);
@@ -533,36 +605,62 @@ double Engine<W>::sparseCellSize(double size, double limit) const {
 }
 
 template <class W>
-void Engine<W>::reorder() {
-  // Slots in cell order (row by row, each cell's list in order), so that neighbours sit close in memory.
-  // Only where things are stored changes: no prediction, time or order of events does.
+void Engine<W>::reorder(bool fresh) {
+  // Slots in cell order, so that neighbours sit close in memory. The cells are taken along a Z-order
+  // (Morton) curve over the table rather than row by row: a 3 x 3 block of cells, which every prediction
+  // reads, then lies in a few short runs of slots instead of three runs a whole row apart. Only where
+  // things are stored changes: no prediction, time or order of events does.
   const size_t n = s_.hot.size();
   std::vector<uint32_t>& order = s_.order;  // order[new slot] = old slot
   order.clear();
-  for (size_t cell = 0; cell + 1 < s_.cells.size(); ++cell) {
-    for (int32_t k = s_.cells[cell].head; k >= 0; k = s_.hot[k].next) order.push_back(static_cast<uint32_t>(k));
+  auto gather = [](uint64_t v) {  // the even bits of v, packed (a Z-order index to one coordinate)
+    v &= 0x5555555555555555ull;
+    v = (v | (v >> 1)) & 0x3333333333333333ull;
+    v = (v | (v >> 2)) & 0x0F0F0F0F0F0F0F0Full;
+    v = (v | (v >> 4)) & 0x00FF00FF00FF00FFull;
+    v = (v | (v >> 8)) & 0x0000FFFF0000FFFFull;
+    v = (v | (v >> 16)) & 0x00000000FFFFFFFFull;
+    return v;
+  };
+  // The table (powers of two on each side) as square tiles, row by row, each along the curve.
+  const uint64_t side = std::min(s_.foldX, s_.foldY);
+  for (uint64_t ty = 0; ty < s_.foldY; ty += side) {
+    for (uint64_t tx = 0; tx < s_.foldX; tx += side) {
+      for (uint64_t z = 0; z < side * side; ++z) {
+        const uint64_t x = tx + gather(z), y = ty + gather(z >> 1);
+        for (int32_t k = s_.cells[y * s_.foldX + x].head; k >= 0; k = s_.hot[k].next) {
+          order.push_back(static_cast<uint32_t>(k));
+        }
+      }
+    }
   }
   std::vector<uint32_t> newSlot(n);
   for (uint32_t k = 0; k < n; ++k) newSlot[order[k]] = k;
-  auto permute = [&](auto& v) {
-    std::remove_reference_t<decltype(v)> out(n);
-    for (uint32_t k = 0; k < n; ++k) out[k] = std::move(v[order[k]]);
-    v.swap(out);
+  // Into the spare arrays, which then change places with the live ones: memory is reused from one
+  // re-ordering to the next instead of being allocated (and faulted in) afresh.
+  auto permute = [&](auto& v, auto& spare) {
+    spare.resize(n);
+    for (uint32_t k = 0; k < n; ++k) spare[k] = std::move(v[order[k]]);
+    v.swap(spare);
   };
-  permute(s_.hot);
-  permute(s_.cold);
-  permute(s_.bodyOfSlot);
-  permute(s_.event);
-  permute(s_.dismissed);
+  permute(s_.hot, s_.spareHot);
+  permute(s_.cold, s_.spareCold);
+  permute(s_.rare, s_.spareRare);
+  permute(s_.bodyOfSlot, s_.spareBodies);
   for (uint32_t k = 0; k < n; ++k) s_.slotOfBody[s_.bodyOfSlot[k]] = k;
-  for (PredictiveEvent& e : s_.event) {
-    if (e.partner != PredictiveState::kNone) e.partner = newSlot[e.partner];
-  }
-  for (uint32_t& slot : s_.dismissedSlots) slot = newSlot[slot];
-  // The queue again, with the same calendar.
-  resetQueue();
-  for (uint32_t k = 0; k < n; ++k) {
-    if (s_.event[k].kind != PredictiveKind::None) enqueue(k);
+  if (!fresh) {
+    // (Fresh from buildGrid: no events and no dismissals yet, nothing to carry over.)
+    permute(s_.event, s_.spareEvents);
+    permute(s_.dismissed, s_.spareDismissed);
+    for (PredictiveEvent& e : s_.event) {
+      if (e.partner != PredictiveState::kNone) e.partner = newSlot[e.partner];
+    }
+    for (uint32_t& slot : s_.dismissedSlots) slot = newSlot[slot];
+    // The queue again, with the same calendar.
+    resetQueue();
+    for (uint32_t k = 0; k < n; ++k) {
+      if (s_.event[k].kind != PredictiveKind::None) enqueue(k);
+    }
   }
   for (auto& c : s_.cells) c.head = -1;
   for (uint32_t k = static_cast<uint32_t>(n); k-- > 0;) link(k);
@@ -573,22 +671,23 @@ template <class W>
 void Engine<W>::link(uint32_t slot) {
   const size_t cell = cellOf(slot);
   const int32_t head = s_.cells[cell].head;
-  s_.prev[slot] = -1;
+  s_.cold[slot].prev = -1;
   s_.hot[slot].next = head;
-  if (head >= 0) s_.prev[head] = static_cast<int32_t>(slot);
+  if (head >= 0) s_.cold[head].prev = static_cast<int32_t>(slot);
   s_.cells[cell].head = static_cast<int32_t>(slot);
 }
 
 template <class W>
 void Engine<W>::unlink(uint32_t slot) {
-  const int32_t p = s_.prev[slot], n = s_.hot[slot].next;
+  const int32_t p = s_.cold[slot].prev, n = s_.hot[slot].next;
   if (p >= 0) {
     s_.hot[p].next = n;
   } else {
     s_.cells[cellOf(slot)].head = n;
   }
-  if (n >= 0) s_.prev[n] = p;
-  s_.prev[slot] = s_.hot[slot].next = -1;
+  if (n >= 0) s_.cold[n].prev = p;
+  s_.cold[slot].prev = -1;
+  s_.hot[slot].next = -1;
 }
 
 template <class W>
@@ -708,8 +807,8 @@ void Engine<W>::predictCircles(const Predicting& p, uint32_t j, double horizon, 
   const HotBody& b = s_.hot[j];
   if ((a.flags | b.flags) & HotBody::kCustomFilter) {
     // canCollide() (the bodies differ, are dynamic and physical): the filters.
-    const ColdBody& ca = *p.cold;
-    const ColdBody& cb = s_.cold[j];
+    const detail::RareBody& ca = s_.rare[p.slot];
+    const detail::RareBody& cb = s_.rare[j];
     if (ca.group != 0 && ca.group == cb.group) return;
     if ((ca.categoryBits & cb.maskBits) == 0 || (cb.categoryBits & ca.maskBits) == 0) return;
   }
@@ -717,7 +816,7 @@ void Engine<W>::predictCircles(const Predicting& p, uint32_t j, double horizon, 
   const double now = p.now;
   ++w_.stats.timeOfImpactTests;
   const Vec2 accB = (b.flags & HotBody::kAccelerating) ? s_.cold[j].acceleration : Vec2{};
-  const Vec2 centreB = (b.flags & HotBody::kOffCentre) ? s_.cold[j].centre : Vec2{};
+  const Vec2 centreB = (b.flags & HotBody::kOffCentre) ? s_.rare[j].centre : Vec2{};
   const Vec2 pb = positionAt(b, accB, now);
   const Vec2 vb = velocityAt(b, accB, now);
   const Motion relative{p.velocity - vb, p.acceleration - accB};
@@ -781,10 +880,11 @@ void Engine<W>::startPrediction(uint32_t i, double now, Prediction& q) const {
   p.acceleration = accelerationOf(hb, cb);
   p.position = positionAt(hb, p.acceleration, now);
   p.velocity = velocityAt(hb, p.acceleration, now);
-  p.centre = (hb.flags & HotBody::kOffCentre) ? cb.centre : Vec2{};
+  p.centre = (hb.flags & HotBody::kOffCentre) ? s_.rare[i].centre : Vec2{};
   q.moving = isMoving(hb);
   q.hasDismissals = dismissals(i);
   q.single = (hb.flags & HotBody::kSingle) != 0;
+  q.plain = isPlain(hb) && !q.hasDismissals;
   PredictiveEvent& best = q.best;
   best = PredictiveEvent{};
   best.time = kInf;
@@ -820,6 +920,72 @@ void Engine<W>::pairWith(Prediction& q, uint32_t j, double until) {
       predictPair(f, g, q.p.now, until, q.best);
     });
   });
+}
+
+template <class W>
+inline void Engine<W>::pairPlain(Prediction& q, uint32_t j) {
+  // pairWith() and predictCircles() for two plain bodies (isPlain(), the predicted one without dismissals),
+  // the moving one's neighbour up to its horizon: the same expressions with the zero acceleration and
+  // centre written in, so the same values, without the branches on flags and the call per pair. A scene
+  // of plain disks (a gas) pays only for this.
+  const Predicting& p = q.p;
+  const HotBody& b = s_.hot[j];
+  ++w_.stats.candidatePairs;
+  ++w_.stats.timeOfImpactTests;
+  const double now = p.now;
+  const Vec2 pb = positionAt(b, Vec2{}, now);
+  const Vec2 vb = velocityAt(b, Vec2{}, now);
+  const Motion relative{p.velocity - vb, p.acceleration - Vec2{}};
+  Circle circleA{p.centre + p.position, p.hot->radius};
+  circleA.center -= pb;
+  double within;
+  {
+    // As predictCircles: a straight relative path, approaching, and close enough to meet in time (no
+    // impact before c / (-2 r.v)).
+    const Vec2 r = circleA.center - Vec2{};
+    const double rv = dot(r, relative.velocity);
+    if (!(rv < 0)) return;
+    // An impact is kept only if no later than the best so far (q.best). One later than `within` is past
+    // best.time even after rounding now + h (the margin covers the round-off of best.time - now and of
+    // now + h) and would be turned down below, so the search stops there (the time of impact depends on
+    // its limit only through the final t <= maxTime). The last term keeps a time of impact that would
+    // underflow to 0 (best.time = now = 0) from being cut.
+    within = std::min(q.horizon - now, (q.best.time - now) * (1 + 1e-9) +
+                                           8 * kEps * (std::fabs(q.best.time) + std::fabs(now)) + 1e-300);
+    const double reach = circleA.radius + b.radius;
+    const double c = dot(r, r) - reach * reach;
+    if (c > 0 && c > -2 * rv * within * (1 + 1e-9)) return;
+  }
+  // As predictCircles, with the neighbour's ColdBody read only when the pair is the body's own last
+  // contact (the neighbour's record is a cache miss more often than not).
+  const ColdBody& ca = *p.cold;
+  int resolved = kNoFeature;
+  if (ca.lastTime == now) {
+    const uint32_t low = std::min(ca.fixture, b.fixture), high = std::max(ca.fixture, b.fixture);
+    if (ca.lastLow == low && ca.lastHigh == high) {
+      const ColdBody& cb = s_.cold[j];
+      if (cb.lastTime == now && cb.lastLow == low && cb.lastHigh == high) resolved = ca.lastFeature;
+    }
+  }
+  auto impact = timeOfImpactCircleCircle(circleA, relative, Circle{Vec2{}, b.radius}, within, resolved);
+  if (!impact) return;
+  const double h = impact->time;
+  const double time = std::min(now + h, q.horizon);
+  PredictiveEvent& best = q.best;
+  if (time > best.time) return;
+  impact->point += pb;
+  const Vec2 travelOfB = vb * h + Vec2{} * (0.5 * h * h);
+  const PredictiveEvent e{time,
+                          ca.fixture,
+                          b.fixture,
+                          impact->feature,
+                          p.hot->collisionCount,
+                          b.collisionCount,
+                          PredictiveKind::Contact,
+                          j,
+                          impact->point + travelOfB,
+                          impact->normal};
+  if (earlier(e, best)) best = e;
 }
 
 template <class W>
@@ -859,18 +1025,27 @@ void Engine<W>::finishPrediction(Prediction& q) {
   } else {
     schedule(i, q.best);
   }
+  if (i == popped_) popped_ = PredictiveState::kNone;
 }
 
 template <class W>
 void Engine<W>::predictBody(uint32_t i, double now) {
   Prediction q;
   startPrediction(i, now, q);
-  if (q.moving) {
+  if (q.plain && q.moving) {
+    forEachNeighbour(i, [&](uint32_t j) {
+      if (isPlain(s_.hot[j])) {
+        pairPlain(q, j);
+      } else {
+        pairWith(q, j, q.horizon);
+      }
+    });
+  } else if (q.moving) {
     forEachNeighbour(i, [&](uint32_t j) { pairWith(q, j, q.horizon); });
   } else {
     forEachNeighbour(i, [&](uint32_t j) {
       // A neighbour without an event is at rest too, or is about to be predicted (and then sees this).
-      if (s_.event[j].kind == PredictiveKind::None || !isMoving(s_.hot[j])) return;
+      if (j == popped_ || s_.event[j].kind == PredictiveKind::None || !isMoving(s_.hot[j])) return;
       pairWith(q, j, std::max(s_.event[j].time, now));
     });
   }
@@ -903,9 +1078,7 @@ template <class W>
 void Engine<W>::resetQueue() {
   const size_t n = s_.hot.size();
   s_.heap.clear();
-  s_.heapPos.assign(n, -1);
-  s_.queuedIn.assign(n, PredictiveState::kNotQueued);
-  s_.ticket.assign(n, 0);
+  s_.queue.assign(n, PredictiveState::QueueSlot{});
   for (auto& b : s_.buckets) b.clear();
   s_.overflow.clear();
   s_.inBuckets = s_.inOverflow = 0;
@@ -918,29 +1091,29 @@ void Engine<W>::enqueue(uint32_t slot) {
   const int64_t k = bucketOf(t);
   if (k <= s_.current) {
     s_.heap.push_back({t, slot});
-    s_.heapPos[slot] = static_cast<int32_t>(s_.heap.size() - 1);
-    s_.queuedIn[slot] = PredictiveState::kInHeap;
+    s_.queue[slot].heapPos = static_cast<int32_t>(s_.heap.size() - 1);
+    s_.queue[slot].where = PredictiveState::kInHeap;
     siftUp(s_.heap.size() - 1);
   } else if (k < s_.limit) {
     s_.buckets[static_cast<size_t>(k & static_cast<int64_t>(s_.buckets.size() - 1))].push_back(
-        {t, slot, ++s_.ticket[slot]});
-    s_.queuedIn[slot] = PredictiveState::kInBucket;
+        {t, slot, ++s_.queue[slot].ticket});
+    s_.queue[slot].where = PredictiveState::kInBucket;
     ++s_.inBuckets;
   } else {
-    s_.overflow.push_back({t, slot, ++s_.ticket[slot]});
-    s_.queuedIn[slot] = PredictiveState::kInOverflow;
+    s_.overflow.push_back({t, slot, ++s_.queue[slot].ticket});
+    s_.queue[slot].where = PredictiveState::kInOverflow;
     ++s_.inOverflow;
   }
 }
 
 template <class W>
 void Engine<W>::dequeue(uint32_t slot) {
-  const int32_t where = s_.queuedIn[slot];
+  const int32_t where = s_.queue[slot].where;
   if (where == PredictiveState::kNotQueued) return;
-  s_.queuedIn[slot] = PredictiveState::kNotQueued;
+  s_.queue[slot].where = PredictiveState::kNotQueued;
   if (where == PredictiveState::kInHeap) {
-    const size_t k = static_cast<size_t>(s_.heapPos[slot]);
-    s_.heapPos[slot] = -1;
+    const size_t k = static_cast<size_t>(s_.queue[slot].heapPos);
+    s_.queue[slot].heapPos = -1;
     const detail::HeapNode last = s_.heap.back();
     s_.heap.pop_back();
     if (k == s_.heap.size()) return;
@@ -952,7 +1125,7 @@ void Engine<W>::dequeue(uint32_t slot) {
     }
     return;
   }
-  ++s_.ticket[slot];  // its entry is left behind, and dropped when read
+  ++s_.queue[slot].ticket;  // its entry is left behind, and dropped when read
   --(where == PredictiveState::kInOverflow ? s_.inOverflow : s_.inBuckets);
 }
 
@@ -981,7 +1154,7 @@ void Engine<W>::retune(double now) {
       count = ahead.size();
     }
   }
-  double width = span > 0 ? 32 * span / static_cast<double>(count) : 1.0;
+  double width = span > 0 ? 8 * span / static_cast<double>(count) : 1.0;
   if (!(width > 0) || !std::isfinite(width)) width = 1.0;
   size_t buckets = 16;
   while (buckets < ahead.size() / 8 && buckets < (size_t{1} << 22)) buckets *= 2;
@@ -1007,7 +1180,7 @@ uint32_t Engine<W>::top() {
       // Nothing left but the overflow: skip to its first bucket.
       int64_t first = int64_t{1} << 62;
       for (const auto& e : s_.overflow) {
-        if (s_.ticket[e.slot] == e.ticket) first = std::min(first, bucketOf(e.time));
+        if (s_.queue[e.slot].ticket == e.ticket) first = std::min(first, bucketOf(e.time));
       }
       s_.current = std::max(s_.current, first - 1);
       s_.limit = s_.current + 1;
@@ -1025,8 +1198,8 @@ uint32_t Engine<W>::top() {
       waiting.swap(s_.overflow);
       s_.inOverflow = 0;
       for (const auto& e : waiting) {
-        if (s_.ticket[e.slot] != e.ticket) continue;
-        s_.queuedIn[e.slot] = PredictiveState::kNotQueued;
+        if (s_.queue[e.slot].ticket != e.ticket) continue;
+        s_.queue[e.slot].where = PredictiveState::kNotQueued;
         enqueue(e.slot);
       }
       waiting.clear();
@@ -1034,11 +1207,11 @@ uint32_t Engine<W>::top() {
     }
     auto& bucket = s_.buckets[static_cast<size_t>(s_.current & static_cast<int64_t>(s_.buckets.size() - 1))];
     for (const auto& e : bucket) {
-      if (s_.ticket[e.slot] != e.ticket) continue;
+      if (s_.queue[e.slot].ticket != e.ticket) continue;
       --s_.inBuckets;
-      s_.heapPos[e.slot] = static_cast<int32_t>(s_.heap.size());
+      s_.queue[e.slot].heapPos = static_cast<int32_t>(s_.heap.size());
       s_.heap.push_back({e.time, e.slot});
-      s_.queuedIn[e.slot] = PredictiveState::kInHeap;
+      s_.queue[e.slot].where = PredictiveState::kInHeap;
     }
     bucket.clear();
     for (size_t p = s_.heap.size() / 4 + 1; p-- > 0;) {
@@ -1081,10 +1254,10 @@ void Engine<W>::siftDown(size_t k) {
 
 template <class W>
 void Engine<W>::schedule(uint32_t slot, const PredictiveEvent& e) {
-  if (s_.queuedIn[slot] == PredictiveState::kInHeap && bucketOf(e.time) <= s_.current) {
+  if (s_.queue[slot].where == PredictiveState::kInHeap && bucketOf(e.time) <= s_.current) {
     // Stays in the heap: move it up or down.
     s_.event[slot] = e;
-    const size_t k = static_cast<size_t>(s_.heapPos[slot]);
+    const size_t k = static_cast<size_t>(s_.queue[slot].heapPos);
     s_.heap[k].time = e.time;
     if (k > 0 && before(s_.heap[k], s_.heap[(k - 1) / 4])) {
       siftUp(k);
@@ -1115,7 +1288,7 @@ void Engine<W>::step(double dt) {
   if (w_.pairsOfBody.size() < w_.bodies.size()) w_.pairsOfBody.resize(w_.bodies.size());
 
   // 1. Notice what changed since the last step; re-base the clocks to this step's start.
-  normalize();
+  normalize(dt);
   // What the World API changed since the last step (World::Impl::touched): the dynamic bodies touched are
   // predicted again; a change of structure starts afresh.
   bool rebuild = !s_.valid || w_.structureChanged;
@@ -1182,7 +1355,9 @@ void Engine<W>::step(double dt) {
     // A heap grown large (events denser than the calendar was cut for): cut it again from here.
     if (++s_.popsSinceRetune > s_.hot.size() && s_.heap.size() > 4096) retune(c.time);
     const uint32_t j = c.kind == PredictiveKind::Contact ? c.partner : PredictiveState::kNone;
-    unschedule(i);
+    // Every way on from here predicts `i` again (or ends the step, which then starts afresh).
+    popped_ = i;
+    prefetchAround(j);
 
     if (c.kind == PredictiveKind::Cross) {
       if (c.feature >= 0) {
@@ -1197,7 +1372,7 @@ void Engine<W>::step(double dt) {
         } else {
           ++cell.cy;
         }
-        s_.hot[i].cell = folded(cell.cx, cell.cy);
+        cell.cell = folded(cell.cx, cell.cy);
         link(i);
       }
       predictBody(i, c.time);

@@ -38,12 +38,13 @@ struct Dismissal {
   uint32_t countOwn, countOther;
 };
 
-// A tracked body's copy of what predictions read, split in two records kept in spatial order
+// A tracked body's copy of what predictions read, split in three records kept in spatial order
 // (bodies of one cell next to each other), so that scanning a neighbourhood touches a few cache lines
 // instead of scattered BodySlots. The BodySlot stays the truth; the copy is refreshed whenever the body
-// changes. `HotBody` is what every neighbour test reads; `ColdBody` what is read only when a flag says
-// so (acceleration, a centre off the body's position, a filter other than the default) or once per
-// prediction of the body itself.
+// changes. `HotBody` is what every neighbour test reads; `ColdBody` what is read once per prediction of
+// the body itself or when a flag says so (acceleration); `RareBody` what only a flag calls for (a centre
+// off the body's position, a filter other than the default). HotBody and ColdBody are one cache line
+// each.
 struct alignas(64) HotBody {
   enum : uint8_t {
     kSingle = 1,        // the primary fixture is a Circle and the body's only physical fixture
@@ -58,22 +59,31 @@ struct alignas(64) HotBody {
   double localTime = 0;
   double radius = 0;  // of the primary fixture, when kSingle
   uint32_t collisionCount = 0;
-  uint32_t cell = 0;  // its cell's table entry (PredictiveState::cells)
-  int32_t next = -1;  // the next slot in the cell's list, or -1
+  uint32_t fixture = 0;  // the primary (first physical) fixture, as ColdBody::fixture
+  int32_t next = -1;     // the next slot in the cell's list, or -1
   uint8_t flags = 0;
 };
 
 struct alignas(64) ColdBody {
   Vec2 acceleration;
-  Vec2 centre;           // the body's circles' common centre, relative to the body
   double lastTime = -1;  // BodySlot::last
   uint32_t lastLow = 0, lastHigh = 0;
   int32_t lastFeature = -1;
-  uint32_t fixture = 0;  // the primary (first physical) fixture
-  uint32_t categoryBits = 0, maskBits = 0;
-  int32_t group = 0;
-  int32_t cx = 0, cy = 0;  // its cell (HotBody::cell is where the cell is folded to)
+  uint32_t fixture = 0;    // the primary (first physical) fixture
+  int32_t cx = 0, cy = 0;  // its cell
+  uint32_t cell = 0;       // where the cell is folded to: its table entry (PredictiveState::cells)
+  int32_t prev = -1;       // the previous slot in the cell's list (HotBody::next the other way), or -1
 };
+
+// What is read only when a flag of the HotBody says so, kept out of ColdBody so that it fits one cache
+// line.
+struct RareBody {
+  Vec2 centre;  // the body's circles' common centre, relative to the body (HotBody::kOffCentre)
+  uint32_t categoryBits = 0, maskBits = 0;  // the primary fixture's filter (HotBody::kCustomFilter)
+  int32_t group = 0;
+};
+
+static_assert(sizeof(HotBody) == 64 && sizeof(ColdBody) == 64);
 
 struct HeapNode {
   double time;
@@ -114,7 +124,7 @@ struct PredictiveState {
   std::vector<uint32_t> bodyOfSlot;
   std::vector<HotBody> hot;
   std::vector<ColdBody> cold;
-  std::vector<int32_t> prev;  // the cell's list (HotBody::next the other way)
+  std::vector<RareBody> rare;
   std::vector<PredictiveEvent> event;
   std::vector<std::vector<Dismissal>> dismissed;
   std::vector<uint32_t> dismissedSlots;  // slots whose `dismissed` is not empty
@@ -136,9 +146,13 @@ struct PredictiveState {
     uint32_t ticket;
   };
   std::vector<HeapNode> heap;
-  std::vector<int32_t> heapPos;                  // by slot: position in `heap`, or -1
-  std::vector<int32_t> queuedIn;                 // by slot: kNotQueued, kInHeap, kInBucket or kInOverflow
-  std::vector<uint32_t> ticket;                  // by slot
+  // By slot, in one record (a queue operation reads and writes them together, one cache line).
+  struct QueueSlot {
+    int32_t heapPos = -1;     // position in `heap`, or -1
+    int32_t where = -1;       // kNotQueued, kInHeap, kInBucket or kInOverflow
+    uint32_t ticket = 0;
+  };
+  std::vector<QueueSlot> queue;
   std::vector<std::vector<QueueEntry>> buckets;  // a power of two of them
   std::vector<QueueEntry> overflow;
   size_t inBuckets = 0, inOverflow = 0;  // live entries
@@ -149,6 +163,12 @@ struct PredictiveState {
 
 
   // Scratch.
+  std::vector<HotBody> spareHot;  // reorder() permutes into these
+  std::vector<ColdBody> spareCold;
+  std::vector<RareBody> spareRare;
+  std::vector<uint32_t> spareBodies;
+  std::vector<PredictiveEvent> spareEvents;
+  std::vector<std::vector<Dismissal>> spareDismissed;
   std::vector<uint32_t> dirty;
   std::vector<uint32_t> woken;
   std::vector<uint32_t> order;
