@@ -276,6 +276,10 @@ void World::Impl::stepHybrid(double dt) {
     if (b.type == BodyType::Dynamic && !b.asleep && b.support.generation == 0) b.acceleration = def.gravity;
     if (b.support.generation != 0) sliding.push_back(i);
     const bool moving = moves(b) && !b.asleep;
+    // A body standing still all step (a crowd's waiting units) meets another still one only after
+    // something sets one of them moving, and then its path leaves this box and the broad phase is asked
+    // again (repredict): the sweep pairs it only with what moves, as it does a sleeping body.
+    const bool still = b.velocity.x == 0 && b.velocity.y == 0 && b.acceleration.x == 0 && b.acceleration.y == 0;
     if (moving) speedScale = std::max(speedScale, length(b.velocity) + length(b.acceleration) * dt);
     if (b.type == BodyType::Static) continue;
     const Box path = moving ? pathBox(b.position, b.velocity, b.acceleration, dt) : Box{b.position, b.position};
@@ -285,7 +289,7 @@ void World::Impl::stepHybrid(double dt) {
       // see nearly the same x order and the insertion sort between them stays short.
       const bool sensor = fixtures[f].sensor;
       const Box box{path.min + fixtures[f].localBox.min, path.max + fixtures[f].localBox.max};
-      broadPhase.setMoving(f, moving && !sensor);
+      broadPhase.setMoving(f, moving && !still && !sensor);
       broadPhase.setBox(f, sensor ? Box{box.min, box.min} : box);
     }
   }
