@@ -284,13 +284,11 @@ void World::Impl::stepHybrid(double dt) {
     if (b.type == BodyType::Static) continue;
     const Box path = moving ? pathBox(b.position, b.velocity, b.acceleration, dt) : Box{b.position, b.position};
     for (uint32_t f : b.fixtures) {
-      // A sensor takes no part in the collisions: it waits, as a resting point, for the sweep of the
-      // paths after the step (sensor_paths.cpp). The point is its box's lower corner, so that both sweeps
-      // see nearly the same x order and the insertion sort between them stays short.
-      const bool sensor = fixtures[f].sensor;
-      const Box box{path.min + fixtures[f].localBox.min, path.max + fixtures[f].localBox.max};
-      broadPhase.setMoving(f, moving && !still && !sensor);
-      broadPhase.setBox(f, sensor ? Box{box.min, box.min} : box);
+      // A sensor takes no part in the collisions (the collision sweep and queries never see one): its
+      // box is set by the sweep of the paths after the step (sensor_paths.cpp).
+      if (fixtures[f].sensor) continue;
+      broadPhase.setMoving(f, moving && !still);
+      broadPhase.setBox(f, Box{path.min + fixtures[f].localBox.min, path.max + fixtures[f].localBox.max});
     }
   }
   startPaths();
