@@ -64,13 +64,12 @@ struct Unit {
   Vec2 velocity;
   Order order;
   /// What it bumped into lately, so it steers along them instead of into them again.
+  /// A wall touched lately (units are kept apart before they touch: units.cpp).
   struct Touch {
-    bool wall = false;
-    uint32_t other = 0;
-    Vec2 normal;  ///< toward the other
+    Vec2 normal;  ///< toward the wall
     int ticksLeft = 0;
   };
-  std::array<Touch, 4> touches{};  ///< walls only: units are kept apart before they touch (units.cpp)
+  std::array<Touch, 4> touches{};
   /// Asked this tick by friends it stands in the way of: where to step aside to (summed; idle units only).
   Vec2 makeWay;
   std::vector<uint32_t> inSensor;  ///< enemy unit ids inside the sight sensor (may hold dead ones)

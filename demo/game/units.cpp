@@ -151,7 +151,7 @@ void Game::onBump(const UnitContact& c) {
     }
     if (t.ticksLeft < slot->ticksLeft) slot = &t;
   }
-  *slot = {true, 0, c.normal, 8};
+  *slot = {c.normal, 8};
 }
 
 // No faster into a wall it touched lately than 0: the flow field's cells are coarser than a wall's
