@@ -99,14 +99,6 @@ double exitTime(double c, double b, double A) {
   return 2 * c / (-b + std::sqrt(disc));
 }
 
-// A hint to the cache (no result depends on it).
-inline void prefetch(const void* p) {
-#if defined(__GNUC__) || defined(__clang__)
-  __builtin_prefetch(p);
-#else
-  (void)p;
-#endif
-}
 
 // Cell coordinates are clamped to +-kMaxCoord; the cells there reach to infinity.
 constexpr int32_t kMaxCoord = int32_t{1} << 30;
@@ -265,28 +257,6 @@ class Engine {
   void schedule(uint32_t slot, const PredictiveEvent& e);
   void unschedule(uint32_t slot);
   void resetQueue();
-
-  // Hints only (no value read depends on them): the records the next moments will need, fetched while
-  // this event is handled. Events come in time order, scattered over the whole box, so each one's
-  // records are cache misses otherwise. The partner is predicted right after the popped body; the
-  // next event is most likely the earliest of the heap root's children.
-  void prefetchSlot(uint32_t slot) const {
-    prefetch(&s_.hot[slot]);
-    prefetch(&s_.cold[slot]);
-  }
-  void prefetchAround(uint32_t partner) const {
-    if (partner != PredictiveState::kNone) prefetchSlot(partner);
-    const size_t n = std::min<size_t>(s_.heap.size(), 5);
-    if (n < 2) return;
-    size_t next = 1;
-    for (size_t k = 2; k < n; ++k) {
-      if (s_.heap[k].time < s_.heap[next].time) next = k;
-    }
-    const uint32_t slot = s_.heap[next].slot;
-    prefetch(&s_.event[slot]);
-    prefetch(&s_.queue[slot]);
-    prefetchSlot(slot);
-  }
 };
 
 // ---- Setup -----------------------------------------------------------------------------------------
@@ -1357,7 +1327,6 @@ void Engine<W>::step(double dt) {
     const uint32_t j = c.kind == PredictiveKind::Contact ? c.partner : PredictiveState::kNone;
     // Every way on from here predicts `i` again (or ends the step, which then starts afresh).
     popped_ = i;
-    prefetchAround(j);
 
     if (c.kind == PredictiveKind::Cross) {
       if (c.feature >= 0) {
