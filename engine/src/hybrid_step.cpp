@@ -12,6 +12,9 @@
 //     instant, and when a body's new path leaves the swept box the sweep saw, the broad phase is asked
 //     again for it, so a path changed mid-step misses nothing.
 //  5. Every body moves to the end of the step.
+//  Under gravity, bodies resting on one another are stepped islands (island.cpp): between 3 and 4 one
+//  solve a step holds their contacts, they move along straight lines, and their meetings with free bodies
+//  are events as above.
 //  6. (Before 5.) When the world has sensors, each body's path was recorded piece by piece (one piece
 //     from each change of its motion), and the sensor events are found along those paths, exactly, as
 //     the predictive mode finds them (sensor_paths.cpp). Re-predicting every sensor pair of a body at
@@ -42,6 +45,7 @@ void World::Impl::addPair(uint32_t fa, uint32_t fb) {
 void World::Impl::predict(uint32_t own, uint32_t other, double now, double dt) {
   const BodySlot& a = bodyOf(own);
   const BodySlot& b = bodyOf(other);
+  if (heldByIsland(a, b)) return;  // the island's solve holds this contact (island.cpp)
   ++stats.timeOfImpactTests;
 
   int resolved = kNoFeature;
@@ -113,6 +117,8 @@ void World::Impl::repredict(uint32_t bodyIndex, double now, double dt, bool forc
       stamp[g] = stampCounter;
       ++stats.candidatePairs;
       addPair(f, g);
+      // A contact an island holds that its last solve did not see (island.cpp).
+      if (heldByIsland(body, bodyOf(g))) unsolvedIslandPairs.push_back(bodyIndex);
     });
   }
   // `pairs` may have grown above (addPair); index, do not iterate by reference.
@@ -144,6 +150,22 @@ void World::Impl::absorb(const PredictedContact& c, double vn) {
     ++s->collisionCount;
     s->last = last;
   }
+}
+
+bool World::Impl::joinsIsland(const PredictedContact& c) const {
+  if (!(def.restingSpeed > 0) || (def.gravity.x == 0 && def.gravity.y == 0)) return false;
+  const BodySlot& a = bodyOf(c.a);
+  const BodySlot& b = bodyOf(c.b);
+  auto movable = [](const BodySlot& s) { return s.type == BodyType::Dynamic && !s.asleep; };
+  if (!movable(a) || !movable(b)) return false;
+  // Pressed together by gravity, or one of them already held by an island that pushes it into the other.
+  if (!a.stepped && !b.stepped && !(dot(a.acceleration - b.acceleration, c.normal) < 0)) return false;
+  // The bounce resolve() would give (Newton's law with the TC model's exception), against restingSpeed.
+  const double vn = std::min(dot(velocityAt(a, c.time) - velocityAt(b, c.time), c.normal), 0.0);
+  const double now = time + c.time;
+  const bool rapid = now - a.lastContactTime < def.collapseTime || now - b.lastContactTime < def.collapseTime;
+  const double e = rapid ? 1.0 : std::max(fixtures[c.a].restitution, fixtures[c.b].restitution);
+  return -e * vn < def.restingSpeed;
 }
 
 void World::Impl::resolve(const PredictedContact& c, std::vector<uint32_t>& woken, bool zenoGuard) {
@@ -273,16 +295,27 @@ void World::Impl::stepHybrid(double dt) {
         (!fixtures[b.support.fixture].alive || fixtures[b.support.fixture].generation != b.support.generation)) {
       stopSliding(b);
     }
-    if (b.type == BodyType::Dynamic && !b.asleep && b.support.generation == 0) b.acceleration = def.gravity;
+    if (b.type == BodyType::Dynamic && !b.asleep && b.support.generation == 0) {
+      b.acceleration = b.stepped ? Vec2{} : def.gravity;
+    }
     if (b.support.generation != 0) sliding.push_back(i);
     const bool moving = moves(b) && !b.asleep;
     // A body standing still all step (a crowd's waiting units) meets another still one only after
     // something sets one of them moving, and then its path leaves this box and the broad phase is asked
     // again (repredict): the sweep pairs it only with what moves, as it does a sleeping body.
-    const bool still = b.velocity.x == 0 && b.velocity.y == 0 && b.acceleration.x == 0 && b.acceleration.y == 0;
+    const bool still = b.velocity.x == 0 && b.velocity.y == 0 && b.acceleration.x == 0 && b.acceleration.y == 0 &&
+                       !b.stepped;
     if (moving) speedScale = std::max(speedScale, length(b.velocity) + length(b.acceleration) * dt);
     if (b.type == BodyType::Static) continue;
-    const Box path = moving ? pathBox(b.position, b.velocity, b.acceleration, dt) : Box{b.position, b.position};
+    Box path = moving ? pathBox(b.position, b.velocity, b.acceleration, dt) : Box{b.position, b.position};
+    if (b.stepped) {
+      // The island's solve (after the sweep) adds the step's gravity and pushes: room for the path
+      // with gravity and for twice that speed.
+      const Vec2 withGravity = b.velocity + def.gravity * dt;
+      const double reach = (length(b.velocity) + length(withGravity)) * dt;
+      path = unionOf(path, pathBox(b.position, withGravity, {}, dt));
+      path = Box{path.min - Vec2{reach, reach}, path.max + Vec2{reach, reach}};
+    }
     for (uint32_t f : b.fixtures) {
       // A sensor takes no part in the collisions (the collision sweep and queries never see one): its
       // box is set by the sweep of the paths after the step (sensor_paths.cpp).
@@ -297,18 +330,42 @@ void World::Impl::stepHybrid(double dt) {
   const double approachTolerance = 1e-13 * speedScale;
 
   // 2 and 3. Candidate pairs and their first predictions.
+  deferred.clear();
   broadPhase.findPairs([&](uint32_t fa, uint32_t fb) {
     if (canCollide(fa, fb)) {
       ++stats.candidatePairs;
       addPair(fa, fb);
       // Predict with a dynamic body's circle first (the time-of-impact functions' moving side).
-      if (bodyOf(fa).type == BodyType::Dynamic) {
-        predict(fa, fb, 0, dt);
+      const bool aMoves = bodyOf(fa).type == BodyType::Dynamic;
+      const uint32_t own = aMoves ? fa : fb, other = aMoves ? fb : fa;
+      // A stepped body's path is known once its island is solved.
+      if (bodyOf(fa).stepped || bodyOf(fb).stepped) {
+        deferred.push_back({own, other});
       } else {
-        predict(fb, fa, 0, dt);
+        predict(own, other, 0, dt);
       }
     }
   });
+  // Stepped islands (island.cpp): gravity and the solve, then the predictions that wait for them.
+  std::vector<uint32_t>& freed = islandFreed;
+  startIslands(dt, freed);
+  for (uint32_t i : stepped) recordPath(i, 0);
+  for (uint32_t i : freed) recordPath(i, 0);
+  for (const auto& p : deferred) predict(p.own, p.other, 0, dt);
+  // A stepped body the solve sent out of the box the sweep saw is asked about again; contacts found so
+  // are solved in turn.
+  for (uint32_t i : stepped) {
+    const BodySlot& b = bodies[i];
+    const Box path = pathBox(b.position, b.velocity, b.acceleration, dt);
+    for (uint32_t f : b.fixtures) {
+      if (fixtures[f].sensor) continue;
+      if (!broadPhase.box(f).contains(Box{path.min + fixtures[f].localBox.min, path.max + fixtures[f].localBox.max})) {
+        repredict(i, 0, dt);
+        break;
+      }
+    }
+  }
+  settleUnsolvedIslandPairs(0, dt);
   for (uint32_t i : sliding) predictSlideEnd(i, 0, dt);
 
   // 4. Events in time order.
@@ -358,12 +415,7 @@ void World::Impl::stepHybrid(double dt) {
       const double speed = length(relativeVelocity);
       if (vn < -16 * std::numeric_limits<double>::epsilon() * speed && speed > restTolerance &&
           stats.eventsProcessed < def.maxEventsPerStep) {
-        const Jam jam = settleJamAt(c, dt);
-        if (jam == Jam::OverBudget) {
-          budgetTime = c.time;
-          break;
-        }
-        if (jam == Jam::Settled) continue;
+        if (settleJamAt(c, dt)) continue;
         absorb(c, vn);
         ++stats.eventsProcessed;  // bounded by the budget like any other change of motion
         for (uint32_t body : {fixtures[c.a].body, fixtures[c.b].body}) {
@@ -378,16 +430,41 @@ void World::Impl::stepHybrid(double dt) {
       break;
     }
     // A body caught in a collapse or a jam collides ever faster without coming to rest (jam.cpp).
-    const Jam jam = settleJamAt(c, dt);
-    if (jam == Jam::OverBudget) {
-      budgetTime = c.time;
-      break;
-    }
-    if (jam == Jam::Settled) continue;
+    if (settleJamAt(c, dt)) continue;
     const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
+    if (joinsIsland(c)) {
+      // It would bounce off slower than restingSpeed from a body that moves: the two rest on each
+      // other from now on, in a stepped island (island.cpp), instead of bouncing ever lower.
+      const std::vector<uint32_t> pair{ia, ib};
+      joinIslands(pair, c.time, dt);
+      for (uint32_t body : pair) {
+        BodySlot& s = bodies[body];
+        ++s.collisionCount;
+        s.lastContactTime = time + c.time;
+      }
+      stats.eventsProcessed += std::max(1, settleAround(pair, 2, c.time, dt, World::Impl::islandKey(c.a, c.b)));
+      continue;
+    }
     woken.clear();
+    const bool aAsleep = bodies[ia].asleep, bAsleep = bodies[ib].asleep;
     resolve(c, woken);
     ++stats.eventsProcessed;
+    // A body that has just gone to sleep holds its stepped neighbours from now on: the islands' solve
+    // did not see it as fixed, so they keep clear of it for the rest of the step.
+    for (const auto& [body, wasAsleep] : {std::pair{ia, aAsleep}, std::pair{ib, bAsleep}}) {
+      if (wasAsleep || !bodies[body].asleep) continue;
+      for (const auto& p : pairsOfBody[body]) {
+        const uint32_t other = fixtures[p.other].body;
+        if (!bodies[other].stepped) continue;
+        settleAround({other}, 1, c.time, dt);
+      }
+    }
+    // A stepped body hit by a free one moves its island for the rest of the step.
+    for (uint32_t body : {ia, ib}) {
+      if (!bodies[body].stepped) continue;
+      // Its neighbours move with it; beyond them the island keeps its paths.
+      settleAround({body}, 1, c.time, dt);
+    }
     for (uint32_t w : woken) {
       if (w != ia && w != ib) repredict(w, c.time, dt, true);
     }
@@ -407,6 +484,7 @@ void World::Impl::stepHybrid(double dt) {
     sensePaths(pathLog, end);
     pathLog.active = false;
   }
+  endIslands(end);
   for (BodySlot& b : bodies) {
     if (!b.alive || !moves(b)) continue;
     if (b.type == BodyType::Dynamic) {

@@ -112,6 +112,7 @@ void World::Impl::sleepIfZeno(uint32_t bodyIndex, double now) {
 void World::Impl::putToSleep(uint32_t bodyIndex, const std::vector<uint32_t>& supporters) {
   BodySlot& b = bodies[bodyIndex];
   b.asleep = true;
+  b.stepped = false;
   b.velocity = {};
   b.acceleration = {};
   b.support.generation = 0;

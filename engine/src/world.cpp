@@ -199,6 +199,8 @@ void World::destroyBody(BodyId id) {
     w.freeFixtures.push_back(f);
   }
   b.fixtures.clear();
+  // Island impulses are kept by fixture index, and indices are reused: forget them (island.cpp).
+  w.islandNext.clear();
   b.alive = false;
   b.generation = nextGeneration(b.generation);
   w.freeBodies.push_back(id.index);
@@ -345,6 +347,7 @@ void World::destroyFixture(FixtureId id) {
   f.generation = nextGeneration(f.generation);
   f.geometry = Point{};
   w.freeFixtures.push_back(id.index);
+  w.islandNext.clear();  // kept by fixture index (island.cpp)
   w.recomputeMass(body);
 }
 

@@ -62,6 +62,10 @@ struct BodySlot {
   // The jam that last settled it (World::Impl::jamCounter) and when, in step time; < 0: none this step.
   uint32_t jam = 0;
   double jamTime = -1;
+  // In a stepped island (island.cpp): its contacts with other stepped bodies and with what cannot move
+  // are held by a solve once per step, and it moves along straight lines. Kept from step to step.
+  bool stepped = false;
+  bool steppedHeld = false;  // a contact of an island solve pushed it this step
 };
 
 struct FixtureSlot {
@@ -140,6 +144,8 @@ struct World::Impl {
   uint32_t stampCounter = 0;
   std::vector<uint32_t> supporters;
   std::vector<uint32_t> sliding;  // scratch of stepHybrid: the bodies that start the step sliding
+  std::vector<detail::CandidatePair> deferred;  // scratch of stepHybrid: pairs predicted after the islands
+  std::vector<uint32_t> islandFreed;            // scratch of stepHybrid
 
   detail::BodySlot& bodyOf(uint32_t fixture) { return bodies[fixtures[fixture].body]; }
   const detail::BodySlot& bodyOf(uint32_t fixture) const { return bodies[fixtures[fixture].body]; }
@@ -233,6 +239,68 @@ struct World::Impl {
   void advance(detail::BodySlot& b, double t);
   void resolve(const detail::PredictedContact& c, std::vector<uint32_t>& woken, bool zenoGuard = false);
   void absorb(const detail::PredictedContact& c, double vn);
+  /// Whether a contact would leave two bodies that both move (awake, not static) bouncing off each other
+  /// slower than restingSpeed while gravity presses them together: they join a stepped island.
+  bool joinsIsland(const detail::PredictedContact& c) const;
+
+  // island.cpp: stepped islands.
+  struct IslandContact {
+    uint32_t a, b;    // body indices; b may be static, kinematic, sleeping or a stepped non-member
+    uint32_t fa, fb;  // their fixtures
+    int ka, kb;       // index into the members, -1 when the body is held fixed
+    Vec2 normal;      // from b toward a
+    Vec2 point;
+    Vec2 holderVelocity;        // b's velocity when it is held fixed
+    double inverseA, inverseB;  // 0 for a body held fixed
+    double target;              // least relative normal velocity after (-gap / time left)
+    double lambda = 0;
+    double approach = 0;  // closing speed before the solve
+  };
+  static uint64_t islandKey(uint32_t fa, uint32_t fb) {
+    return (uint64_t{std::min(fa, fb)} << 32) | std::max(fa, fb);
+  }
+  std::vector<uint32_t> stepped;         // this step's stepped bodies at its start
+  std::vector<uint32_t> steppedCounts;   // their collision counters after the start's solve
+  std::vector<IslandContact> islandScratch, islandScratchStart;
+  std::vector<std::pair<uint64_t, double>> islandImpulses, islandNext;  // warm start, by islandKey
+  /// A pair whose contact an island solve holds: a stepped body and anything but a free body.
+  bool heldByIsland(const detail::BodySlot& a, const detail::BodySlot& b) const {
+    auto free = [](const detail::BodySlot& s) { return s.type == BodyType::Dynamic && !s.asleep && !s.stepped; };
+    return (a.stepped && !free(b)) || (b.stepped && !free(a));
+  }
+  /// The stepped bodies within `hops` candidate pairs of the seeds, seeds first; hops < 0: all that a
+  /// change of the seeds' motion can reach (their island).
+  std::vector<uint32_t> islandOf(const std::vector<uint32_t>& seeds, int hops = -1);
+  /// Makes free bodies stepped at `now`: the rest of the step's gravity as an impulse, straight paths.
+  void joinIslands(const std::vector<uint32_t>& joining, double now, double dt);
+  struct IslandSolve {
+    int reported;  // contact events it reported
+    bool met;      // its constraints hold (to the solve's tolerance)
+  };
+  /// Solves the contacts of `members` (stepped bodies; advanced to `now`) among themselves and against
+  /// everything else but free bodies, held fixed on their paths, for the rest of the step. Reports as
+  /// contact events the contacts that closed faster than `reportAbove`, and the contact of the fixture
+  /// pair `reportPair` (islandKey), if they took an impulse, at most `maxReports`. `warmStart`: from the
+  /// impulses of the last step's start (only at a step's start); `whole`: an island (more sweeps) rather
+  /// than a part of one.
+  IslandSolve solveIsland(const std::vector<uint32_t>& members, double now, double dt, double reportAbove,
+                          uint64_t reportPair = ~uint64_t{0}, bool warmStart = false, bool whole = false,
+                          int maxReports = std::numeric_limits<int>::max());
+  /// Moves the seeds' part of their island after their motion changed at `now` (a hit, a join): the
+  /// stepped bodies within `hops` pairs of them, or the whole island when that part cannot keep clear of
+  /// the rest; predicts again every body whose motion changed. Returns the events it reported.
+  int settleAround(const std::vector<uint32_t>& seeds, int hops, double now, double dt,
+                   uint64_t reportPair = ~uint64_t{0});
+  /// Bodies whose broad-phase query (repredict) found a contact an island holds after their island's
+  /// solve; settleUnsolvedIslandPairs solves them again.
+  std::vector<uint32_t> unsolvedIslandPairs;
+  bool settlingUnsolved = false;
+  void settleUnsolvedIslandPairs(double now, double dt);
+  /// The start of a hybrid step, after the sweep: gravity and the solve for every stepped body; a
+  /// stepped body that nothing holds is free again at once (returned in `freed`).
+  void startIslands(double dt, std::vector<uint32_t>& freed);
+  /// The end of a hybrid step (`end`: where the bodies stop): stepped bodies at rest sleep, bottom up.
+  void endIslands(double end);
 
   // jam.cpp: a cluster of touching bodies resolved at once when one of them collides too often.
   static constexpr int kJamCollisions = 64;
@@ -243,13 +311,12 @@ struct World::Impl {
   bool settledTogether(const detail::BodySlot& a, const detail::BodySlot& b, double now) const;
   /// Counts a collision of `body` in this step; true once it has had more than kJamCollisions.
   bool isJammed(uint32_t body);
-  /// Resolves the touching cluster of `seed` at `now`; returns the contact events it took, or -1 (and
-  /// changes nothing) when they would not fit in `budget`.
+  /// Brings the touching cluster of `seed` into the stepped islands at `now` and solves its island;
+  /// returns the contact events it took (at least 1, at most `budget` >= 1).
   int settleJam(uint32_t seed, double now, double dt, int budget);
-  enum class Jam { None, Settled, OverBudget };
-  /// Counts the contact's collision for both bodies; when one of them is jammed, resolves its cluster
-  /// (counting its events against the step's budget), or reports that the cluster does not fit in it.
-  Jam settleJamAt(const detail::PredictedContact& c, double dt);
+  /// Counts the contact's collision for both bodies; when one of them is jammed, settles its cluster
+  /// (counting its events against the step's budget, which must have room for one) and returns true.
+  bool settleJamAt(const detail::PredictedContact& c, double dt);
 };
 
 template <class Keep>

@@ -69,7 +69,10 @@ struct WorldDef {
   /// events: it sleeps when it is slow and held (the up direction lies between the normals of what it
   /// touches), slides along a flat static surface when it is still moving, and otherwise bounces off at
   /// this speed. A sleeping body is woken by a hit faster than this, by its support waking, or by a
-  /// setter. Must be >= 0; 0 turns resting off.
+  /// setter. In the hybrid mode, two moving bodies pressed together that would bounce off each other
+  /// slower than this rest on each other instead, in a stepped island (README, "Gravity and resting"):
+  /// their resting contacts are held by a solve once a step rather than by events, which lets a pile come
+  /// to rest. Must be >= 0; 0 turns resting off.
   double restingSpeed = 0.01;
   /// Inelastic collapse guard (the TC model of Luding & McNamara, Granular Matter 1, 113, 1998): a contact
   /// of a body that already collided less than this many seconds ago is elastic (restitution 1). Dense

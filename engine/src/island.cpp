@@ -1,0 +1,448 @@
+// Stepped islands: bodies resting on one another under gravity, moved a step at a time.
+//
+// Under gravity, bodies pressed together (a column standing on a disk that slides on the floor, a pile)
+// can only be held by an endless stream of ever smaller collisions when contacts are instantaneous
+// events: inelastic collapse (McNamara & Young 1994; NUMERICS.md). Its cost grows with the number of
+// such contacts and not with what moves, and a poured pile of a few thousand disks never came to rest.
+// So a body that comes to rest on another movable body, and every body of a cluster caught in a
+// collapse (more than kJamCollisions collisions in one step), becomes *stepped*: from then on its
+// contacts with other stepped bodies and with what cannot move (static, sleeping and kinematic bodies)
+// are held by a contact solve once per step instead of by events, as time-stepping engines do (Moreau
+// 1988, Jean 1999; Catto's sequential impulses in Box2D), while its meetings with free bodies stay exact
+// events.
+//
+//  - At the start of each step, every stepped body takes gravity for the whole step as an impulse
+//    (v += g dt) and then moves along a straight line (acceleration zero) for the step. The solve
+//    chooses impulses lambda >= 0 on their contacts so that no contact closes by more than its gap
+//    within the step: the relative normal velocity after is >= -gap / dt (a speculative contact,
+//    Catto 2013), and >= 0 for a pair already touching. It is the projection of the velocities onto
+//    those constraints in the metric of the masses, a linear complementarity problem, solved by
+//    projected Gauss-Seidel (Erleben 2007) warm-started from the last step's impulses.
+//  - The distance between a moving circle and a fixed convex piece (a circle, a point, a segment) along
+//    a straight path is a convex function of time, so meeting the constraint at the end of the step
+//    keeps the pair apart all step: distance(t) >= distance(0) + t distance'(0) >= radius.
+//  - Energy never rises: the straight path with the whole step's gravity lowers the body by g dt^2 / 2
+//    more than the parabola with the same end velocity, and projecting onto constraints that zero
+//    satisfies never adds kinetic energy.
+//  - A free body meeting a stepped body is an event like any other. When it would bounce off slower than
+//    restingSpeed (the minimum bounce of resting.cpp), the two join instead (both stepped from then on).
+//    When an event changes a stepped body's motion (a join, a hit), its part of the island is solved
+//    again for the rest of the step: the stepped bodies within a few candidate pairs of it move, and the
+//    rest keep their paths. That part's edge could push it like a moving wall and add energy the whole
+//    island would not (it would slow the pusher down), or be impossible to meet; then the solve is undone
+//    and tried on a part four times as deep, and last on the whole island (settleAround).
+//  - At the start of a step, a stepped body that no contact held is free again (its gravity impulse is
+//    taken back: it falls freely, exactly). At the end of a step, a stepped body slower than
+//    restingSpeed sleeps once everything that holds it (pushes it from below or beside) is static or
+//    asleep: bottom up, so a body sliding off the top of a settled pile does not keep the pile awake. The
+//    solve had cancelled a whole step of gravity on it, so it is held.
+//  - Cost: one solve of all stepped bodies a step (warm-started, so a resting pile converges in a few
+//    sweeps), and a small solve for each join and hit. Accuracy: a solve stops when no impulse changes a
+//    velocity by more than 1e-6 of the speeds at play (or after its sweeps, when no contact closes more
+//    than 1e-4 of them too fast), so disks may overlap by that times a step; contacts with what cannot
+//    move get further sweeps of their own, which meet them to round-off.
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "closest_point.h"
+#include "world_impl.h"
+
+namespace rattle {
+
+using detail::BodySlot;
+
+namespace {
+
+// Sweeps of a solve at most: a part of an island that does not settle in kPartIterations is tried as a
+// larger part; an island solved again within a step gets kIslandIterations; the solve at the start of a
+// step, which carries a whole step of gravity up a pile (a support passes down a little further with
+// each sweep), gets kStartIterations.
+constexpr int kPartIterations = 100;
+constexpr int kIslandIterations = 300;
+constexpr int kStartIterations = 1000;
+
+// Every point of a placed geometry that can hold a circle centred at p: its closest point on each
+// convex piece (a polyline's segments, a polygon's edges), so a disk in a corner gets both walls.
+template <class Found>
+void forEachPiece(const Geometry& g, Vec2 position, Vec2 p, Found&& found) {
+  const Vec2 q = p - position;
+  if (const auto* s = std::get_if<Point>(&g)) {
+    found(s->position + position);
+  } else if (const auto* s = std::get_if<Circle>(&g)) {
+    const Vec2 r = q - s->center;
+    const double len = length(r);
+    if (len > 0) found(s->center + r * (s->radius / len) + position);
+  } else if (const auto* s = std::get_if<Segment>(&g)) {
+    found(detail::closestOnSegment(s->a, s->b, q, true).point + position);
+  } else if (const auto* s = std::get_if<Polyline>(&g)) {
+    for (size_t i = 0; i + 1 < s->points.size(); ++i)
+      found(detail::closestOnSegment(s->points[i], s->points[i + 1], q, true).point + position);
+  } else if (const auto* s = std::get_if<Polygon>(&g)) {
+    const size_t n = s->points.size();
+    for (size_t i = 0; i < n; ++i)
+      found(detail::closestOnSegment(s->points[i], s->points[(i + 1) % n], q, true).point + position);
+  }
+}
+
+}  // namespace
+
+std::vector<uint32_t> World::Impl::islandOf(const std::vector<uint32_t>& seeds, int hops) {
+  // Stepped bodies reached from the seeds through candidate pairs, breadth first (so in a deterministic
+  // order, seeds first): with hops < 0 everything a change of their motion can push within the step.
+  std::vector<int>& slot = jamSlot;
+  if (slot.size() < bodies.size()) slot.resize(bodies.size(), -1);
+  std::vector<uint32_t> members;
+  for (uint32_t i : seeds) {
+    if (slot[i] >= 0 || !bodies[i].stepped) continue;
+    slot[i] = 0;
+    members.push_back(i);
+  }
+  for (size_t k = 0, layerEnd = members.size(), depth = 0; k < members.size(); ++k) {
+    if (k == layerEnd) {
+      ++depth;
+      layerEnd = members.size();
+    }
+    if (hops >= 0 && depth >= static_cast<size_t>(hops)) break;
+    for (const auto& pair : pairsOfBody[members[k]]) {
+      const uint32_t j = fixtures[pair.other].body;
+      if (slot[j] >= 0 || !bodies[j].stepped || fixtures[pair.other].sensor) continue;
+      slot[j] = 0;
+      members.push_back(j);
+    }
+  }
+  for (uint32_t i : members) slot[i] = -1;
+  return members;
+}
+
+int World::Impl::settleAround(const std::vector<uint32_t>& seeds, int hops, double now, double dt, uint64_t reportPair) {
+  // The seeds and the stepped bodies within `hops` candidate pairs of them move; the rest of the island
+  // keeps its paths. That part's edge may push it like a moving wall (a stepped body coming at it) and
+  // so add energy that the whole island would not (it would slow the pusher), or ask the impossible of a
+  // body caught between two such paths. Then the solve is undone and tried again on a part four times
+  // as deep, and at last on the whole island, which holds no moving walls but kinematic ones.
+  std::vector<uint32_t> members;
+  std::vector<Vec2> before;
+  std::vector<uint32_t> counts;
+  std::vector<detail::LastContact> lasts;
+  IslandSolve solve{0, false};
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    members = islandOf(seeds, attempt == 0 ? hops : attempt == 1 ? 4 * hops : -1);
+    before.resize(members.size());
+    counts.resize(members.size());
+    lasts.resize(members.size());
+    double kinetic = 0;
+    for (size_t k = 0; k < members.size(); ++k) {
+      const BodySlot& b = bodies[members[k]];
+      before[k] = b.velocity;
+      counts[k] = b.collisionCount;
+      lasts[k] = b.last;
+      kinetic += b.mass * dot(b.velocity, b.velocity);
+    }
+    const size_t mark = contactEvents.size();
+    solve = solveIsland(members, now, dt, std::numeric_limits<double>::infinity(), reportPair, false, attempt == 2);
+    double after = 0;
+    for (uint32_t i : members) after += bodies[i].mass * dot(bodies[i].velocity, bodies[i].velocity);
+    if (attempt == 2 || (solve.met && after <= kinetic * (1 + 1e-12))) break;
+    // Undone entirely: the predictions made before it are still good.
+    for (size_t k = 0; k < members.size(); ++k) {
+      BodySlot& b = bodies[members[k]];
+      b.velocity = before[k];
+      b.collisionCount = counts[k];
+      b.last = lasts[k];
+    }
+    contactEvents.resize(mark);
+  }
+  // The seeds come first in every list; they changed whatever the solve did.
+  const size_t seedCount = std::min(seeds.size(), members.size());
+  for (size_t k = 0; k < members.size(); ++k) {
+    BodySlot& b = bodies[members[k]];
+    const bool same = b.velocity.x == before[k].x && b.velocity.y == before[k].y && b.collisionCount == counts[k];
+    if (k >= seedCount && same) continue;
+    repredict(members[k], now, dt);
+  }
+  settleUnsolvedIslandPairs(now, dt);
+  return solve.reported;
+}
+
+void World::Impl::settleUnsolvedIslandPairs(double now, double dt) {
+  // A solve can send a body beyond the box the sweep saw: asking the broad phase again (repredict) may
+  // then find contacts an island holds that no solve has seen, which are solved in turn. Each round moves
+  // bodies less; a few rounds at most (the boxes were made with room to spare).
+  if (settlingUnsolved) return;
+  settlingUnsolved = true;
+  for (int round = 0; round < 4 && !unsolvedIslandPairs.empty(); ++round) {
+    std::vector<uint32_t> seeds;
+    seeds.swap(unsolvedIslandPairs);
+    std::sort(seeds.begin(), seeds.end());
+    seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
+    settleAround(seeds, 1, now, dt);
+  }
+  unsolvedIslandPairs.clear();
+  settlingUnsolved = false;
+}
+
+void World::Impl::joinIslands(const std::vector<uint32_t>& joining, double now, double dt) {
+  for (uint32_t i : joining) {
+    BodySlot& b = bodies[i];
+    if (b.stepped) continue;
+    advance(b, now);
+    // The rest of the step's gravity at once, then a straight path (see above).
+    b.velocity += def.gravity * (dt - now);
+    b.acceleration = {};
+    b.support.generation = 0;
+    b.stepped = true;
+  }
+}
+
+World::Impl::IslandSolve World::Impl::solveIsland(const std::vector<uint32_t>& members, double now, double dt,
+                                                  double reportAbove, uint64_t reportPair, bool warmStart,
+                                                  bool whole, int maxReports) {
+  const double h = dt - now;
+  std::vector<int>& slot = jamSlot;  // body -> index into members; -1 outside (reset on the way out)
+  if (slot.size() < bodies.size()) slot.resize(bodies.size(), -1);
+  for (size_t k = 0; k < members.size(); ++k) slot[members[k]] = static_cast<int>(k);
+  // Their velocities change at `now`: their clocks move there first.
+  for (uint32_t i : members) advance(bodies[i], now);
+  std::vector<IslandContact>& contacts = islandScratch;
+  contacts.clear();
+  double speed = def.restingSpeed;
+  for (uint32_t i : members) speed = std::max(speed, length(bodies[i].velocity));
+  for (size_t k = 0; k < members.size(); ++k) {
+    const uint32_t i = members[k];
+    const BodySlot& body = bodies[i];
+    for (const auto& pair : pairsOfBody[i]) {
+      const detail::FixtureSlot& own = fixtures[pair.own];
+      const detail::FixtureSlot& other = fixtures[pair.other];
+      if (own.sensor || other.sensor) continue;
+      const uint32_t j = other.body;
+      const BodySlot& holder = bodies[j];
+      const int kj = slot[j];
+      if (kj >= 0 && kj <= static_cast<int>(k)) continue;  // a pair of members: once, from the lower
+      // A free body's meetings with the island are events.
+      if (kj < 0 && holder.type == BodyType::Dynamic && !holder.asleep && !holder.stepped) continue;
+      const Vec2 centre = positionAt(body, now) + detail::circleCentre(own.geometry);
+      const double radius = detail::circleRadius(own.geometry);
+      const Vec2 holderVelocity = kj >= 0 ? Vec2{} : velocityAt(holder, now);
+      forEachPiece(other.geometry, positionAt(holder, now), centre, [&](Vec2 point) {
+        const Vec2 r = centre - point;
+        const double distance = length(r);
+        if (!(distance > 0)) return;
+        const double gap = distance - radius;
+        // Out of reach within the step even at twice the fastest speed at play (the members' and the
+        // holder's) and what gravity adds.
+        const double reach = 4 * (speed + length(holderVelocity)) * h + length(def.gravity) * h * h;
+        if (gap > reach + 1e-9 * std::max(radius, 1.0)) return;
+        IslandContact c;
+        c.a = i;
+        c.b = j;
+        c.fa = pair.own;
+        c.fb = pair.other;
+        c.ka = static_cast<int>(k);
+        c.kb = kj;
+        c.normal = r * (1.0 / distance);
+        c.point = point;
+        c.holderVelocity = holderVelocity;
+        c.inverseA = body.inverseMass;
+        c.inverseB = kj >= 0 ? holder.inverseMass : 0.0;
+        c.target = gap > 0 ? (h > 0 ? -gap / h : -std::numeric_limits<double>::infinity()) : 0.0;
+        contacts.push_back(c);
+      });
+    }
+  }
+  for (uint32_t i : members) slot[i] = -1;
+
+  std::vector<Vec2> v(members.size());
+  for (size_t k = 0; k < members.size(); ++k) v[k] = bodies[members[k]].velocity;
+  // The approach of each contact before the solve, for what is reported as a collision.
+  for (IslandContact& c : contacts) {
+    const Vec2 vb = c.kb >= 0 ? v[c.kb] : c.holderVelocity;
+    c.approach = -dot(v[c.ka] - vb, c.normal);
+  }
+  // Warm start: the impulse the same contact took in the solve at the start of the last step
+  // (islandImpulses, sorted by key), applied before iterating so that a resting pile starts where it
+  // left off (Catto 2005). Only at the start of a step: later the velocities hold this step's impulses.
+  for (IslandContact& c : contacts) {
+    if (!warmStart) break;
+    const uint64_t key = islandKey(c.fa, c.fb);
+    auto it = std::lower_bound(islandImpulses.begin(), islandImpulses.end(), key,
+                               [](const std::pair<uint64_t, double>& e, uint64_t k) { return e.first < k; });
+    if (it == islandImpulses.end() || it->first != key) continue;
+    c.lambda = it->second;
+    v[c.ka] += c.normal * (c.lambda * c.inverseA);
+    if (c.kb >= 0) v[c.kb] -= c.normal * (c.lambda * c.inverseB);
+  }
+  // Converged when no impulse changes a velocity by more than 1e-6 of the speeds at play (the bodies'
+  // and what the step's gravity adds): a contact then closes by at most that much too fast.
+  const double tolerance = 1e-6 * (speed + length(def.gravity) * h);
+  bool converged = false;
+  const int maxIterations = warmStart ? kStartIterations : whole ? kIslandIterations : kPartIterations;
+  for (int iteration = 0; iteration < maxIterations && !converged; ++iteration) {
+    double worst = 0;
+    for (IslandContact& c : contacts) {
+      const Vec2 vb = c.kb >= 0 ? v[c.kb] : c.holderVelocity;
+      const double inverseSum = c.inverseA + c.inverseB;
+      const double vn = dot(v[c.ka] - vb, c.normal);
+      const double next = std::max(0.0, c.lambda + (c.target - vn) / inverseSum);
+      const double change = next - c.lambda;
+      if (change == 0) continue;
+      c.lambda = next;
+      v[c.ka] += c.normal * (change * c.inverseA);
+      if (c.kb >= 0) v[c.kb] -= c.normal * (change * c.inverseB);
+      worst = std::max(worst, std::fabs(change) * inverseSum);
+    }
+    converged = worst <= tolerance;
+  }
+
+  // What cannot move (a wall, a floor, a sleeping body) is kept out exactly, not within the tolerance:
+  // a few more sweeps over those contacts alone, each a projection that lowers the kinetic energy.
+  for (int sweep = 0; sweep < 16; ++sweep) {
+    bool changed = false;
+    for (IslandContact& c : contacts) {
+      if (c.kb >= 0) continue;
+      const double vn = dot(v[c.ka] - c.holderVelocity, c.normal);
+      if (!(vn < c.target)) continue;
+      const double change = (c.target - vn) / c.inverseA;
+      c.lambda += change;
+      v[c.ka] += c.normal * (change * c.inverseA);
+      changed = true;
+    }
+    if (!changed) break;
+  }
+  for (size_t k = 0; k < members.size(); ++k) {
+    BodySlot& b = bodies[members[k]];
+    if (v[k].x == b.velocity.x && v[k].y == b.velocity.y) continue;
+    b.velocity = v[k];
+    ++b.collisionCount;
+    // Whatever it was last resolved against, it may now approach again (see LastContact).
+    b.last = detail::LastContact{};
+  }
+  int reported = 0;
+  for (const IslandContact& c : contacts) {
+    if (!(c.lambda > 0)) continue;
+    bodies[c.a].steppedHeld = true;
+    if (c.kb >= 0) bodies[c.b].steppedHeld = true;
+    if (!(c.approach > reportAbove) && islandKey(c.fa, c.fb) != reportPair) continue;
+    if (reported >= maxReports) continue;
+    ++reported;
+    const bool aIsLower = c.fa < c.fb;
+    const uint32_t fa = aIsLower ? c.fa : c.fb, fb = aIsLower ? c.fb : c.fa;
+    ContactEvent event;
+    event.time = now;
+    event.point = c.point;
+    event.impulse = c.lambda;
+    event.fixtureA = {fa, fixtures[fa].generation};
+    event.fixtureB = {fb, fixtures[fb].generation};
+    event.bodyA = {fixtures[fa].body, bodies[fixtures[fa].body].generation};
+    event.bodyB = {fixtures[fb].body, bodies[fixtures[fb].body].generation};
+    event.normal = aIsLower ? -c.normal : c.normal;
+    contactEvents.push_back(event);
+  }
+  // Met when the sweeps converged, or when no contact closes faster than its target by more than 1e-4 of
+  // the speeds at play (a large island converges slowly, and that is close enough).
+  double violation = 0;
+  for (const IslandContact& c : contacts) {
+    const Vec2 vb = c.kb >= 0 ? bodies[c.b].velocity : c.holderVelocity;
+    violation = std::max(violation, c.target - dot(bodies[c.a].velocity - vb, c.normal));
+  }
+  return {reported, converged || violation <= 1e-4 * (speed + length(def.gravity) * h)};
+}
+
+void World::Impl::startIslands(double dt, std::vector<uint32_t>& freed) {
+  islandImpulses.swap(islandNext);
+  islandNext.clear();
+  std::sort(islandImpulses.begin(), islandImpulses.end());
+  stepped.clear();
+  islandScratchStart.clear();
+  freed.clear();
+  for (uint32_t i = 0; i < bodies.size(); ++i) {
+    BodySlot& b = bodies[i];
+    if (!b.alive || !b.stepped) continue;
+    stepped.push_back(i);
+    b.velocity += def.gravity * dt;
+    b.steppedHeld = false;
+  }
+  if (stepped.empty()) return;
+  // A contact is a collision when it closed faster than restingSpeed before the step's gravity; holding
+  // a resting body up against that gravity is not one.
+  stats.eventsProcessed +=
+      solveIsland(stepped, 0, dt, def.restingSpeed + length(def.gravity) * dt, ~uint64_t{0}, true, true,
+                  def.maxEventsPerStep)
+          .reported;
+  for (const IslandContact& c : islandScratch) {
+    if (!(c.lambda > 0)) continue;
+    islandScratchStart.push_back(c);
+    islandNext.push_back({islandKey(c.fa, c.fb), c.lambda});
+  }
+  // Nothing held it: it falls freely, exactly, as it did before the step's gravity was added.
+  size_t kept = 0;
+  for (uint32_t i : stepped) {
+    BodySlot& b = bodies[i];
+    if (b.steppedHeld) {
+      stepped[kept++] = i;
+      continue;
+    }
+    b.velocity -= def.gravity * dt;
+    b.acceleration = def.gravity;
+    b.stepped = false;
+    freed.push_back(i);
+  }
+  stepped.resize(kept);
+  steppedCounts.resize(stepped.size());
+  for (size_t k = 0; k < stepped.size(); ++k) steppedCounts[k] = bodies[stepped[k]].collisionCount;
+}
+
+void World::Impl::endIslands(double end) {
+  if (stepped.empty()) return;
+  const Vec2 up = -def.gravity * (1.0 / length(def.gravity));
+  std::vector<int>& slot = jamSlot;
+  if (slot.size() < bodies.size()) slot.resize(bodies.size(), -1);
+  for (size_t k = 0; k < stepped.size(); ++k) slot[stepped[k]] = static_cast<int>(k);
+  // What held each body at the start of the step: the contacts that pushed it up or sideways (from
+  // below or beside), with their other bodies.
+  std::vector<std::vector<uint32_t>> holders(stepped.size());
+  std::vector<char> candidate(stepped.size(), 0), movingHolder(stepped.size(), 0);
+  for (size_t k = 0; k < stepped.size(); ++k) {
+    const BodySlot& b = bodies[stepped[k]];
+    // At rest: still stepped, not moved on by an event since the solve, and slow.
+    candidate[k] = b.stepped && !b.asleep && b.collisionCount == steppedCounts[k] && length(b.velocity) < def.restingSpeed;
+  }
+  for (const IslandContact& c : islandScratchStart) {
+    const int ka = slot[c.a], kb = c.kb >= 0 ? slot[c.b] : -1;
+    if (ka >= 0 && dot(c.normal, up) >= -1e-12) {
+      holders[ka].push_back(c.b);
+      if (bodies[c.b].type == BodyType::Kinematic) movingHolder[ka] = 1;
+    }
+    if (kb >= 0 && dot(c.normal, up) <= 1e-12) holders[kb].push_back(c.a);
+  }
+  // Bottom up: a body at rest sleeps once everything that holds it is static or asleep, which may let
+  // the bodies it holds sleep in turn (a body sliding off the top of a settled pile does not keep the
+  // pile awake). The solve had cancelled a whole step of gravity on it with those contacts, so it is held.
+  std::vector<uint32_t> order;
+  for (size_t k = 0; k < stepped.size(); ++k)
+    if (candidate[k] && !movingHolder[k] && !holders[k].empty()) order.push_back(static_cast<uint32_t>(k));
+  std::stable_sort(order.begin(), order.end(), [&](uint32_t x, uint32_t y) {
+    return dot(bodies[stepped[x]].position, up) < dot(bodies[stepped[y]].position, up);
+  });
+  std::vector<uint32_t> supporters;
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (uint32_t k : order) {
+      BodySlot& b = bodies[stepped[k]];
+      if (b.asleep) continue;
+      bool held = true;
+      for (uint32_t h : holders[k]) held = held && (bodies[h].type == BodyType::Static || bodies[h].asleep);
+      if (!held) continue;
+      supporters.clear();
+      for (uint32_t h : holders[k])
+        if (bodies[h].type == BodyType::Dynamic && std::find(supporters.begin(), supporters.end(), h) == supporters.end())
+          supporters.push_back(h);
+      advance(b, end);
+      putToSleep(stepped[k], supporters);
+      changed = true;
+    }
+  }
+  for (uint32_t i : stepped) slot[i] = -1;
+}
+
+}  // namespace rattle
