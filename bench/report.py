@@ -448,8 +448,9 @@ def write_report(out_dir, bench, matrix_seconds=None, load=None):
         extra = {p for p in (r.get("collapse_time", "") for r in trs) if p}
         if extra:
             md += ["rattle's modes (discrete, hybrid, predictive) and the exact reference ran with --collapse-time "
-                   "%s (WorldDef::collapseTime, the TC model); with rattle's default (0) this pile reaches the "
-                   "event budget of 10^6 collisions per step once it lands (see bench/README.md)." %
+                   "%s (WorldDef::collapseTime, the TC model); with rattle's default (0) the predictive mode and "
+                   "the reference reach the event budget of 10^6 collisions per step once the pile lands "
+                   "(see bench/README.md)." %
                    ", ".join(extra), ""]
         table = bullets_table(trs) if key == "bullets" else arena_table(trs) if key.startswith("arena") else \
             generic_table(trs)
