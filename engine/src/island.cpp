@@ -79,7 +79,11 @@ void forEachPiece(const Geometry& g, Vec2 position, Vec2 p, Found&& found) {
     for (size_t i = 0; i + 1 < s->points.size(); ++i)
       found(detail::closestOnSegment(s->points[i], s->points[i + 1], q, true).point + position);
   } else if (const auto* s = std::get_if<Polygon>(&g)) {
+    // A centre inside the polygon has no side to be held to (as closestPoint says).
     const size_t n = s->points.size();
+    bool inside = true;
+    for (size_t i = 0; i < n && inside; ++i) inside = !(cross(s->points[(i + 1) % n] - s->points[i], q - s->points[i]) < 0);
+    if (inside) return;
     for (size_t i = 0; i < n; ++i)
       found(detail::closestOnSegment(s->points[i], s->points[(i + 1) % n], q, true).point + position);
   }
