@@ -283,6 +283,7 @@ void World::Impl::stepHybrid(double dt) {
   // 1. Swept boxes. A sleeping body does not move this step: its proxies count as resting.
   double speedScale = 0;
   sliding.clear();
+  stepped.clear();
   for (uint32_t i = 0; i < bodies.size(); ++i) {
     BodySlot& b = bodies[i];
     if (!b.alive) continue;
@@ -299,6 +300,7 @@ void World::Impl::stepHybrid(double dt) {
       b.acceleration = b.stepped ? Vec2{} : def.gravity;
     }
     if (b.support.generation != 0) sliding.push_back(i);
+    if (b.stepped) stepped.push_back(i);
     const bool moving = moves(b) && !b.asleep;
     // A body standing still all step (a crowd's waiting units) meets another still one only after
     // something sets one of them moving, and then its path leaves this box and the broad phase is asked

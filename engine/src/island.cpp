@@ -356,13 +356,10 @@ void World::Impl::startIslands(double dt, std::vector<uint32_t>& freed) {
   islandImpulses.swap(islandNext);
   islandNext.clear();
   std::sort(islandImpulses.begin(), islandImpulses.end());
-  stepped.clear();
   islandScratchStart.clear();
   freed.clear();
-  for (uint32_t i = 0; i < bodies.size(); ++i) {
+  for (uint32_t i : stepped) {  // gathered by the step's first pass over the bodies
     BodySlot& b = bodies[i];
-    if (!b.alive || !b.stepped) continue;
-    stepped.push_back(i);
     b.velocity += def.gravity * dt;
     b.steppedHeld = false;
   }
