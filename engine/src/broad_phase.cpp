@@ -1,6 +1,7 @@
 #include "broad_phase.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace rattle::detail {
@@ -12,7 +13,15 @@ void BroadPhase::add(uint32_t fixture, const Box& box, bool moving, bool sensor,
   const bool listed = p.listed;
   if (listed && p.sensor != sensor) ++misfiled_;  // in the other list until the next sort moves it
   p = Proxy{box, moving, true, true, sensor, category, mask, p.stamp};
-  if (!listed) (sensor ? sensorOrder_ : order_).push_back(fixture);
+  if (!listed) {
+    if (sensor) {
+      sensorOrder_.push_back(fixture);
+    } else {
+      // A new proxy's band is not known yet: placed last, the next sort finds its place.
+      keys_.push_back({box.min.x, bandCount_ - 1, fixture});
+      order_.push_back(fixture);
+    }
+  }
 }
 
 void BroadPhase::remove(uint32_t fixture) {
@@ -22,32 +31,208 @@ void BroadPhase::remove(uint32_t fixture) {
   ++removed_;
 }
 
-void BroadPhase::sortByMinX(bool withSensors) {
-  if (removed_ > 0 || misfiled_ > 0) {
-    std::vector<uint32_t> kept, keptSensors;
-    for (const std::vector<uint32_t>* list : {&order_, &sensorOrder_}) {
-      for (uint32_t f : *list) {
-        if (proxies_[f].present) {
-          (proxies_[f].sensor ? keptSensors : kept).push_back(f);
-        } else {
-          proxies_[f].listed = false;
-        }
+void BroadPhase::compact() {
+  if (removed_ == 0 && misfiled_ == 0) return;
+  // Every listed proxy is in keys_ or in sensorOrder_ (and, not a sensor, in order_ too); a reused index
+  // may sit in the list of the other kind.
+  std::vector<SortKey> keptKeys;
+  std::vector<uint32_t> kept, keptSensors, nowOthers;
+  for (const SortKey& k : keys_) {
+    Proxy& p = proxies_[k.fixture];
+    if (!p.present) {
+      p.listed = false;
+    } else if (p.sensor) {
+      keptSensors.push_back(k.fixture);
+    } else {
+      keptKeys.push_back(k);
+    }
+  }
+  for (uint32_t f : sensorOrder_) {
+    Proxy& p = proxies_[f];
+    if (!p.present) {
+      p.listed = false;
+    } else if (p.sensor) {
+      keptSensors.push_back(f);
+    } else {
+      nowOthers.push_back(f);
+    }
+  }
+  for (uint32_t f : order_) {
+    if (proxies_[f].present && !proxies_[f].sensor) kept.push_back(f);
+  }
+  for (uint32_t f : nowOthers) {
+    keptKeys.push_back({proxies_[f].box.min.x, bandCount_ - 1, f});
+    kept.push_back(f);
+  }
+  keys_ = std::move(keptKeys);
+  order_ = std::move(kept);
+  sensorOrder_ = std::move(keptSensors);
+  removed_ = 0;
+  misfiled_ = 0;
+}
+
+bool BroadPhase::cutBands(double low, double high, double height) {
+  // The cut this step's boxes call for: bands twice the typical height over [low, high], at most 4096.
+  uint32_t count = 1;
+  double inverse = 0;
+  if (height > 0) {
+    const double bands = (high - low) / height;
+    if (bands > 1 && bands < 1e9) {
+      count = static_cast<uint32_t>(std::min(bands, 4096.0)) + 1;
+      inverse = static_cast<double>(count - 1) / (high - low);
+    }
+  }
+  // Kept while it still fits: a new cut re-sorts every proxy, so the bands are cut again only when the
+  // world has grown well past them or the typical height is off by more than a factor of two. Any cut
+  // finds the same pairs; this only decides how fast.
+  if (bandHeight_ > 0) {
+    const double span = bandCount_ * bandHeight_;
+    const bool outgrown = low < bandOrigin_ - 0.25 * span || high > bandOrigin_ + 1.25 * span;
+    const double wanted = count > 1 ? 1 / inverse : 0;
+    const bool offHeight = wanted > 0 && (wanted < 0.5 * bandHeight_ || wanted > 2 * bandHeight_);
+    if (!outgrown && !offHeight) return false;
+  } else if (count == 1) {
+    return false;
+  }
+  bandCount_ = count;
+  bandOrigin_ = low;
+  inverseBandHeight_ = inverse;
+  bandHeight_ = count > 1 ? 1 / inverse : 0;
+  return true;
+}
+
+void BroadPhase::sortByBand() {
+  compact();
+  // Read every box once, in the last sweep's order, with a sample of about 512 moving boxes (every
+  // stride-th, which depends only on the data) for the typical height and width.
+  double low = 0, high = 0;
+  const size_t n = keys_.size();
+  size_t moving = 0;
+  for (const SortKey& k : keys_) moving += proxies_[k.fixture].moving ? 1 : 0;
+  const size_t stride = std::max<size_t>(1, moving / 512);
+  sample_.clear();
+  std::vector<double> widths;
+  widths.swap(widthsScratch_);
+  widths.clear();
+  size_t seen = 0;
+  for (size_t i = 0; i < n; ++i) {
+    SortKey& k = keys_[i];
+    const Proxy& p = proxies_[k.fixture];
+    const Box& b = p.box;
+    k.minX = b.min.x;
+    k.band = bandOf(b.min.y);
+    if (i == 0) {
+      low = b.min.y;
+      high = b.max.y;
+    }
+    low = std::min(low, b.min.y);
+    high = std::max(high, b.max.y);
+    if (p.moving && seen++ % stride == 0) {
+      sample_.push_back(b.max.y - b.min.y);
+      widths.push_back(b.max.x - b.min.x);
+    }
+  }
+  // Typical: the lowest quarter (a few large or fast boxes say nothing about how crowded the rest are;
+  // static walls are left out, they can be long).
+  auto lowestQuarter = [](std::vector<double>& v) {
+    auto quarter = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 4);
+    std::nth_element(v.begin(), quarter, v.end());
+    return *quarter;
+  };
+  const double height = seen >= 64 ? 2 * lowestQuarter(sample_) : 0;
+  wideThreshold_ = std::numeric_limits<double>::infinity();
+  if (seen >= 64) {
+    const double w = lowestQuarter(widths);
+    if (w > 0) wideThreshold_ = 4 * w;
+  }
+  widths.swap(widthsScratch_);
+
+  if (cutBands(low, high, height)) {
+    for (SortKey& k : keys_) k.band = bandOf(proxies_[k.fixture].box.min.y);
+    std::sort(keys_.begin(), keys_.end(), [](const SortKey& a, const SortKey& b) {
+      if (a.band != b.band) return a.band < b.band;
+      return a.minX < b.minX || (a.minX == b.minX && a.fixture < b.fixture);
+    });
+    return;
+  }
+  // Insertion sort: near-linear on the nearly sorted order left by the previous step. When the order is
+  // far from sorted (many new proxies, a teleport) it would go quadratic, so past a budget of moves it
+  // hands over to a full sort. Both orders are total (ties by fixture index in the full sort, by the
+  // previous order in insertion sort), so the result depends only on the data.
+  auto before = [](const SortKey& a, const SortKey& b) { return a.band < b.band || (a.band == b.band && a.minX < b.minX); };
+  size_t budget = 8 * n + 64;
+  for (size_t i = 1; i < n; ++i) {
+    const SortKey k = keys_[i];
+    size_t j = i;
+    while (j > 0 && before(k, keys_[j - 1])) {
+      keys_[j] = keys_[j - 1];
+      --j;
+    }
+    keys_[j] = k;
+    if (i - j > budget) {
+      std::sort(keys_.begin(), keys_.end(), [](const SortKey& a, const SortKey& b) {
+        if (a.band != b.band) return a.band < b.band;
+        return a.minX < b.minX || (a.minX == b.minX && a.fixture < b.fixture);
+      });
+      return;
+    }
+    budget -= i - j;
+  }
+}
+
+void BroadPhase::splitIntoBands() {
+  own_.resize(keys_.size());
+  bandStart_.assign(bandCount_ + 1, 0);
+  if (spill_.size() < bandCount_) spill_.resize(bandCount_);
+  if (wide_.size() < bandCount_) wide_.resize(bandCount_);
+  if (grownBands_.size() < bandCount_) grownBands_.resize(bandCount_);
+  for (uint32_t b = 0; b < bandCount_; ++b) {
+    spill_[b].clear();
+    wide_[b].clear();
+  }
+  ownReach_.assign(bandCount_, 0);
+  spillReach_.assign(bandCount_, 0);
+  bool spillsSorted = true;
+  uint32_t band = 0;
+  for (size_t i = 0; i < keys_.size(); ++i) {
+    const SortKey& k = keys_[i];
+    const Proxy& p = proxies_[k.fixture];
+    const BandEntry e{p.box, k.fixture, p.moving, false, p.category, p.mask};
+    own_[i] = e;
+    while (band < k.band) bandStart_[++band] = static_cast<uint32_t>(i);
+    const double width = e.box.max.x - e.box.min.x;
+    const bool wide = width > wideThreshold_;
+    if (wide) {
+      wide_[k.band].push_back({e.box.min.x, k.fixture});
+    } else {
+      ownReach_[k.band] = std::max(ownReach_[k.band], width);
+    }
+    const uint32_t top = bandOf(e.box.max.y);
+    for (uint32_t b = k.band + 1; b <= top; ++b) {
+      std::vector<BandEntry>& spill = spill_[b];
+      // Spills from one band come in x order; from two or more they are sorted below.
+      if (!spill.empty() && spill.back().box.min.x > e.box.min.x) spillsSorted = false;
+      spill.push_back(e);
+      if (wide) {
+        wide_[b].push_back({e.box.min.x, k.fixture});
+      } else {
+        spillReach_[b] = std::max(spillReach_[b], width);
       }
     }
-    order_ = std::move(kept);
-    sensorOrder_ = std::move(keptSensors);
-    removed_ = 0;
-    misfiled_ = 0;
   }
-  sortList(order_);
-  if (withSensors) sortList(sensorOrder_);
+  while (band < bandCount_) bandStart_[++band] = static_cast<uint32_t>(keys_.size());
+  if (!spillsSorted) {
+    for (uint32_t b = 0; b < bandCount_; ++b) {
+      std::vector<BandEntry>& spill = spill_[b];
+      std::sort(spill.begin(), spill.end(), [](const BandEntry& x, const BandEntry& y) {
+        return x.box.min.x < y.box.min.x || (x.box.min.x == y.box.min.x && x.fixture < y.fixture);
+      });
+    }
+  }
 }
 
 void BroadPhase::sortList(std::vector<uint32_t>& order) {
-  // Insertion sort: near-linear on the nearly sorted order left by the previous step. When the order is
-  // far from sorted (the first step, many new proxies, a teleport) it would go quadratic, so past a
-  // budget of moves it hands over to a full sort. Both orders are total (ties by fixture index in the
-  // full sort, by the previous order in insertion sort), so the result depends only on the data.
+  // Insertion sort by lower x edge, with the same budget and fallback as sortByBand.
   const size_t n = order.size();
   size_t budget = 8 * n + 64;
   for (size_t i = 1; i < n; ++i) {
@@ -70,16 +255,12 @@ void BroadPhase::sortList(std::vector<uint32_t>& order) {
   }
 }
 
-void BroadPhase::splitIntoBands(bool withSensors) {
-  // Band height: twice the height of the lowest quarter of the moving bodies' boxes (sensors do not
-  // count). Static walls can be long and say nothing about how crowded the moving ones are. At most 4096
-  // bands, and one when little moves. The quarter is taken from a sample of about 512 boxes, every
-  // stride-th in x order (which depends only on the data), so that choosing the bands stays a small
-  // part of a large sweep.
-  // For the sensor sweep, when many sensors move, the band height is the height of the lowest quarter
-  // of the moving sensors' boxes instead: a sight circle is many times a body's height, and in bands
-  // cut for the bodies each circle would be listed in a dozen of them (most of the sweep's work, with
-  // a crowd's sensors), while what it is swept against has been filtered down to what it can sense.
+void BroadPhase::splitIntoSensorBands() {
+  // Band height: the height of the lowest quarter of the moving sensors' boxes when many sensors move
+  // (a sight circle is many times a body's height, and in bands cut for the bodies each circle would be
+  // listed in a dozen of them, while what it is swept against has been filtered down to what it can
+  // sense), else twice that of the moving others. At most 4096 bands, and one when little moves. The
+  // quarter is taken from a sample of about 512 boxes, every stride-th in x order.
   double low = 0, high = 0;
   bool first = true;
   heights_.clear();
@@ -106,10 +287,10 @@ void BroadPhase::splitIntoBands(bool withSensors) {
     }
   };
   measure(order_, heights_, movingSeen, entries_);
-  if (withSensors) measure(sensorOrder_, sensorHeights_, sensorsSeen, sensorEntries_);
-  bandCount_ = 1;
-  bandOrigin_ = low;
-  inverseBandHeight_ = 0;
+  measure(sensorOrder_, sensorHeights_, sensorsSeen, sensorEntries_);
+  sensorBandCount_ = 1;
+  sensorBandOrigin_ = low;
+  sensorInverseBandHeight_ = 0;
   const bool bySensors = sensorsSeen >= 64;
   std::vector<double>& sample = bySensors ? sensorHeights_ : heights_;
   if (movingSeen >= 64 || bySensors) {
@@ -118,70 +299,24 @@ void BroadPhase::splitIntoBands(bool withSensors) {
     const double bandHeight = (bySensors ? 1 : 2) * *quarter;
     const double count = bandHeight > 0 ? (high - low) / bandHeight : 1;
     if (count > 1 && count < 1e9) {
-      bandCount_ = static_cast<uint32_t>(std::min(count, 4096.0)) + 1;
-      inverseBandHeight_ = static_cast<double>(bandCount_ - 1) / (high - low);
+      sensorBandCount_ = static_cast<uint32_t>(std::min(count, 4096.0)) + 1;
+      sensorInverseBandHeight_ = static_cast<double>(sensorBandCount_ - 1) / (high - low);
     }
   }
-  if (bands_.size() < bandCount_) bands_.resize(bandCount_);
-  if (sensorBands_.size() < bandCount_) sensorBands_.resize(bandCount_);
-  for (uint32_t b = 0; b < bandCount_; ++b) {
-    bands_[b].clear();
+  if (sensorOthers_.size() < sensorBandCount_) sensorOthers_.resize(sensorBandCount_);
+  if (sensorBands_.size() < sensorBandCount_) sensorBands_.resize(sensorBandCount_);
+  for (uint32_t b = 0; b < sensorBandCount_; ++b) {
+    sensorOthers_[b].clear();
     sensorBands_[b].clear();
   }
   for (const BandEntry& e : entries_) {
-    const uint32_t last = bandOf(e.box.max.y);
-    for (uint32_t b = bandOf(e.box.min.y); b <= last; ++b) bands_[b].push_back(e);
+    const uint32_t last = sensorBandOf(e.box.max.y);
+    for (uint32_t b = sensorBandOf(e.box.min.y); b <= last; ++b) sensorOthers_[b].push_back(e);
   }
-  if (!withSensors) return;
   for (const BandEntry& e : sensorEntries_) {
-    const uint32_t last = bandOf(e.box.max.y);
-    for (uint32_t b = bandOf(e.box.min.y); b <= last; ++b) sensorBands_[b].push_back(e);
+    const uint32_t last = sensorBandOf(e.box.max.y);
+    for (uint32_t b = sensorBandOf(e.box.min.y); b <= last; ++b) sensorBands_[b].push_back(e);
   }
-}
-
-void BroadPhase::buildQueryBands() {
-  if (queryBands_.size() < bandCount_) queryBands_.resize(bandCount_);
-  if (grownBands_.size() < bandCount_) grownBands_.resize(bandCount_);
-  // Wide: more than four times the width of the narrowest quarter of the moving boxes (from a sample,
-  // as for the band height).
-  std::vector<double>& widths = heights_;
-  widths.clear();
-  const size_t stride = std::max<size_t>(1, order_.size() / 512);
-  size_t movingSeen = 0;
-  for (uint32_t f : order_) {
-    const Proxy& p = proxies_[f];
-    if (p.moving && movingSeen++ % stride == 0) widths.push_back(p.box.max.x - p.box.min.x);
-  }
-  wideThreshold_ = std::numeric_limits<double>::infinity();
-  if (movingSeen >= 64 && !widths.empty()) {
-    auto quarter = widths.begin() + static_cast<std::ptrdiff_t>(widths.size() / 4);
-    std::nth_element(widths.begin(), quarter, widths.end());
-    if (*quarter > 0) wideThreshold_ = 4 * *quarter;
-  }
-  queryBandsReady_ = true;
-}
-
-void BroadPhase::buildQueryBand(uint32_t band) {
-  QueryBand& qb = queryBands_[band];
-  qb.moving.clear();
-  qb.fixed.clear();
-  qb.wide.clear();
-  qb.movingWidth = 0;
-  qb.wideWidth = 0;
-  for (const BandEntry& e : bands_[band]) {
-    if (e.sensor) continue;
-    const double width = e.box.max.x - e.box.min.x;
-    if (!e.moving) {
-      qb.fixed.push_back({e.box.min.x, e.fixture});
-    } else if (width > wideThreshold_) {
-      qb.wide.push_back({e.box.min.x, e.fixture});
-      qb.wideWidth = std::max(qb.wideWidth, width);
-    } else {
-      qb.moving.push_back({e.box.min.x, e.fixture});
-      qb.movingWidth = std::max(qb.movingWidth, width);
-    }
-  }
-  qb.builtSweep = sweep_;
 }
 
 void BroadPhase::grow(uint32_t fixture, const Box& grown) {

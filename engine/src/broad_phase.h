@@ -1,15 +1,28 @@
 // Private: sort-and-sweep over swept boxes.
 //
 // Each step every fixture of a moving body gets the box of its whole path over the step (its swept box);
-// static fixtures keep their box. The proxies stay in one array sorted by the boxes' lower x edge; since
-// bodies move little from one step to the next the array is nearly sorted, and insertion sort finishes it
-// in close to linear time (the frame-to-frame coherence that makes sort-and-sweep fast). The sweep then
-// reports every pair whose boxes overlap and of which at least one moves.
+// static fixtures keep their box. The sweep reports every pair whose boxes overlap and of which at least
+// one moves.
+//
+// A single x sweep over a square region compares every proxy with a whole column of others (O(N^1.5)),
+// so the plane is cut into horizontal bands about two boxes tall and each band is swept on its own. A
+// proxy belongs to the band of its lower edge (its home band) and reaches into the bands above it that
+// its box spans. The proxies stay in one array sorted by (home band, lower x edge), kept from step to
+// step: since bodies move little from one step to the next the array is nearly sorted, and insertion sort
+// finishes it in close to linear time (the frame-to-frame coherence that makes sort-and-sweep fast). The
+// bands are kept too, and cut again only when the boxes' heights or the world's extent have changed
+// a lot, so that the order stays nearly sorted. Sorted this way, a sweep walks the proxies one band
+// after another instead of in x order across the whole world: bodies created row by row (as a game
+// places them, as a gas starts from a lattice) are read near where they lie in memory, not one cache
+// miss apart, which is what a world of a million bodies pays for most.
 //
 // Mid-step, a collision can send a body along a path that leaves the swept box the sweep saw. Its box
 // then grows (never shrinks within a step) and `query` finds every proxy the grown box overlaps, using the
 // current, possibly grown, boxes of the others too, so no pair is lost whichever of two bodies grew last.
-// Queries use the sweep's horizontal bands, so each looks at the proxies near it, not a whole column.
+// Queries use the sweep's bands, so each looks at the proxies near it, not a whole column.
+//
+// Sensors are swept apart from the collisions, after the step (findSensorPairs), in bands of their own
+// over an x order of their own: a crowd's sight circles are many times a body's height.
 #pragma once
 
 #include <algorithm>
@@ -38,9 +51,9 @@ class BroadPhase {
   void setBox(uint32_t fixture, const Box& box) { proxies_[fixture].box = box; }
   void setMoving(uint32_t fixture, bool moving) { proxies_[fixture].moving = moving; }
 
-  /// Sorts by lower x edge and calls report(a, b) for every overlapping pair of which one moves and
-  /// neither is a sensor (sensors are paired by findSensorPairs alone), and whose filter bits meet.
-  /// Then prepares `query` for this step's boxes.
+  /// Sorts and calls report(a, b) for every overlapping pair of which one moves and neither is a sensor
+  /// (sensors are paired by findSensorPairs alone), and whose filter bits meet. Then prepares `query`
+  /// for this step's boxes.
   template <class Report>
   void findPairs(Report&& report);
 
@@ -64,40 +77,25 @@ class BroadPhase {
     Box box;
     bool moving = false;
     bool present = false;
-    bool listed = false;   // in order_ or sensorOrder_ (a removed proxy stays listed until the next sort)
+    bool listed = false;   // in keys_ or sensorOrder_ (a removed proxy stays listed until the next sort)
     bool sensor = false;
     uint32_t category = ~0u, mask = ~0u;  // the fixture's filter bits
     uint32_t stamp = 0;    // the last query that reported it
     uint32_t grownSweep = 0;         // the sweep in which grownLow..grownHigh were listed
     uint32_t grownLow = 0, grownHigh = 0;  // the bands whose grown lists hold it
   };
+  // A proxy's place in the collision sweep's order: its home band and lower x edge at the last sweep.
+  struct SortKey {
+    double minX;
+    uint32_t band;
+    uint32_t fixture;
+  };
   struct Entry {
     double minX;  // lower x edge at the sweep
     uint32_t fixture;
   };
-  /// Sorts the proxies that are not sensors, and the sensors too when `withSensors`: the collision
-  /// sweep never looks at sensors, and a crowd's sight sensors are half its proxies.
-  void sortByMinX(bool withSensors);
-  void sortList(std::vector<uint32_t>& order);
-  /// `withSensors`: false leaves the sensors out of the bands. A unit's sight circle spans several
-  /// bands, so a crowd's sensors would be most of the entries that the collision sweep and the queries
-  /// step over, for nothing: only findSensorPairs pairs them.
-  void splitIntoBands(bool withSensors);
-  void buildQueryBands();
-  uint32_t bandOf(double y) const {
-    const double b = (y - bandOrigin_) * inverseBandHeight_;
-    return b <= 0 ? 0 : b >= bandCount_ - 1 ? bandCount_ - 1 : static_cast<uint32_t>(b);
-  }
-
-  std::vector<Proxy> proxies_;   // indexed by fixture index
-  std::vector<uint32_t> order_;  // fixture indices, sorted by box.min.x at the last sweep: not sensors
-  std::vector<uint32_t> sensorOrder_;  // the same for the sensors (sorted by the last sensor sweep)
-  size_t removed_ = 0;           // proxies removed since the last sort (still listed)
-  size_t misfiled_ = 0;          // indices reused since the last sort by a proxy of the other kind
-  // Horizontal bands for the sweep: a single x sweep over a square region compares every proxy with a
-  // whole column of others (O(N^1.5)); sweeping bands about two boxes tall keeps it near O(N).
-  // Each entry carries a copy of its box, so the sweep reads each band's list in order instead of jumping
-  // through proxies_ by fixture index (a cache miss per comparison in a large world).
+  // A proxy as a sweep reads it: a copy of its box and bits, in the order of the sweep, so that the sweep
+  // reads each band's list in order instead of jumping through proxies_ by fixture index.
   struct BandEntry {
     Box box;
     uint32_t fixture;
@@ -105,79 +103,127 @@ class BroadPhase {
     bool sensor;
     uint32_t category, mask;
   };
-  std::vector<std::vector<BandEntry>> bands_;
-  std::vector<std::vector<BandEntry>> sensorBands_;  // the sensors, when the bands were split with them
-  std::vector<BandEntry> entries_, sensorEntries_;   // scratch of splitIntoBands: the proxies in x order
-  std::vector<double> heights_, sensorHeights_;  // scratch of splitIntoBands
+  /// Drops removed proxies from the orders and moves a reused index to the list of its kind.
+  void compact();
+  /// Reads every proxy's box into keys_, cuts the bands again when they no longer fit (cutBands) and
+  /// sorts keys_ by (home band, lower x edge).
+  void sortByBand();
+  /// Chooses the bands for boxes spanning [low, high] whose typical height is `height` (0: unknown, one
+  /// band); true when that is a new cut.
+  bool cutBands(double low, double high, double height);
+  /// Copies the proxies in keys_ order into the bands: each into its home band's range of own_ and into
+  /// the spill list of every band above that its box reaches; wide boxes are listed apart for queries.
+  void splitIntoBands();
+  uint32_t bandOf(double y) const {
+    const double b = (y - bandOrigin_) * inverseBandHeight_;
+    return b <= 0 ? 0 : b >= bandCount_ - 1 ? bandCount_ - 1 : static_cast<uint32_t>(b);
+  }
+  /// The same for the sensor sweep's bands.
+  uint32_t sensorBandOf(double y) const {
+    const double b = (y - sensorBandOrigin_) * sensorInverseBandHeight_;
+    return b <= 0 ? 0 : b >= sensorBandCount_ - 1 ? sensorBandCount_ - 1 : static_cast<uint32_t>(b);
+  }
+  /// Sorts a list of fixture indices by their boxes' lower x edge (the sensor sweep's orders).
+  void sortList(std::vector<uint32_t>& order);
+  /// The sensor sweep's bands, cut for this sweep alone (sensorBands_, sensorOthers_).
+  void splitIntoSensorBands();
+
+  std::vector<Proxy> proxies_;   // indexed by fixture index
+  size_t removed_ = 0;           // proxies removed since the last sort (still listed)
+  size_t misfiled_ = 0;          // indices reused since the last sort by a proxy of the other kind
+
+  // The collision sweep. Band k covers y in [origin + k h, origin + (k + 1) h), the first and the last
+  // reaching on to infinity; h is about twice the height of the lowest quarter of the moving boxes.
+  std::vector<SortKey> keys_;  // the proxies that are not sensors, by (home band, lower x edge)
+  uint32_t bandCount_ = 1;
+  double bandOrigin_ = 0;
+  double inverseBandHeight_ = 0;
+  double bandHeight_ = 0;  // 0: one band
+  std::vector<double> sample_, widthsScratch_;  // scratch of sortByBand: heights and widths of a sample of boxes
+  std::vector<BandEntry> own_;        // the proxies in keys_ order: band k's are [bandStart_[k], [k + 1])
+  std::vector<uint32_t> bandStart_;
+  std::vector<std::vector<BandEntry>> spill_;  // by band: the proxies from lower bands that reach into it
+  // Queries: a band's narrow boxes are found by binary search on the lower x edge, reaching back by the
+  // widest narrow box of the list; boxes much wider than most (a long wall, a body's sight sensor) are
+  // listed apart and scanned whole, so that they do not set every search's reach.
+  std::vector<double> ownReach_, spillReach_;  // by band
+  std::vector<std::vector<Entry>> wide_;       // by band: its wide boxes, own or spilled
+  double wideThreshold_ = 0;
+  std::vector<std::vector<uint32_t>> grownBands_;
+  uint32_t queryStamp_ = 0;
+  uint32_t sweep_ = 1;  // counts sweeps, so that a proxy is listed in each band's grown list once
+
+  // The sensor sweep: both kinds in x order, swept in bands cut for the sensors.
+  std::vector<uint32_t> order_;        // the proxies that are not sensors, by box.min.x at the last sensor sweep
+  std::vector<uint32_t> sensorOrder_;  // the sensors, likewise
+  uint32_t sensorBandCount_ = 1;
+  double sensorBandOrigin_ = 0;
+  double sensorInverseBandHeight_ = 0;
+  std::vector<std::vector<BandEntry>> sensorOthers_, sensorBands_;
+  std::vector<BandEntry> entries_, sensorEntries_;  // scratch of splitIntoSensorBands: the proxies in x order
+  std::vector<double> heights_, sensorHeights_;     // scratch of splitIntoSensorBands
   // Scratch of findSensorPairs: per sensor filter, indices into a band's sensors and into its others.
   std::vector<std::vector<uint32_t>> sensorLists_, otherLists_;
   struct FilterBits {
     uint32_t category, mask;
   };
   std::vector<FilterBits> sensorFilters_;  // scratch of findSensorPairs: the sensors' filters in a band
-  uint32_t bandCount_ = 1;
-  double bandOrigin_ = 0;
-  double inverseBandHeight_ = 0;
-  // Queries (mid-step, after a path changed) use the same bands: in each, the moving proxies in x order
-  // (found by binary search, reaching back by the widest box of their list: narrow or wide), the static
-  // ones in x order (a long wall starts early: scanned from the band's start), and the proxies grown into
-  // the band since the sweep (few; scanned whole). A band's lists are built at its first query of a step:
-  // a step's queries touch few of the bands.
-  // Moving boxes much wider than most (a unit's sight sensor beside its body) have their own lists, so
-  // that the reach back of every search is not set by the widest box.
-  struct QueryBand {
-    std::vector<Entry> moving, fixed, wide;
-    double movingWidth = 0, wideWidth = 0;  // the widest box of each moving list
-    uint32_t builtSweep = 0;
-  };
-  void buildQueryBand(uint32_t band);
-  bool queryBandsReady_ = false;  // wideThreshold_ is set for this sweep
-  double wideThreshold_ = 0;
-  std::vector<QueryBand> queryBands_;
-  std::vector<std::vector<uint32_t>> grownBands_;
-  uint32_t queryStamp_ = 0;
-  uint32_t sweep_ = 1;  // counts sweeps, so that a proxy is listed in each band's grown list once
 };
 
 template <class Report>
 void BroadPhase::findPairs(Report&& report) {
-  sortByMinX(false);
-  splitIntoBands(false);
-  // Within each band the proxies are in x order already; a pair is reported only in the lowest band both
-  // are in, so a pair that shares several bands is reported once.
+  sortByBand();
+  splitIntoBands();
+  auto test = [&](const BandEntry& pi, const BandEntry& pj) {
+    if (!pi.moving && !pj.moving) return;
+    if ((pi.category & pj.mask) == 0 || (pj.category & pi.mask) == 0) return;
+    if (pj.box.min.y > pi.box.max.y || pi.box.min.y > pj.box.max.y) return;
+    report(pi.fixture, pj.fixture);
+  };
+  // A pair is reported in the higher of its two home bands: there both are listed, the one as its own,
+  // the other as its own or as a spill from below. Two spills are never swept against each other.
   for (uint32_t band = 0; band < bandCount_; ++band) {
-    const std::vector<BandEntry>& list = bands_[band];
-    const size_t n = list.size();
+    const BandEntry* own = own_.data() + bandStart_[band];
+    const size_t n = bandStart_[band + 1] - bandStart_[band];
     for (size_t i = 0; i < n; ++i) {
-      const BandEntry& pi = list[i];
-      for (size_t j = i + 1; j < n; ++j) {
-        const BandEntry& pj = list[j];
-        if (pj.box.min.x > pi.box.max.x) break;
-        if (!pi.moving && !pj.moving) continue;
-        if ((pi.category & pj.mask) == 0 || (pj.category & pi.mask) == 0) continue;
-        if (pj.box.min.y > pi.box.max.y || pi.box.min.y > pj.box.max.y) continue;
-        if (std::max(bandOf(pi.box.min.y), bandOf(pj.box.min.y)) != band) continue;
-        report(pi.fixture, pj.fixture);
+      const BandEntry& pi = own[i];
+      for (size_t j = i + 1; j < n && own[j].box.min.x <= pi.box.max.x; ++j) test(pi, own[j]);
+    }
+    // The band's own against its spills: two sorted lists swept against each other; whichever next box
+    // starts further left scans the other list for the boxes that start before it ends.
+    const std::vector<BandEntry>& spill = spill_[band];
+    const size_t m = spill.size();
+    size_t i = 0, j = 0;
+    while (i < n && j < m) {
+      if (own[i].box.min.x <= spill[j].box.min.x) {
+        const double reach = own[i].box.max.x;
+        for (size_t k = j; k < m && spill[k].box.min.x <= reach; ++k) test(own[i], spill[k]);
+        ++i;
+      } else {
+        const double reach = spill[j].box.max.x;
+        for (size_t k = i; k < n && own[k].box.min.x <= reach; ++k) test(own[k], spill[j]);
+        ++j;
       }
     }
   }
-  queryBandsReady_ = false;
   for (auto& g : grownBands_) g.clear();
   ++sweep_;
 }
 
 template <class Report>
 void BroadPhase::findSensorPairs(Report&& report) {
-  sortByMinX(true);
-  splitIntoBands(true);
+  compact();
+  sortList(order_);
+  sortList(sensorOrder_);
+  splitIntoSensorBands();
   // Past this many different sensor filters in one band, one sweep of all sensors against all others
   // costs less than a filtered sweep per filter.
   constexpr size_t kMaxFilters = 8;
   if (sensorLists_.size() < kMaxFilters) sensorLists_.resize(kMaxFilters);
   if (otherLists_.size() < kMaxFilters) otherLists_.resize(kMaxFilters);
-  for (uint32_t band = 0; band < bandCount_; ++band) {
+  for (uint32_t band = 0; band < sensorBandCount_; ++band) {
     const std::vector<BandEntry>& sensors = sensorBands_[band];
-    const std::vector<BandEntry>& others = bands_[band];
+    const std::vector<BandEntry>& others = sensorOthers_[band];
     if (sensors.empty() || others.empty()) continue;
     // The sensors by filter, then each filter's list of the others it may sense.
     sensorFilters_.clear();
@@ -211,12 +257,12 @@ void BroadPhase::findSensorPairs(Report&& report) {
         if ((e.category & f.mask) != 0 && (f.category & e.mask) != 0) otherLists_[g].push_back(k);
       }
     }
-    // Two sorted lists swept against each other: whichever next box starts further left scans the other
-    // list for the boxes that start before it ends.
+    // Two sorted lists swept against each other, as the collision sweep does a band's own and spills; a
+    // pair is reported only in the lowest band both are in.
     auto test = [&](const BandEntry& pi, const BandEntry& pj) {
       if (!pi.moving && !pj.moving) return;
       if (pj.box.min.y > pi.box.max.y || pi.box.min.y > pj.box.max.y) return;
-      if (std::max(bandOf(pi.box.min.y), bandOf(pj.box.min.y)) != band) return;
+      if (std::max(sensorBandOf(pi.box.min.y), sensorBandOf(pj.box.min.y)) != band) return;
       report(pi.fixture, pj.fixture);
     };
     for (size_t g = 0; g < sensorFilters_.size(); ++g) {
@@ -239,14 +285,10 @@ void BroadPhase::findSensorPairs(Report&& report) {
       }
     }
   }
-  queryBandsReady_ = false;
-  for (auto& g : grownBands_) g.clear();
-  ++sweep_;
 }
 
 template <class Found>
 void BroadPhase::query(const Box& q, Found&& found) {
-  if (!queryBandsReady_) buildQueryBands();
   if (++queryStamp_ == 0) {
     for (Proxy& p : proxies_) p.stamp = 0;
     queryStamp_ = 1;
@@ -257,19 +299,21 @@ void BroadPhase::query(const Box& q, Found&& found) {
     p.stamp = queryStamp_;
     found(f);
   };
+  // The boxes that start within a list's reach before q and before q ends (a box grown since the sweep
+  // starts further left than its place says: it is in the band's grown list).
+  auto scan = [&](const BandEntry* begin, const BandEntry* end, double reach) {
+    const BandEntry* it = std::lower_bound(begin, end, q.min.x - reach,
+                                           [](const BandEntry& e, double x) { return e.box.min.x < x; });
+    for (; it != end && it->box.min.x <= q.max.x; ++it) visit(it->fixture);
+  };
+  if (bandStart_.size() <= bandCount_) return;  // no sweep yet: nothing to find
   const uint32_t last = bandOf(q.max.y);
   for (uint32_t band = bandOf(q.min.y); band <= last; ++band) {
-    if (queryBands_[band].builtSweep != sweep_) buildQueryBand(band);
-    const QueryBand& qb = queryBands_[band];
-    auto it = std::lower_bound(qb.moving.begin(), qb.moving.end(), q.min.x - qb.movingWidth,
-                               [](const Entry& e, double x) { return e.minX < x; });
-    for (; it != qb.moving.end() && it->minX <= q.max.x; ++it) visit(it->fixture);
-    it = std::lower_bound(qb.wide.begin(), qb.wide.end(), q.min.x - qb.wideWidth,
-                          [](const Entry& e, double x) { return e.minX < x; });
-    for (; it != qb.wide.end() && it->minX <= q.max.x; ++it) visit(it->fixture);
-    for (const Entry& e : qb.fixed) {
-      if (e.minX > q.max.x) break;
-      visit(e.fixture);
+    scan(own_.data() + bandStart_[band], own_.data() + bandStart_[band + 1], ownReach_[band]);
+    const std::vector<BandEntry>& spill = spill_[band];
+    scan(spill.data(), spill.data() + spill.size(), spillReach_[band]);
+    for (const Entry& e : wide_[band]) {
+      if (e.minX <= q.max.x) visit(e.fixture);
     }
     for (uint32_t f : grownBands_[band]) visit(f);
   }
