@@ -18,7 +18,7 @@ void BroadPhase::add(uint32_t fixture, const Box& box, bool moving, bool sensor,
       sensorOrder_.push_back(fixture);
     } else {
       // A new proxy's band is not known yet: placed last, the next sort finds its place.
-      keys_.push_back({box.min.x, bandCount_ - 1, fixture});
+      own_.push_back({box, fixture, bandCount_ - 1, category, mask, moving, false});
       order_.push_back(fixture);
     }
   }
@@ -33,11 +33,11 @@ void BroadPhase::remove(uint32_t fixture) {
 
 void BroadPhase::compact() {
   if (removed_ == 0 && misfiled_ == 0) return;
-  // Every listed proxy is in keys_ or in sensorOrder_ (and, not a sensor, in order_ too); a reused index
+  // Every listed proxy is in own_ or in sensorOrder_ (and, not a sensor, in order_ too); a reused index
   // may sit in the list of the other kind.
-  std::vector<SortKey> keptKeys;
+  std::vector<BandEntry> keptKeys;
   std::vector<uint32_t> kept, keptSensors, nowOthers;
-  for (const SortKey& k : keys_) {
+  for (const BandEntry& k : own_) {
     Proxy& p = proxies_[k.fixture];
     if (!p.present) {
       p.listed = false;
@@ -61,10 +61,11 @@ void BroadPhase::compact() {
     if (proxies_[f].present && !proxies_[f].sensor) kept.push_back(f);
   }
   for (uint32_t f : nowOthers) {
-    keptKeys.push_back({proxies_[f].box.min.x, bandCount_ - 1, f});
+    const Proxy& p = proxies_[f];
+    keptKeys.push_back({p.box, f, bandCount_ - 1, p.category, p.mask, p.moving, false});
     kept.push_back(f);
   }
-  keys_ = std::move(keptKeys);
+  own_ = std::move(keptKeys);
   order_ = std::move(kept);
   sensorOrder_ = std::move(keptSensors);
   removed_ = 0;
@@ -103,33 +104,31 @@ bool BroadPhase::cutBands(double low, double high, double height) {
 
 void BroadPhase::sortByBand() {
   compact();
-  // Read every box once, in the last sweep's order, with a sample of about 512 moving boxes (every
+  // Read every proxy once, in the last sweep's order, with a sample of about 512 moving boxes (every
   // stride-th, which depends only on the data) for the typical height and width.
   double low = 0, high = 0;
-  const size_t n = keys_.size();
-  size_t moving = 0;
-  for (const SortKey& k : keys_) moving += proxies_[k.fixture].moving ? 1 : 0;
-  const size_t stride = std::max<size_t>(1, moving / 512);
-  sample_.clear();
-  std::vector<double> widths;
-  widths.swap(widthsScratch_);
-  widths.clear();
+  const size_t n = own_.size();
+  const size_t stride = std::max<size_t>(1, n / 512);
+  heightsScratch_.clear();
+  widthsScratch_.clear();
   size_t seen = 0;
   for (size_t i = 0; i < n; ++i) {
-    SortKey& k = keys_[i];
-    const Proxy& p = proxies_[k.fixture];
-    const Box& b = p.box;
-    k.minX = b.min.x;
-    k.band = bandOf(b.min.y);
+    BandEntry& e = own_[i];
+    const Proxy& p = proxies_[e.fixture];
+    e.box = p.box;
+    e.band = bandOf(p.box.min.y);
+    e.category = p.category;
+    e.mask = p.mask;
+    e.moving = p.moving;
     if (i == 0) {
-      low = b.min.y;
-      high = b.max.y;
+      low = p.box.min.y;
+      high = p.box.max.y;
     }
-    low = std::min(low, b.min.y);
-    high = std::max(high, b.max.y);
+    low = std::min(low, p.box.min.y);
+    high = std::max(high, p.box.max.y);
     if (p.moving && seen++ % stride == 0) {
-      sample_.push_back(b.max.y - b.min.y);
-      widths.push_back(b.max.x - b.min.x);
+      heightsScratch_.push_back(p.box.max.y - p.box.min.y);
+      widthsScratch_.push_back(p.box.max.x - p.box.min.x);
     }
   }
   // Typical: the lowest quarter (a few large or fast boxes say nothing about how crowded the rest are;
@@ -139,41 +138,43 @@ void BroadPhase::sortByBand() {
     std::nth_element(v.begin(), quarter, v.end());
     return *quarter;
   };
-  const double height = seen >= 64 ? 2 * lowestQuarter(sample_) : 0;
+  const bool sampled = heightsScratch_.size() >= 64;
+  const double height = sampled ? 2 * lowestQuarter(heightsScratch_) : 0;
   wideThreshold_ = std::numeric_limits<double>::infinity();
-  if (seen >= 64) {
-    const double w = lowestQuarter(widths);
+  if (sampled) {
+    const double w = lowestQuarter(widthsScratch_);
     if (w > 0) wideThreshold_ = 4 * w;
   }
-  widths.swap(widthsScratch_);
 
-  if (cutBands(low, high, height)) {
-    for (SortKey& k : keys_) k.band = bandOf(proxies_[k.fixture].box.min.y);
-    std::sort(keys_.begin(), keys_.end(), [](const SortKey& a, const SortKey& b) {
+  auto fullSort = [this] {
+    std::sort(own_.begin(), own_.end(), [](const BandEntry& a, const BandEntry& b) {
       if (a.band != b.band) return a.band < b.band;
-      return a.minX < b.minX || (a.minX == b.minX && a.fixture < b.fixture);
+      return a.box.min.x < b.box.min.x || (a.box.min.x == b.box.min.x && a.fixture < b.fixture);
     });
+  };
+  if (cutBands(low, high, height)) {
+    for (BandEntry& e : own_) e.band = bandOf(e.box.min.y);
+    fullSort();
     return;
   }
   // Insertion sort: near-linear on the nearly sorted order left by the previous step. When the order is
   // far from sorted (many new proxies, a teleport) it would go quadratic, so past a budget of moves it
   // hands over to a full sort. Both orders are total (ties by fixture index in the full sort, by the
   // previous order in insertion sort), so the result depends only on the data.
-  auto before = [](const SortKey& a, const SortKey& b) { return a.band < b.band || (a.band == b.band && a.minX < b.minX); };
   size_t budget = 8 * n + 64;
   for (size_t i = 1; i < n; ++i) {
-    const SortKey k = keys_[i];
+    const BandEntry& next = own_[i];
+    const BandEntry& prev = own_[i - 1];
+    if (prev.band < next.band || (prev.band == next.band && prev.box.min.x <= next.box.min.x)) continue;
+    const BandEntry e = next;
     size_t j = i;
-    while (j > 0 && before(k, keys_[j - 1])) {
-      keys_[j] = keys_[j - 1];
+    while (j > 0 && (e.band < own_[j - 1].band || (e.band == own_[j - 1].band && e.box.min.x < own_[j - 1].box.min.x))) {
+      own_[j] = own_[j - 1];
       --j;
     }
-    keys_[j] = k;
+    own_[j] = e;
     if (i - j > budget) {
-      std::sort(keys_.begin(), keys_.end(), [](const SortKey& a, const SortKey& b) {
-        if (a.band != b.band) return a.band < b.band;
-        return a.minX < b.minX || (a.minX == b.minX && a.fixture < b.fixture);
-      });
+      fullSort();
       return;
     }
     budget -= i - j;
@@ -181,7 +182,6 @@ void BroadPhase::sortByBand() {
 }
 
 void BroadPhase::splitIntoBands() {
-  own_.resize(keys_.size());
   bandStart_.assign(bandCount_ + 1, 0);
   if (spill_.size() < bandCount_) spill_.resize(bandCount_);
   if (wide_.size() < bandCount_) wide_.resize(bandCount_);
@@ -192,41 +192,51 @@ void BroadPhase::splitIntoBands() {
   }
   ownReach_.assign(bandCount_, 0);
   spillReach_.assign(bandCount_, 0);
-  bool spillsSorted = true;
+  unsortedSpills_.clear();
   uint32_t band = 0;
-  for (size_t i = 0; i < keys_.size(); ++i) {
-    const SortKey& k = keys_[i];
-    const Proxy& p = proxies_[k.fixture];
-    const BandEntry e{p.box, k.fixture, p.moving, false, p.category, p.mask};
-    own_[i] = e;
-    while (band < k.band) bandStart_[++band] = static_cast<uint32_t>(i);
+  const size_t n = own_.size();
+  for (size_t i = 0; i < n; ++i) {
+    const BandEntry& e = own_[i];
+    while (band < e.band) bandStart_[++band] = static_cast<uint32_t>(i);
     const double width = e.box.max.x - e.box.min.x;
     const bool wide = width > wideThreshold_;
     if (wide) {
-      wide_[k.band].push_back({e.box.min.x, k.fixture});
+      wide_[e.band].push_back({e.box.min.x, e.fixture});
     } else {
-      ownReach_[k.band] = std::max(ownReach_[k.band], width);
+      ownReach_[e.band] = std::max(ownReach_[e.band], width);
     }
     const uint32_t top = bandOf(e.box.max.y);
-    for (uint32_t b = k.band + 1; b <= top; ++b) {
+    for (uint32_t b = e.band + 1; b <= top; ++b) {
       std::vector<BandEntry>& spill = spill_[b];
-      // Spills from one band come in x order; from two or more they are sorted below.
-      if (!spill.empty() && spill.back().box.min.x > e.box.min.x) spillsSorted = false;
+      // Spills from one band come in x order; from two or more (a wall spanning every band) they are
+      // sorted below.
+      if (!spill.empty() && spill.back().box.min.x > e.box.min.x &&
+          (unsortedSpills_.empty() || unsortedSpills_.back() != b)) {
+        unsortedSpills_.push_back(b);
+      }
       spill.push_back(e);
       if (wide) {
-        wide_[b].push_back({e.box.min.x, k.fixture});
+        wide_[b].push_back({e.box.min.x, e.fixture});
       } else {
         spillReach_[b] = std::max(spillReach_[b], width);
       }
     }
   }
-  while (band < bandCount_) bandStart_[++band] = static_cast<uint32_t>(keys_.size());
-  if (!spillsSorted) {
-    for (uint32_t b = 0; b < bandCount_; ++b) {
-      std::vector<BandEntry>& spill = spill_[b];
-      std::sort(spill.begin(), spill.end(), [](const BandEntry& x, const BandEntry& y) {
-        return x.box.min.x < y.box.min.x || (x.box.min.x == y.box.min.x && x.fixture < y.fixture);
-      });
+  while (band < bandCount_) bandStart_[++band] = static_cast<uint32_t>(n);
+  // A few runs, each in x order (usually a long wall or two before the spills of the band below): an
+  // insertion sort moves just the few out of place.
+  std::sort(unsortedSpills_.begin(), unsortedSpills_.end());
+  unsortedSpills_.erase(std::unique(unsortedSpills_.begin(), unsortedSpills_.end()), unsortedSpills_.end());
+  for (uint32_t b : unsortedSpills_) {
+    std::vector<BandEntry>& spill = spill_[b];
+    for (size_t i = 1; i < spill.size(); ++i) {
+      const BandEntry e = spill[i];
+      size_t j = i;
+      while (j > 0 && spill[j - 1].box.min.x > e.box.min.x) {
+        spill[j] = spill[j - 1];
+        --j;
+      }
+      spill[j] = e;
     }
   }
 }
@@ -274,7 +284,7 @@ void BroadPhase::splitIntoSensorBands() {
     entries.clear();
     for (uint32_t f : order) {
       const Proxy& p = proxies_[f];
-      entries.push_back({p.box, f, p.moving, p.sensor, p.category, p.mask});
+      entries.push_back({p.box, f, 0, p.category, p.mask, p.moving, p.sensor});
       const Box& b = p.box;
       if (first) {
         low = b.min.y;

@@ -77,18 +77,12 @@ class BroadPhase {
     Box box;
     bool moving = false;
     bool present = false;
-    bool listed = false;   // in keys_ or sensorOrder_ (a removed proxy stays listed until the next sort)
+    bool listed = false;   // in own_ or sensorOrder_ (a removed proxy stays listed until the next sort)
     bool sensor = false;
     uint32_t category = ~0u, mask = ~0u;  // the fixture's filter bits
     uint32_t stamp = 0;    // the last query that reported it
     uint32_t grownSweep = 0;         // the sweep in which grownLow..grownHigh were listed
     uint32_t grownLow = 0, grownHigh = 0;  // the bands whose grown lists hold it
-  };
-  // A proxy's place in the collision sweep's order: its home band and lower x edge at the last sweep.
-  struct SortKey {
-    double minX;
-    uint32_t band;
-    uint32_t fixture;
   };
   struct Entry {
     double minX;  // lower x edge at the sweep
@@ -99,20 +93,21 @@ class BroadPhase {
   struct BandEntry {
     Box box;
     uint32_t fixture;
+    uint32_t band;  // the collision sweep's: its home band (the band of its lower edge)
+    uint32_t category, mask;
     bool moving;
     bool sensor;
-    uint32_t category, mask;
   };
   /// Drops removed proxies from the orders and moves a reused index to the list of its kind.
   void compact();
-  /// Reads every proxy's box into keys_, cuts the bands again when they no longer fit (cutBands) and
-  /// sorts keys_ by (home band, lower x edge).
+  /// Reads every proxy into own_, cuts the bands again when they no longer fit (cutBands) and sorts own_
+  /// by (home band, lower x edge).
   void sortByBand();
   /// Chooses the bands for boxes spanning [low, high] whose typical height is `height` (0: unknown, one
   /// band); true when that is a new cut.
   bool cutBands(double low, double high, double height);
-  /// Copies the proxies in keys_ order into the bands: each into its home band's range of own_ and into
-  /// the spill list of every band above that its box reaches; wide boxes are listed apart for queries.
+  /// Finds each band's range of own_, and copies each proxy into the spill list of every band above its
+  /// own that its box reaches; wide boxes are listed apart for queries.
   void splitIntoBands();
   uint32_t bandOf(double y) const {
     const double b = (y - bandOrigin_) * inverseBandHeight_;
@@ -134,15 +129,17 @@ class BroadPhase {
 
   // The collision sweep. Band k covers y in [origin + k h, origin + (k + 1) h), the first and the last
   // reaching on to infinity; h is about twice the height of the lowest quarter of the moving boxes.
-  std::vector<SortKey> keys_;  // the proxies that are not sensors, by (home band, lower x edge)
+  // The proxies that are not sensors, by (home band, lower x edge): band k's are [bandStart_[k], [k + 1]).
+  // Sorting the entries themselves (few move in a step) lets the sweep read them in order.
+  std::vector<BandEntry> own_;
+  std::vector<uint32_t> bandStart_;
   uint32_t bandCount_ = 1;
   double bandOrigin_ = 0;
   double inverseBandHeight_ = 0;
   double bandHeight_ = 0;  // 0: one band
-  std::vector<double> sample_, widthsScratch_;  // scratch of sortByBand: heights and widths of a sample of boxes
-  std::vector<BandEntry> own_;        // the proxies in keys_ order: band k's are [bandStart_[k], [k + 1])
-  std::vector<uint32_t> bandStart_;
+  std::vector<double> heightsScratch_, widthsScratch_;  // scratch of sortByBand: a sample of boxes
   std::vector<std::vector<BandEntry>> spill_;  // by band: the proxies from lower bands that reach into it
+  std::vector<uint32_t> unsortedSpills_;       // scratch of splitIntoBands: bands whose spills need sorting
   // Queries: a band's narrow boxes are found by binary search on the lower x edge, reaching back by the
   // widest narrow box of the list; boxes much wider than most (a long wall, a body's sight sensor) are
   // listed apart and scanned whole, so that they do not set every search's reach.
