@@ -96,6 +96,7 @@ bool BroadPhase::cutBands(double low, double high, double height) {
     return false;
   }
   bandCount_ = count;
+  lastBand_ = count - 1;
   bandOrigin_ = low;
   inverseBandHeight_ = inverse;
   bandHeight_ = count > 1 ? 1 / inverse : 0;
@@ -108,10 +109,12 @@ void BroadPhase::sortByBand() {
   // stride-th, which depends only on the data) for the typical height and width.
   double low = 0, high = 0;
   const size_t n = own_.size();
-  const size_t stride = std::max<size_t>(1, n / 512);
+  // The stride from the last sweep's count of moving boxes (most boxes may be static walls).
+  const size_t stride = std::max<size_t>(1, (movingCount_ > 0 ? movingCount_ : n) / 512);
   heightsScratch_.clear();
   widthsScratch_.clear();
-  size_t seen = 0;
+  size_t untilSample = 1;  // the first moving box is sampled, then every stride-th
+  size_t moving = 0;
   for (size_t i = 0; i < n; ++i) {
     BandEntry& e = own_[i];
     const Proxy& p = proxies_[e.fixture];
@@ -126,11 +129,14 @@ void BroadPhase::sortByBand() {
     }
     low = std::min(low, p.box.min.y);
     high = std::max(high, p.box.max.y);
-    if (p.moving && seen++ % stride == 0) {
+    moving += p.moving ? 1 : 0;
+    if (p.moving && --untilSample == 0) {
+      untilSample = stride;
       heightsScratch_.push_back(p.box.max.y - p.box.min.y);
       widthsScratch_.push_back(p.box.max.x - p.box.min.x);
     }
   }
+  movingCount_ = moving;
   // Typical: the lowest quarter (a few large or fast boxes say nothing about how crowded the rest are;
   // static walls are left out, they can be long).
   auto lowestQuarter = [](std::vector<double>& v) {
@@ -138,14 +144,13 @@ void BroadPhase::sortByBand() {
     std::nth_element(v.begin(), quarter, v.end());
     return *quarter;
   };
-  const bool sampled = heightsScratch_.size() >= 64;
+  const bool sampled = moving >= 64;
   const double height = sampled ? 2 * lowestQuarter(heightsScratch_) : 0;
   wideThreshold_ = std::numeric_limits<double>::infinity();
   if (sampled) {
     const double w = lowestQuarter(widthsScratch_);
     if (w > 0) wideThreshold_ = 4 * w;
   }
-
   auto fullSort = [this] {
     std::sort(own_.begin(), own_.end(), [](const BandEntry& a, const BandEntry& b) {
       if (a.band != b.band) return a.band < b.band;
@@ -186,13 +191,15 @@ void BroadPhase::splitIntoBands() {
   if (spill_.size() < bandCount_) spill_.resize(bandCount_);
   if (wide_.size() < bandCount_) wide_.resize(bandCount_);
   if (grownBands_.size() < bandCount_) grownBands_.resize(bandCount_);
+  if (tall_.size() < bandCount_) tall_.resize(bandCount_);
   for (uint32_t b = 0; b < bandCount_; ++b) {
     spill_[b].clear();
+    tall_[b].clear();
     wide_[b].clear();
   }
   ownReach_.assign(bandCount_, 0);
   spillReach_.assign(bandCount_, 0);
-  unsortedSpills_.clear();
+  wholeReach_.assign(bandCount_, 0);
   uint32_t band = 0;
   const size_t n = own_.size();
   for (size_t i = 0; i < n; ++i) {
@@ -200,50 +207,35 @@ void BroadPhase::splitIntoBands() {
     while (band < e.band) bandStart_[++band] = static_cast<uint32_t>(i);
     const double width = e.box.max.x - e.box.min.x;
     const bool wide = width > wideThreshold_;
+    wholeReach_[e.band] = std::max(wholeReach_[e.band], width);
     if (wide) {
       wide_[e.band].push_back({e.box.min.x, e.fixture});
     } else {
       ownReach_[e.band] = std::max(ownReach_[e.band], width);
     }
     const uint32_t top = bandOf(e.box.max.y);
-    for (uint32_t b = e.band + 1; b <= top; ++b) {
-      std::vector<BandEntry>& spill = spill_[b];
-      // Spills from one band come in x order; from two or more (a wall spanning every band) they are
-      // sorted below.
-      if (!spill.empty() && spill.back().box.min.x > e.box.min.x &&
-          (unsortedSpills_.empty() || unsortedSpills_.back() != b)) {
-        unsortedSpills_.push_back(b);
-      }
-      spill.push_back(e);
+    if (top == e.band + 1) {
+      // Into the band above only: appended in x order, as the band's own are read.
+      spill_[top].push_back(e);
       if (wide) {
-        wide_[b].push_back({e.box.min.x, e.fixture});
+        wide_[top].push_back({e.box.min.x, e.fixture});
       } else {
-        spillReach_[b] = std::max(spillReach_[b], width);
+        spillReach_[top] = std::max(spillReach_[top], width);
       }
+    } else {
+      for (uint32_t b = e.band + 1; b <= top; ++b) tall_[b].push_back(e);
     }
   }
   while (band < bandCount_) bandStart_[++band] = static_cast<uint32_t>(n);
-  // A few runs, each in x order (usually a long wall or two before the spills of the band below): an
-  // insertion sort moves just the few out of place.
-  std::sort(unsortedSpills_.begin(), unsortedSpills_.end());
-  unsortedSpills_.erase(std::unique(unsortedSpills_.begin(), unsortedSpills_.end()), unsortedSpills_.end());
-  for (uint32_t b : unsortedSpills_) {
-    std::vector<BandEntry>& spill = spill_[b];
-    for (size_t i = 1; i < spill.size(); ++i) {
-      const BandEntry e = spill[i];
-      size_t j = i;
-      while (j > 0 && spill[j - 1].box.min.x > e.box.min.x) {
-        spill[j] = spill[j - 1];
-        --j;
-      }
-      spill[j] = e;
-    }
-  }
 }
 
 void BroadPhase::sortList(std::vector<uint32_t>& order) {
   // Insertion sort by lower x edge, with the same budget and fallback as sortByBand.
   const size_t n = order.size();
+  // Insertion sort: near-linear on the nearly sorted order left by the previous step. When the order is
+  // far from sorted (many new proxies, a teleport) it would go quadratic, so past a budget of moves it
+  // hands over to a full sort. Both orders are total (ties by fixture index in the full sort, by the
+  // previous order in insertion sort), so the result depends only on the data.
   size_t budget = 8 * n + 64;
   for (size_t i = 1; i < n; ++i) {
     const uint32_t f = order[i];

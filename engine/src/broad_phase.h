@@ -106,12 +106,12 @@ class BroadPhase {
   /// Chooses the bands for boxes spanning [low, high] whose typical height is `height` (0: unknown, one
   /// band); true when that is a new cut.
   bool cutBands(double low, double high, double height);
-  /// Finds each band's range of own_, and copies each proxy into the spill list of every band above its
-  /// own that its box reaches; wide boxes are listed apart for queries.
+  /// Finds each band's range of own_, and copies each proxy into the spill or tall list of every band
+  /// above its own that its box reaches; wide boxes are listed apart for queries.
   void splitIntoBands();
   uint32_t bandOf(double y) const {
     const double b = (y - bandOrigin_) * inverseBandHeight_;
-    return b <= 0 ? 0 : b >= bandCount_ - 1 ? bandCount_ - 1 : static_cast<uint32_t>(b);
+    return b <= 0 ? 0 : b >= lastBand_ ? bandCount_ - 1 : static_cast<uint32_t>(b);
   }
   /// The same for the sensor sweep's bands.
   uint32_t sensorBandOf(double y) const {
@@ -134,18 +134,22 @@ class BroadPhase {
   std::vector<BandEntry> own_;
   std::vector<uint32_t> bandStart_;
   uint32_t bandCount_ = 1;
+  double lastBand_ = 0;  // bandCount_ - 1
   double bandOrigin_ = 0;
   double inverseBandHeight_ = 0;
   double bandHeight_ = 0;  // 0: one band
   std::vector<double> heightsScratch_, widthsScratch_;  // scratch of sortByBand: a sample of boxes
-  std::vector<std::vector<BandEntry>> spill_;  // by band: the proxies from lower bands that reach into it
-  std::vector<uint32_t> unsortedSpills_;       // scratch of splitIntoBands: bands whose spills need sorting
+  // By band: the proxies from the band below that reach into it (in x order, as they are read), and those
+  // from further below (few: a wall across many bands; in no order).
+  std::vector<std::vector<BandEntry>> spill_, tall_;
   // Queries: a band's narrow boxes are found by binary search on the lower x edge, reaching back by the
   // widest narrow box of the list; boxes much wider than most (a long wall, a body's sight sensor) are
   // listed apart and scanned whole, so that they do not set every search's reach.
   std::vector<double> ownReach_, spillReach_;  // by band
+  std::vector<double> wholeReach_;  // by band: the widest of its own boxes, wide ones too (for tall_)
   std::vector<std::vector<Entry>> wide_;       // by band: its wide boxes, own or spilled
   double wideThreshold_ = 0;
+  size_t movingCount_ = 0;  // moving boxes at the last sweep
   std::vector<std::vector<uint32_t>> grownBands_;
   uint32_t queryStamp_ = 0;
   uint32_t sweep_ = 1;  // counts sweeps, so that a proxy is listed in each band's grown list once
@@ -200,6 +204,14 @@ void BroadPhase::findPairs(Report&& report) {
         const double reach = spill[j].box.max.x;
         for (size_t k = i; k < n && own[k].box.min.x <= reach; ++k) test(own[k], spill[j]);
         ++j;
+      }
+    }
+    // The band's own against the tall boxes from further below, each found by binary search.
+    for (const BandEntry& t : tall_[band]) {
+      const BandEntry* it = std::lower_bound(own, own + n, t.box.min.x - wholeReach_[band],
+                                             [](const BandEntry& e, double x) { return e.box.min.x < x; });
+      for (; it != own + n && it->box.min.x <= t.box.max.x; ++it) {
+        if (!(it->box.max.x < t.box.min.x)) test(*it, t);
       }
     }
   }
@@ -312,6 +324,7 @@ void BroadPhase::query(const Box& q, Found&& found) {
     for (const Entry& e : wide_[band]) {
       if (e.minX <= q.max.x) visit(e.fixture);
     }
+    for (const BandEntry& t : tall_[band]) visit(t.fixture);
     for (uint32_t f : grownBands_[band]) visit(f);
   }
 }

@@ -281,7 +281,7 @@ void World::Impl::stepHybrid(double dt) {
   if (stamp.size() < fixtures.size()) stamp.resize(fixtures.size(), 0);
 
   // 1. Swept boxes. A sleeping body does not move this step: its proxies count as resting.
-  double speedScale = 0;
+  double speedScale = 0, straightSpeedSquared = 0;
   sliding.clear();
   stepped.clear();
   for (uint32_t i = 0; i < bodies.size(); ++i) {
@@ -307,7 +307,15 @@ void World::Impl::stepHybrid(double dt) {
     // again (repredict): the sweep pairs it only with what moves, as it does a sleeping body.
     const bool still = b.velocity.x == 0 && b.velocity.y == 0 && b.acceleration.x == 0 && b.acceleration.y == 0 &&
                        !b.stepped;
-    if (moving) speedScale = std::max(speedScale, length(b.velocity) + length(b.acceleration) * dt);
+    if (moving) {
+      if (b.acceleration.x == 0 && b.acceleration.y == 0) {
+        // |v| + |a| dt with a = 0 is |v| = sqrt(v.v); sqrt is correctly rounded and monotone, so the
+        // largest of them is the square root of the largest v.v, one root a step instead of one a body.
+        straightSpeedSquared = std::max(straightSpeedSquared, dot(b.velocity, b.velocity));
+      } else {
+        speedScale = std::max(speedScale, length(b.velocity) + length(b.acceleration) * dt);
+      }
+    }
     if (b.type == BodyType::Static) continue;
     Box path = moving ? pathBox(b.position, b.velocity, b.acceleration, dt) : Box{b.position, b.position};
     if (b.stepped) {
@@ -326,6 +334,7 @@ void World::Impl::stepHybrid(double dt) {
       broadPhase.setBox(f, Box{path.min + fixtures[f].localBox.min, path.max + fixtures[f].localBox.max});
     }
   }
+  speedScale = std::max(speedScale, std::sqrt(straightSpeedSquared));
   startPaths();
 
   // Approach speeds below this are round-off: 1e-13 of the fastest speed in the world this step.

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -40,47 +41,56 @@ struct Support {
 };
 
 struct BodySlot {
-  uint32_t generation = 1;
-  bool alive = false;
-  BodyType type = BodyType::Static;
+  // The step reads a body in its first pass and a candidate pair's two bodies in every prediction, and
+  // the two bodies of a pair are rarely near each other in memory: what those read is in the first two
+  // cache lines (the motion, the counter a prediction carries and the flags that decide whether a pair
+  // is an event at all in the first), the rest after.
   Vec2 position;      // at localTime within the current step (0 between steps)
   Vec2 velocity;      // at localTime
   Vec2 acceleration;  // gravity when awake and free, its tangential part when sliding, else zero
   double localTime = 0;
+  uint32_t collisionCount = 0;  // step-local: bumps on every velocity change; predictions carry it
+  BodyType type = BodyType::Static;
+  bool alive = false;
   bool asleep = false;
-  double lastContactTime = -std::numeric_limits<double>::infinity();  // world time of its last collision
-  int stepCollisions = 0;  // collisions in the current step, for the Zeno guard
+  // In a stepped island (island.cpp): its contacts with other stepped bodies and with what cannot move
+  // are held by a solve once per step, and it moves along straight lines. Kept from step to step.
+  bool stepped = false;
+  LastContact last;  // step-local
   Support support;
+  uint32_t generation = 1;
+  int stepCollisions = 0;  // collisions in the current step, for the Zeno guard
+  std::vector<uint32_t> fixtures;
+  // The jam that last settled it (World::Impl::jamCounter) and when, in step time; < 0: none this step.
+  double jamTime = -1;
+  uint32_t jam = 0;
+  bool steppedHeld = false;  // a contact of an island solve pushed it this step
+  double lastContactTime = -std::numeric_limits<double>::infinity();  // world time of its last collision
   std::vector<uint32_t> dependents;  // sleeping bodies this one holds up (may hold stale entries)
   double mass = std::numeric_limits<double>::infinity();
   double inverseMass = 0;
   uint64_t userData = 0;
-  std::vector<uint32_t> fixtures;
-  // Step-local state.
-  uint32_t collisionCount = 0;  // bumps on every velocity change; predictions carry it to detect staleness
-  LastContact last;
-  // The jam that last settled it (World::Impl::jamCounter) and when, in step time; < 0: none this step.
-  uint32_t jam = 0;
-  double jamTime = -1;
-  // In a stepped island (island.cpp): its contacts with other stepped bodies and with what cannot move
-  // are held by a solve once per step, and it moves along straight lines. Kept from step to step.
-  bool stepped = false;
-  bool steppedHeld = false;  // a contact of an island solve pushed it this step
 };
 
 struct FixtureSlot {
-  // What the step reads for every fixture (its box) and for every candidate pair (canCollide) comes
-  // first, in one cache line: a pair's two fixtures are rarely near each other in memory.
+  // What a prediction reads of both fixtures (the geometry) and what the broad phase's candidate pairs
+  // are filtered by (body, sensor, filter) share the first cache line: a pair's two fixtures are rarely
+  // near each other in memory.
+  Geometry geometry;
+  uint32_t body = 0;
   uint32_t generation = 1;
+  Filter filter;
   bool alive = false;
   bool sensor = false;
-  uint32_t body = 0;
-  Filter filter;
   Box localBox;  // box of the geometry relative to the body's position
-  Geometry geometry;
   double density = 1;
   double restitution = 0;
 };
+
+static_assert(offsetof(BodySlot, last) == 64 && sizeof(Support) + sizeof(LastContact) <= 64 - 8,
+              "BodySlot: the motion and flags in the first cache line, what predictions read next in the second");
+static_assert(sizeof(Geometry) + offsetof(FixtureSlot, localBox) - offsetof(FixtureSlot, body) <= 64,
+              "FixtureSlot: geometry, body, filter and flags in the first cache line");
 
 enum class EventKind : uint8_t { Contact = 0, SlideEnd = 1 };
 
