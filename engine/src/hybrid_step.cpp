@@ -346,9 +346,13 @@ void World::Impl::stepHybrid(double dt) {
     if (canCollide(fa, fb)) {
       ++stats.candidatePairs;
       addPair(fa, fb);
-      // Predict with a dynamic body's circle first (the time-of-impact functions' moving side).
+      // Predict with a dynamic body's circle first (the time-of-impact functions' moving side); of two
+      // dynamic ones, the lower fixture, so that the contact's last bits (computed from that side) do
+      // not depend on the order in which the sweep meets the pair.
       const bool aMoves = bodyOf(fa).type == BodyType::Dynamic;
-      const uint32_t own = aMoves ? fa : fb, other = aMoves ? fb : fa;
+      const bool bMoves = bodyOf(fb).type == BodyType::Dynamic;
+      const bool aFirst = aMoves && (!bMoves || fa < fb);
+      const uint32_t own = aFirst ? fa : fb, other = aFirst ? fb : fa;
       // A stepped body's path is known once its island is solved.
       if (bodyOf(fa).stepped || bodyOf(fb).stepped) {
         deferred.push_back({own, other});
