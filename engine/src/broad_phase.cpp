@@ -35,7 +35,7 @@ void BroadPhase::compact() {
   if (removed_ == 0 && misfiled_ == 0) return;
   // Every listed proxy is in own_ or in sensorOrder_ (and, not a sensor, in order_ too); a reused index
   // may sit in the list of the other kind.
-  std::vector<BandEntry> keptKeys;
+  LargeArray<BandEntry> keptKeys;
   std::vector<uint32_t> kept, keptSensors, nowOthers;
   for (const BandEntry& k : own_) {
     Proxy& p = proxies_[k.fixture];

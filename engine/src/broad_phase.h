@@ -29,6 +29,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "large_array.h"
 #include "rattle/geometry.h"
 
 namespace rattle::detail {
@@ -123,7 +124,7 @@ class BroadPhase {
   /// The sensor sweep's bands, cut for this sweep alone (sensorBands_, sensorOthers_).
   void splitIntoSensorBands();
 
-  std::vector<Proxy> proxies_;   // indexed by fixture index
+  LargeArray<Proxy> proxies_;   // indexed by fixture index
   size_t removed_ = 0;           // proxies removed since the last sort (still listed)
   size_t misfiled_ = 0;          // indices reused since the last sort by a proxy of the other kind
 
@@ -131,7 +132,7 @@ class BroadPhase {
   // reaching on to infinity; h is about twice the height of the lowest quarter of the moving boxes.
   // The proxies that are not sensors, by (home band, lower x edge): band k's are [bandStart_[k], [k + 1]).
   // Sorting the entries themselves (few move in a step) lets the sweep read them in order.
-  std::vector<BandEntry> own_;
+  LargeArray<BandEntry> own_;
   std::vector<uint32_t> bandStart_;
   uint32_t bandCount_ = 1;
   double lastBand_ = 0;  // bandCount_ - 1

@@ -128,7 +128,7 @@ const WorldDef& World::definition() const { return impl_->def; }
 
 namespace {
 
-BodySlot& lookUp(std::vector<BodySlot>& bodies, BodyId id) {
+BodySlot& lookUp(detail::LargeArray<BodySlot>& bodies, BodyId id) {
   if (id.isNull()) throw Error("BodyId is null");
   if (id.index >= bodies.size() || !bodies[id.index].alive || bodies[id.index].generation != id.generation) {
     throw Error("BodyId {index " + std::to_string(id.index) + ", generation " + std::to_string(id.generation) +
@@ -137,7 +137,7 @@ BodySlot& lookUp(std::vector<BodySlot>& bodies, BodyId id) {
   return bodies[id.index];
 }
 
-FixtureSlot& lookUp(std::vector<FixtureSlot>& fixtures, FixtureId id) {
+FixtureSlot& lookUp(detail::LargeArray<FixtureSlot>& fixtures, FixtureId id) {
   if (id.isNull()) throw Error("FixtureId is null");
   if (id.index >= fixtures.size() || !fixtures[id.index].alive || fixtures[id.index].generation != id.generation) {
     throw Error("FixtureId {index " + std::to_string(id.index) + ", generation " + std::to_string(id.generation) +

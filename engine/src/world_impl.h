@@ -135,9 +135,9 @@ inline uint64_t overlapKey(uint32_t sensor, uint32_t visitor) { return (uint64_t
 struct World::Impl {
   WorldDef def;
   double time = 0;
-  std::vector<detail::BodySlot> bodies;
+  detail::LargeArray<detail::BodySlot> bodies;
   std::vector<uint32_t> freeBodies;  // reused last-freed first
-  std::vector<detail::FixtureSlot> fixtures;
+  detail::LargeArray<detail::FixtureSlot> fixtures;
   std::vector<uint32_t> freeFixtures;
   int liveBodies = 0;
   detail::BroadPhase broadPhase;
@@ -148,9 +148,9 @@ struct World::Impl {
   StepStats stats;
 
   // Step scratch, kept to reuse its memory.
-  std::vector<std::vector<detail::CandidatePair>> pairsOfBody;  // by body index; dynamic bodies only
+  detail::LargeArray<std::vector<detail::CandidatePair>> pairsOfBody;  // by body index; dynamic bodies only
   std::vector<detail::PredictedContact> queue;                  // binary heap ordered by detail::later
-  std::vector<uint32_t> stamp;                                  // by fixture index, for de-duplication
+  detail::LargeArray<uint32_t> stamp;                           // by fixture index, for de-duplication
   uint32_t stampCounter = 0;
   std::vector<uint32_t> supporters;
   std::vector<uint32_t> sliding;  // scratch of stepHybrid: the bodies that start the step sliding
