@@ -40,6 +40,7 @@
 #include <limits>
 
 #include "closest_point.h"
+#include "plain_collision.h"
 #include "rattle/time_of_impact.h"
 #include "world_impl.h"
 
@@ -119,11 +120,8 @@ using detail::HotBody;
 Vec2 accelerationOf(const HotBody& h, const ColdBody& c) {
   return (h.flags & HotBody::kAccelerating) ? c.acceleration : Vec2{};
 }
-Vec2 positionAt(const HotBody& b, Vec2 acceleration, double t) {
-  const double h = t - b.localTime;
-  return b.position + b.velocity * h + acceleration * (0.5 * h * h);
-}
-Vec2 velocityAt(const HotBody& b, Vec2 acceleration, double t) { return b.velocity + acceleration * (t - b.localTime); }
+using detail::positionAt;
+using detail::velocityAt;
 bool isMoving(const HotBody& b) { return !(b.velocity == Vec2{}) || (b.flags & HotBody::kAccelerating) != 0; }
 // The common body of a gas: one circle centred on the body, no acceleration, the default filter. Two such
 // bodies need nothing from their ColdBody until a contact is found (Engine::pairPlain).
@@ -161,6 +159,10 @@ class Engine {
   // kinematic body with a fixture moves.
   double speedScale_ = 0;
   bool movingKinematic_ = false;
+  bool anyAsleep_ = false, anySliding_ = false;  // among dynamic bodies, gathered by normalize() too
+  // This step resolves collisions of two plain disks on the copies (plain_collision.h): every tracked
+  // body is plain, and there is no gravity, no sensor and nobody asleep or sliding.
+  bool plainWorld_ = false;
 
   // Setup.
   void normalize(double dt);
@@ -172,6 +174,18 @@ class Engine {
   double sparseCellSize(double size, double limit) const;
   void reorder(bool fresh = false);
   void sync(uint32_t slot);
+  void attach(uint32_t slot);
+  void attachFixture(uint32_t fixture) {
+    const uint32_t slot = s_.slotOfBody[w_.fixtures[fixture].body];
+    if (slot != PredictiveState::kNone) attach(slot);
+  }
+  // A fixture's body's collision counter: the copy's for a tracked body (its BodySlot may lag).
+  uint32_t countOf(uint32_t fixture) const {
+    const uint32_t body = w_.fixtures[fixture].body;
+    const uint32_t slot = s_.slotOfBody[body];
+    return slot != PredictiveState::kNone ? s_.hot[slot].collisionCount : w_.bodies[body].collisionCount;
+  }
+  void collidePlain(uint32_t i, uint32_t j, const PredictiveEvent& c, double tolerance);
   void syncBody(uint32_t body) {
     const uint32_t slot = s_.slotOfBody[body];
     if (slot != PredictiveState::kNone) sync(slot);
@@ -269,6 +283,7 @@ void Engine<W>::normalize(double dt) {
   // between changes a body's motion, type or sleep).
   double speedScale = 0;
   bool movingKinematic = false;
+  bool anyAsleep = false, anySliding = false;
   for (BodySlot& b : w_.bodies) {
     if (!b.alive) continue;
     b.stepCollisions = 0;
@@ -277,6 +292,10 @@ void Engine<W>::normalize(double dt) {
       w_.stopSliding(b);
     }
     if (b.type == BodyType::Dynamic && !b.asleep && b.support.generation == 0) b.acceleration = w_.def.gravity;
+    if (b.type == BodyType::Dynamic) {
+      anyAsleep = anyAsleep || b.asleep;
+      anySliding = anySliding || b.support.generation != 0;
+    }
     // As the hybrid step: approach speeds below 1e-13 of the fastest body's are round-off.
     if (b.type == BodyType::Static || b.asleep) continue;
     speedScale = std::max(speedScale, length(b.velocity) + length(b.acceleration) * dt);
@@ -284,6 +303,8 @@ void Engine<W>::normalize(double dt) {
   }
   speedScale_ = speedScale;
   movingKinematic_ = movingKinematic;
+  anyAsleep_ = anyAsleep;
+  anySliding_ = anySliding;
 }
 
 template <class W>
@@ -328,7 +349,27 @@ void Engine<W>::sync(uint32_t slot) {
   c.lastLow = b.last.fixtureLow;
   c.lastHigh = b.last.fixtureHigh;
   c.lastFeature = b.last.feature;
+  detail::PlainBody& p = s_.plain[slot];
+  p.inverseMass = b.inverseMass;
+  p.lastContactTime = b.lastContactTime;
   if (w_.pathLog.active) w_.pathLog.record(s_.bodyOfSlot[slot], {b.localTime, b.position, b.velocity, b.acceleration});
+}
+
+template <class W>
+void Engine<W>::attach(uint32_t slot) {
+  // The copy back into the BodySlot, after collisions resolved on the copy (collidePlain): before
+  // anything reads the BodySlot, and at the step's end.
+  HotBody& h = s_.hot[slot];
+  if (!(h.flags & HotBody::kDetached)) return;
+  const ColdBody& c = s_.cold[slot];
+  BodySlot& b = w_.bodies[s_.bodyOfSlot[slot]];
+  b.position = h.position;
+  b.velocity = h.velocity;
+  b.localTime = h.localTime;
+  b.collisionCount = h.collisionCount;
+  b.last = detail::LastContact{c.lastLow, c.lastHigh, c.lastFeature, c.lastTime};
+  b.lastContactTime = s_.plain[slot].lastContactTime;
+  h.flags = static_cast<uint8_t>(h.flags & ~HotBody::kDetached);
 }
 
 template <class W>
@@ -339,10 +380,13 @@ void Engine<W>::buildGrid() {
   s_.hot.clear();
   s_.cold.clear();
   s_.rare.clear();
+  s_.plain.clear();
+  s_.plainShapes = true;
   s_.bodyOfSlot.reserve(nb);
   s_.hot.reserve(nb);
   s_.cold.reserve(nb);
   s_.rare.reserve(nb);
+  s_.plain.reserve(nb);
 
   // Tracked bodies: dynamic ones with a physical fixture.
   double diameter = 0;
@@ -356,6 +400,7 @@ void Engine<W>::buildGrid() {
     HotBody h;
     ColdBody c;
     detail::RareBody r;
+    detail::PlainBody plain;
     for (uint32_t f : b.fixtures) {
       const detail::FixtureSlot& fs = w_.fixtures[f];
       if (fs.sensor) continue;
@@ -367,6 +412,9 @@ void Engine<W>::buildGrid() {
         r.maskBits = fs.filter.maskBits;
         r.group = fs.filter.group;
         h.radius = detail::circleRadius(fs.geometry);
+        plain.restitution = fs.restitution;
+        plain.bodyGeneration = b.generation;
+        plain.fixtureGeneration = fs.generation;
         if (std::holds_alternative<Circle>(fs.geometry)) h.flags |= HotBody::kSingle;
         if (!(r.centre == Vec2{})) h.flags |= HotBody::kOffCentre;
         if (r.categoryBits != Filter{}.categoryBits || r.maskBits != Filter{}.maskBits || r.group != 0) {
@@ -383,6 +431,9 @@ void Engine<W>::buildGrid() {
     s_.hot.push_back(h);
     s_.cold.push_back(c);
     s_.rare.push_back(r);
+    s_.plain.push_back(plain);
+    constexpr uint8_t shape = HotBody::kSingle | HotBody::kOffCentre | HotBody::kCustomFilter;
+    if ((h.flags & shape) != HotBody::kSingle) s_.plainShapes = false;
     const Vec2 centre = b.position + r.centre;
     minX = std::min(minX, centre.x);
     minY = std::min(minY, centre.y);
@@ -616,6 +667,7 @@ void Engine<W>::reorder(bool fresh) {
   permute(s_.hot, s_.spareHot);
   permute(s_.cold, s_.spareCold);
   permute(s_.rare, s_.spareRare);
+  permute(s_.plain, s_.sparePlain);
   permute(s_.bodyOfSlot, s_.spareBodies);
   for (uint32_t k = 0; k < n; ++k) s_.slotOfBody[s_.bodyOfSlot[k]] = k;
   if (!fresh) {
@@ -693,7 +745,7 @@ template <class W>
 bool Engine<W>::isDismissed(uint32_t slot, uint32_t own, uint32_t other) const {
   const uint32_t countOwn = s_.hot[slot].collisionCount;
   for (const detail::Dismissal& d : s_.dismissed[slot]) {
-    if (d.own == own && d.other == other && d.countOwn == countOwn && d.countOther == w_.bodyOf(other).collisionCount) {
+    if (d.own == own && d.other == other && d.countOwn == countOwn && d.countOther == countOf(other)) {
       return true;
     }
   }
@@ -741,6 +793,8 @@ int Engine<W>::resolvedFeature(const BodySlot& a, const BodySlot& b, uint32_t ow
 template <class W>
 void Engine<W>::predictPair(uint32_t own, uint32_t other, double now, double horizon, PredictiveEvent& best) {
   // World::Impl::predict, up to the body's horizon instead of the step's end.
+  attachFixture(own);
+  attachFixture(other);
   const BodySlot& a = w_.bodyOf(own);
   const BodySlot& b = w_.bodyOf(other);
   ++w_.stats.timeOfImpactTests;
@@ -981,6 +1035,7 @@ void Engine<W>::finishPrediction(Prediction& q) {
     });
   }
   if (q.p.hot->flags & HotBody::kSliding) {
+    attach(i);
     const BodySlot& b = w_.bodies[s_.bodyOfSlot[i]];
     const double until = q.moving ? horizon : now + s_.capTime;
     if (const auto t = w_.slideEndTime(b, now, until)) {
@@ -1250,6 +1305,39 @@ void Engine<W>::unschedule(uint32_t slot) {
 // ---- The step --------------------------------------------------------------------------------------
 
 template <class W>
+void Engine<W>::collidePlain(uint32_t i, uint32_t j, const PredictiveEvent& c, double tolerance) {
+  // World::Impl::resolve() for two plain disks, on their copies (plain_collision.h); the BodySlots
+  // catch up in attach(). The contact event as resolve() writes it.
+  const detail::PlainOutcome out =
+      detail::resolvePlainDisks({s_.hot[i], s_.cold[i], s_.plain[i]}, {s_.hot[j], s_.cold[j], s_.plain[j]}, c, w_.time,
+                                w_.def.collapseTime, tolerance);
+  if (out.approachingAfter) {
+    // As after resolve(): the guard does not hold for a pair left approaching.
+    for (uint32_t k : {i, j}) {
+      ColdBody& cold = s_.cold[k];
+      const detail::LastContact none;
+      cold.lastTime = none.time;
+      cold.lastLow = none.fixtureLow;
+      cold.lastHigh = none.fixtureHigh;
+      cold.lastFeature = none.feature;
+    }
+  }
+  if (!out.resolved) return;
+  const bool aIsLower = c.a < c.b;
+  const uint32_t lower = aIsLower ? i : j, upper = aIsLower ? j : i;
+  ContactEvent event;
+  event.time = c.time;
+  event.point = c.point;
+  event.impulse = out.impulse;
+  event.fixtureA = {s_.cold[lower].fixture, s_.plain[lower].fixtureGeneration};
+  event.fixtureB = {s_.cold[upper].fixture, s_.plain[upper].fixtureGeneration};
+  event.bodyA = {s_.bodyOfSlot[lower], s_.plain[lower].bodyGeneration};
+  event.bodyB = {s_.bodyOfSlot[upper], s_.plain[upper].bodyGeneration};
+  event.normal = aIsLower ? -c.normal : c.normal;  // c.normal points from c.b toward c.a
+  w_.contactEvents.push_back(event);
+}
+
+template <class W>
 void Engine<W>::step(double dt) {
   w_.contactEvents.clear();
   w_.sensorEvents.clear();
@@ -1281,6 +1369,12 @@ void Engine<W>::step(double dt) {
   }
   if (rebuild) buildGrid();
   computeConstants(dt);
+  if (!rebuild && w_.restitutionChanged) {
+    for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) {
+      s_.plain[slot].restitution = w_.fixtures[s_.cold[slot].fixture].restitution;
+    }
+  }
+  plainWorld_ = s_.plainShapes && w_.def.gravity == Vec2{} && w_.liveSensors == 0 && !anyAsleep_ && !anySliding_;
   if (rebuild) {
     for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) predictBody(slot, 0);
   } else {
@@ -1349,6 +1443,7 @@ void Engine<W>::step(double dt) {
     }
     const uint32_t ia = s_.bodyOfSlot[i];
     if (c.kind == PredictiveKind::SlideEnd) {
+      attach(i);
       BodySlot& a = w_.bodies[ia];
       if (a.collisionCount != c.countA || a.support.generation == 0) {
         ++w_.stats.staleEvents;
@@ -1396,6 +1491,8 @@ void Engine<W>::step(double dt) {
       ++w_.stats.staleEvents;
       const double speed = length(relativeVelocity);
       if (vn < -16 * kEps * speed && speed > restTol && w_.stats.eventsProcessed < w_.def.maxEventsPerStep) {
+        attach(i);
+        if (j != PredictiveState::kNone) attach(j);
         w_.absorb(contact, vn);
         ++w_.stats.eventsProcessed;
         sync(i);
@@ -1409,7 +1506,7 @@ void Engine<W>::step(double dt) {
         auto& list = s_.dismissed[i];
         list.erase(std::remove_if(list.begin(), list.end(),
                                   [&](const detail::Dismissal& d) {
-                                    return d.countOwn != c.countA || d.countOther != w_.bodyOf(d.other).collisionCount;
+                                    return d.countOwn != c.countA || d.countOther != countOf(d.other);
                                   }),
                    list.end());
         list.push_back({c.a, c.b, c.countA, c.countB});
@@ -1422,6 +1519,15 @@ void Engine<W>::step(double dt) {
       budgetTime = c.time;
       break;
     }
+    if (plainWorld_ && j != PredictiveState::kNone) {
+      collidePlain(i, j, c, tolerance);
+      ++w_.stats.eventsProcessed;
+      predictBody(i, c.time);
+      predictBody(j, c.time);
+      continue;
+    }
+    attach(i);
+    if (j != PredictiveState::kNone) attach(j);
     // The resting rules look at the bodies' candidate pairs.
     if (w_.def.restingSpeed > 0 && !(w_.def.gravity == Vec2{})) {
       fillPairs(i);
@@ -1470,6 +1576,7 @@ void Engine<W>::step(double dt) {
     w_.sensePaths(w_.pathLog, end);
     w_.pathLog.active = false;
   }
+  for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) attach(slot);
   double extent = 0;
   for (BodySlot& b : w_.bodies) {
     if (!b.alive || b.type == BodyType::Static) continue;

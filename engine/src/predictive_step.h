@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "path_log.h"
@@ -53,6 +54,7 @@ struct alignas(64) HotBody {
     kCustomFilter = 8,  // the primary fixture's filter is not the default one (in ColdBody)
     kSliding = 16,      // BodySlot::support is set
     kDismissals = 32,   // PredictiveState::dismissed holds something for it
+    kDetached = 64,     // the BodySlot lags this copy (a plain collision, plain_collision.h); see attach()
   };
   Vec2 position;  // at localTime, as BodySlot
   Vec2 velocity;
@@ -84,6 +86,17 @@ struct RareBody {
 };
 
 static_assert(sizeof(HotBody) == 64 && sizeof(ColdBody) == 64);
+
+// What a collision of two plain disks reads besides their HotBody and ColdBody (plain_collision.h):
+// the rest of what World::Impl::resolve() would read from two BodySlots and two FixtureSlots. Half a
+// cache line, by slot.
+struct PlainBody {
+  double inverseMass = 0;
+  double restitution = 0;  // of the body's one fixture
+  double lastContactTime = -std::numeric_limits<double>::infinity();  // BodySlot::lastContactTime
+  uint32_t bodyGeneration = 0, fixtureGeneration = 0;
+};
+static_assert(sizeof(PlainBody) == 32);
 
 struct HeapNode {
   double time;
@@ -125,6 +138,11 @@ struct PredictiveState {
   std::vector<HotBody> hot;
   std::vector<ColdBody> cold;
   std::vector<RareBody> rare;
+  std::vector<PlainBody> plain;
+  // Every tracked body is plain (one circle on its centre, the default filter) and no kinematic body has
+  // a physical fixture: set by buildGrid. With no gravity, no sensors and nobody asleep, such a world's
+  // disk-disk collisions are resolved on the copies (plain_collision.h).
+  bool plainShapes = false;
   std::vector<PredictiveEvent> event;
   std::vector<std::vector<Dismissal>> dismissed;
   std::vector<uint32_t> dismissedSlots;  // slots whose `dismissed` is not empty
@@ -166,6 +184,7 @@ struct PredictiveState {
   std::vector<HotBody> spareHot;  // reorder() permutes into these
   std::vector<ColdBody> spareCold;
   std::vector<RareBody> spareRare;
+  std::vector<PlainBody> sparePlain;
   std::vector<uint32_t> spareBodies;
   std::vector<PredictiveEvent> spareEvents;
   std::vector<std::vector<Dismissal>> spareDismissed;
