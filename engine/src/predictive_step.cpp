@@ -715,18 +715,31 @@ void Engine<W>::unlink(uint32_t slot) {
 template <class W>
 template <class Visit>
 void Engine<W>::forEachNeighbour(uint32_t slot, Visit&& visit) const {
-  // The 3 x 3 cells around it (distinct table entries, since the table is at least 4 x 4).
+  // The 3 x 3 cells around it (distinct table entries, since the table is at least 4 x 4). The slots are
+  // gathered first and visited after: walking the lists is then a short loop of independent loads (a
+  // neighbour's record is most often a cache miss), which the processor overlaps, instead of one miss
+  // after each pair test. The order of visits is the lists' order either way.
+  constexpr size_t kBatch = 64;
+  uint32_t found[kBatch];
+  size_t count = 0;
   const uint32_t x = static_cast<uint32_t>(s_.cold[slot].cx), y = static_cast<uint32_t>(s_.cold[slot].cy);
   const uint32_t maskX = s_.foldX - 1, maskY = s_.foldY - 1;
   const uint32_t columns[3] = {(x - 1) & maskX, x & maskX, (x + 1) & maskX};
+  const HotBody* hot = s_.hot.data();
   for (uint32_t dy = 0; dy < 3; ++dy) {
     const PredictiveState::Cell* row = s_.cells.data() + static_cast<size_t>((y + dy - 1) & maskY) * s_.foldX;
     for (uint32_t column : columns) {
-      for (int32_t j = row[column].head; j >= 0; j = s_.hot[j].next) {
-        if (static_cast<uint32_t>(j) != slot) visit(static_cast<uint32_t>(j));
+      for (int32_t j = row[column].head; j >= 0; j = hot[j].next) {
+        if (count == kBatch) {
+          for (size_t k = 0; k < count; ++k) visit(found[k]);
+          count = 0;
+        }
+        found[count] = static_cast<uint32_t>(j);
+        count += static_cast<uint32_t>(j) != slot;
       }
     }
   }
+  for (size_t k = 0; k < count; ++k) visit(found[k]);
 }
 
 template <class W>
