@@ -485,7 +485,9 @@ void Engine<W>::buildGrid() {
   s_.foldX = foldX;
   s_.foldY = foldY;
   const size_t cells = static_cast<size_t>(foldX) * foldY;
-  s_.cells.assign(cells + 1, PredictiveState::Cell{});
+  s_.heads.assign(cells, -1);
+  s_.staticBegin.assign(cells + 1, 0);
+  s_.links.assign(n, PredictiveState::CellLink{});
   s_.event.assign(n, PredictiveEvent{});
   resetQueue();
   s_.dismissed.resize(n);
@@ -542,13 +544,12 @@ void Engine<W>::buildGrid() {
   }
   std::sort(entries.begin(), entries.end());
   entries.erase(std::unique(entries.begin(), entries.end()), entries.end());
-  for (auto& c : s_.cells) c.staticBegin = 0;
-  for (const auto& e : entries) ++s_.cells[e.first + 1].staticBegin;
-  for (size_t c = 0; c < cells; ++c) s_.cells[c + 1].staticBegin += s_.cells[c].staticBegin;
+  for (const auto& e : entries) ++s_.staticBegin[e.first + 1];
+  for (size_t c = 0; c < cells; ++c) s_.staticBegin[c + 1] += s_.staticBegin[c];
   s_.staticList.assign(entries.size(), 0);
   {
     std::vector<uint32_t> fill(cells);
-    for (size_t c = 0; c < cells; ++c) fill[c] = s_.cells[c].staticBegin;
+    for (size_t c = 0; c < cells; ++c) fill[c] = s_.staticBegin[c];
     for (const auto& e : entries) s_.staticList[fill[e.first]++] = e.second;
   }
   s_.valid = true;
@@ -649,7 +650,7 @@ void Engine<W>::reorder(bool fresh) {
     for (uint64_t tx = 0; tx < s_.foldX; tx += side) {
       for (uint64_t z = 0; z < side * side; ++z) {
         const uint64_t x = tx + gather(z), y = ty + gather(z >> 1);
-        for (int32_t k = s_.cells[y * s_.foldX + x].head; k >= 0; k = s_.hot[k].next) {
+        for (int32_t k = s_.heads[y * s_.foldX + x]; k >= 0; k = s_.links[k].next) {
           order.push_back(static_cast<uint32_t>(k));
         }
       }
@@ -684,7 +685,8 @@ void Engine<W>::reorder(bool fresh) {
       if (s_.event[k].kind != PredictiveKind::None) enqueue(k);
     }
   }
-  for (auto& c : s_.cells) c.head = -1;
+  std::fill(s_.heads.begin(), s_.heads.end(), -1);
+  s_.links.resize(n);
   for (uint32_t k = static_cast<uint32_t>(n); k-- > 0;) link(k);
   s_.popsSinceReorder = 0;
 }
@@ -692,33 +694,32 @@ void Engine<W>::reorder(bool fresh) {
 template <class W>
 void Engine<W>::link(uint32_t slot) {
   const size_t cell = cellOf(slot);
-  const int32_t head = s_.cells[cell].head;
-  s_.cold[slot].prev = -1;
-  s_.hot[slot].next = head;
-  if (head >= 0) s_.cold[head].prev = static_cast<int32_t>(slot);
-  s_.cells[cell].head = static_cast<int32_t>(slot);
+  const int32_t head = s_.heads[cell];
+  s_.links[slot] = {head, -1};
+  if (head >= 0) s_.links[head].prev = static_cast<int32_t>(slot);
+  s_.heads[cell] = static_cast<int32_t>(slot);
 }
 
 template <class W>
 void Engine<W>::unlink(uint32_t slot) {
-  const int32_t p = s_.cold[slot].prev, n = s_.hot[slot].next;
+  const auto [n, p] = s_.links[slot];
   if (p >= 0) {
-    s_.hot[p].next = n;
+    s_.links[p].next = n;
   } else {
-    s_.cells[cellOf(slot)].head = n;
+    s_.heads[cellOf(slot)] = n;
   }
-  if (n >= 0) s_.cold[n].prev = p;
-  s_.cold[slot].prev = -1;
-  s_.hot[slot].next = -1;
+  if (n >= 0) s_.links[n].prev = p;
+  s_.links[slot] = {};
 }
 
 template <class W>
 template <class Visit>
 void Engine<W>::forEachNeighbour(uint32_t slot, Visit&& visit) const {
   // The 3 x 3 cells around it (distinct table entries, since the table is at least 4 x 4). The slots are
-  // gathered first and visited after: walking the lists is then a short loop of independent loads (a
-  // neighbour's record is most often a cache miss), which the processor overlaps, instead of one miss
-  // after each pair test. The order of visits is the lists' order either way.
+  // gathered first and visited after: walking the lists (PredictiveState::links, mostly in cache) is a
+  // short loop that asks for every neighbour's record at once (a prefetch: the records are most often
+  // cache misses, and they are then fetched side by side instead of one after each pair test). The order
+  // of visits is the lists' order either way.
   constexpr size_t kBatch = 64;
   uint32_t found[kBatch];
   size_t count = 0;
@@ -726,10 +727,12 @@ void Engine<W>::forEachNeighbour(uint32_t slot, Visit&& visit) const {
   const uint32_t maskX = s_.foldX - 1, maskY = s_.foldY - 1;
   const uint32_t columns[3] = {(x - 1) & maskX, x & maskX, (x + 1) & maskX};
   const HotBody* hot = s_.hot.data();
+  const PredictiveState::CellLink* links = s_.links.data();
   for (uint32_t dy = 0; dy < 3; ++dy) {
-    const PredictiveState::Cell* row = s_.cells.data() + static_cast<size_t>((y + dy - 1) & maskY) * s_.foldX;
+    const int32_t* row = s_.heads.data() + static_cast<size_t>((y + dy - 1) & maskY) * s_.foldX;
     for (uint32_t column : columns) {
-      for (int32_t j = row[column].head; j >= 0; j = hot[j].next) {
+      for (int32_t j = row[column]; j >= 0; j = links[j].next) {
+        __builtin_prefetch(hot + j);
         if (count == kBatch) {
           for (size_t k = 0; k < count; ++k) visit(found[k]);
           count = 0;
@@ -1032,7 +1035,7 @@ void Engine<W>::finishPrediction(Prediction& q) {
   const double now = q.p.now, horizon = q.horizon;
   if (q.moving) {
     const size_t cell = cellOf(i);
-    for (uint32_t k = s_.cells[cell].staticBegin; k < s_.cells[cell + 1].staticBegin; ++k) {
+    for (uint32_t k = s_.staticBegin[cell]; k < s_.staticBegin[cell + 1]; ++k) {
       const uint32_t g = s_.staticList[k];
       forEachPhysical(i, [&](uint32_t f) {
         if (!w_.canCollide(f, g) || (q.hasDismissals && isDismissed(i, f, g))) return;
@@ -1102,7 +1105,7 @@ void Engine<W>::fillPairs(uint32_t i) {
     forEachPhysical(i, [&](uint32_t f) { forEachPhysical(j, [&](uint32_t g) { add(f, g); }); });
   });
   const size_t cell = cellOf(i);
-  for (uint32_t k = s_.cells[cell].staticBegin; k < s_.cells[cell + 1].staticBegin; ++k) {
+  for (uint32_t k = s_.staticBegin[cell]; k < s_.staticBegin[cell + 1]; ++k) {
     forEachPhysical(i, [&](uint32_t f) { add(f, s_.staticList[k]); });
   }
   for (uint32_t g : s_.kinematicFixtures) {

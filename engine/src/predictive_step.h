@@ -62,7 +62,6 @@ struct alignas(64) HotBody {
   double radius = 0;  // of the primary fixture, when kSingle
   uint32_t collisionCount = 0;
   uint32_t fixture = 0;  // the primary (first physical) fixture, as ColdBody::fixture
-  int32_t next = -1;     // the next slot in the cell's list, or -1
   uint8_t flags = 0;
 };
 
@@ -74,7 +73,6 @@ struct alignas(64) ColdBody {
   uint32_t fixture = 0;    // the primary (first physical) fixture
   int32_t cx = 0, cy = 0;  // its cell
   uint32_t cell = 0;       // where the cell is folded to: its table entry (PredictiveState::cells)
-  int32_t prev = -1;       // the previous slot in the cell's list (HotBody::next the other way), or -1
 };
 
 // What is read only when a flag of the HotBody says so, kept out of ColdBody so that it fits one cache
@@ -123,11 +121,14 @@ struct PredictiveState {
   double hysteresis = 0;          // how far past its cell's side a body goes before it crosses (see buildGrid)
   double extent = 0;              // the largest coordinate of a body when the grid was made
   uint32_t foldX = 4, foldY = 4;  // powers of two, >= 4
-  struct Cell {
-    int32_t head = -1;         // the first slot in the cell, or -1
-    uint32_t staticBegin = 0;  // static fixtures near the cell: staticList[staticBegin, next cell's)
+  // By table entry. The cells' lists of slots are linked through `links`, a small array of its own (not
+  // a field of the bodies' records): walking a neighbourhood's lists then touches a few lines that mostly
+  // stay in cache, and the neighbours' records can all be fetched at once (Engine::forEachNeighbour).
+  std::vector<int32_t> heads;         // the first slot in the cell, or -1
+  std::vector<uint32_t> staticBegin;  // static fixtures near the cell: staticList[staticBegin[c], staticBegin[c + 1])
+  struct CellLink {
+    int32_t next = -1, prev = -1;  // the next and previous slots in the cell's list, or -1
   };
-  std::vector<Cell> cells;  // one more than the grid has, for the last cell's end
   std::vector<uint32_t> staticList;
   std::vector<uint32_t> kinematicFixtures;  // physical fixtures of kinematic bodies
 
@@ -139,6 +140,7 @@ struct PredictiveState {
   std::vector<ColdBody> cold;
   std::vector<RareBody> rare;
   std::vector<PlainBody> plain;
+  std::vector<CellLink> links;
   // Every tracked body is plain (one circle on its centre, the default filter) and no kinematic body has
   // a physical fixture: set by buildGrid. With no gravity, no sensors and nobody asleep, such a world's
   // disk-disk collisions are resolved on the copies (plain_collision.h).
