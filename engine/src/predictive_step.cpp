@@ -68,7 +68,6 @@ bool earlier(const PredictiveEvent& x, const PredictiveEvent& y) {
   if (xh != yh) return xh < yh;
   if (x.feature != y.feature) return x.feature < y.feature;
   if (x.a != y.a) return x.a < y.a;
-  if (x.countA != y.countA) return x.countA < y.countA;
   return x.countB < y.countB;
 }
 
@@ -830,7 +829,6 @@ void Engine<W>::predictPair(uint32_t own, uint32_t other, double now, double hor
                           own,
                           other,
                           impact->feature,
-                          a.collisionCount,
                           b.collisionCount,
                           PredictiveKind::Contact,
                           s_.slotOfBody[w_.fixtures[other].body],
@@ -895,7 +893,6 @@ void Engine<W>::predictCircles(const Predicting& p, uint32_t j, double horizon, 
                           ca.fixture,
                           cb.fixture,
                           impact->feature,
-                          a.collisionCount,
                           b.collisionCount,
                           PredictiveKind::Contact,
                           j,
@@ -929,7 +926,6 @@ void Engine<W>::startPrediction(uint32_t i, double now, Prediction& q) const {
   best = PredictiveEvent{};
   best.time = kInf;
   best.a = best.b = cb.fixture;
-  best.countA = hb.collisionCount;
   best.feature = -1;
   if (q.moving || s_.movingKinematic) {
     double h = kInf;
@@ -1019,7 +1015,6 @@ inline void Engine<W>::pairPlain(Prediction& q, uint32_t j) {
                           ca.fixture,
                           b.fixture,
                           impact->feature,
-                          p.hot->collisionCount,
                           b.collisionCount,
                           PredictiveKind::Contact,
                           j,
@@ -1055,8 +1050,7 @@ void Engine<W>::finishPrediction(Prediction& q) {
     const BodySlot& b = w_.bodies[s_.bodyOfSlot[i]];
     const double until = q.moving ? horizon : now + s_.capTime;
     if (const auto t = w_.slideEndTime(b, now, until)) {
-      const PredictiveEvent e{std::min(*t, until),     b.fixtures.front(), b.support.fixture,
-                              b.support.feature,       b.collisionCount,   0,
+      const PredictiveEvent e{std::min(*t, until), b.fixtures.front(), b.support.fixture, b.support.feature, 0,
                               PredictiveKind::SlideEnd};
       if (earlier(e, q.best)) q.best = e;
     }
@@ -1461,7 +1455,7 @@ void Engine<W>::step(double dt) {
     if (c.kind == PredictiveKind::SlideEnd) {
       attach(i);
       BodySlot& a = w_.bodies[ia];
-      if (a.collisionCount != c.countA || a.support.generation == 0) {
+      if (a.support.generation == 0) {
         ++w_.stats.staleEvents;
         predictBody(i, c.time);
         continue;
@@ -1474,8 +1468,10 @@ void Engine<W>::step(double dt) {
       continue;
     }
 
-    // A contact. Static and kinematic bodies never change their counters.
-    if (s_.hot[i].collisionCount != c.countA || (j != PredictiveState::kNone && s_.hot[j].collisionCount != c.countB)) {
+    // A contact. Static and kinematic bodies never change their counters; the body's own event is never
+    // stale (PredictiveEvent).
+    const uint32_t countA = s_.hot[i].collisionCount;
+    if (j != PredictiveState::kNone && s_.hot[j].collisionCount != c.countB) {
       ++w_.stats.staleEvents;
       predictBody(i, c.time);
       continue;
@@ -1498,7 +1494,7 @@ void Engine<W>::step(double dt) {
       }
     }
     const detail::PredictedContact contact{
-        c.time, detail::EventKind::Contact, c.a, c.b, c.feature, c.countA, c.countB, c.point, c.normal};
+        c.time, detail::EventKind::Contact, c.a, c.b, c.feature, countA, c.countB, c.point, c.normal};
     const double vn = dot(relativeVelocity, c.normal);
     const bool pressing = dot(relativeAcceleration, c.normal) < 0;
     const double restTol = restTolerance * (std::fabs(c.point.x) + std::fabs(c.point.y));
@@ -1522,10 +1518,10 @@ void Engine<W>::step(double dt) {
         auto& list = s_.dismissed[i];
         list.erase(std::remove_if(list.begin(), list.end(),
                                   [&](const detail::Dismissal& d) {
-                                    return d.countOwn != c.countA || d.countOther != countOf(d.other);
+                                    return d.countOwn != countA || d.countOther != countOf(d.other);
                                   }),
                    list.end());
-        list.push_back({c.a, c.b, c.countA, c.countB});
+        list.push_back({c.a, c.b, countA, c.countB});
         predictBody(i, c.time);
       }
       continue;

@@ -21,11 +21,15 @@ enum class PredictiveKind : uint8_t { Contact = 0, SlideEnd = 1, Cross = 2, None
 // from b toward a (as detail::PredictedContact). SlideEnd: `a` the body's first fixture, `b` its support.
 // Cross: `a` = `b` = the body's primary fixture; `feature` the cell side it leaves (0: -x, 1: +x, 2: -y,
 // 3: +y), or -1 for a mere horizon (the body is predicted again, its cell unchanged).
-struct PredictiveEvent {
+//
+// No counter of the body's own: whatever moves it on (a collision, a slide's end, a change from outside,
+// a wake-up) predicts the body again before the next event is taken, which replaces its event. Only the
+// partner's counter (`countB`) can go stale. One cache line.
+struct alignas(64) PredictiveEvent {
   double time = 0;  // from the start of the current step
   uint32_t a = 0, b = 0;
   int32_t feature = 0;
-  uint32_t countA = 0, countB = 0;
+  uint32_t countB = 0;
   PredictiveKind kind = PredictiveKind::None;
   uint32_t partner = 0xFFFFFFFFu;  // Contact: the slot of b's body, or PredictiveState::kNone
   Vec2 point;
@@ -83,7 +87,7 @@ struct RareBody {
   int32_t group = 0;
 };
 
-static_assert(sizeof(HotBody) == 64 && sizeof(ColdBody) == 64);
+static_assert(sizeof(HotBody) == 64 && sizeof(ColdBody) == 64 && sizeof(PredictiveEvent) == 64);
 
 // What a collision of two plain disks reads besides their HotBody and ColdBody (plain_collision.h):
 // the rest of what World::Impl::resolve() would read from two BodySlots and two FixtureSlots. Half a
