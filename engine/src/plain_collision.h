@@ -1,5 +1,5 @@
 // Private: the predictive mode's collision of two plain disks (one circle on the body's centre, the
-// default filter), resolved on the compact copies (HotBody, ColdBody, PlainBody) instead of the two
+// default filter), resolved on the compact copies (HotBody, ColdBody) instead of the two
 // BodySlots and FixtureSlots, which are written back later (the engine's attach()).
 //
 // It is World::Impl::resolve() (hybrid_step.cpp) for the case the predictive mode takes it in when the
@@ -31,7 +31,6 @@ inline Vec2 velocityAt(const HotBody& b, Vec2 acceleration, double t) {
 struct PlainDisk {
   HotBody& hot;
   ColdBody& cold;
-  PlainBody& plain;
 };
 
 struct PlainOutcome {
@@ -55,7 +54,7 @@ inline PlainOutcome resolvePlainDisks(PlainDisk a, PlainDisk b, const Predictive
   Vec2& vb = b.hot.velocity;
   const Vec2 n = c.normal;
   const double vn = std::min(dot(va - vb, n), 0.0);
-  const double inverseA = a.plain.inverseMass, inverseB = b.plain.inverseMass;
+  const double inverseA = a.cold.inverseMass, inverseB = b.cold.inverseMass;
   const double inverseSum = inverseA + inverseB;
   PlainOutcome out;
   // The predictive step's check after resolve(): velocityAt at the bodies' own (new) local time.
@@ -66,8 +65,8 @@ inline PlainOutcome resolvePlainDisks(PlainDisk a, PlainDisk b, const Predictive
   }
 
   const double now = worldTime + t;
-  const bool rapid = now - a.plain.lastContactTime < collapseTime || now - b.plain.lastContactTime < collapseTime;
-  const double e = rapid ? 1.0 : std::max(a.plain.restitution, b.plain.restitution);
+  const bool rapid = now - a.cold.lastContactTime < collapseTime || now - b.cold.lastContactTime < collapseTime;
+  const double e = rapid ? 1.0 : std::max(a.cold.restitution, b.cold.restitution);
   const double separation = -e * vn;
   double j = (separation - vn) / inverseSum;
   va += n * (j * inverseA);
@@ -88,7 +87,7 @@ inline PlainOutcome resolvePlainDisks(PlainDisk a, PlainDisk b, const Predictive
     d->cold.lastLow = low;
     d->cold.lastHigh = high;
     d->cold.lastFeature = c.feature;
-    d->plain.lastContactTime = now;
+    d->cold.lastContactTime = now;
   }
   out.impulse = j;
   out.resolved = true;

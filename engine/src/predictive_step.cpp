@@ -116,8 +116,8 @@ using detail::HotBody;
 
 // Motion of a hot copy: the same expressions as World::Impl::positionAt and velocityAt, so the same
 // values (the acceleration is read only when it is not zero).
-Vec2 accelerationOf(const HotBody& h, const ColdBody& c) {
-  return (h.flags & HotBody::kAccelerating) ? c.acceleration : Vec2{};
+Vec2 accelerationOf(const HotBody& h, const detail::RareBody& r) {
+  return (h.flags & HotBody::kAccelerating) ? r.acceleration : Vec2{};
 }
 using detail::positionAt;
 using detail::velocityAt;
@@ -194,7 +194,7 @@ class Engine {
   Vec2 centreOf(uint32_t slot, double now) const {
     const HotBody& h = s_.hot[slot];
     const ColdBody& c = s_.cold[slot];
-    return positionAt(h, accelerationOf(h, c), now) + s_.rare[slot].centre;
+    return positionAt(h, accelerationOf(h, s_.rare[slot]), now) + s_.rare[slot].centre;
   }
   uint32_t folded(int32_t x, int32_t y) const {
     return (static_cast<uint32_t>(y) & (s_.foldY - 1)) * s_.foldX + (static_cast<uint32_t>(x) & (s_.foldX - 1));
@@ -343,14 +343,13 @@ void Engine<W>::sync(uint32_t slot) {
   constexpr uint8_t keep = HotBody::kSingle | HotBody::kOffCentre | HotBody::kCustomFilter | HotBody::kDismissals;
   h.flags = static_cast<uint8_t>((h.flags & keep) | (b.acceleration == Vec2{} ? 0 : HotBody::kAccelerating) |
                                  (b.support.generation != 0 ? HotBody::kSliding : 0));
-  c.acceleration = b.acceleration;
+  s_.rare[slot].acceleration = b.acceleration;
   c.lastTime = b.last.time;
   c.lastLow = b.last.fixtureLow;
   c.lastHigh = b.last.fixtureHigh;
   c.lastFeature = b.last.feature;
-  detail::PlainBody& p = s_.plain[slot];
-  p.inverseMass = b.inverseMass;
-  p.lastContactTime = b.lastContactTime;
+  c.inverseMass = b.inverseMass;
+  c.lastContactTime = b.lastContactTime;
   if (w_.pathLog.active) w_.pathLog.record(s_.bodyOfSlot[slot], {b.localTime, b.position, b.velocity, b.acceleration});
 }
 
@@ -367,7 +366,7 @@ void Engine<W>::attach(uint32_t slot) {
   b.localTime = h.localTime;
   b.collisionCount = h.collisionCount;
   b.last = detail::LastContact{c.lastLow, c.lastHigh, c.lastFeature, c.lastTime};
-  b.lastContactTime = s_.plain[slot].lastContactTime;
+  b.lastContactTime = c.lastContactTime;
   h.flags = static_cast<uint8_t>(h.flags & ~HotBody::kDetached);
 }
 
@@ -379,13 +378,11 @@ void Engine<W>::buildGrid() {
   s_.hot.clear();
   s_.cold.clear();
   s_.rare.clear();
-  s_.plain.clear();
   s_.plainShapes = true;
   s_.bodyOfSlot.reserve(nb);
   s_.hot.reserve(nb);
   s_.cold.reserve(nb);
   s_.rare.reserve(nb);
-  s_.plain.reserve(nb);
 
   // Tracked bodies: dynamic ones with a physical fixture.
   double diameter = 0;
@@ -399,21 +396,19 @@ void Engine<W>::buildGrid() {
     HotBody h;
     ColdBody c;
     detail::RareBody r;
-    detail::PlainBody plain;
     for (uint32_t f : b.fixtures) {
       const detail::FixtureSlot& fs = w_.fixtures[f];
       if (fs.sensor) continue;
       if (physical == 0) {
-        c.fixture = f;
         h.fixture = f;
         r.centre = detail::circleCentre(fs.geometry);
         r.categoryBits = fs.filter.categoryBits;
         r.maskBits = fs.filter.maskBits;
         r.group = fs.filter.group;
         h.radius = detail::circleRadius(fs.geometry);
-        plain.restitution = fs.restitution;
-        plain.bodyGeneration = b.generation;
-        plain.fixtureGeneration = fs.generation;
+        c.restitution = fs.restitution;
+        c.bodyGeneration = b.generation;
+        c.fixtureGeneration = fs.generation;
         if (std::holds_alternative<Circle>(fs.geometry)) h.flags |= HotBody::kSingle;
         if (!(r.centre == Vec2{})) h.flags |= HotBody::kOffCentre;
         if (r.categoryBits != Filter{}.categoryBits || r.maskBits != Filter{}.maskBits || r.group != 0) {
@@ -430,7 +425,6 @@ void Engine<W>::buildGrid() {
     s_.hot.push_back(h);
     s_.cold.push_back(c);
     s_.rare.push_back(r);
-    s_.plain.push_back(plain);
     constexpr uint8_t shape = HotBody::kSingle | HotBody::kOffCentre | HotBody::kCustomFilter;
     if ((h.flags & shape) != HotBody::kSingle) s_.plainShapes = false;
     const Vec2 centre = b.position + r.centre;
@@ -667,7 +661,6 @@ void Engine<W>::reorder(bool fresh) {
   permute(s_.hot, s_.spareHot);
   permute(s_.cold, s_.spareCold);
   permute(s_.rare, s_.spareRare);
-  permute(s_.plain, s_.sparePlain);
   permute(s_.bodyOfSlot, s_.spareBodies);
   for (uint32_t k = 0; k < n; ++k) s_.slotOfBody[s_.bodyOfSlot[k]] = k;
   if (!fresh) {
@@ -748,7 +741,7 @@ template <class W>
 template <class Visit>
 void Engine<W>::forEachPhysical(uint32_t slot, Visit&& visit) const {
   if (s_.hot[slot].flags & HotBody::kSingle) {
-    visit(s_.cold[slot].fixture);
+    visit(s_.hot[slot].fixture);
     return;
   }
   for (uint32_t f : w_.bodies[s_.bodyOfSlot[slot]].fixtures) {
@@ -850,10 +843,10 @@ void Engine<W>::predictCircles(const Predicting& p, uint32_t j, double horizon, 
     if (ca.group != 0 && ca.group == cb.group) return;
     if ((ca.categoryBits & cb.maskBits) == 0 || (cb.categoryBits & ca.maskBits) == 0) return;
   }
-  if ((a.flags & HotBody::kDismissals) && isDismissed(p.slot, p.cold->fixture, s_.cold[j].fixture)) return;
+  if ((a.flags & HotBody::kDismissals) && isDismissed(p.slot, a.fixture, b.fixture)) return;
   const double now = p.now;
   ++w_.stats.timeOfImpactTests;
-  const Vec2 accB = (b.flags & HotBody::kAccelerating) ? s_.cold[j].acceleration : Vec2{};
+  const Vec2 accB = accelerationOf(b, s_.rare[j]);
   const Vec2 centreB = (b.flags & HotBody::kOffCentre) ? s_.rare[j].centre : Vec2{};
   const Vec2 pb = positionAt(b, accB, now);
   const Vec2 vb = velocityAt(b, accB, now);
@@ -877,7 +870,7 @@ void Engine<W>::predictCircles(const Predicting& p, uint32_t j, double horizon, 
   // resolvedFeature() from the copies: both bodies' last contact is this pair, at this instant.
   int resolved = kNoFeature;
   if (ca.lastTime == now) {
-    const uint32_t low = std::min(ca.fixture, cb.fixture), high = std::max(ca.fixture, cb.fixture);
+    const uint32_t low = std::min(a.fixture, b.fixture), high = std::max(a.fixture, b.fixture);
     if (ca.lastLow == low && ca.lastHigh == high && cb.lastTime == now && cb.lastLow == low && cb.lastHigh == high) {
       resolved = ca.lastFeature;
     }
@@ -890,8 +883,8 @@ void Engine<W>::predictCircles(const Predicting& p, uint32_t j, double horizon, 
   impact->point += pb;
   const Vec2 travelOfB = vb * h + accB * (0.5 * h * h);
   const PredictiveEvent e{time,
-                          ca.fixture,
-                          cb.fixture,
+                          a.fixture,
+                          b.fixture,
                           impact->feature,
                           b.collisionCount,
                           PredictiveKind::Contact,
@@ -914,7 +907,7 @@ void Engine<W>::startPrediction(uint32_t i, double now, Prediction& q) const {
   p.now = now;
   p.hot = &hb;
   p.cold = &cb;
-  p.acceleration = accelerationOf(hb, cb);
+  p.acceleration = accelerationOf(hb, s_.rare[i]);
   p.position = positionAt(hb, p.acceleration, now);
   p.velocity = velocityAt(hb, p.acceleration, now);
   p.centre = (hb.flags & HotBody::kOffCentre) ? s_.rare[i].centre : Vec2{};
@@ -925,7 +918,7 @@ void Engine<W>::startPrediction(uint32_t i, double now, Prediction& q) const {
   PredictiveEvent& best = q.best;
   best = PredictiveEvent{};
   best.time = kInf;
-  best.a = best.b = cb.fixture;
+  best.a = best.b = hb.fixture;
   best.feature = -1;
   if (q.moving || s_.movingKinematic) {
     double h = kInf;
@@ -997,7 +990,7 @@ inline void Engine<W>::pairPlain(Prediction& q, uint32_t j) {
   const ColdBody& ca = *p.cold;
   int resolved = kNoFeature;
   if (ca.lastTime == now) {
-    const uint32_t low = std::min(ca.fixture, b.fixture), high = std::max(ca.fixture, b.fixture);
+    const uint32_t low = std::min(p.hot->fixture, b.fixture), high = std::max(p.hot->fixture, b.fixture);
     if (ca.lastLow == low && ca.lastHigh == high) {
       const ColdBody& cb = s_.cold[j];
       if (cb.lastTime == now && cb.lastLow == low && cb.lastHigh == high) resolved = ca.lastFeature;
@@ -1012,7 +1005,7 @@ inline void Engine<W>::pairPlain(Prediction& q, uint32_t j) {
   impact->point += pb;
   const Vec2 travelOfB = vb * h + Vec2{} * (0.5 * h * h);
   const PredictiveEvent e{time,
-                          ca.fixture,
+                          p.hot->fixture,
                           b.fixture,
                           impact->feature,
                           b.collisionCount,
@@ -1319,7 +1312,7 @@ void Engine<W>::collidePlain(uint32_t i, uint32_t j, const PredictiveEvent& c, d
   // World::Impl::resolve() for two plain disks, on their copies (plain_collision.h); the BodySlots
   // catch up in attach(). The contact event as resolve() writes it.
   const detail::PlainOutcome out =
-      detail::resolvePlainDisks({s_.hot[i], s_.cold[i], s_.plain[i]}, {s_.hot[j], s_.cold[j], s_.plain[j]}, c, w_.time,
+      detail::resolvePlainDisks({s_.hot[i], s_.cold[i]}, {s_.hot[j], s_.cold[j]}, c, w_.time,
                                 w_.def.collapseTime, tolerance);
   if (out.approachingAfter) {
     // As after resolve(): the guard does not hold for a pair left approaching.
@@ -1339,10 +1332,10 @@ void Engine<W>::collidePlain(uint32_t i, uint32_t j, const PredictiveEvent& c, d
   event.time = c.time;
   event.point = c.point;
   event.impulse = out.impulse;
-  event.fixtureA = {s_.cold[lower].fixture, s_.plain[lower].fixtureGeneration};
-  event.fixtureB = {s_.cold[upper].fixture, s_.plain[upper].fixtureGeneration};
-  event.bodyA = {s_.bodyOfSlot[lower], s_.plain[lower].bodyGeneration};
-  event.bodyB = {s_.bodyOfSlot[upper], s_.plain[upper].bodyGeneration};
+  event.fixtureA = {s_.hot[lower].fixture, s_.cold[lower].fixtureGeneration};
+  event.fixtureB = {s_.hot[upper].fixture, s_.cold[upper].fixtureGeneration};
+  event.bodyA = {s_.bodyOfSlot[lower], s_.cold[lower].bodyGeneration};
+  event.bodyB = {s_.bodyOfSlot[upper], s_.cold[upper].bodyGeneration};
   event.normal = aIsLower ? -c.normal : c.normal;  // c.normal points from c.b toward c.a
   w_.contactEvents.push_back(event);
 }
@@ -1381,7 +1374,7 @@ void Engine<W>::step(double dt) {
   computeConstants(dt);
   if (!rebuild && w_.restitutionChanged) {
     for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) {
-      s_.plain[slot].restitution = w_.fixtures[s_.cold[slot].fixture].restitution;
+      s_.cold[slot].restitution = w_.fixtures[s_.hot[slot].fixture].restitution;
     }
   }
   plainWorld_ = s_.plainShapes && w_.def.gravity == Vec2{} && w_.liveSensors == 0 && !anyAsleep_ && !anySliding_;
@@ -1481,10 +1474,10 @@ void Engine<W>::step(double dt) {
     Vec2 relativeVelocity, relativeAcceleration;
     {
       const HotBody& ha = s_.hot[i];
-      const Vec2 accA = accelerationOf(ha, s_.cold[i]);
+      const Vec2 accA = accelerationOf(ha, s_.rare[i]);
       if (j != PredictiveState::kNone) {
         const HotBody& hb = s_.hot[j];
-        const Vec2 accB = accelerationOf(hb, s_.cold[j]);
+        const Vec2 accB = accelerationOf(hb, s_.rare[j]);
         relativeVelocity = velocityAt(ha, accA, c.time) - velocityAt(hb, accB, c.time);
         relativeAcceleration = accA - accB;
       } else {

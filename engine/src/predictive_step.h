@@ -47,15 +47,15 @@ struct Dismissal {
 // (bodies of one cell next to each other), so that scanning a neighbourhood touches a few cache lines
 // instead of scattered BodySlots. The BodySlot stays the truth; the copy is refreshed whenever the body
 // changes. `HotBody` is what every neighbour test reads; `ColdBody` what is read once per prediction of
-// the body itself or when a flag says so (acceleration); `RareBody` what only a flag calls for (a centre
-// off the body's position, a filter other than the default). HotBody and ColdBody are one cache line
-// each.
+// the body itself and by a collision of two plain disks; `RareBody` what only a flag calls for (an
+// acceleration, a centre off the body's position, a filter other than the default). HotBody and ColdBody
+// are one cache line each.
 struct alignas(64) HotBody {
   enum : uint8_t {
     kSingle = 1,        // the primary fixture is a Circle and the body's only physical fixture
-    kAccelerating = 2,  // acceleration != 0 (in ColdBody)
-    kOffCentre = 4,     // the circles' centre is not the body's position (in ColdBody)
-    kCustomFilter = 8,  // the primary fixture's filter is not the default one (in ColdBody)
+    kAccelerating = 2,  // acceleration != 0 (in RareBody)
+    kOffCentre = 4,     // the circles' centre is not the body's position (in RareBody)
+    kCustomFilter = 8,  // the primary fixture's filter is not the default one (in RareBody)
     kSliding = 16,      // BodySlot::support is set
     kDismissals = 32,   // PredictiveState::dismissed holds something for it
     kDetached = 64,     // the BodySlot lags this copy (a plain collision, plain_collision.h); see attach()
@@ -65,23 +65,28 @@ struct alignas(64) HotBody {
   double localTime = 0;
   double radius = 0;  // of the primary fixture, when kSingle
   uint32_t collisionCount = 0;
-  uint32_t fixture = 0;  // the primary (first physical) fixture, as ColdBody::fixture
+  uint32_t fixture = 0;  // the primary (first physical) fixture
   uint8_t flags = 0;
 };
 
 struct alignas(64) ColdBody {
-  Vec2 acceleration;
   double lastTime = -1;  // BodySlot::last
   uint32_t lastLow = 0, lastHigh = 0;
   int32_t lastFeature = -1;
-  uint32_t fixture = 0;    // the primary (first physical) fixture
   int32_t cx = 0, cy = 0;  // its cell
-  uint32_t cell = 0;       // where the cell is folded to: its table entry (PredictiveState::cells)
+  uint32_t cell = 0;       // where the cell is folded to: its table entry (PredictiveState::heads)
+  // The rest of what World::Impl::resolve() reads from two BodySlots and two FixtureSlots, for a
+  // collision of two plain disks resolved on the copies (plain_collision.h).
+  double inverseMass = 0;
+  double restitution = 0;  // of the primary fixture
+  double lastContactTime = -std::numeric_limits<double>::infinity();  // BodySlot::lastContactTime
+  uint32_t bodyGeneration = 0, fixtureGeneration = 0;
 };
 
 // What is read only when a flag of the HotBody says so, kept out of ColdBody so that it fits one cache
 // line.
 struct RareBody {
+  Vec2 acceleration;  // HotBody::kAccelerating
   Vec2 centre;  // the body's circles' common centre, relative to the body (HotBody::kOffCentre)
   uint32_t categoryBits = 0, maskBits = 0;  // the primary fixture's filter (HotBody::kCustomFilter)
   int32_t group = 0;
@@ -89,16 +94,6 @@ struct RareBody {
 
 static_assert(sizeof(HotBody) == 64 && sizeof(ColdBody) == 64 && sizeof(PredictiveEvent) == 64);
 
-// What a collision of two plain disks reads besides their HotBody and ColdBody (plain_collision.h):
-// the rest of what World::Impl::resolve() would read from two BodySlots and two FixtureSlots. Half a
-// cache line, by slot.
-struct PlainBody {
-  double inverseMass = 0;
-  double restitution = 0;  // of the body's one fixture
-  double lastContactTime = -std::numeric_limits<double>::infinity();  // BodySlot::lastContactTime
-  uint32_t bodyGeneration = 0, fixtureGeneration = 0;
-};
-static_assert(sizeof(PlainBody) == 32);
 
 struct HeapNode {
   double time;
@@ -143,7 +138,6 @@ struct PredictiveState {
   std::vector<HotBody> hot;
   std::vector<ColdBody> cold;
   std::vector<RareBody> rare;
-  std::vector<PlainBody> plain;
   std::vector<CellLink> links;
   // Every tracked body is plain (one circle on its centre, the default filter) and no kinematic body has
   // a physical fixture: set by buildGrid. With no gravity, no sensors and nobody asleep, such a world's
@@ -190,7 +184,6 @@ struct PredictiveState {
   std::vector<HotBody> spareHot;  // reorder() permutes into these
   std::vector<ColdBody> spareCold;
   std::vector<RareBody> spareRare;
-  std::vector<PlainBody> sparePlain;
   std::vector<uint32_t> spareBodies;
   std::vector<PredictiveEvent> spareEvents;
   std::vector<std::vector<Dismissal>> spareDismissed;
