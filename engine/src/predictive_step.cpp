@@ -203,13 +203,23 @@ class Engine {
     ColdBody& c = s_.cold[slot];
     c.cx = cellCoord(centre.x, s_.x0, s_.cellSize);
     c.cy = cellCoord(centre.y, s_.y0, s_.cellSize);
+    setCell(slot);
+  }
+  // After its cell coordinates changed: the table entry, and whether static fixtures are listed there
+  // (a flag in the HotBody, so that a prediction in open space does not look up the static list).
+  void setCell(uint32_t slot) {
+    ColdBody& c = s_.cold[slot];
     c.cell = folded(c.cx, c.cy);
+    HotBody& h = s_.hot[slot];
+    const bool near = s_.staticBegin[c.cell] != s_.staticBegin[c.cell + 1];
+    h.flags = static_cast<uint8_t>((h.flags & ~HotBody::kStaticNear) | (near ? HotBody::kStaticNear : 0));
   }
   size_t cellOf(uint32_t slot) const { return s_.cold[slot].cell; }
   void link(uint32_t slot);
   void unlink(uint32_t slot);
   template <class Visit>
   void forEachNeighbour(uint32_t slot, Visit&& visit) const;
+  void gatherNeighbours(uint32_t slot, std::vector<uint32_t>& out) const;
   template <class Visit>
   void forEachPhysical(uint32_t slot, Visit&& visit) const;
 
@@ -341,7 +351,8 @@ void Engine<W>::sync(uint32_t slot) {
   h.velocity = b.velocity;
   h.localTime = b.localTime;
   h.collisionCount = b.collisionCount;
-  constexpr uint8_t keep = HotBody::kSingle | HotBody::kOffCentre | HotBody::kCustomFilter | HotBody::kDismissals;
+  constexpr uint8_t keep =
+      HotBody::kSingle | HotBody::kOffCentre | HotBody::kCustomFilter | HotBody::kDismissals | HotBody::kStaticNear;
   h.flags = static_cast<uint8_t>((h.flags & keep) | (b.acceleration == Vec2{} ? 0 : HotBody::kAccelerating) |
                                  (b.support.generation != 0 ? HotBody::kSliding : 0));
   s_.rare[slot].acceleration = b.acceleration;
@@ -546,6 +557,7 @@ void Engine<W>::buildGrid() {
     for (size_t c = 0; c < cells; ++c) fill[c] = s_.staticBegin[c];
     for (const auto& e : entries) s_.staticList[fill[e.first]++] = e.second;
   }
+  for (uint32_t slot = 0; slot < n; ++slot) setCell(slot);
   s_.valid = true;
 }
 
@@ -747,6 +759,26 @@ void Engine<W>::forEachPhysical(uint32_t slot, Visit&& visit) const {
   }
   for (uint32_t f : w_.bodies[s_.bodyOfSlot[slot]].fixtures) {
     if (!w_.fixtures[f].sensor) visit(f);
+  }
+}
+
+template <class W>
+void Engine<W>::gatherNeighbours(uint32_t slot, std::vector<uint32_t>& out) const {
+  // forEachNeighbour's slots, in its order, into `out`.
+  out.clear();
+  const uint32_t x = static_cast<uint32_t>(s_.cold[slot].cx), y = static_cast<uint32_t>(s_.cold[slot].cy);
+  const uint32_t maskX = s_.foldX - 1, maskY = s_.foldY - 1;
+  const uint32_t columns[3] = {(x - 1) & maskX, x & maskX, (x + 1) & maskX};
+  const HotBody* hot = s_.hot.data();
+  const PredictiveState::CellLink* links = s_.links.data();
+  for (uint32_t dy = 0; dy < 3; ++dy) {
+    const int32_t* row = s_.heads.data() + static_cast<size_t>((y + dy - 1) & maskY) * s_.foldX;
+    for (uint32_t column : columns) {
+      for (int32_t j = row[column]; j >= 0; j = links[j].next) {
+        __builtin_prefetch(hot + j);
+        if (static_cast<uint32_t>(j) != slot) out.push_back(static_cast<uint32_t>(j));
+      }
+    }
   }
 }
 
@@ -1022,7 +1054,7 @@ void Engine<W>::finishPrediction(Prediction& q) {
   // Static fixtures, kinematic bodies and the slide's end; then the event goes into the queue.
   const uint32_t i = q.p.slot;
   const double now = q.p.now, horizon = q.horizon;
-  if (q.moving) {
+  if (q.moving && (q.p.hot->flags & HotBody::kStaticNear)) {
     const size_t cell = cellOf(i);
     for (uint32_t k = s_.staticBegin[cell]; k < s_.staticBegin[cell + 1]; ++k) {
       const uint32_t g = s_.staticList[k];
@@ -1059,24 +1091,28 @@ void Engine<W>::finishPrediction(Prediction& q) {
 
 template <class W>
 void Engine<W>::predictBody(uint32_t i, double now) {
+  // The neighbours are gathered first, which asks for their records (forEachNeighbour), so that they
+  // arrive while the body's own motion and cell crossing are worked out.
+  std::vector<uint32_t>& neighbours = s_.neighbours;
+  gatherNeighbours(i, neighbours);
   Prediction q;
   startPrediction(i, now, q);
   if (q.plain && q.moving) {
-    forEachNeighbour(i, [&](uint32_t j) {
+    for (uint32_t j : neighbours) {
       if (isPlain(s_.hot[j])) {
         pairPlain(q, j);
       } else {
         pairWith(q, j, q.horizon);
       }
-    });
+    }
   } else if (q.moving) {
-    forEachNeighbour(i, [&](uint32_t j) { pairWith(q, j, q.horizon); });
+    for (uint32_t j : neighbours) pairWith(q, j, q.horizon);
   } else {
-    forEachNeighbour(i, [&](uint32_t j) {
+    for (uint32_t j : neighbours) {
       // A neighbour without an event is at rest too, or is about to be predicted (and then sees this).
-      if (j == popped_ || s_.event[j].kind == PredictiveKind::None || !isMoving(s_.hot[j])) return;
+      if (j == popped_ || s_.event[j].kind == PredictiveKind::None || !isMoving(s_.hot[j])) continue;
       pairWith(q, j, std::max(s_.event[j].time, now));
-    });
+    }
   }
   finishPrediction(q);
 }
@@ -1443,7 +1479,7 @@ void Engine<W>::step(double dt) {
         } else {
           ++cell.cy;
         }
-        cell.cell = folded(cell.cx, cell.cy);
+        setCell(i);
         link(i);
       }
       predictBody(i, c.time);

@@ -59,6 +59,7 @@ struct alignas(64) HotBody {
     kSliding = 16,      // BodySlot::support is set
     kDismissals = 32,   // PredictiveState::dismissed holds something for it
     kDetached = 64,     // the BodySlot lags this copy (a plain collision, plain_collision.h); see attach()
+    kStaticNear = 128,  // its cell lists static fixtures (PredictiveState::staticBegin), kept with the cell
   };
   Vec2 position;  // at localTime, as BodySlot
   Vec2 velocity;
@@ -187,6 +188,7 @@ struct PredictiveState {
   std::vector<uint32_t> spareBodies;
   std::vector<PredictiveEvent> spareEvents;
   std::vector<std::vector<Dismissal>> spareDismissed;
+  std::vector<uint32_t> neighbours;  // of the body being predicted
   std::vector<uint32_t> dirty;
   std::vector<uint32_t> woken;
   std::vector<uint32_t> order;
