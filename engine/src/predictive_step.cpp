@@ -208,13 +208,24 @@ class Engine {
   // After its cell coordinates changed: the table entry, and whether static fixtures are listed there
   // (a flag in the HotBody, so that a prediction in open space does not look up the static list).
   void setCell(uint32_t slot) {
-    ColdBody& c = s_.cold[slot];
-    c.cell = folded(c.cx, c.cy);
+    const ColdBody& c = s_.cold[slot];
     HotBody& h = s_.hot[slot];
-    const bool near = s_.staticBegin[c.cell] != s_.staticBegin[c.cell + 1];
+    h.cell = folded(c.cx, c.cy);
+    const bool near = s_.staticBegin[h.cell] != s_.staticBegin[h.cell + 1];
     h.flags = static_cast<uint8_t>((h.flags & ~HotBody::kStaticNear) | (near ? HotBody::kStaticNear : 0));
   }
-  size_t cellOf(uint32_t slot) const { return s_.cold[slot].cell; }
+  size_t cellOf(uint32_t slot) const { return s_.hot[slot].cell; }
+  // Asks for the lines of the table that gatherNeighbours() will read for the body (its record is in
+  // cache): the three rows of three entries around its cell.
+  void prefetchNeighbourhood(uint32_t slot) const {
+    const uint32_t cell = s_.hot[slot].cell;
+    const uint32_t x = cell & (s_.foldX - 1), y = cell / s_.foldX;
+    for (uint32_t dy = 0; dy < 3; ++dy) {
+      const int32_t* row = s_.heads.data() + static_cast<size_t>((y + dy - 1) & (s_.foldY - 1)) * s_.foldX;
+      __builtin_prefetch(row + ((x - 1) & (s_.foldX - 1)));
+      __builtin_prefetch(row + ((x + 1) & (s_.foldX - 1)));
+    }
+  }
   void link(uint32_t slot);
   void unlink(uint32_t slot);
   template <class Visit>
@@ -764,9 +775,11 @@ void Engine<W>::forEachPhysical(uint32_t slot, Visit&& visit) const {
 
 template <class W>
 void Engine<W>::gatherNeighbours(uint32_t slot, std::vector<uint32_t>& out) const {
-  // forEachNeighbour's slots, in its order, into `out`.
+  // forEachNeighbour's slots, in its order, into `out`. The cell's coordinates, folded (the same entries:
+  // the fold is a remainder by a power of two), from the HotBody.
   out.clear();
-  const uint32_t x = static_cast<uint32_t>(s_.cold[slot].cx), y = static_cast<uint32_t>(s_.cold[slot].cy);
+  const uint32_t cell = s_.hot[slot].cell;
+  const uint32_t x = cell & (s_.foldX - 1), y = cell / s_.foldX;
   const uint32_t maskX = s_.foldX - 1, maskY = s_.foldY - 1;
   const uint32_t columns[3] = {(x - 1) & maskX, x & maskX, (x + 1) & maskX};
   const HotBody* hot = s_.hot.data();
@@ -1465,6 +1478,10 @@ void Engine<W>::step(double dt) {
     const uint32_t j = c.kind == PredictiveKind::Contact ? c.partner : PredictiveState::kNone;
     // Every way on from here predicts `i` again (or ends the step, which then starts afresh).
     popped_ = i;
+    // What comes next reads these; ask for them together (the HotBody came with the event, see top()).
+    prefetchNeighbourhood(i);
+    __builtin_prefetch(&s_.cold[i]);
+    if (j != PredictiveState::kNone) __builtin_prefetch(&s_.hot[j]);
 
     if (c.kind == PredictiveKind::Cross) {
       if (c.feature >= 0) {
@@ -1509,6 +1526,10 @@ void Engine<W>::step(double dt) {
       ++w_.stats.staleEvents;
       predictBody(i, c.time);
       continue;
+    }
+    if (j != PredictiveState::kNone) {
+      __builtin_prefetch(&s_.cold[j]);
+      prefetchNeighbourhood(j);
     }
     // The hybrid step's check at pop: an approach no faster than round-off, with nothing pressing the two
     // together, is not a collision. It is absorbed when the bodies still move, or else dropped.

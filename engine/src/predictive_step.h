@@ -67,6 +67,7 @@ struct alignas(64) HotBody {
   double radius = 0;  // of the primary fixture, when kSingle
   uint32_t collisionCount = 0;
   uint32_t fixture = 0;  // the primary (first physical) fixture
+  uint32_t cell = 0;     // where its cell (ColdBody::cx, cy) is folded to: its table entry (PredictiveState::heads)
   uint8_t flags = 0;
 };
 
@@ -75,7 +76,6 @@ struct alignas(64) ColdBody {
   uint32_t lastLow = 0, lastHigh = 0;
   int32_t lastFeature = -1;
   int32_t cx = 0, cy = 0;  // its cell
-  uint32_t cell = 0;       // where the cell is folded to: its table entry (PredictiveState::heads)
   // The rest of what World::Impl::resolve() reads from two BodySlots and two FixtureSlots, for a
   // collision of two plain disks resolved on the copies (plain_collision.h).
   double inverseMass = 0;
