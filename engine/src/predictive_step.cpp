@@ -401,6 +401,7 @@ void Engine<W>::buildGrid() {
   s_.hot.clear();
   s_.cold.clear();
   s_.rare.clear();
+  s_.centres.clear();
   s_.plainShapes = true;
   s_.bodyOfSlot.reserve(nb);
   s_.hot.reserve(nb);
@@ -451,6 +452,7 @@ void Engine<W>::buildGrid() {
     constexpr uint8_t shape = HotBody::kSingle | HotBody::kOffCentre | HotBody::kCustomFilter;
     if ((h.flags & shape) != HotBody::kSingle) s_.plainShapes = false;
     const Vec2 centre = b.position + r.centre;
+    s_.centres.push_back(centre);
     minX = std::min(minX, centre.x);
     minY = std::min(minY, centre.y);
     maxX = std::max(maxX, centre.x);
@@ -494,10 +496,7 @@ void Engine<W>::buildGrid() {
   // cell, so it is listed there.
   s_.hysteresis = 0.25 * (size - diameter);
   s_.extent = 0;
-  for (uint32_t slot = 0; slot < n; ++slot) {
-    const Vec2 c = w_.bodies[s_.bodyOfSlot[slot]].position + s_.rare[slot].centre;
-    s_.extent = std::max({s_.extent, std::fabs(c.x), std::fabs(c.y)});
-  }
+  for (const Vec2 c : s_.centres) s_.extent = std::max({s_.extent, std::fabs(c.x), std::fabs(c.y)});
   s_.foldX = foldX;
   s_.foldY = foldY;
   const size_t cells = static_cast<size_t>(foldX) * foldY;
@@ -572,14 +571,32 @@ void Engine<W>::buildGrid() {
   s_.valid = true;
 }
 
+// Sorts by radix, 16 bits at a time from the lowest (LSD), skipping digits all keys share: O(n), where
+// std::sort of 10^5 keys took longer than the rest of the grid's set-up.
+void sortKeys(std::vector<uint64_t>& keys) {
+  const size_t n = keys.size();
+  std::vector<uint64_t> other(n);
+  std::vector<uint32_t> count(size_t{1} << 16);
+  for (int shift = 0; shift < 64; shift += 16) {
+    std::fill(count.begin(), count.end(), 0u);
+    for (uint64_t k : keys) ++count[(k >> shift) & 0xFFFF];
+    if (n == 0 || count[(keys[0] >> shift) & 0xFFFF] == n) continue;
+    uint32_t sum = 0;
+    for (uint32_t& c : count) {
+      const uint32_t here = c;
+      c = sum;
+      sum += here;
+    }
+    for (uint64_t k : keys) other[count[(k >> shift) & 0xFFFF]++] = k;
+    keys.swap(other);
+  }
+}
+
 template <class W>
 double Engine<W>::sceneExtent() const {
   // The size of the box around every tracked body's centre and every static and kinematic fixture.
   Box box{{kInf, kInf}, {-kInf, -kInf}};
-  for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) {
-    const Vec2 c = w_.bodies[s_.bodyOfSlot[slot]].position + s_.rare[slot].centre;
-    box = unionOf(box, Box{c, c});
-  }
+  for (const Vec2 c : s_.centres) box = unionOf(box, Box{c, c});
   for (const BodySlot& b : w_.bodies) {
     if (!b.alive || b.type == BodyType::Dynamic) continue;
     for (uint32_t f : b.fixtures) {
@@ -597,10 +614,10 @@ double Engine<W>::meanNeighbours(double size) const {
   std::vector<uint64_t> keys(n);
   auto key = [](int64_t x, int64_t y) { return (static_cast<uint64_t>(x) << 32) | static_cast<uint32_t>(y); };
   for (uint32_t slot = 0; slot < n; ++slot) {
-    const Vec2 c = w_.bodies[s_.bodyOfSlot[slot]].position + s_.rare[slot].centre;
+    const Vec2 c = s_.centres[slot];
     keys[slot] = key(cellCoord(c.x, s_.x0, size) + int64_t{kMaxCoord} + 1, cellCoord(c.y, s_.y0, size) + 1);
   }
-  std::sort(keys.begin(), keys.end());
+  sortKeys(keys);
   // Cells are visited in key order, so each of the nine neighbouring keys (x + dx, y + dy) only grows:
   // nine cursors that only move forward find every neighbouring cell's run of keys in O(n) in all. Cell
   // coordinates here are >= 0 (the origin is the bodies' lowest corner), so y + dy never wraps the key.
@@ -675,22 +692,35 @@ void Engine<W>::reorder(bool fresh) {
   }
   std::vector<uint32_t> newSlot(n);
   for (uint32_t k = 0; k < n; ++k) newSlot[order[k]] = k;
-  // Into the spare arrays, which then change places with the live ones: memory is reused from one
-  // re-ordering to the next instead of being allocated (and faulted in) afresh.
-  auto permute = [&](auto& v, auto& spare) {
-    spare.resize(n);
-    for (uint32_t k = 0; k < n; ++k) spare[k] = std::move(v[order[k]]);
-    v.swap(spare);
+  // In place, along the permutation's cycles: no second copy of the arrays (tens of megabytes at 10^6
+  // bodies, to be faulted in before it is any use).
+  std::vector<uint8_t>& done = s_.permuted;
+  auto permute = [&](auto& v) {
+    done.assign(n, 0);
+    for (size_t start = 0; start < n; ++start) {
+      if (done[start]) continue;
+      auto held = std::move(v[start]);
+      for (size_t k = start;;) {
+        done[k] = 1;
+        const size_t from = order[k];
+        if (from == start) {
+          v[k] = std::move(held);
+          break;
+        }
+        v[k] = std::move(v[from]);
+        k = from;
+      }
+    }
   };
-  permute(s_.hot, s_.spareHot);
-  permute(s_.cold, s_.spareCold);
-  permute(s_.rare, s_.spareRare);
-  permute(s_.bodyOfSlot, s_.spareBodies);
+  permute(s_.hot);
+  permute(s_.cold);
+  permute(s_.rare);
+  permute(s_.bodyOfSlot);
   for (uint32_t k = 0; k < n; ++k) s_.slotOfBody[s_.bodyOfSlot[k]] = k;
   if (!fresh) {
     // (Fresh from buildGrid: no events and no dismissals yet, nothing to carry over.)
-    permute(s_.event, s_.spareEvents);
-    permute(s_.dismissed, s_.spareDismissed);
+    permute(s_.event);
+    permute(s_.dismissed);
     for (PredictiveEvent& e : s_.event) {
       if (e.partner != PredictiveState::kNone) e.partner = newSlot[e.partner];
     }

@@ -182,12 +182,8 @@ struct PredictiveState {
 
 
   // Scratch.
-  std::vector<HotBody> spareHot;  // reorder() permutes into these
-  std::vector<ColdBody> spareCold;
-  std::vector<RareBody> spareRare;
-  std::vector<uint32_t> spareBodies;
-  std::vector<PredictiveEvent> spareEvents;
-  std::vector<std::vector<Dismissal>> spareDismissed;
+  std::vector<uint8_t> permuted;  // reorder(): which slots are in place
+  std::vector<Vec2> centres;      // buildGrid(): the tracked bodies' centres, by slot before reorder()
   std::vector<uint32_t> neighbours;  // of the body being predicted
   std::vector<uint32_t> dirty;
   std::vector<uint32_t> woken;
