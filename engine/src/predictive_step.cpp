@@ -100,6 +100,11 @@ double exitTime(double c, double b, double A) {
 }
 
 
+// PredictiveState::heads: an entry's first slot, and the entry for a first slot (-1: none) and whether
+// more follow.
+int32_t headSlot(int32_t entry) { return entry < 0 ? -1 : entry >> 1; }
+int32_t headEntry(int32_t slot, bool more) { return slot < 0 ? -1 : 2 * slot + (more ? 1 : 0); }
+
 // Cell coordinates are clamped to +-kMaxCoord; the cells there reach to infinity.
 constexpr int32_t kMaxCoord = int32_t{1} << 30;
 
@@ -684,7 +689,7 @@ void Engine<W>::reorder(bool fresh) {
     for (uint64_t tx = 0; tx < s_.foldX; tx += side) {
       for (uint64_t z = 0; z < side * side; ++z) {
         const uint64_t x = tx + gather(z), y = ty + gather(z >> 1);
-        for (int32_t k = s_.heads[y * s_.foldX + x]; k >= 0; k = s_.links[k].next) {
+        for (int32_t k = headSlot(s_.heads[y * s_.foldX + x]); k >= 0; k = s_.links[k].next) {
           order.push_back(static_cast<uint32_t>(k));
         }
       }
@@ -740,10 +745,10 @@ void Engine<W>::reorder(bool fresh) {
 template <class W>
 void Engine<W>::link(uint32_t slot) {
   const size_t cell = cellOf(slot);
-  const int32_t head = s_.heads[cell];
+  const int32_t head = headSlot(s_.heads[cell]);
   s_.links[slot] = {head, -1};
   if (head >= 0) s_.links[head].prev = static_cast<int32_t>(slot);
-  s_.heads[cell] = static_cast<int32_t>(slot);
+  s_.heads[cell] = headEntry(static_cast<int32_t>(slot), head >= 0);
 }
 
 template <class W>
@@ -751,8 +756,9 @@ void Engine<W>::unlink(uint32_t slot) {
   const auto [n, p] = s_.links[slot];
   if (p >= 0) {
     s_.links[p].next = n;
+    if (n < 0 && s_.links[p].prev < 0) s_.heads[cellOf(slot)] = headEntry(p, false);  // p is left alone
   } else {
-    s_.heads[cellOf(slot)] = n;
+    s_.heads[cellOf(slot)] = headEntry(n, n >= 0 && s_.links[n].next >= 0);
   }
   if (n >= 0) s_.links[n].prev = p;
   s_.links[slot] = {};
@@ -761,34 +767,10 @@ void Engine<W>::unlink(uint32_t slot) {
 template <class W>
 template <class Visit>
 void Engine<W>::forEachNeighbour(uint32_t slot, Visit&& visit) const {
-  // The 3 x 3 cells around it (distinct table entries, since the table is at least 4 x 4). The slots are
-  // gathered first and visited after: walking the lists (PredictiveState::links, mostly in cache) is a
-  // short loop that asks for every neighbour's record at once (a prefetch: the records are most often
-  // cache misses, and they are then fetched side by side instead of one after each pair test). The order
-  // of visits is the lists' order either way.
-  constexpr size_t kBatch = 64;
-  uint32_t found[kBatch];
-  size_t count = 0;
-  const uint32_t x = static_cast<uint32_t>(s_.cold[slot].cx), y = static_cast<uint32_t>(s_.cold[slot].cy);
-  const uint32_t maskX = s_.foldX - 1, maskY = s_.foldY - 1;
-  const uint32_t columns[3] = {(x - 1) & maskX, x & maskX, (x + 1) & maskX};
-  const HotBody* hot = s_.hot.data();
-  const PredictiveState::CellLink* links = s_.links.data();
-  for (uint32_t dy = 0; dy < 3; ++dy) {
-    const int32_t* row = s_.heads.data() + static_cast<size_t>((y + dy - 1) & maskY) * s_.foldX;
-    for (uint32_t column : columns) {
-      for (int32_t j = row[column]; j >= 0; j = links[j].next) {
-        __builtin_prefetch(hot + j);
-        if (count == kBatch) {
-          for (size_t k = 0; k < count; ++k) visit(found[k]);
-          count = 0;
-        }
-        found[count] = static_cast<uint32_t>(j);
-        count += static_cast<uint32_t>(j) != slot;
-      }
-    }
-  }
-  for (size_t k = 0; k < count; ++k) visit(found[k]);
+  // The other bodies in the 3 x 3 cells around it (gatherNeighbours()).
+  std::vector<uint32_t>& found = s_.visiting;
+  gatherNeighbours(slot, found);
+  for (uint32_t j : found) visit(j);
 }
 
 template <class W>
@@ -805,8 +787,12 @@ void Engine<W>::forEachPhysical(uint32_t slot, Visit&& visit) const {
 
 template <class W>
 void Engine<W>::gatherNeighbours(uint32_t slot, std::vector<uint32_t>& out) const {
-  // forEachNeighbour's slots, in its order, into `out`. The cell's coordinates, folded (the same entries:
-  // the fold is a remainder by a power of two), from the HotBody.
+  // The other bodies in the 3 x 3 cells around it (distinct table entries, since the table is at least
+  // 4 x 4), into `out`. The cell's coordinates come folded from the HotBody (the same entries: the fold
+  // is a remainder by a power of two). Every neighbour's record is asked for as its slot is found (a
+  // prefetch): they are most often cache misses, and are then fetched side by side before the pair
+  // tests read them, instead of one after each test. The lists are in `links`, read only past a head
+  // whose entry says more follow.
   out.clear();
   const uint32_t cell = s_.hot[slot].cell;
   const uint32_t x = cell & (s_.foldX - 1), y = cell / s_.foldX;
@@ -817,7 +803,13 @@ void Engine<W>::gatherNeighbours(uint32_t slot, std::vector<uint32_t>& out) cons
   for (uint32_t dy = 0; dy < 3; ++dy) {
     const int32_t* row = s_.heads.data() + static_cast<size_t>((y + dy - 1) & maskY) * s_.foldX;
     for (uint32_t column : columns) {
-      for (int32_t j = row[column]; j >= 0; j = links[j].next) {
+      const int32_t entry = row[column];
+      if (entry < 0) continue;
+      int32_t j = headSlot(entry);
+      __builtin_prefetch(hot + j);
+      if (static_cast<uint32_t>(j) != slot) out.push_back(static_cast<uint32_t>(j));
+      if (!(entry & 1)) continue;  // alone in its cell: no look at `links`
+      for (j = links[j].next; j >= 0; j = links[j].next) {
         __builtin_prefetch(hot + j);
         if (static_cast<uint32_t>(j) != slot) out.push_back(static_cast<uint32_t>(j));
       }

@@ -124,7 +124,10 @@ struct PredictiveState {
   // By table entry. The cells' lists of slots are linked through `links`, a small array of its own (not
   // a field of the bodies' records): walking a neighbourhood's lists then touches a few lines that mostly
   // stay in cache, and the neighbours' records can all be fetched at once (Engine::forEachNeighbour).
-  std::vector<int32_t> heads;         // the first slot in the cell, or -1
+  // The first slot in the cell, times two, plus one if more follow it; or -1 for an empty cell. Cells
+  // hold less than one body on average in a dense gas: most lists end at their head, and the bit says
+  // so without a look at `links`. (Slots are < 2^30: a BodySlot alone is 240 bytes.)
+  std::vector<int32_t> heads;
   std::vector<uint32_t> staticBegin;  // static fixtures near the cell: staticList[staticBegin[c], staticBegin[c + 1])
   struct CellLink {
     int32_t next = -1, prev = -1;  // the next and previous slots in the cell's list, or -1
@@ -185,6 +188,7 @@ struct PredictiveState {
   std::vector<uint8_t> permuted;  // reorder(): which slots are in place
   std::vector<Vec2> centres;      // buildGrid(): the tracked bodies' centres, by slot before reorder()
   std::vector<uint32_t> neighbours;  // of the body being predicted
+  std::vector<uint32_t> visiting;    // Engine::forEachNeighbour
   std::vector<uint32_t> dirty;
   std::vector<uint32_t> woken;
   std::vector<uint32_t> order;
