@@ -2,8 +2,8 @@
 // body's centre, the default filter) with no gravity, no sensors and nobody asleep, disk-disk collisions
 // are resolved on the engine's compact copies and the BodySlots catch up later. Checked against the
 // general path, which the same scene takes once a far-away sensor (which touches nothing) is added:
-// the same collisions, bit for bit, with restitutions below 1 and the TC model in play; and momentum
-// and energy conserved by a free cloud of disks.
+// the same collisions, bit for bit, with restitutions below 1, the TC model, walls and a kinematic
+// paddle in play; and momentum and energy conserved by a free cloud of disks.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -71,9 +71,18 @@ TEST(PredictivePlain, InelasticGasInABoxSameBitsAsGeneralPath) {
   def.mode = StepMode::Predictive;
   def.collapseTime = 0.02;
   Twin plain(def), general(def);
+  std::vector<DiskSpec> roomy;  // room for a kinematic paddle in the middle
+  for (const DiskSpec& d : specs) {
+    if (rattle::length(d.position - Vec2{20, 20}) > 3.2) roomy.push_back(d);
+  }
   for (Twin* t : {&plain, &general}) {
     makeClosedBox(t->world, 0, 0, 40, 40, 0.9);
-    t->disks = addDisks(t->world, specs);
+    t->disks = addDisks(t->world, roomy);
+    // A kinematic paddle: its contacts take the general path, and it moves on at the step's end.
+    const BodyId paddle = t->world.createBody(bodyDef(BodyType::Kinematic, {20, 20}, {0.3, -0.2}));
+    FixtureDef fd;
+    fd.geometry = rattle::Circle{{0, 0}, 2.0};
+    t->world.createFixture(paddle, fd);
   }
   addFarSensor(general.world);
   size_t compared = 0;

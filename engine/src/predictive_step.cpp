@@ -190,6 +190,7 @@ class Engine {
     return slot != PredictiveState::kNone ? s_.hot[slot].collisionCount : w_.bodies[body].collisionCount;
   }
   void collidePlain(uint32_t i, uint32_t j, const PredictiveEvent& c, double tolerance);
+  double endPlain(double end);
   void syncBody(uint32_t body) {
     const uint32_t slot = s_.slotOfBody[body];
     if (slot != PredictiveState::kNone) sync(slot);
@@ -281,7 +282,7 @@ class Engine {
   void enqueue(uint32_t slot) { enqueue(slot, s_.event[slot].time); }
   void enqueue(uint32_t slot, double time);
   void dequeue(uint32_t slot);
-  void retune(double now);
+  void retune(double now, bool keepWidth = false);
   uint32_t top();
   size_t scheduledCount() const { return s_.heap.size() + s_.inBuckets + s_.inOverflow; }
   bool before(const detail::HeapNode& x, const detail::HeapNode& y) const {
@@ -407,6 +408,7 @@ void Engine<W>::buildGrid() {
   s_.cold.clear();
   s_.rare.clear();
   s_.centres.clear();
+  s_.untracked.clear();
   s_.plainShapes = true;
   s_.bodyOfSlot.reserve(nb);
   s_.hot.reserve(nb);
@@ -420,6 +422,7 @@ void Engine<W>::buildGrid() {
     BodySlot& b = w_.bodies[body];
     if (!b.alive) continue;
     b.last = detail::LastContact{};
+    if (b.type == BodyType::Kinematic) s_.untracked.push_back(body);
     if (b.type != BodyType::Dynamic) continue;
     int physical = 0;
     HotBody h;
@@ -447,7 +450,10 @@ void Engine<W>::buildGrid() {
       ++physical;
       diameter = std::max(diameter, 2 * detail::circleRadius(fs.geometry));
     }
-    if (physical == 0) continue;
+    if (physical == 0) {
+      s_.untracked.push_back(body);
+      continue;
+    }
     if (physical > 1) h.flags = static_cast<uint8_t>(h.flags & ~HotBody::kSingle);
     s_.slotOfBody[body] = static_cast<uint32_t>(s_.hot.size());
     s_.bodyOfSlot.push_back(body);
@@ -1230,10 +1236,22 @@ void Engine<W>::dequeue(uint32_t slot) {
 }
 
 template <class W>
-void Engine<W>::retune(double now) {
+void Engine<W>::retune(double now, bool keepWidth) {
   // A new calendar from `now`: buckets about as wide as the time in which ~32 events fall near now (the
   // density read from the nearest sixteenth of the events, not just a few, which may all be due at once),
-  // and enough of them to reach well past most events.
+  // and enough of them to reach well past most events. `keepWidth`: the buckets of the last calendar
+  // again, only laid from `now` (after the times were re-based): the queue is rebuilt without measuring
+  // the density (a calendar's cut changes how fast events are found, never their order).
+  if (keepWidth && !s_.buckets.empty()) {
+    s_.base = now;
+    s_.current = bucketOf(now);
+    s_.limit = s_.current + static_cast<int64_t>(s_.buckets.size());
+    resetQueue();
+    for (uint32_t k = 0; k < s_.hot.size(); ++k) {
+      if (s_.event[k].kind != PredictiveKind::None) enqueue(k);
+    }
+    return;
+  }
   std::vector<double>& ahead = s_.scratchTimes;
   ahead.clear();
   const size_t n = s_.hot.size();
@@ -1384,6 +1402,34 @@ void Engine<W>::unschedule(uint32_t slot) {
 // ---- The step --------------------------------------------------------------------------------------
 
 template <class W>
+double Engine<W>::endPlain(double end) {
+  // The step's end in a plain world, for the tracked bodies: attach(), World::Impl::advance() to `end`,
+  // the clocks re-based to it and sync(), in one pass over the copies instead of three passes (one over
+  // all the BodySlots). Nobody accelerates but by the world's gravity (zero here), sleeps or slides, so
+  // sync() would copy back exactly what is written here. Returns the largest coordinate.
+  const Vec2 g = w_.def.gravity;  // every tracked body's BodySlot::acceleration (normalize())
+  double extent = 0;
+  for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) {
+    HotBody& h = s_.hot[slot];
+    ColdBody& c = s_.cold[slot];
+    BodySlot& b = w_.bodies[s_.bodyOfSlot[slot]];
+    const Vec2 p = positionAt(h, g, end), v = velocityAt(h, g, end);
+    double lastTime = c.lastTime;
+    if (lastTime >= 0) lastTime -= end;
+    b.position = h.position = p;
+    b.velocity = h.velocity = v;
+    b.localTime = h.localTime = 0;
+    b.collisionCount = h.collisionCount;
+    c.lastTime = lastTime;
+    b.last = detail::LastContact{c.lastLow, c.lastHigh, c.lastFeature, lastTime};
+    b.lastContactTime = c.lastContactTime;
+    h.flags = static_cast<uint8_t>(h.flags & ~HotBody::kDetached);
+    extent = std::max({extent, std::fabs(p.x), std::fabs(p.y)});
+  }
+  return extent;
+}
+
+template <class W>
 void Engine<W>::collidePlain(uint32_t i, uint32_t j, const PredictiveEvent& c, double tolerance) {
   // World::Impl::resolve() for two plain disks, on their copies (plain_collision.h); the BodySlots
   // catch up in attach(). The contact event as resolve() writes it.
@@ -1481,7 +1527,9 @@ void Engine<W>::step(double dt) {
     }
   }
   s_.dismissedSlots.clear();
-  retune(0);
+  // The calendar is laid again from the step's start; its width is measured again once a quarter of the
+  // bodies' worth of events went by since (short steps see few events each).
+  retune(0, /*keepWidth=*/!rebuild && s_.popsSinceRetune < s_.hot.size() / 4);
   w_.startPaths();
 
   // 2. Events in time order, up to the step's end.
@@ -1665,10 +1713,8 @@ void Engine<W>::step(double dt) {
     w_.sensePaths(w_.pathLog, end);
     w_.pathLog.active = false;
   }
-  for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) attach(slot);
   double extent = 0;
-  for (BodySlot& b : w_.bodies) {
-    if (!b.alive || b.type == BodyType::Static) continue;
+  auto toEnd = [&](BodySlot& b) {
     if (b.type == BodyType::Dynamic) {
       w_.advance(b, end);
       if (b.asleep) ++w_.stats.sleeping;
@@ -1678,8 +1724,17 @@ void Engine<W>::step(double dt) {
     b.localTime = 0;
     if (b.last.time >= 0) b.last.time -= end;  // the next step starts at this one's end
     extent = std::max({extent, std::fabs(b.position.x), std::fabs(b.position.y)});
+  };
+  if (plainWorld_) {
+    extent = endPlain(end);
+    for (uint32_t body : s_.untracked) toEnd(w_.bodies[body]);
+  } else {
+    for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) attach(slot);
+    for (BodySlot& b : w_.bodies) {
+      if (b.alive && b.type != BodyType::Static) toEnd(b);
+    }
+    for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) sync(slot);
   }
-  for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) sync(slot);
   w_.time += dt;
   s_.lastStep = end;
   s_.endExtent = extent;

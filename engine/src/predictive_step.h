@@ -138,6 +138,7 @@ struct PredictiveState {
   // Tracked bodies (dynamic, with a physical fixture) have a slot; slots are ordered by cell when the
   // grid is built and re-ordered now and then as bodies move. Everything below is indexed by slot.
   std::vector<uint32_t> slotOfBody;  // by body index; kNone: not tracked
+  std::vector<uint32_t> untracked;   // the kinematic bodies and dynamic ones without a physical fixture
   std::vector<uint32_t> bodyOfSlot;
   std::vector<HotBody> hot;
   std::vector<ColdBody> cold;
