@@ -284,6 +284,10 @@ class Engine {
   void dequeue(uint32_t slot);
   void retune(double now, bool keepWidth = false);
   uint32_t top();
+  // The end of a round of the buckets from the current one: as many as there are, up to the step's end.
+  int64_t roundLimit() const {
+    return std::min(s_.current + static_cast<int64_t>(s_.buckets.size()), std::max(s_.stepBucket, s_.current) + 1);
+  }
   size_t scheduledCount() const { return s_.heap.size() + s_.inBuckets + s_.inOverflow; }
   bool before(const detail::HeapNode& x, const detail::HeapNode& y) const {
     if (x.time != y.time) return x.time < y.time;
@@ -1245,7 +1249,8 @@ void Engine<W>::retune(double now, bool keepWidth) {
   if (keepWidth && !s_.buckets.empty()) {
     s_.base = now;
     s_.current = bucketOf(now);
-    s_.limit = s_.current + static_cast<int64_t>(s_.buckets.size());
+    s_.stepBucket = bucketOf(s_.stepEnd);
+    s_.limit = roundLimit();
     resetQueue();
     for (uint32_t k = 0; k < s_.hot.size(); ++k) {
       if (s_.event[k].kind != PredictiveKind::None) enqueue(k);
@@ -1281,7 +1286,8 @@ void Engine<W>::retune(double now, bool keepWidth) {
   s_.inverseWidth = 1 / width;
   if (s_.buckets.size() != buckets) s_.buckets.resize(buckets);
   s_.current = bucketOf(now);
-  s_.limit = s_.current + static_cast<int64_t>(buckets);
+  s_.stepBucket = bucketOf(s_.stepEnd);
+  s_.limit = roundLimit();
   resetQueue();
   for (uint32_t k = 0; k < n; ++k) {
     if (s_.event[k].kind != PredictiveKind::None) enqueue(k);
@@ -1293,6 +1299,8 @@ template <class W>
 uint32_t Engine<W>::top() {
   // The earliest event's slot, moving later buckets into the heap as it runs empty.
   while (s_.heap.empty()) {
+    // Every event of the buckets up to the step's end has been taken: what is left is due after it.
+    if (s_.current >= s_.stepBucket) return PredictiveState::kNone;
     if (s_.inBuckets == 0) {
       if (s_.inOverflow == 0) return PredictiveState::kNone;
       // Nothing left but the overflow: skip to its first bucket.
@@ -1300,6 +1308,7 @@ uint32_t Engine<W>::top() {
       for (const auto& e : s_.overflow) {
         if (s_.queue[e.slot].ticket == e.ticket) first = std::min(first, bucketOf(e.time));
       }
+      if (first > s_.stepBucket) return PredictiveState::kNone;
       s_.current = std::max(s_.current, first - 1);
       s_.limit = s_.current + 1;
     }
@@ -1311,7 +1320,7 @@ uint32_t Engine<W>::top() {
     }
     if (s_.current >= s_.limit) {
       // A new round of the buckets: the overflow events now within reach move in.
-      s_.limit = s_.current + static_cast<int64_t>(s_.buckets.size());
+      s_.limit = roundLimit();
       std::vector<PredictiveState::QueueEntry> waiting;
       waiting.swap(s_.overflow);
       s_.inOverflow = 0;
@@ -1527,6 +1536,7 @@ void Engine<W>::step(double dt) {
     }
   }
   s_.dismissedSlots.clear();
+  s_.stepEnd = dt;
   // The calendar is laid again from the step's start; its width is measured again once a quarter of the
   // bodies' worth of events went by since (short steps see few events each).
   retune(0, /*keepWidth=*/!rebuild && s_.popsSinceRetune < s_.hot.size() / 4);

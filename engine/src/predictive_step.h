@@ -182,6 +182,11 @@ struct PredictiveState {
   double base = 0, width = 1, inverseWidth = 1;
   int64_t current = 0;  // the bucket whose events (and all earlier) are in the heap
   int64_t limit = 0;    // events of buckets >= limit wait in the overflow array
+  // The step's end and its bucket. The buckets reach no further: events due after the step wait in the
+  // overflow array, appended there instead of placed in buckets, and a short step (a frame of a game)
+  // lays only its own few events into buckets when the calendar is laid again at its start.
+  double stepEnd = 0;
+  int64_t stepBucket = 0;
   static constexpr int32_t kNotQueued = -1, kInHeap = -2, kInBucket = -3, kInOverflow = -4;
 
 
