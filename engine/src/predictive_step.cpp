@@ -217,7 +217,7 @@ class Engine {
     const ColdBody& c = s_.cold[slot];
     HotBody& h = s_.hot[slot];
     h.cell = folded(c.cx, c.cy);
-    const bool near = s_.staticBegin[h.cell] != s_.staticBegin[h.cell + 1];
+    const bool near = (s_.staticNear[h.cell >> 6] >> (h.cell & 63)) & 1;
     h.flags = static_cast<uint8_t>((h.flags & ~HotBody::kStaticNear) | (near ? HotBody::kStaticNear : 0));
   }
   size_t cellOf(uint32_t slot) const { return s_.hot[slot].cell; }
@@ -517,6 +517,7 @@ void Engine<W>::buildGrid() {
   const size_t cells = static_cast<size_t>(foldX) * foldY;
   s_.heads.assign(cells, -1);
   s_.staticBegin.assign(cells + 1, 0);
+  s_.staticNear.assign((cells + 63) / 64, 0);
   s_.links.assign(n, PredictiveState::CellLink{});
   s_.event.assign(n, PredictiveEvent{});
   resetQueue();
@@ -581,6 +582,10 @@ void Engine<W>::buildGrid() {
     std::vector<uint32_t> fill(cells);
     for (size_t c = 0; c < cells; ++c) fill[c] = s_.staticBegin[c];
     for (const auto& e : entries) s_.staticList[fill[e.first]++] = e.second;
+  }
+  s_.staticNear.assign((cells + 63) / 64, 0);
+  for (size_t c = 0; c < cells; ++c) {
+    if (s_.staticBegin[c] != s_.staticBegin[c + 1]) s_.staticNear[c >> 6] |= uint64_t{1} << (c & 63);
   }
   for (uint32_t slot = 0; slot < n; ++slot) setCell(slot);
   s_.valid = true;

@@ -129,6 +129,7 @@ struct PredictiveState {
   // so without a look at `links`. (Slots are < 2^30: a BodySlot alone is 240 bytes.)
   std::vector<int32_t> heads;
   std::vector<uint32_t> staticBegin;  // static fixtures near the cell: staticList[staticBegin[c], staticBegin[c + 1])
+  std::vector<uint64_t> staticNear;   // a bit by cell: staticBegin[c] != staticBegin[c + 1] (a table 32 times smaller)
   struct CellLink {
     int32_t next = -1, prev = -1;  // the next and previous slots in the cell's list, or -1
   };
