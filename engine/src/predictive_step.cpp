@@ -199,7 +199,6 @@ class Engine {
   // The grid.
   Vec2 centreOf(uint32_t slot, double now) const {
     const HotBody& h = s_.hot[slot];
-    const ColdBody& c = s_.cold[slot];
     return positionAt(h, accelerationOf(h, s_.rare[slot]), now) + s_.rare[slot].centre;
   }
   uint32_t folded(int32_t x, int32_t y) const {
