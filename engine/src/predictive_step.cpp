@@ -199,7 +199,7 @@ class Engine {
     return slot != PredictiveState::kNone ? s_.hot[slot].collisionCount : w_.bodies[body].collisionCount;
   }
   void collidePlain(uint32_t i, uint32_t j, const PredictiveEvent& c, double tolerance);
-  double endPlain(double end);
+  double endPlain(double end, double& speed);
   void syncBody(uint32_t body) {
     const uint32_t slot = s_.slotOfBody[body];
     if (slot != PredictiveState::kNone) sync(slot);
@@ -1426,11 +1426,12 @@ void Engine<W>::unschedule(uint32_t slot) {
 // ---- The step --------------------------------------------------------------------------------------
 
 template <class W>
-double Engine<W>::endPlain(double end) {
+double Engine<W>::endPlain(double end, double& speed) {
   // The step's end in a plain world, for the tracked bodies: attach(), World::Impl::advance() to `end`,
   // the clocks re-based to it and sync(), in one pass over the copies instead of three passes (one over
   // all the BodySlots). Nobody accelerates but by the world's gravity (zero here), sleeps or slides, so
-  // sync() would copy back exactly what is written here. Returns the largest coordinate.
+  // sync() would copy back exactly what is written here. Returns the largest coordinate; `speed` grows to
+  // the largest speed.
   const Vec2 g = w_.def.gravity;  // every tracked body's BodySlot::acceleration (normalize())
   double extent = 0;
   for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) {
@@ -1449,6 +1450,7 @@ double Engine<W>::endPlain(double end) {
     b.lastContactTime = c.lastContactTime;
     h.flags = static_cast<uint8_t>(h.flags & ~HotBody::kDetached);
     extent = std::max({extent, std::fabs(p.x), std::fabs(p.y)});
+    speed = std::max(speed, length(v));
   }
   return extent;
 }
@@ -1494,8 +1496,17 @@ void Engine<W>::step(double dt) {
   w_.stats = StepStats{};
   if (w_.pairsOfBody.size() < w_.bodies.size()) w_.pairsOfBody.resize(w_.bodies.size());
 
-  // 1. Notice what changed since the last step; re-base the clocks to this step's start.
-  normalize(dt);
+  // 1. Notice what changed since the last step; re-base the clocks to this step's start. After a plain
+  // world's step, with nothing touched since, normalize() would change nothing (no gravity, sleep or
+  // slide; the Zeno count moves only under gravity) and its gathering was done by endPlain().
+  if (s_.normalized && s_.valid && !w_.structureChanged && w_.touchedBodies.empty()) {
+    speedScale_ = s_.nextSpeedScale;
+    movingKinematic_ = s_.nextMovingKinematic;
+    anyAsleep_ = anySliding_ = false;
+  } else {
+    normalize(dt);
+  }
+  s_.normalized = false;
   // What the World API changed since the last step (World::Impl::touched): the dynamic bodies touched are
   // predicted again; a change of structure starts afresh.
   bool rebuild = !s_.valid || w_.structureChanged;
@@ -1751,8 +1762,21 @@ void Engine<W>::step(double dt) {
     extent = std::max({extent, std::fabs(b.position.x), std::fabs(b.position.y)});
   };
   if (plainWorld_) {
-    extent = endPlain(end);
-    for (uint32_t body : s_.untracked) toEnd(w_.bodies[body]);
+    // normalize()'s gathering for the next step: the speed scale (every acceleration is zero: its term,
+    // |a| dt, adds nothing) and whether a kinematic body with a fixture moves.
+    double speed = 0;
+    extent = endPlain(end, speed);
+    bool movingKinematic = false, accelerating = false;
+    for (uint32_t body : s_.untracked) {
+      BodySlot& b = w_.bodies[body];
+      toEnd(b);
+      speed = std::max(speed, length(b.velocity));
+      if (b.type == BodyType::Kinematic && !(b.velocity == Vec2{}) && !b.fixtures.empty()) movingKinematic = true;
+      if (!(b.acceleration == Vec2{})) accelerating = true;
+    }
+    s_.normalized = !accelerating;
+    s_.nextSpeedScale = speed;
+    s_.nextMovingKinematic = movingKinematic;
   } else {
     for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) attach(slot);
     for (BodySlot& b : w_.bodies) {

@@ -156,6 +156,11 @@ struct PredictiveState {
   uint64_t popsSinceRetune = 0;
 
   double endExtent = 0;  // the largest coordinate of a moving body at the end of the last step
+  // What normalize() gathers at a step's start, found instead by a plain world's step end (which visits
+  // every moving body anyway): good for the next step if nothing is changed from outside before it.
+  bool normalized = false;
+  double nextSpeedScale = 0;
+  bool nextMovingKinematic = false;
 
   // The event queue, a calendar (G. Paul, J. Comput. Phys. 221, 615, 2007; Smallenburg 2022): time is cut
   // into buckets of equal width. Events of the current bucket and before are in `heap`, a small 4-ary
