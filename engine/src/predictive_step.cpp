@@ -25,6 +25,15 @@
 //    stay small where they are precise.
 //  - What predictions read is copied into compact records in cell order (PredictiveState::HotBody),
 //    refreshed whenever a body changes; the BodySlot stays the truth, and resolve() works on it.
+//  - Except in a plain world (every tracked body one circle on its centre with the default filter; no
+//    gravity, no sensor, nobody asleep): there a collision of two disks is resolve() done on the compact
+//    records (plain_collision.h, the same arithmetic, so the same bits), and the BodySlot catches up
+//    (attach()) before anything else reads it and at the step's end. A gas then never touches its
+//    240-byte BodySlots between the step's start and end.
+//  - Memory, not arithmetic, sets the pace at 10^5 bodies and more: the cell lists are linked through a
+//    small array of their own, a body's neighbours are gathered (and their records asked for) before
+//    they are tested, an event's records and neighbourhood are asked for as soon as it comes up, and
+//    the calendar's buckets reach no further than the step's end.
 //  - Between steps the world may change (bodies created, destroyed, moved, given a velocity, woken; a
 //    filter changed). The World API reports every change (World::Impl::touched), so a step costs nothing
 //    for bodies nobody touched: a dynamic body that was changed is relocated and predicted again (its
@@ -40,6 +49,7 @@
 #include <limits>
 
 #include "closest_point.h"
+#include "plain_collision.h"
 #include "rattle/time_of_impact.h"
 #include "world_impl.h"
 
@@ -67,7 +77,6 @@ bool earlier(const PredictiveEvent& x, const PredictiveEvent& y) {
   if (xh != yh) return xh < yh;
   if (x.feature != y.feature) return x.feature < y.feature;
   if (x.a != y.a) return x.a < y.a;
-  if (x.countA != y.countA) return x.countA < y.countA;
   return x.countB < y.countB;
 }
 
@@ -100,6 +109,11 @@ double exitTime(double c, double b, double A) {
 }
 
 
+// PredictiveState::heads: an entry's first slot, and the entry for a first slot (-1: none) and whether
+// more follow.
+int32_t headSlot(int32_t entry) { return entry < 0 ? -1 : entry >> 1; }
+int32_t headEntry(int32_t slot, bool more) { return slot < 0 ? -1 : 2 * slot + (more ? 1 : 0); }
+
 // Cell coordinates are clamped to +-kMaxCoord; the cells there reach to infinity.
 constexpr int32_t kMaxCoord = int32_t{1} << 30;
 
@@ -116,14 +130,11 @@ using detail::HotBody;
 
 // Motion of a hot copy: the same expressions as World::Impl::positionAt and velocityAt, so the same
 // values (the acceleration is read only when it is not zero).
-Vec2 accelerationOf(const HotBody& h, const ColdBody& c) {
-  return (h.flags & HotBody::kAccelerating) ? c.acceleration : Vec2{};
+Vec2 accelerationOf(const HotBody& h, const detail::RareBody& r) {
+  return (h.flags & HotBody::kAccelerating) ? r.acceleration : Vec2{};
 }
-Vec2 positionAt(const HotBody& b, Vec2 acceleration, double t) {
-  const double h = t - b.localTime;
-  return b.position + b.velocity * h + acceleration * (0.5 * h * h);
-}
-Vec2 velocityAt(const HotBody& b, Vec2 acceleration, double t) { return b.velocity + acceleration * (t - b.localTime); }
+using detail::positionAt;
+using detail::velocityAt;
 bool isMoving(const HotBody& b) { return !(b.velocity == Vec2{}) || (b.flags & HotBody::kAccelerating) != 0; }
 // The common body of a gas: one circle centred on the body, no acceleration, the default filter. Two such
 // bodies need nothing from their ColdBody until a contact is found (Engine::pairPlain).
@@ -161,6 +172,10 @@ class Engine {
   // kinematic body with a fixture moves.
   double speedScale_ = 0;
   bool movingKinematic_ = false;
+  bool anyAsleep_ = false, anySliding_ = false;  // among dynamic bodies, gathered by normalize() too
+  // This step resolves collisions of two plain disks on the copies (plain_collision.h): every tracked
+  // body is plain, and there is no gravity, no sensor and nobody asleep or sliding.
+  bool plainWorld_ = false;
 
   // Setup.
   void normalize(double dt);
@@ -172,6 +187,19 @@ class Engine {
   double sparseCellSize(double size, double limit) const;
   void reorder(bool fresh = false);
   void sync(uint32_t slot);
+  void attach(uint32_t slot);
+  void attachFixture(uint32_t fixture) {
+    const uint32_t slot = s_.slotOfBody[w_.fixtures[fixture].body];
+    if (slot != PredictiveState::kNone) attach(slot);
+  }
+  // A fixture's body's collision counter: the copy's for a tracked body (its BodySlot may lag).
+  uint32_t countOf(uint32_t fixture) const {
+    const uint32_t body = w_.fixtures[fixture].body;
+    const uint32_t slot = s_.slotOfBody[body];
+    return slot != PredictiveState::kNone ? s_.hot[slot].collisionCount : w_.bodies[body].collisionCount;
+  }
+  void collidePlain(uint32_t i, uint32_t j, const PredictiveEvent& c, double tolerance);
+  double endPlain(double end, double& speed);
   void syncBody(uint32_t body) {
     const uint32_t slot = s_.slotOfBody[body];
     if (slot != PredictiveState::kNone) sync(slot);
@@ -180,8 +208,7 @@ class Engine {
   // The grid.
   Vec2 centreOf(uint32_t slot, double now) const {
     const HotBody& h = s_.hot[slot];
-    const ColdBody& c = s_.cold[slot];
-    return positionAt(h, accelerationOf(h, c), now) + s_.rare[slot].centre;
+    return positionAt(h, accelerationOf(h, s_.rare[slot]), now) + s_.rare[slot].centre;
   }
   uint32_t folded(int32_t x, int32_t y) const {
     return (static_cast<uint32_t>(y) & (s_.foldY - 1)) * s_.foldX + (static_cast<uint32_t>(x) & (s_.foldX - 1));
@@ -190,13 +217,34 @@ class Engine {
     ColdBody& c = s_.cold[slot];
     c.cx = cellCoord(centre.x, s_.x0, s_.cellSize);
     c.cy = cellCoord(centre.y, s_.y0, s_.cellSize);
-    c.cell = folded(c.cx, c.cy);
+    setCell(slot);
   }
-  size_t cellOf(uint32_t slot) const { return s_.cold[slot].cell; }
+  // After its cell coordinates changed: the table entry, and whether static fixtures are listed there
+  // (a flag in the HotBody, so that a prediction in open space does not look up the static list).
+  void setCell(uint32_t slot) {
+    const ColdBody& c = s_.cold[slot];
+    HotBody& h = s_.hot[slot];
+    h.cell = folded(c.cx, c.cy);
+    const bool near = (s_.staticNear[h.cell >> 6] >> (h.cell & 63)) & 1;
+    h.flags = static_cast<uint8_t>((h.flags & ~HotBody::kStaticNear) | (near ? HotBody::kStaticNear : 0));
+  }
+  size_t cellOf(uint32_t slot) const { return s_.hot[slot].cell; }
+  // Asks for the lines of the table that gatherNeighbours() will read for the body (its record is in
+  // cache): the three rows of three entries around its cell.
+  void prefetchNeighbourhood(uint32_t slot) const {
+    const uint32_t cell = s_.hot[slot].cell;
+    const uint32_t x = cell & (s_.foldX - 1), y = cell / s_.foldX;
+    for (uint32_t dy = 0; dy < 3; ++dy) {
+      const int32_t* row = s_.heads.data() + static_cast<size_t>((y + dy - 1) & (s_.foldY - 1)) * s_.foldX;
+      __builtin_prefetch(row + ((x - 1) & (s_.foldX - 1)));
+      __builtin_prefetch(row + ((x + 1) & (s_.foldX - 1)));
+    }
+  }
   void link(uint32_t slot);
   void unlink(uint32_t slot);
   template <class Visit>
   void forEachNeighbour(uint32_t slot, Visit&& visit) const;
+  void gatherNeighbours(uint32_t slot, std::vector<uint32_t>& out) const;
   template <class Visit>
   void forEachPhysical(uint32_t slot, Visit&& visit) const;
 
@@ -239,10 +287,15 @@ class Engine {
     const int64_t k = static_cast<int64_t>(x);
     return static_cast<double>(k) > x ? k - 1 : k;
   }
-  void enqueue(uint32_t slot);
+  void enqueue(uint32_t slot) { enqueue(slot, s_.event[slot].time); }
+  void enqueue(uint32_t slot, double time);
   void dequeue(uint32_t slot);
-  void retune(double now);
+  void retune(double now, bool keepWidth = false);
   uint32_t top();
+  // The end of a round of the buckets from the current one: as many as there are, up to the step's end.
+  int64_t roundLimit() const {
+    return std::min(s_.current + static_cast<int64_t>(s_.buckets.size()), std::max(s_.stepBucket, s_.current) + 1);
+  }
   size_t scheduledCount() const { return s_.heap.size() + s_.inBuckets + s_.inOverflow; }
   bool before(const detail::HeapNode& x, const detail::HeapNode& y) const {
     if (x.time != y.time) return x.time < y.time;
@@ -269,6 +322,7 @@ void Engine<W>::normalize(double dt) {
   // between changes a body's motion, type or sleep).
   double speedScale = 0;
   bool movingKinematic = false;
+  bool anyAsleep = false, anySliding = false;
   for (BodySlot& b : w_.bodies) {
     if (!b.alive) continue;
     b.stepCollisions = 0;
@@ -277,6 +331,10 @@ void Engine<W>::normalize(double dt) {
       w_.stopSliding(b);
     }
     if (b.type == BodyType::Dynamic && !b.asleep && b.support.generation == 0) b.acceleration = w_.def.gravity;
+    if (b.type == BodyType::Dynamic) {
+      anyAsleep = anyAsleep || b.asleep;
+      anySliding = anySliding || b.support.generation != 0;
+    }
     // As the hybrid step: approach speeds below 1e-13 of the fastest body's are round-off.
     if (b.type == BodyType::Static || b.asleep) continue;
     speedScale = std::max(speedScale, length(b.velocity) + length(b.acceleration) * dt);
@@ -284,6 +342,8 @@ void Engine<W>::normalize(double dt) {
   }
   speedScale_ = speedScale;
   movingKinematic_ = movingKinematic;
+  anyAsleep_ = anyAsleep;
+  anySliding_ = anySliding;
 }
 
 template <class W>
@@ -320,15 +380,35 @@ void Engine<W>::sync(uint32_t slot) {
   h.velocity = b.velocity;
   h.localTime = b.localTime;
   h.collisionCount = b.collisionCount;
-  constexpr uint8_t keep = HotBody::kSingle | HotBody::kOffCentre | HotBody::kCustomFilter | HotBody::kDismissals;
+  constexpr uint8_t keep =
+      HotBody::kSingle | HotBody::kOffCentre | HotBody::kCustomFilter | HotBody::kDismissals | HotBody::kStaticNear;
   h.flags = static_cast<uint8_t>((h.flags & keep) | (b.acceleration == Vec2{} ? 0 : HotBody::kAccelerating) |
                                  (b.support.generation != 0 ? HotBody::kSliding : 0));
-  c.acceleration = b.acceleration;
+  s_.rare[slot].acceleration = b.acceleration;
   c.lastTime = b.last.time;
   c.lastLow = b.last.fixtureLow;
   c.lastHigh = b.last.fixtureHigh;
   c.lastFeature = b.last.feature;
+  c.inverseMass = b.inverseMass;
+  c.lastContactTime = b.lastContactTime;
   if (w_.pathLog.active) w_.pathLog.record(s_.bodyOfSlot[slot], {b.localTime, b.position, b.velocity, b.acceleration});
+}
+
+template <class W>
+void Engine<W>::attach(uint32_t slot) {
+  // The copy back into the BodySlot, after collisions resolved on the copy (collidePlain): before
+  // anything reads the BodySlot, and at the step's end.
+  HotBody& h = s_.hot[slot];
+  if (!(h.flags & HotBody::kDetached)) return;
+  const ColdBody& c = s_.cold[slot];
+  BodySlot& b = w_.bodies[s_.bodyOfSlot[slot]];
+  b.position = h.position;
+  b.velocity = h.velocity;
+  b.localTime = h.localTime;
+  b.collisionCount = h.collisionCount;
+  b.last = detail::LastContact{c.lastLow, c.lastHigh, c.lastFeature, c.lastTime};
+  b.lastContactTime = c.lastContactTime;
+  h.flags = static_cast<uint8_t>(h.flags & ~HotBody::kDetached);
 }
 
 template <class W>
@@ -339,6 +419,9 @@ void Engine<W>::buildGrid() {
   s_.hot.clear();
   s_.cold.clear();
   s_.rare.clear();
+  s_.centres.clear();
+  s_.untracked.clear();
+  s_.plainShapes = true;
   s_.bodyOfSlot.reserve(nb);
   s_.hot.reserve(nb);
   s_.cold.reserve(nb);
@@ -351,6 +434,7 @@ void Engine<W>::buildGrid() {
     BodySlot& b = w_.bodies[body];
     if (!b.alive) continue;
     b.last = detail::LastContact{};
+    if (b.type == BodyType::Kinematic) s_.untracked.push_back(body);
     if (b.type != BodyType::Dynamic) continue;
     int physical = 0;
     HotBody h;
@@ -360,13 +444,15 @@ void Engine<W>::buildGrid() {
       const detail::FixtureSlot& fs = w_.fixtures[f];
       if (fs.sensor) continue;
       if (physical == 0) {
-        c.fixture = f;
         h.fixture = f;
         r.centre = detail::circleCentre(fs.geometry);
         r.categoryBits = fs.filter.categoryBits;
         r.maskBits = fs.filter.maskBits;
         r.group = fs.filter.group;
         h.radius = detail::circleRadius(fs.geometry);
+        c.restitution = fs.restitution;
+        c.bodyGeneration = b.generation;
+        c.fixtureGeneration = fs.generation;
         if (std::holds_alternative<Circle>(fs.geometry)) h.flags |= HotBody::kSingle;
         if (!(r.centre == Vec2{})) h.flags |= HotBody::kOffCentre;
         if (r.categoryBits != Filter{}.categoryBits || r.maskBits != Filter{}.maskBits || r.group != 0) {
@@ -376,14 +462,20 @@ void Engine<W>::buildGrid() {
       ++physical;
       diameter = std::max(diameter, 2 * detail::circleRadius(fs.geometry));
     }
-    if (physical == 0) continue;
+    if (physical == 0) {
+      s_.untracked.push_back(body);
+      continue;
+    }
     if (physical > 1) h.flags = static_cast<uint8_t>(h.flags & ~HotBody::kSingle);
     s_.slotOfBody[body] = static_cast<uint32_t>(s_.hot.size());
     s_.bodyOfSlot.push_back(body);
     s_.hot.push_back(h);
     s_.cold.push_back(c);
     s_.rare.push_back(r);
+    constexpr uint8_t shape = HotBody::kSingle | HotBody::kOffCentre | HotBody::kCustomFilter;
+    if ((h.flags & shape) != HotBody::kSingle) s_.plainShapes = false;
     const Vec2 centre = b.position + r.centre;
+    s_.centres.push_back(centre);
     minX = std::min(minX, centre.x);
     minY = std::min(minY, centre.y);
     maxX = std::max(maxX, centre.x);
@@ -427,14 +519,14 @@ void Engine<W>::buildGrid() {
   // cell, so it is listed there.
   s_.hysteresis = 0.25 * (size - diameter);
   s_.extent = 0;
-  for (uint32_t slot = 0; slot < n; ++slot) {
-    const Vec2 c = w_.bodies[s_.bodyOfSlot[slot]].position + s_.rare[slot].centre;
-    s_.extent = std::max({s_.extent, std::fabs(c.x), std::fabs(c.y)});
-  }
+  for (const Vec2 c : s_.centres) s_.extent = std::max({s_.extent, std::fabs(c.x), std::fabs(c.y)});
   s_.foldX = foldX;
   s_.foldY = foldY;
   const size_t cells = static_cast<size_t>(foldX) * foldY;
-  s_.cells.assign(cells + 1, PredictiveState::Cell{});
+  s_.heads.assign(cells, -1);
+  s_.staticBegin.assign(cells + 1, 0);
+  s_.staticNear.assign((cells + 63) / 64, 0);
+  s_.links.assign(n, PredictiveState::CellLink{});
   s_.event.assign(n, PredictiveEvent{});
   resetQueue();
   s_.dismissed.resize(n);
@@ -491,26 +583,48 @@ void Engine<W>::buildGrid() {
   }
   std::sort(entries.begin(), entries.end());
   entries.erase(std::unique(entries.begin(), entries.end()), entries.end());
-  for (auto& c : s_.cells) c.staticBegin = 0;
-  for (const auto& e : entries) ++s_.cells[e.first + 1].staticBegin;
-  for (size_t c = 0; c < cells; ++c) s_.cells[c + 1].staticBegin += s_.cells[c].staticBegin;
+  for (const auto& e : entries) ++s_.staticBegin[e.first + 1];
+  for (size_t c = 0; c < cells; ++c) s_.staticBegin[c + 1] += s_.staticBegin[c];
   s_.staticList.assign(entries.size(), 0);
   {
     std::vector<uint32_t> fill(cells);
-    for (size_t c = 0; c < cells; ++c) fill[c] = s_.cells[c].staticBegin;
+    for (size_t c = 0; c < cells; ++c) fill[c] = s_.staticBegin[c];
     for (const auto& e : entries) s_.staticList[fill[e.first]++] = e.second;
   }
+  s_.staticNear.assign((cells + 63) / 64, 0);
+  for (size_t c = 0; c < cells; ++c) {
+    if (s_.staticBegin[c] != s_.staticBegin[c + 1]) s_.staticNear[c >> 6] |= uint64_t{1} << (c & 63);
+  }
+  for (uint32_t slot = 0; slot < n; ++slot) setCell(slot);
   s_.valid = true;
+}
+
+// Sorts by radix, 16 bits at a time from the lowest (LSD), skipping digits all keys share: O(n), where
+// std::sort of 10^5 keys took longer than the rest of the grid's set-up.
+void sortKeys(std::vector<uint64_t>& keys) {
+  const size_t n = keys.size();
+  std::vector<uint64_t> other(n);
+  std::vector<uint32_t> count(size_t{1} << 16);
+  for (int shift = 0; shift < 64; shift += 16) {
+    std::fill(count.begin(), count.end(), 0u);
+    for (uint64_t k : keys) ++count[(k >> shift) & 0xFFFF];
+    if (n == 0 || count[(keys[0] >> shift) & 0xFFFF] == n) continue;
+    uint32_t sum = 0;
+    for (uint32_t& c : count) {
+      const uint32_t here = c;
+      c = sum;
+      sum += here;
+    }
+    for (uint64_t k : keys) other[count[(k >> shift) & 0xFFFF]++] = k;
+    keys.swap(other);
+  }
 }
 
 template <class W>
 double Engine<W>::sceneExtent() const {
   // The size of the box around every tracked body's centre and every static and kinematic fixture.
   Box box{{kInf, kInf}, {-kInf, -kInf}};
-  for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) {
-    const Vec2 c = w_.bodies[s_.bodyOfSlot[slot]].position + s_.rare[slot].centre;
-    box = unionOf(box, Box{c, c});
-  }
+  for (const Vec2 c : s_.centres) box = unionOf(box, Box{c, c});
   for (const BodySlot& b : w_.bodies) {
     if (!b.alive || b.type == BodyType::Dynamic) continue;
     for (uint32_t f : b.fixtures) {
@@ -528,10 +642,10 @@ double Engine<W>::meanNeighbours(double size) const {
   std::vector<uint64_t> keys(n);
   auto key = [](int64_t x, int64_t y) { return (static_cast<uint64_t>(x) << 32) | static_cast<uint32_t>(y); };
   for (uint32_t slot = 0; slot < n; ++slot) {
-    const Vec2 c = w_.bodies[s_.bodyOfSlot[slot]].position + s_.rare[slot].centre;
+    const Vec2 c = s_.centres[slot];
     keys[slot] = key(cellCoord(c.x, s_.x0, size) + int64_t{kMaxCoord} + 1, cellCoord(c.y, s_.y0, size) + 1);
   }
-  std::sort(keys.begin(), keys.end());
+  sortKeys(keys);
   // Cells are visited in key order, so each of the nine neighbouring keys (x + dx, y + dy) only grows:
   // nine cursors that only move forward find every neighbouring cell's run of keys in O(n) in all. Cell
   // coordinates here are >= 0 (the origin is the bodies' lowest corner), so y + dy never wraps the key.
@@ -598,7 +712,7 @@ void Engine<W>::reorder(bool fresh) {
     for (uint64_t tx = 0; tx < s_.foldX; tx += side) {
       for (uint64_t z = 0; z < side * side; ++z) {
         const uint64_t x = tx + gather(z), y = ty + gather(z >> 1);
-        for (int32_t k = s_.cells[y * s_.foldX + x].head; k >= 0; k = s_.hot[k].next) {
+        for (int32_t k = headSlot(s_.heads[y * s_.foldX + x]); k >= 0; k = s_.links[k].next) {
           order.push_back(static_cast<uint32_t>(k));
         }
       }
@@ -606,22 +720,35 @@ void Engine<W>::reorder(bool fresh) {
   }
   std::vector<uint32_t> newSlot(n);
   for (uint32_t k = 0; k < n; ++k) newSlot[order[k]] = k;
-  // Into the spare arrays, which then change places with the live ones: memory is reused from one
-  // re-ordering to the next instead of being allocated (and faulted in) afresh.
-  auto permute = [&](auto& v, auto& spare) {
-    spare.resize(n);
-    for (uint32_t k = 0; k < n; ++k) spare[k] = std::move(v[order[k]]);
-    v.swap(spare);
+  // In place, along the permutation's cycles: no second copy of the arrays (tens of megabytes at 10^6
+  // bodies, to be faulted in before it is any use).
+  std::vector<uint8_t>& done = s_.permuted;
+  auto permute = [&](auto& v) {
+    done.assign(n, 0);
+    for (size_t start = 0; start < n; ++start) {
+      if (done[start]) continue;
+      auto held = std::move(v[start]);
+      for (size_t k = start;;) {
+        done[k] = 1;
+        const size_t from = order[k];
+        if (from == start) {
+          v[k] = std::move(held);
+          break;
+        }
+        v[k] = std::move(v[from]);
+        k = from;
+      }
+    }
   };
-  permute(s_.hot, s_.spareHot);
-  permute(s_.cold, s_.spareCold);
-  permute(s_.rare, s_.spareRare);
-  permute(s_.bodyOfSlot, s_.spareBodies);
+  permute(s_.hot);
+  permute(s_.cold);
+  permute(s_.rare);
+  permute(s_.bodyOfSlot);
   for (uint32_t k = 0; k < n; ++k) s_.slotOfBody[s_.bodyOfSlot[k]] = k;
   if (!fresh) {
     // (Fresh from buildGrid: no events and no dismissals yet, nothing to carry over.)
-    permute(s_.event, s_.spareEvents);
-    permute(s_.dismissed, s_.spareDismissed);
+    permute(s_.event);
+    permute(s_.dismissed);
     for (PredictiveEvent& e : s_.event) {
       if (e.partner != PredictiveState::kNone) e.partner = newSlot[e.partner];
     }
@@ -632,7 +759,8 @@ void Engine<W>::reorder(bool fresh) {
       if (s_.event[k].kind != PredictiveKind::None) enqueue(k);
     }
   }
-  for (auto& c : s_.cells) c.head = -1;
+  std::fill(s_.heads.begin(), s_.heads.end(), -1);
+  s_.links.resize(n);
   for (uint32_t k = static_cast<uint32_t>(n); k-- > 0;) link(k);
   s_.popsSinceReorder = 0;
 }
@@ -640,48 +768,39 @@ void Engine<W>::reorder(bool fresh) {
 template <class W>
 void Engine<W>::link(uint32_t slot) {
   const size_t cell = cellOf(slot);
-  const int32_t head = s_.cells[cell].head;
-  s_.cold[slot].prev = -1;
-  s_.hot[slot].next = head;
-  if (head >= 0) s_.cold[head].prev = static_cast<int32_t>(slot);
-  s_.cells[cell].head = static_cast<int32_t>(slot);
+  const int32_t head = headSlot(s_.heads[cell]);
+  s_.links[slot] = {head, -1};
+  if (head >= 0) s_.links[head].prev = static_cast<int32_t>(slot);
+  s_.heads[cell] = headEntry(static_cast<int32_t>(slot), head >= 0);
 }
 
 template <class W>
 void Engine<W>::unlink(uint32_t slot) {
-  const int32_t p = s_.cold[slot].prev, n = s_.hot[slot].next;
+  const auto [n, p] = s_.links[slot];
   if (p >= 0) {
-    s_.hot[p].next = n;
+    s_.links[p].next = n;
+    if (n < 0 && s_.links[p].prev < 0) s_.heads[cellOf(slot)] = headEntry(p, false);  // p is left alone
   } else {
-    s_.cells[cellOf(slot)].head = n;
+    s_.heads[cellOf(slot)] = headEntry(n, n >= 0 && s_.links[n].next >= 0);
   }
-  if (n >= 0) s_.cold[n].prev = p;
-  s_.cold[slot].prev = -1;
-  s_.hot[slot].next = -1;
+  if (n >= 0) s_.links[n].prev = p;
+  s_.links[slot] = {};
 }
 
 template <class W>
 template <class Visit>
 void Engine<W>::forEachNeighbour(uint32_t slot, Visit&& visit) const {
-  // The 3 x 3 cells around it (distinct table entries, since the table is at least 4 x 4).
-  const uint32_t x = static_cast<uint32_t>(s_.cold[slot].cx), y = static_cast<uint32_t>(s_.cold[slot].cy);
-  const uint32_t maskX = s_.foldX - 1, maskY = s_.foldY - 1;
-  const uint32_t columns[3] = {(x - 1) & maskX, x & maskX, (x + 1) & maskX};
-  for (uint32_t dy = 0; dy < 3; ++dy) {
-    const PredictiveState::Cell* row = s_.cells.data() + static_cast<size_t>((y + dy - 1) & maskY) * s_.foldX;
-    for (uint32_t column : columns) {
-      for (int32_t j = row[column].head; j >= 0; j = s_.hot[j].next) {
-        if (static_cast<uint32_t>(j) != slot) visit(static_cast<uint32_t>(j));
-      }
-    }
-  }
+  // The other bodies in the 3 x 3 cells around it (gatherNeighbours()).
+  std::vector<uint32_t>& found = s_.visiting;
+  gatherNeighbours(slot, found);
+  for (uint32_t j : found) visit(j);
 }
 
 template <class W>
 template <class Visit>
 void Engine<W>::forEachPhysical(uint32_t slot, Visit&& visit) const {
   if (s_.hot[slot].flags & HotBody::kSingle) {
-    visit(s_.cold[slot].fixture);
+    visit(s_.hot[slot].fixture);
     return;
   }
   for (uint32_t f : w_.bodies[s_.bodyOfSlot[slot]].fixtures) {
@@ -690,10 +809,42 @@ void Engine<W>::forEachPhysical(uint32_t slot, Visit&& visit) const {
 }
 
 template <class W>
+void Engine<W>::gatherNeighbours(uint32_t slot, std::vector<uint32_t>& out) const {
+  // The other bodies in the 3 x 3 cells around it (distinct table entries, since the table is at least
+  // 4 x 4), into `out`. The cell's coordinates come folded from the HotBody (the same entries: the fold
+  // is a remainder by a power of two). Every neighbour's record is asked for as its slot is found (a
+  // prefetch): they are most often cache misses, and are then fetched side by side before the pair
+  // tests read them, instead of one after each test. The lists are in `links`, read only past a head
+  // whose entry says more follow.
+  out.clear();
+  const uint32_t cell = s_.hot[slot].cell;
+  const uint32_t x = cell & (s_.foldX - 1), y = cell / s_.foldX;
+  const uint32_t maskX = s_.foldX - 1, maskY = s_.foldY - 1;
+  const uint32_t columns[3] = {(x - 1) & maskX, x & maskX, (x + 1) & maskX};
+  const HotBody* hot = s_.hot.data();
+  const PredictiveState::CellLink* links = s_.links.data();
+  for (uint32_t dy = 0; dy < 3; ++dy) {
+    const int32_t* row = s_.heads.data() + static_cast<size_t>((y + dy - 1) & maskY) * s_.foldX;
+    for (uint32_t column : columns) {
+      const int32_t entry = row[column];
+      if (entry < 0) continue;
+      int32_t j = headSlot(entry);
+      __builtin_prefetch(hot + j);
+      if (static_cast<uint32_t>(j) != slot) out.push_back(static_cast<uint32_t>(j));
+      if (!(entry & 1)) continue;  // alone in its cell: no look at `links`
+      for (j = links[j].next; j >= 0; j = links[j].next) {
+        __builtin_prefetch(hot + j);
+        if (static_cast<uint32_t>(j) != slot) out.push_back(static_cast<uint32_t>(j));
+      }
+    }
+  }
+}
+
+template <class W>
 bool Engine<W>::isDismissed(uint32_t slot, uint32_t own, uint32_t other) const {
   const uint32_t countOwn = s_.hot[slot].collisionCount;
   for (const detail::Dismissal& d : s_.dismissed[slot]) {
-    if (d.own == own && d.other == other && d.countOwn == countOwn && d.countOther == w_.bodyOf(other).collisionCount) {
+    if (d.own == own && d.other == other && d.countOwn == countOwn && d.countOther == countOf(other)) {
       return true;
     }
   }
@@ -741,6 +892,8 @@ int Engine<W>::resolvedFeature(const BodySlot& a, const BodySlot& b, uint32_t ow
 template <class W>
 void Engine<W>::predictPair(uint32_t own, uint32_t other, double now, double horizon, PredictiveEvent& best) {
   // World::Impl::predict, up to the body's horizon instead of the step's end.
+  attachFixture(own);
+  attachFixture(other);
   const BodySlot& a = w_.bodyOf(own);
   const BodySlot& b = w_.bodyOf(other);
   ++w_.stats.timeOfImpactTests;
@@ -760,7 +913,6 @@ void Engine<W>::predictPair(uint32_t own, uint32_t other, double now, double hor
                           own,
                           other,
                           impact->feature,
-                          a.collisionCount,
                           b.collisionCount,
                           PredictiveKind::Contact,
                           s_.slotOfBody[w_.fixtures[other].body],
@@ -782,10 +934,10 @@ void Engine<W>::predictCircles(const Predicting& p, uint32_t j, double horizon, 
     if (ca.group != 0 && ca.group == cb.group) return;
     if ((ca.categoryBits & cb.maskBits) == 0 || (cb.categoryBits & ca.maskBits) == 0) return;
   }
-  if ((a.flags & HotBody::kDismissals) && isDismissed(p.slot, p.cold->fixture, s_.cold[j].fixture)) return;
+  if ((a.flags & HotBody::kDismissals) && isDismissed(p.slot, a.fixture, b.fixture)) return;
   const double now = p.now;
   ++w_.stats.timeOfImpactTests;
-  const Vec2 accB = (b.flags & HotBody::kAccelerating) ? s_.cold[j].acceleration : Vec2{};
+  const Vec2 accB = accelerationOf(b, s_.rare[j]);
   const Vec2 centreB = (b.flags & HotBody::kOffCentre) ? s_.rare[j].centre : Vec2{};
   const Vec2 pb = positionAt(b, accB, now);
   const Vec2 vb = velocityAt(b, accB, now);
@@ -809,7 +961,7 @@ void Engine<W>::predictCircles(const Predicting& p, uint32_t j, double horizon, 
   // resolvedFeature() from the copies: both bodies' last contact is this pair, at this instant.
   int resolved = kNoFeature;
   if (ca.lastTime == now) {
-    const uint32_t low = std::min(ca.fixture, cb.fixture), high = std::max(ca.fixture, cb.fixture);
+    const uint32_t low = std::min(a.fixture, b.fixture), high = std::max(a.fixture, b.fixture);
     if (ca.lastLow == low && ca.lastHigh == high && cb.lastTime == now && cb.lastLow == low && cb.lastHigh == high) {
       resolved = ca.lastFeature;
     }
@@ -822,10 +974,9 @@ void Engine<W>::predictCircles(const Predicting& p, uint32_t j, double horizon, 
   impact->point += pb;
   const Vec2 travelOfB = vb * h + accB * (0.5 * h * h);
   const PredictiveEvent e{time,
-                          ca.fixture,
-                          cb.fixture,
+                          a.fixture,
+                          b.fixture,
                           impact->feature,
-                          a.collisionCount,
                           b.collisionCount,
                           PredictiveKind::Contact,
                           j,
@@ -847,7 +998,7 @@ void Engine<W>::startPrediction(uint32_t i, double now, Prediction& q) const {
   p.now = now;
   p.hot = &hb;
   p.cold = &cb;
-  p.acceleration = accelerationOf(hb, cb);
+  p.acceleration = accelerationOf(hb, s_.rare[i]);
   p.position = positionAt(hb, p.acceleration, now);
   p.velocity = velocityAt(hb, p.acceleration, now);
   p.centre = (hb.flags & HotBody::kOffCentre) ? s_.rare[i].centre : Vec2{};
@@ -858,8 +1009,7 @@ void Engine<W>::startPrediction(uint32_t i, double now, Prediction& q) const {
   PredictiveEvent& best = q.best;
   best = PredictiveEvent{};
   best.time = kInf;
-  best.a = best.b = cb.fixture;
-  best.countA = hb.collisionCount;
+  best.a = best.b = hb.fixture;
   best.feature = -1;
   if (q.moving || s_.movingKinematic) {
     double h = kInf;
@@ -931,7 +1081,7 @@ inline void Engine<W>::pairPlain(Prediction& q, uint32_t j) {
   const ColdBody& ca = *p.cold;
   int resolved = kNoFeature;
   if (ca.lastTime == now) {
-    const uint32_t low = std::min(ca.fixture, b.fixture), high = std::max(ca.fixture, b.fixture);
+    const uint32_t low = std::min(p.hot->fixture, b.fixture), high = std::max(p.hot->fixture, b.fixture);
     if (ca.lastLow == low && ca.lastHigh == high) {
       const ColdBody& cb = s_.cold[j];
       if (cb.lastTime == now && cb.lastLow == low && cb.lastHigh == high) resolved = ca.lastFeature;
@@ -946,10 +1096,9 @@ inline void Engine<W>::pairPlain(Prediction& q, uint32_t j) {
   impact->point += pb;
   const Vec2 travelOfB = vb * h + Vec2{} * (0.5 * h * h);
   const PredictiveEvent e{time,
-                          ca.fixture,
+                          p.hot->fixture,
                           b.fixture,
                           impact->feature,
-                          p.hot->collisionCount,
                           b.collisionCount,
                           PredictiveKind::Contact,
                           j,
@@ -963,9 +1112,9 @@ void Engine<W>::finishPrediction(Prediction& q) {
   // Static fixtures, kinematic bodies and the slide's end; then the event goes into the queue.
   const uint32_t i = q.p.slot;
   const double now = q.p.now, horizon = q.horizon;
-  if (q.moving) {
+  if (q.moving && (q.p.hot->flags & HotBody::kStaticNear)) {
     const size_t cell = cellOf(i);
-    for (uint32_t k = s_.cells[cell].staticBegin; k < s_.cells[cell + 1].staticBegin; ++k) {
+    for (uint32_t k = s_.staticBegin[cell]; k < s_.staticBegin[cell + 1]; ++k) {
       const uint32_t g = s_.staticList[k];
       forEachPhysical(i, [&](uint32_t f) {
         if (!w_.canCollide(f, g) || (q.hasDismissals && isDismissed(i, f, g))) return;
@@ -981,11 +1130,11 @@ void Engine<W>::finishPrediction(Prediction& q) {
     });
   }
   if (q.p.hot->flags & HotBody::kSliding) {
+    attach(i);
     const BodySlot& b = w_.bodies[s_.bodyOfSlot[i]];
     const double until = q.moving ? horizon : now + s_.capTime;
     if (const auto t = w_.slideEndTime(b, now, until)) {
-      const PredictiveEvent e{std::min(*t, until),     b.fixtures.front(), b.support.fixture,
-                              b.support.feature,       b.collisionCount,   0,
+      const PredictiveEvent e{std::min(*t, until), b.fixtures.front(), b.support.fixture, b.support.feature, 0,
                               PredictiveKind::SlideEnd};
       if (earlier(e, q.best)) q.best = e;
     }
@@ -1000,24 +1149,28 @@ void Engine<W>::finishPrediction(Prediction& q) {
 
 template <class W>
 void Engine<W>::predictBody(uint32_t i, double now) {
+  // The neighbours are gathered first, which asks for their records (forEachNeighbour), so that they
+  // arrive while the body's own motion and cell crossing are worked out.
+  std::vector<uint32_t>& neighbours = s_.neighbours;
+  gatherNeighbours(i, neighbours);
   Prediction q;
   startPrediction(i, now, q);
   if (q.plain && q.moving) {
-    forEachNeighbour(i, [&](uint32_t j) {
+    for (uint32_t j : neighbours) {
       if (isPlain(s_.hot[j])) {
         pairPlain(q, j);
       } else {
         pairWith(q, j, q.horizon);
       }
-    });
+    }
   } else if (q.moving) {
-    forEachNeighbour(i, [&](uint32_t j) { pairWith(q, j, q.horizon); });
+    for (uint32_t j : neighbours) pairWith(q, j, q.horizon);
   } else {
-    forEachNeighbour(i, [&](uint32_t j) {
+    for (uint32_t j : neighbours) {
       // A neighbour without an event is at rest too, or is about to be predicted (and then sees this).
-      if (j == popped_ || s_.event[j].kind == PredictiveKind::None || !isMoving(s_.hot[j])) return;
+      if (j == popped_ || s_.event[j].kind == PredictiveKind::None || !isMoving(s_.hot[j])) continue;
       pairWith(q, j, std::max(s_.event[j].time, now));
-    });
+    }
   }
   finishPrediction(q);
 }
@@ -1034,7 +1187,7 @@ void Engine<W>::fillPairs(uint32_t i) {
     forEachPhysical(i, [&](uint32_t f) { forEachPhysical(j, [&](uint32_t g) { add(f, g); }); });
   });
   const size_t cell = cellOf(i);
-  for (uint32_t k = s_.cells[cell].staticBegin; k < s_.cells[cell + 1].staticBegin; ++k) {
+  for (uint32_t k = s_.staticBegin[cell]; k < s_.staticBegin[cell + 1]; ++k) {
     forEachPhysical(i, [&](uint32_t f) { add(f, s_.staticList[k]); });
   }
   for (uint32_t g : s_.kinematicFixtures) {
@@ -1055,9 +1208,9 @@ void Engine<W>::resetQueue() {
 }
 
 template <class W>
-void Engine<W>::enqueue(uint32_t slot) {
-  // Into the heap, a bucket or the overflow array, by its time's bucket.
-  const double t = s_.event[slot].time;
+void Engine<W>::enqueue(uint32_t slot, double t) {
+  // Into the heap, a bucket or the overflow array, by its time's bucket (t is event[slot].time, passed
+  // along: the record was most often just written, and reading it back waits for its line).
   const int64_t k = bucketOf(t);
   if (k <= s_.current) {
     s_.heap.push_back({t, slot});
@@ -1100,10 +1253,23 @@ void Engine<W>::dequeue(uint32_t slot) {
 }
 
 template <class W>
-void Engine<W>::retune(double now) {
+void Engine<W>::retune(double now, bool keepWidth) {
   // A new calendar from `now`: buckets about as wide as the time in which ~32 events fall near now (the
   // density read from the nearest sixteenth of the events, not just a few, which may all be due at once),
-  // and enough of them to reach well past most events.
+  // and enough of them to reach well past most events. `keepWidth`: the buckets of the last calendar
+  // again, only laid from `now` (after the times were re-based): the queue is rebuilt without measuring
+  // the density (a calendar's cut changes how fast events are found, never their order).
+  if (keepWidth && !s_.buckets.empty()) {
+    s_.base = now;
+    s_.current = bucketOf(now);
+    s_.stepBucket = bucketOf(s_.stepEnd);
+    s_.limit = roundLimit();
+    resetQueue();
+    for (uint32_t k = 0; k < s_.hot.size(); ++k) {
+      if (s_.event[k].kind != PredictiveKind::None) enqueue(k);
+    }
+    return;
+  }
   std::vector<double>& ahead = s_.scratchTimes;
   ahead.clear();
   const size_t n = s_.hot.size();
@@ -1133,7 +1299,8 @@ void Engine<W>::retune(double now) {
   s_.inverseWidth = 1 / width;
   if (s_.buckets.size() != buckets) s_.buckets.resize(buckets);
   s_.current = bucketOf(now);
-  s_.limit = s_.current + static_cast<int64_t>(buckets);
+  s_.stepBucket = bucketOf(s_.stepEnd);
+  s_.limit = roundLimit();
   resetQueue();
   for (uint32_t k = 0; k < n; ++k) {
     if (s_.event[k].kind != PredictiveKind::None) enqueue(k);
@@ -1145,6 +1312,8 @@ template <class W>
 uint32_t Engine<W>::top() {
   // The earliest event's slot, moving later buckets into the heap as it runs empty.
   while (s_.heap.empty()) {
+    // Every event of the buckets up to the step's end has been taken: what is left is due after it.
+    if (s_.current >= s_.stepBucket) return PredictiveState::kNone;
     if (s_.inBuckets == 0) {
       if (s_.inOverflow == 0) return PredictiveState::kNone;
       // Nothing left but the overflow: skip to its first bucket.
@@ -1152,6 +1321,7 @@ uint32_t Engine<W>::top() {
       for (const auto& e : s_.overflow) {
         if (s_.queue[e.slot].ticket == e.ticket) first = std::min(first, bucketOf(e.time));
       }
+      if (first > s_.stepBucket) return PredictiveState::kNone;
       s_.current = std::max(s_.current, first - 1);
       s_.limit = s_.current + 1;
     }
@@ -1163,7 +1333,7 @@ uint32_t Engine<W>::top() {
     }
     if (s_.current >= s_.limit) {
       // A new round of the buckets: the overflow events now within reach move in.
-      s_.limit = s_.current + static_cast<int64_t>(s_.buckets.size());
+      s_.limit = roundLimit();
       std::vector<PredictiveState::QueueEntry> waiting;
       waiting.swap(s_.overflow);
       s_.inOverflow = 0;
@@ -1176,8 +1346,14 @@ uint32_t Engine<W>::top() {
       if (s_.overflow.empty()) waiting.swap(s_.overflow);  // keep the memory
     }
     auto& bucket = s_.buckets[static_cast<size_t>(s_.current & static_cast<int64_t>(s_.buckets.size() - 1))];
+    // The entries' tickets first, all asked for at once (scattered over the slots).
+    for (const auto& e : bucket) __builtin_prefetch(&s_.queue[e.slot]);
     for (const auto& e : bucket) {
       if (s_.queue[e.slot].ticket != e.ticket) continue;
+      // Its event record and body are read when it comes up, a few dozen events from now: ask for them
+      // now, side by side, rather than one miss after another then.
+      __builtin_prefetch(&s_.event[e.slot]);
+      __builtin_prefetch(&s_.hot[e.slot]);
       --s_.inBuckets;
       s_.queue[e.slot].heapPos = static_cast<int32_t>(s_.heap.size());
       s_.heap.push_back({e.time, e.slot});
@@ -1238,7 +1414,7 @@ void Engine<W>::schedule(uint32_t slot, const PredictiveEvent& e) {
   }
   dequeue(slot);
   s_.event[slot] = e;
-  enqueue(slot);
+  enqueue(slot, e.time);
 }
 
 template <class W>
@@ -1250,6 +1426,69 @@ void Engine<W>::unschedule(uint32_t slot) {
 // ---- The step --------------------------------------------------------------------------------------
 
 template <class W>
+double Engine<W>::endPlain(double end, double& speed) {
+  // The step's end in a plain world, for the tracked bodies: attach(), World::Impl::advance() to `end`,
+  // the clocks re-based to it and sync(), in one pass over the copies instead of three passes (one over
+  // all the BodySlots). Nobody accelerates but by the world's gravity (zero here), sleeps or slides, so
+  // sync() would copy back exactly what is written here. Returns the largest coordinate; `speed` grows to
+  // the largest speed.
+  const Vec2 g = w_.def.gravity;  // every tracked body's BodySlot::acceleration (normalize())
+  double extent = 0;
+  for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) {
+    HotBody& h = s_.hot[slot];
+    ColdBody& c = s_.cold[slot];
+    BodySlot& b = w_.bodies[s_.bodyOfSlot[slot]];
+    const Vec2 p = positionAt(h, g, end), v = velocityAt(h, g, end);
+    double lastTime = c.lastTime;
+    if (lastTime >= 0) lastTime -= end;
+    b.position = h.position = p;
+    b.velocity = h.velocity = v;
+    b.localTime = h.localTime = 0;
+    b.collisionCount = h.collisionCount;
+    c.lastTime = lastTime;
+    b.last = detail::LastContact{c.lastLow, c.lastHigh, c.lastFeature, lastTime};
+    b.lastContactTime = c.lastContactTime;
+    h.flags = static_cast<uint8_t>(h.flags & ~HotBody::kDetached);
+    extent = std::max({extent, std::fabs(p.x), std::fabs(p.y)});
+    speed = std::max(speed, length(v));
+  }
+  return extent;
+}
+
+template <class W>
+void Engine<W>::collidePlain(uint32_t i, uint32_t j, const PredictiveEvent& c, double tolerance) {
+  // World::Impl::resolve() for two plain disks, on their copies (plain_collision.h); the BodySlots
+  // catch up in attach(). The contact event as resolve() writes it.
+  const detail::PlainOutcome out =
+      detail::resolvePlainDisks({s_.hot[i], s_.cold[i]}, {s_.hot[j], s_.cold[j]}, c, w_.time,
+                                w_.def.collapseTime, tolerance);
+  if (out.approachingAfter) {
+    // As after resolve(): the guard does not hold for a pair left approaching.
+    for (uint32_t k : {i, j}) {
+      ColdBody& cold = s_.cold[k];
+      const detail::LastContact none;
+      cold.lastTime = none.time;
+      cold.lastLow = none.fixtureLow;
+      cold.lastHigh = none.fixtureHigh;
+      cold.lastFeature = none.feature;
+    }
+  }
+  if (!out.resolved) return;
+  const bool aIsLower = c.a < c.b;
+  const uint32_t lower = aIsLower ? i : j, upper = aIsLower ? j : i;
+  ContactEvent event;
+  event.time = c.time;
+  event.point = c.point;
+  event.impulse = out.impulse;
+  event.fixtureA = {s_.hot[lower].fixture, s_.cold[lower].fixtureGeneration};
+  event.fixtureB = {s_.hot[upper].fixture, s_.cold[upper].fixtureGeneration};
+  event.bodyA = {s_.bodyOfSlot[lower], s_.cold[lower].bodyGeneration};
+  event.bodyB = {s_.bodyOfSlot[upper], s_.cold[upper].bodyGeneration};
+  event.normal = aIsLower ? -c.normal : c.normal;  // c.normal points from c.b toward c.a
+  w_.contactEvents.push_back(event);
+}
+
+template <class W>
 void Engine<W>::step(double dt) {
   w_.contactEvents.clear();
   w_.sensorEvents.clear();
@@ -1257,8 +1496,17 @@ void Engine<W>::step(double dt) {
   w_.stats = StepStats{};
   if (w_.pairsOfBody.size() < w_.bodies.size()) w_.pairsOfBody.resize(w_.bodies.size());
 
-  // 1. Notice what changed since the last step; re-base the clocks to this step's start.
-  normalize(dt);
+  // 1. Notice what changed since the last step; re-base the clocks to this step's start. After a plain
+  // world's step, with nothing touched since, normalize() would change nothing (no gravity, sleep or
+  // slide; the Zeno count moves only under gravity) and its gathering was done by endPlain().
+  if (s_.normalized && s_.valid && !w_.structureChanged && w_.touchedBodies.empty()) {
+    speedScale_ = s_.nextSpeedScale;
+    movingKinematic_ = s_.nextMovingKinematic;
+    anyAsleep_ = anySliding_ = false;
+  } else {
+    normalize(dt);
+  }
+  s_.normalized = false;
   // What the World API changed since the last step (World::Impl::touched): the dynamic bodies touched are
   // predicted again; a change of structure starts afresh.
   bool rebuild = !s_.valid || w_.structureChanged;
@@ -1281,6 +1529,12 @@ void Engine<W>::step(double dt) {
   }
   if (rebuild) buildGrid();
   computeConstants(dt);
+  if (!rebuild && w_.restitutionChanged) {
+    for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) {
+      s_.cold[slot].restitution = w_.fixtures[s_.hot[slot].fixture].restitution;
+    }
+  }
+  plainWorld_ = s_.plainShapes && w_.def.gravity == Vec2{} && w_.liveSensors == 0 && !anyAsleep_ && !anySliding_;
   if (rebuild) {
     for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) predictBody(slot, 0);
   } else {
@@ -1308,7 +1562,10 @@ void Engine<W>::step(double dt) {
     }
   }
   s_.dismissedSlots.clear();
-  retune(0);
+  s_.stepEnd = dt;
+  // The calendar is laid again from the step's start; its width is measured again once a quarter of the
+  // bodies' worth of events went by since (short steps see few events each).
+  retune(0, /*keepWidth=*/!rebuild && s_.popsSinceRetune < s_.hot.size() / 4);
   w_.startPaths();
 
   // 2. Events in time order, up to the step's end.
@@ -1327,6 +1584,10 @@ void Engine<W>::step(double dt) {
     const uint32_t j = c.kind == PredictiveKind::Contact ? c.partner : PredictiveState::kNone;
     // Every way on from here predicts `i` again (or ends the step, which then starts afresh).
     popped_ = i;
+    // What comes next reads these; ask for them together (the HotBody came with the event, see top()).
+    prefetchNeighbourhood(i);
+    __builtin_prefetch(&s_.cold[i]);
+    if (j != PredictiveState::kNone) __builtin_prefetch(&s_.hot[j]);
 
     if (c.kind == PredictiveKind::Cross) {
       if (c.feature >= 0) {
@@ -1341,7 +1602,7 @@ void Engine<W>::step(double dt) {
         } else {
           ++cell.cy;
         }
-        cell.cell = folded(cell.cx, cell.cy);
+        setCell(i);
         link(i);
       }
       predictBody(i, c.time);
@@ -1349,8 +1610,9 @@ void Engine<W>::step(double dt) {
     }
     const uint32_t ia = s_.bodyOfSlot[i];
     if (c.kind == PredictiveKind::SlideEnd) {
+      attach(i);
       BodySlot& a = w_.bodies[ia];
-      if (a.collisionCount != c.countA || a.support.generation == 0) {
+      if (a.support.generation == 0) {
         ++w_.stats.staleEvents;
         predictBody(i, c.time);
         continue;
@@ -1363,21 +1625,27 @@ void Engine<W>::step(double dt) {
       continue;
     }
 
-    // A contact. Static and kinematic bodies never change their counters.
-    if (s_.hot[i].collisionCount != c.countA || (j != PredictiveState::kNone && s_.hot[j].collisionCount != c.countB)) {
+    // A contact. Static and kinematic bodies never change their counters; the body's own event is never
+    // stale (PredictiveEvent).
+    const uint32_t countA = s_.hot[i].collisionCount;
+    if (j != PredictiveState::kNone && s_.hot[j].collisionCount != c.countB) {
       ++w_.stats.staleEvents;
       predictBody(i, c.time);
       continue;
+    }
+    if (j != PredictiveState::kNone) {
+      __builtin_prefetch(&s_.cold[j]);
+      prefetchNeighbourhood(j);
     }
     // The hybrid step's check at pop: an approach no faster than round-off, with nothing pressing the two
     // together, is not a collision. It is absorbed when the bodies still move, or else dropped.
     Vec2 relativeVelocity, relativeAcceleration;
     {
       const HotBody& ha = s_.hot[i];
-      const Vec2 accA = accelerationOf(ha, s_.cold[i]);
+      const Vec2 accA = accelerationOf(ha, s_.rare[i]);
       if (j != PredictiveState::kNone) {
         const HotBody& hb = s_.hot[j];
-        const Vec2 accB = accelerationOf(hb, s_.cold[j]);
+        const Vec2 accB = accelerationOf(hb, s_.rare[j]);
         relativeVelocity = velocityAt(ha, accA, c.time) - velocityAt(hb, accB, c.time);
         relativeAcceleration = accA - accB;
       } else {
@@ -1387,7 +1655,7 @@ void Engine<W>::step(double dt) {
       }
     }
     const detail::PredictedContact contact{
-        c.time, detail::EventKind::Contact, c.a, c.b, c.feature, c.countA, c.countB, c.point, c.normal};
+        c.time, detail::EventKind::Contact, c.a, c.b, c.feature, countA, c.countB, c.point, c.normal};
     const double vn = dot(relativeVelocity, c.normal);
     const bool pressing = dot(relativeAcceleration, c.normal) < 0;
     const double restTol = restTolerance * (std::fabs(c.point.x) + std::fabs(c.point.y));
@@ -1396,6 +1664,8 @@ void Engine<W>::step(double dt) {
       ++w_.stats.staleEvents;
       const double speed = length(relativeVelocity);
       if (vn < -16 * kEps * speed && speed > restTol && w_.stats.eventsProcessed < w_.def.maxEventsPerStep) {
+        attach(i);
+        if (j != PredictiveState::kNone) attach(j);
         w_.absorb(contact, vn);
         ++w_.stats.eventsProcessed;
         sync(i);
@@ -1409,10 +1679,10 @@ void Engine<W>::step(double dt) {
         auto& list = s_.dismissed[i];
         list.erase(std::remove_if(list.begin(), list.end(),
                                   [&](const detail::Dismissal& d) {
-                                    return d.countOwn != c.countA || d.countOther != w_.bodyOf(d.other).collisionCount;
+                                    return d.countOwn != countA || d.countOther != countOf(d.other);
                                   }),
                    list.end());
-        list.push_back({c.a, c.b, c.countA, c.countB});
+        list.push_back({c.a, c.b, countA, c.countB});
         predictBody(i, c.time);
       }
       continue;
@@ -1422,6 +1692,15 @@ void Engine<W>::step(double dt) {
       budgetTime = c.time;
       break;
     }
+    if (plainWorld_ && j != PredictiveState::kNone) {
+      collidePlain(i, j, c, tolerance);
+      ++w_.stats.eventsProcessed;
+      predictBody(i, c.time);
+      predictBody(j, c.time);
+      continue;
+    }
+    attach(i);
+    if (j != PredictiveState::kNone) attach(j);
     // The resting rules look at the bodies' candidate pairs.
     if (w_.def.restingSpeed > 0 && !(w_.def.gravity == Vec2{})) {
       fillPairs(i);
@@ -1471,8 +1750,7 @@ void Engine<W>::step(double dt) {
     w_.pathLog.active = false;
   }
   double extent = 0;
-  for (BodySlot& b : w_.bodies) {
-    if (!b.alive || b.type == BodyType::Static) continue;
+  auto toEnd = [&](BodySlot& b) {
     if (b.type == BodyType::Dynamic) {
       w_.advance(b, end);
       if (b.asleep) ++w_.stats.sleeping;
@@ -1482,8 +1760,30 @@ void Engine<W>::step(double dt) {
     b.localTime = 0;
     if (b.last.time >= 0) b.last.time -= end;  // the next step starts at this one's end
     extent = std::max({extent, std::fabs(b.position.x), std::fabs(b.position.y)});
+  };
+  if (plainWorld_) {
+    // normalize()'s gathering for the next step: the speed scale (every acceleration is zero: its term,
+    // |a| dt, adds nothing) and whether a kinematic body with a fixture moves.
+    double speed = 0;
+    extent = endPlain(end, speed);
+    bool movingKinematic = false, accelerating = false;
+    for (uint32_t body : s_.untracked) {
+      BodySlot& b = w_.bodies[body];
+      toEnd(b);
+      speed = std::max(speed, length(b.velocity));
+      if (b.type == BodyType::Kinematic && !(b.velocity == Vec2{}) && !b.fixtures.empty()) movingKinematic = true;
+      if (!(b.acceleration == Vec2{})) accelerating = true;
+    }
+    s_.normalized = !accelerating;
+    s_.nextSpeedScale = speed;
+    s_.nextMovingKinematic = movingKinematic;
+  } else {
+    for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) attach(slot);
+    for (BodySlot& b : w_.bodies) {
+      if (b.alive && b.type != BodyType::Static) toEnd(b);
+    }
+    for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) sync(slot);
   }
-  for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) sync(slot);
   w_.time += dt;
   s_.lastStep = end;
   s_.endExtent = extent;

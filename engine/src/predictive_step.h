@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "path_log.h"
@@ -20,11 +21,15 @@ enum class PredictiveKind : uint8_t { Contact = 0, SlideEnd = 1, Cross = 2, None
 // from b toward a (as detail::PredictedContact). SlideEnd: `a` the body's first fixture, `b` its support.
 // Cross: `a` = `b` = the body's primary fixture; `feature` the cell side it leaves (0: -x, 1: +x, 2: -y,
 // 3: +y), or -1 for a mere horizon (the body is predicted again, its cell unchanged).
-struct PredictiveEvent {
+//
+// No counter of the body's own: whatever moves it on (a collision, a slide's end, a change from outside,
+// a wake-up) predicts the body again before the next event is taken, which replaces its event. Only the
+// partner's counter (`countB`) can go stale. One cache line.
+struct alignas(64) PredictiveEvent {
   double time = 0;  // from the start of the current step
   uint32_t a = 0, b = 0;
   int32_t feature = 0;
-  uint32_t countA = 0, countB = 0;
+  uint32_t countB = 0;
   PredictiveKind kind = PredictiveKind::None;
   uint32_t partner = 0xFFFFFFFFu;  // Contact: the slot of b's body, or PredictiveState::kNone
   Vec2 point;
@@ -42,48 +47,54 @@ struct Dismissal {
 // (bodies of one cell next to each other), so that scanning a neighbourhood touches a few cache lines
 // instead of scattered BodySlots. The BodySlot stays the truth; the copy is refreshed whenever the body
 // changes. `HotBody` is what every neighbour test reads; `ColdBody` what is read once per prediction of
-// the body itself or when a flag says so (acceleration); `RareBody` what only a flag calls for (a centre
-// off the body's position, a filter other than the default). HotBody and ColdBody are one cache line
-// each.
+// the body itself and by a collision of two plain disks; `RareBody` what only a flag calls for (an
+// acceleration, a centre off the body's position, a filter other than the default). HotBody and ColdBody
+// are one cache line each.
 struct alignas(64) HotBody {
   enum : uint8_t {
     kSingle = 1,        // the primary fixture is a Circle and the body's only physical fixture
-    kAccelerating = 2,  // acceleration != 0 (in ColdBody)
-    kOffCentre = 4,     // the circles' centre is not the body's position (in ColdBody)
-    kCustomFilter = 8,  // the primary fixture's filter is not the default one (in ColdBody)
+    kAccelerating = 2,  // acceleration != 0 (in RareBody)
+    kOffCentre = 4,     // the circles' centre is not the body's position (in RareBody)
+    kCustomFilter = 8,  // the primary fixture's filter is not the default one (in RareBody)
     kSliding = 16,      // BodySlot::support is set
     kDismissals = 32,   // PredictiveState::dismissed holds something for it
+    kDetached = 64,     // the BodySlot lags this copy (a plain collision, plain_collision.h); see attach()
+    kStaticNear = 128,  // its cell lists static fixtures (PredictiveState::staticBegin), kept with the cell
   };
   Vec2 position;  // at localTime, as BodySlot
   Vec2 velocity;
   double localTime = 0;
   double radius = 0;  // of the primary fixture, when kSingle
   uint32_t collisionCount = 0;
-  uint32_t fixture = 0;  // the primary (first physical) fixture, as ColdBody::fixture
-  int32_t next = -1;     // the next slot in the cell's list, or -1
+  uint32_t fixture = 0;  // the primary (first physical) fixture
+  uint32_t cell = 0;     // where its cell (ColdBody::cx, cy) is folded to: its table entry (PredictiveState::heads)
   uint8_t flags = 0;
 };
 
 struct alignas(64) ColdBody {
-  Vec2 acceleration;
   double lastTime = -1;  // BodySlot::last
   uint32_t lastLow = 0, lastHigh = 0;
   int32_t lastFeature = -1;
-  uint32_t fixture = 0;    // the primary (first physical) fixture
   int32_t cx = 0, cy = 0;  // its cell
-  uint32_t cell = 0;       // where the cell is folded to: its table entry (PredictiveState::cells)
-  int32_t prev = -1;       // the previous slot in the cell's list (HotBody::next the other way), or -1
+  // The rest of what World::Impl::resolve() reads from two BodySlots and two FixtureSlots, for a
+  // collision of two plain disks resolved on the copies (plain_collision.h).
+  double inverseMass = 0;
+  double restitution = 0;  // of the primary fixture
+  double lastContactTime = -std::numeric_limits<double>::infinity();  // BodySlot::lastContactTime
+  uint32_t bodyGeneration = 0, fixtureGeneration = 0;
 };
 
 // What is read only when a flag of the HotBody says so, kept out of ColdBody so that it fits one cache
 // line.
 struct RareBody {
+  Vec2 acceleration;  // HotBody::kAccelerating
   Vec2 centre;  // the body's circles' common centre, relative to the body (HotBody::kOffCentre)
   uint32_t categoryBits = 0, maskBits = 0;  // the primary fixture's filter (HotBody::kCustomFilter)
   int32_t group = 0;
 };
 
-static_assert(sizeof(HotBody) == 64 && sizeof(ColdBody) == 64);
+static_assert(sizeof(HotBody) == 64 && sizeof(ColdBody) == 64 && sizeof(PredictiveEvent) == 64);
+
 
 struct HeapNode {
   double time;
@@ -110,21 +121,34 @@ struct PredictiveState {
   double hysteresis = 0;          // how far past its cell's side a body goes before it crosses (see buildGrid)
   double extent = 0;              // the largest coordinate of a body when the grid was made
   uint32_t foldX = 4, foldY = 4;  // powers of two, >= 4
-  struct Cell {
-    int32_t head = -1;         // the first slot in the cell, or -1
-    uint32_t staticBegin = 0;  // static fixtures near the cell: staticList[staticBegin, next cell's)
+  // By table entry. The cells' lists of slots are linked through `links`, a small array of its own (not
+  // a field of the bodies' records): walking a neighbourhood's lists then touches a few lines that mostly
+  // stay in cache, and the neighbours' records can all be fetched at once (Engine::forEachNeighbour).
+  // The first slot in the cell, times two, plus one if more follow it; or -1 for an empty cell. Cells
+  // hold less than one body on average in a dense gas: most lists end at their head, and the bit says
+  // so without a look at `links`. (Slots are < 2^30: a BodySlot alone is 240 bytes.)
+  std::vector<int32_t> heads;
+  std::vector<uint32_t> staticBegin;  // static fixtures near the cell: staticList[staticBegin[c], staticBegin[c + 1])
+  std::vector<uint64_t> staticNear;   // a bit by cell: staticBegin[c] != staticBegin[c + 1] (a table 32 times smaller)
+  struct CellLink {
+    int32_t next = -1, prev = -1;  // the next and previous slots in the cell's list, or -1
   };
-  std::vector<Cell> cells;  // one more than the grid has, for the last cell's end
   std::vector<uint32_t> staticList;
   std::vector<uint32_t> kinematicFixtures;  // physical fixtures of kinematic bodies
 
   // Tracked bodies (dynamic, with a physical fixture) have a slot; slots are ordered by cell when the
   // grid is built and re-ordered now and then as bodies move. Everything below is indexed by slot.
   std::vector<uint32_t> slotOfBody;  // by body index; kNone: not tracked
+  std::vector<uint32_t> untracked;   // the kinematic bodies and dynamic ones without a physical fixture
   std::vector<uint32_t> bodyOfSlot;
   std::vector<HotBody> hot;
   std::vector<ColdBody> cold;
   std::vector<RareBody> rare;
+  std::vector<CellLink> links;
+  // Every tracked body is plain (one circle on its centre, the default filter) and no kinematic body has
+  // a physical fixture: set by buildGrid. With no gravity, no sensors and nobody asleep, such a world's
+  // disk-disk collisions are resolved on the copies (plain_collision.h).
+  bool plainShapes = false;
   std::vector<PredictiveEvent> event;
   std::vector<std::vector<Dismissal>> dismissed;
   std::vector<uint32_t> dismissedSlots;  // slots whose `dismissed` is not empty
@@ -132,6 +156,11 @@ struct PredictiveState {
   uint64_t popsSinceRetune = 0;
 
   double endExtent = 0;  // the largest coordinate of a moving body at the end of the last step
+  // What normalize() gathers at a step's start, found instead by a plain world's step end (which visits
+  // every moving body anyway): good for the next step if nothing is changed from outside before it.
+  bool normalized = false;
+  double nextSpeedScale = 0;
+  bool nextMovingKinematic = false;
 
   // The event queue, a calendar (G. Paul, J. Comput. Phys. 221, 615, 2007; Smallenburg 2022): time is cut
   // into buckets of equal width. Events of the current bucket and before are in `heap`, a small 4-ary
@@ -159,16 +188,19 @@ struct PredictiveState {
   double base = 0, width = 1, inverseWidth = 1;
   int64_t current = 0;  // the bucket whose events (and all earlier) are in the heap
   int64_t limit = 0;    // events of buckets >= limit wait in the overflow array
+  // The step's end and its bucket. The buckets reach no further: events due after the step wait in the
+  // overflow array, appended there instead of placed in buckets, and a short step (a frame of a game)
+  // lays only its own few events into buckets when the calendar is laid again at its start.
+  double stepEnd = 0;
+  int64_t stepBucket = 0;
   static constexpr int32_t kNotQueued = -1, kInHeap = -2, kInBucket = -3, kInOverflow = -4;
 
 
   // Scratch.
-  std::vector<HotBody> spareHot;  // reorder() permutes into these
-  std::vector<ColdBody> spareCold;
-  std::vector<RareBody> spareRare;
-  std::vector<uint32_t> spareBodies;
-  std::vector<PredictiveEvent> spareEvents;
-  std::vector<std::vector<Dismissal>> spareDismissed;
+  std::vector<uint8_t> permuted;  // reorder(): which slots are in place
+  std::vector<Vec2> centres;      // buildGrid(): the tracked bodies' centres, by slot before reorder()
+  std::vector<uint32_t> neighbours;  // of the body being predicted
+  std::vector<uint32_t> visiting;    // Engine::forEachNeighbour
   std::vector<uint32_t> dirty;
   std::vector<uint32_t> woken;
   std::vector<uint32_t> order;

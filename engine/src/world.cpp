@@ -392,6 +392,7 @@ void World::setRestitution(FixtureId id, double restitution) {
   FixtureSlot& f = lookUp(impl_->fixtures, id);
   checkRestitution(restitution, "restitution");
   f.restitution = restitution;
+  impl_->restitutionChanged = true;
 }
 
 void World::setFilter(FixtureId id, const Filter& filter) {
@@ -429,6 +430,7 @@ void World::step(double dt) {
       break;
   }
   impl_->structureChanged = false;
+  impl_->restitutionChanged = false;
   impl_->touchedBodies.clear();
 }
 

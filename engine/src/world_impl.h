@@ -176,6 +176,7 @@ struct World::Impl {
   // filter, a static or kinematic body moved) it starts afresh; the dynamic bodies touched (moved, given a
   // velocity, woken, given a mass) are predicted again. Every mutator of World reports here.
   bool structureChanged = true;
+  bool restitutionChanged = false;  // World::setRestitution since the last step
   std::vector<uint32_t> touchedBodies;
   void touched(uint32_t body) {
     if (bodies[body].type == BodyType::Dynamic) {

@@ -1,0 +1,139 @@
+// The predictive mode's plain-disk path (plain_collision.h): in a world of plain disks (one circle on the
+// body's centre, the default filter) with no gravity, no sensors and nobody asleep, disk-disk collisions
+// are resolved on the engine's compact copies and the BodySlots catch up later. Checked against the
+// general path, which the same scene takes once a far-away sensor (which touches nothing) is added:
+// the same collisions, bit for bit, with restitutions below 1, the TC model, walls and a kinematic
+// paddle in play; and momentum and energy conserved by a free cloud of disks.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#include "rattle/rattle.h"
+#include "world_test_support.h"
+
+namespace {
+
+using namespace rattle_test;
+using rattle::ContactEvent;
+using rattle::StepMode;
+using rattle::WorldDef;
+
+bool sameBits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+bool sameBits(Vec2 a, Vec2 b) { return sameBits(a.x, b.x) && sameBits(a.y, b.y); }
+
+// A static body far from everything, holding a sensor circle: the world is no longer plain, and nothing
+// else changes (sensors are not in the predictive grid; they only watch).
+void addFarSensor(World& world) {
+  const BodyId far = world.createBody(bodyDef(BodyType::Static, {1e4, 1e4}, {}));
+  FixtureDef fd;
+  fd.geometry = rattle::Circle{{0, 0}, 1.0};
+  fd.sensor = true;
+  world.createFixture(far, fd);
+}
+
+struct Twin {
+  World world;
+  std::vector<Disk> disks;
+  explicit Twin(const WorldDef& d) : world(d) {}
+};
+
+void expectBitIdentical(const Twin& plain, const Twin& general, int step) {
+  const auto ep = plain.world.contactEvents(), eg = general.world.contactEvents();
+  ASSERT_EQ(ep.size(), eg.size()) << "step " << step;
+  for (size_t k = 0; k < ep.size(); ++k) {
+    const ContactEvent& a = ep[k];
+    const ContactEvent& b = eg[k];
+    ASSERT_TRUE(a.fixtureA == b.fixtureA && a.fixtureB == b.fixtureB && a.bodyA == b.bodyA && a.bodyB == b.bodyB)
+        << "step " << step << " event " << k;
+    ASSERT_TRUE(sameBits(a.time, b.time) && sameBits(a.point, b.point) && sameBits(a.normal, b.normal) &&
+                sameBits(a.impulse, b.impulse))
+        << "step " << step << " event " << k << ": time " << a.time << " vs " << b.time;
+  }
+  for (size_t i = 0; i < plain.disks.size(); ++i) {
+    ASSERT_TRUE(sameBits(plain.world.position(plain.disks[i].body), general.world.position(general.disks[i].body)) &&
+                sameBits(plain.world.velocity(plain.disks[i].body), general.world.velocity(general.disks[i].body)))
+        << "step " << step << " disk " << i;
+  }
+  EXPECT_EQ(plain.world.stats().eventsProcessed, general.world.stats().eventsProcessed) << "step " << step;
+  EXPECT_EQ(plain.world.stats().staleEvents, general.world.stats().staleEvents) << "step " << step;
+}
+
+TEST(PredictivePlain, InelasticGasInABoxSameBitsAsGeneralPath) {
+  // Radii, densities and restitutions differ from disk to disk; the TC model turns some collisions
+  // elastic. Steps of several lengths (the step's end writes the copies back).
+  auto options = gasDiskOptions(600, 40);
+  options.minRestitution = 0.6;
+  options.maxRestitution = 1.0;
+  const auto specs = randomDisks(options);
+  WorldDef def;
+  def.mode = StepMode::Predictive;
+  def.collapseTime = 0.02;
+  Twin plain(def), general(def);
+  std::vector<DiskSpec> roomy;  // room for a kinematic paddle in the middle
+  for (const DiskSpec& d : specs) {
+    if (rattle::length(d.position - Vec2{20, 20}) > 3.2) roomy.push_back(d);
+  }
+  for (Twin* t : {&plain, &general}) {
+    makeClosedBox(t->world, 0, 0, 40, 40, 0.9);
+    t->disks = addDisks(t->world, roomy);
+    // A kinematic paddle: its contacts take the general path, and it moves on at the step's end.
+    const BodyId paddle = t->world.createBody(bodyDef(BodyType::Kinematic, {20, 20}, {0.3, -0.2}));
+    FixtureDef fd;
+    fd.geometry = rattle::Circle{{0, 0}, 2.0};
+    t->world.createFixture(paddle, fd);
+  }
+  addFarSensor(general.world);
+  size_t compared = 0;
+  const double steps[] = {0.05, 0.3, 1.0 / 60, 0.2};
+  for (int k = 0; k < 60; ++k) {
+    const double dt = steps[k % 4];
+    plain.world.step(dt);
+    general.world.step(dt);
+    expectBitIdentical(plain, general, k);
+    if (::testing::Test::HasFatalFailure()) return;
+    compared += plain.world.contactEvents().size();
+    if (k == 20) {
+      // A change between steps: one disk pushed, one fixture made less bouncy.
+      for (Twin* t : {&plain, &general}) {
+        t->world.setVelocity(t->disks[7].body, {2.0, -1.0});
+        t->world.setRestitution(t->disks[11].fixture, 0.1);
+      }
+    }
+  }
+  EXPECT_GT(compared, 3000u);
+}
+
+TEST(PredictivePlain, FreeCloudConservesMomentumAndEnergy) {
+  // No walls: only disk-disk collisions, which conserve momentum exactly in real arithmetic and energy
+  // too with restitution 1. A dense cloud with inward velocities keeps colliding while it spreads.
+  auto options = gasDiskOptions(2000, 70);
+  const auto specs0 = randomDisks(options);
+  std::vector<DiskSpec> specs = specs0;
+  for (DiskSpec& d : specs) d.velocity = d.velocity + (Vec2{35, 35} - d.position) * 0.05;
+  WorldDef def;
+  def.mode = StepMode::Predictive;
+  Twin plain(def), general(def);
+  for (Twin* t : {&plain, &general}) t->disks = addDisks(t->world, specs);
+  addFarSensor(general.world);
+  const long double e0 = kineticEnergy(plain.world, plain.disks);
+  const LongVec2 p0 = momentum(plain.world, plain.disks);
+  const long double scale = momentumScale(plain.world, plain.disks);
+  long long collisions = 0;
+  for (int k = 0; k < 400 && collisions < 100000; ++k) {
+    plain.world.step(0.1);
+    general.world.step(0.1);
+    collisions += static_cast<long long>(plain.world.contactEvents().size());
+    expectBitIdentical(plain, general, k);
+    if (::testing::Test::HasFatalFailure()) return;
+  }
+  EXPECT_GT(collisions, 20000);
+  const LongVec2 p1 = momentum(plain.world, plain.disks);
+  EXPECT_LE(std::fabs(static_cast<double>((p1.x - p0.x) / scale)), 1e-12);
+  EXPECT_LE(std::fabs(static_cast<double>((p1.y - p0.y) / scale)), 1e-12);
+  EXPECT_LE(std::fabs(static_cast<double>((kineticEnergy(plain.world, plain.disks) - e0) / e0)), 1e-12);
+  EXPECT_LE(maxRelativeOverlap(plain.world, plain.disks), 1e-9);
+}
+
+}  // namespace
