@@ -12,13 +12,13 @@ void BroadPhase::add(uint32_t fixture, const Box& box, bool moving, bool sensor,
   if (!p.present && p.listed) --removed_;  // removed and added again before a sort: listed once
   const bool listed = p.listed;
   if (listed && p.sensor != sensor) ++misfiled_;  // in the other list until the next sort moves it
-  p = Proxy{box, moving, true, true, sensor, category, mask, p.stamp};
+  p = Proxy{box, moving, true, true, sensor, category, mask, p.stamp, DiskPath{}};
   if (!listed) {
     if (sensor) {
       sensorOrder_.push_back(fixture);
     } else {
       // A new proxy's band is not known yet: placed last, the next sort finds its place.
-      own_.push_back({box, fixture, bandCount_ - 1, category, mask, moving, false});
+      own_.push_back({box, fixture, bandCount_ - 1, category, mask, moving, false, DiskPath{}});
       order_.push_back(fixture);
     }
   }
@@ -62,7 +62,7 @@ void BroadPhase::compact() {
   }
   for (uint32_t f : nowOthers) {
     const Proxy& p = proxies_[f];
-    keptKeys.push_back({p.box, f, bandCount_ - 1, p.category, p.mask, p.moving, false});
+    keptKeys.push_back({p.box, f, bandCount_ - 1, p.category, p.mask, p.moving, false, p.disk});
     kept.push_back(f);
   }
   own_ = std::move(keptKeys);
@@ -123,6 +123,7 @@ void BroadPhase::sortByBand() {
     e.category = p.category;
     e.mask = p.mask;
     e.moving = p.moving;
+    e.disk = p.disk;
     if (i == 0) {
       low = p.box.min.y;
       high = p.box.max.y;
@@ -276,7 +277,7 @@ void BroadPhase::splitIntoSensorBands() {
     entries.clear();
     for (uint32_t f : order) {
       const Proxy& p = proxies_[f];
-      entries.push_back({p.box, f, 0, p.category, p.mask, p.moving, p.sensor});
+      entries.push_back({p.box, f, 0, p.category, p.mask, p.moving, p.sensor, DiskPath{}});
       const Box& b = p.box;
       if (first) {
         low = b.min.y;

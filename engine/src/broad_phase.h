@@ -27,12 +27,28 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "large_array.h"
 #include "rattle/geometry.h"
 
 namespace rattle::detail {
+
+// A plain moving disk's state at the start of a step, set by the hybrid step with its box and handed back
+// with each pair, so that a pair of two such disks is tested for a time of impact without looking up
+// either body or fixture (in a large world each lookup is a cache miss, and most pairs never meet).
+// Plain: a dynamic body whose only physical fixture is a circle centred on the body, awake, moving on
+// a straight line, in no island and sliding on nothing.
+struct DiskPath {
+  Vec2 position;  // of the body, at the step's start (as World::Impl::positionAt gives it)
+  Vec2 velocity;
+  double radius = 0;
+  uint32_t body = 0;
+  int32_t group = 0;             // the fixture's collision group
+  uint32_t collisionCount = 0;   // the body's, at the step's start
+  bool plain = false;
+};
 
 class BroadPhase {
  public:
@@ -51,10 +67,12 @@ class BroadPhase {
   const Box& box(uint32_t fixture) const { return proxies_[fixture].box; }
   void setBox(uint32_t fixture, const Box& box) { proxies_[fixture].box = box; }
   void setMoving(uint32_t fixture, bool moving) { proxies_[fixture].moving = moving; }
+  /// What findPairs hands back with the proxy's pairs (the caller's; kept until set again).
+  void setDisk(uint32_t fixture, const DiskPath& disk) { proxies_[fixture].disk = disk; }
 
-  /// Sorts and calls report(a, b) for every overlapping pair of which one moves and neither is a sensor
-  /// (sensors are paired by findSensorPairs alone), and whose filter bits meet. Then prepares `query`
-  /// for this step's boxes.
+  /// Sorts and calls report(a, b) (or report(a, b, diskA, diskB), with what setDisk last set) for every
+  /// overlapping pair of which one moves and neither is a sensor (sensors are paired by findSensorPairs
+  /// alone), and whose filter bits meet. Then prepares `query` for this step's boxes.
   template <class Report>
   void findPairs(Report&& report);
 
@@ -82,6 +100,7 @@ class BroadPhase {
     bool sensor = false;
     uint32_t category = ~0u, mask = ~0u;  // the fixture's filter bits
     uint32_t stamp = 0;    // the last query that reported it
+    DiskPath disk;
     uint32_t grownSweep = 0;         // the sweep in which grownLow..grownHigh were listed
     uint32_t grownLow = 0, grownHigh = 0;  // the bands whose grown lists hold it
   };
@@ -98,6 +117,7 @@ class BroadPhase {
     uint32_t category, mask;
     bool moving;
     bool sensor;
+    DiskPath disk;  // the collision sweep's only
   };
   /// Drops removed proxies from the orders and moves a reused index to the list of its kind.
   void compact();
@@ -180,7 +200,11 @@ void BroadPhase::findPairs(Report&& report) {
     if (!pi.moving && !pj.moving) return;
     if ((pi.category & pj.mask) == 0 || (pj.category & pi.mask) == 0) return;
     if (pj.box.min.y > pi.box.max.y || pi.box.min.y > pj.box.max.y) return;
-    report(pi.fixture, pj.fixture);
+    if constexpr (std::is_invocable_v<Report, uint32_t, uint32_t, const DiskPath&, const DiskPath&>) {
+      report(pi.fixture, pj.fixture, pi.disk, pj.disk);
+    } else {
+      report(pi.fixture, pj.fixture);
+    }
   };
   // A pair is reported in the higher of its two home bands: there both are listed, the one as its own,
   // the other as its own or as a spill from below. Two spills are never swept against each other.

@@ -78,6 +78,37 @@ void World::Impl::predict(uint32_t own, uint32_t other, double now, double dt) {
   std::push_heap(queue.begin(), queue.end(), detail::later);
 }
 
+void World::Impl::predictPlainPair(uint32_t fa, uint32_t fb, const detail::DiskPath& da, const detail::DiskPath& db,
+                                   double dt) {
+  // The sweep's candidate pair of two plain disks at the step's start: canCollide, addPair and
+  // predict(own, other, 0, dt) as for any pair, on the state the sweep carried instead of the bodies and
+  // fixtures. The arithmetic is predict's and timeOfImpact's for two circles centred on their bodies, step
+  // by step, so the prediction has the same bits. (The broad phase has checked the filter bits; neither
+  // is a sensor.)
+  if (da.body == db.body || (da.group != 0 && da.group == db.group)) return;
+  ++stats.candidatePairs;
+  pairsOfBody[da.body].push_back({fa, fb});
+  pairsOfBody[db.body].push_back({fb, fa});
+  const bool aFirst = fa < fb;
+  const uint32_t own = aFirst ? fa : fb, other = aFirst ? fb : fa;
+  const detail::DiskPath& a = aFirst ? da : db;
+  const detail::DiskPath& b = aFirst ? db : da;
+  ++stats.timeOfImpactTests;
+  // Both accelerate by the world's gravity, which is zero for a plain disk: g - g = +0.
+  const Motion relative{a.velocity - b.velocity, def.gravity - def.gravity};
+  Circle circle{Vec2{0.0, 0.0} + a.position, a.radius};  // as circleVs: the centre (+0, +0) plus the position
+  circle.center -= b.position;
+  auto impact = timeOfImpactCircleCircle(circle, relative, Circle{Vec2{0.0, 0.0}, b.radius}, dt - 0.0, kNoFeature);
+  if (!impact) return;
+  impact->point += b.position;
+  const double h = impact->time;
+  const double time = std::min(0.0 + h, dt);
+  const Vec2 travelOfB = b.velocity * h + def.gravity * (0.5 * h * h);
+  queue.push_back(PredictedContact{time, detail::EventKind::Contact, own, other, impact->feature, a.collisionCount,
+                                   b.collisionCount, impact->point + travelOfB, impact->normal});
+  std::push_heap(queue.begin(), queue.end(), detail::later);
+}
+
 void World::Impl::predictSlideEnd(uint32_t bodyIndex, double now, double dt) {
   const BodySlot& b = bodies[bodyIndex];
   if (b.support.generation == 0) return;
@@ -326,12 +357,26 @@ void World::Impl::stepHybrid(double dt) {
       path = unionOf(path, pathBox(b.position, withGravity, {}, dt));
       path = Box{path.min - Vec2{reach, reach}, path.max + Vec2{reach, reach}};
     }
+    // A plain disk (DiskPath) hands its state at the step's start to the sweep with its box.
+    uint32_t physical = 0;
+    for (uint32_t f : b.fixtures) physical += fixtures[f].sensor ? 0 : 1;
+    const bool plainBody = b.type == BodyType::Dynamic && moving && !still && physical == 1 &&
+                           b.acceleration.x == 0 && b.acceleration.y == 0 && b.support.generation == 0 && !b.stepped;
     for (uint32_t f : b.fixtures) {
       // A sensor takes no part in the collisions (the collision sweep and queries never see one): its
       // box is set by the sweep of the paths after the step (sensor_paths.cpp).
-      if (fixtures[f].sensor) continue;
+      const detail::FixtureSlot& fixture = fixtures[f];
+      if (fixture.sensor) continue;
       broadPhase.setMoving(f, moving && !still);
-      broadPhase.setBox(f, Box{path.min + fixtures[f].localBox.min, path.max + fixtures[f].localBox.max});
+      broadPhase.setBox(f, Box{path.min + fixture.localBox.min, path.max + fixture.localBox.max});
+      detail::DiskPath disk;
+      const Circle* circle = std::get_if<Circle>(&fixture.geometry);
+      // Centred exactly on the body (+0, +0): the pair test then adds a centre of +0, as timeOfImpact does.
+      if (plainBody && circle != nullptr && circle->center.x == 0 && circle->center.y == 0 &&
+          !std::signbit(circle->center.x) && !std::signbit(circle->center.y)) {
+        disk = {positionAt(b, 0), velocityAt(b, 0), circle->radius, i, fixture.filter.group, b.collisionCount, true};
+      }
+      broadPhase.setDisk(f, disk);
     }
   }
   speedScale = std::max(speedScale, std::sqrt(straightSpeedSquared));
@@ -342,7 +387,11 @@ void World::Impl::stepHybrid(double dt) {
 
   // 2 and 3. Candidate pairs and their first predictions.
   deferred.clear();
-  broadPhase.findPairs([&](uint32_t fa, uint32_t fb) {
+  broadPhase.findPairs([&](uint32_t fa, uint32_t fb, const detail::DiskPath& da, const detail::DiskPath& db) {
+    if (da.plain && db.plain) {
+      predictPlainPair(fa, fb, da, db, dt);
+      return;
+    }
     if (canCollide(fa, fb)) {
       ++stats.candidatePairs;
       addPair(fa, fb);

@@ -246,6 +246,9 @@ struct World::Impl {
   void sensorOverlapsSeen(uint32_t fa, uint32_t fb);
   void predict(uint32_t own, uint32_t other, double now, double dt);
   void predictSlideEnd(uint32_t body, double now, double dt);
+  /// The sweep's pair of two plain disks (detail::DiskPath) at the step's start, as canCollide, addPair
+  /// and predict would take it, from what the sweep carried.
+  void predictPlainPair(uint32_t fa, uint32_t fb, const detail::DiskPath& da, const detail::DiskPath& db, double dt);
   void repredict(uint32_t body, double now, double dt, bool forceRequery = false);
   void advance(detail::BodySlot& b, double t);
   void resolve(const detail::PredictedContact& c, std::vector<uint32_t>& woken, bool zenoGuard = false);
