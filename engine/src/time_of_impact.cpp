@@ -49,17 +49,25 @@ std::optional<double> firstImpactOfGap(const Polynomial& f, double maxTime, bool
   return detail::firstDownwardCrossing(f, *turn, maxTime);
 }
 
-// First time the distance between two centres, r + v t + a t^2/2, closes to `reach` while approaching.
-std::optional<double> timeToReach(Vec2 r, const Motion& m, double reach, double maxTime, bool justResolved) {
+// timeToReach under acceleration: f(t) = |r + v t + a t^2/2|^2 - reach^2, a quartic.
+[[gnu::noinline]] std::optional<double> timeToReachAccelerating(Vec2 r, const Motion& m, double reach, double maxTime,
+                                                               bool justResolved) {
   const Vec2 v = m.velocity;
-  if (accelerates(m)) {
-    // f(t) = |r + v t + a t^2/2|^2 - reach^2, a quartic.
-    const Vec2 a = m.acceleration;
-    Polynomial f;
-    f.degree = 4;
-    f.c = {dot(r, r) - reach * reach, 2 * dot(r, v), dot(v, v) + dot(r, a), dot(v, a), 0.25 * dot(a, a)};
-    return firstImpactOfGap(f, maxTime, justResolved);
-  }
+  const Vec2 a = m.acceleration;
+  Polynomial f;
+  f.degree = 4;
+  f.c = {dot(r, r) - reach * reach, 2 * dot(r, v), dot(v, v) + dot(r, a), dot(v, a), 0.25 * dot(a, a)};
+  return firstImpactOfGap(f, maxTime, justResolved);
+}
+
+// First time the distance between two centres, r + v t + a t^2/2, closes to `reach` while approaching.
+// Inlined into its callers: most pairs that a broad phase hands over never meet, and returned through
+// memory the optional's flag byte is written and then read back as part of a wider word, which stalls
+// (a failed store-to-load forward) on every call.
+[[gnu::always_inline]] inline std::optional<double> timeToReach(Vec2 r, const Motion& m, double reach, double maxTime,
+                                                               bool justResolved) {
+  const Vec2 v = m.velocity;
+  if (accelerates(m)) return timeToReachAccelerating(r, m, reach, maxTime, justResolved);
   // Linear: f(t) = A t^2 + 2 b t + c with A = v.v, b = r.v, c = r.r - reach^2.
   const double c = dot(r, r) - reach * reach;
   const double b = dot(r, v);
