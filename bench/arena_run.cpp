@@ -95,9 +95,10 @@ int runArena(const Options& o) {
   }
   progress.finish();
 
-  // Timing: the first tenth of the ticks is warm-up.
+  // Timing: the ticks of --warm-up, or the first tenth of them, are warm-up.
   const rts::GameStats& stats = arena->game().stats();
-  const size_t warm = static_cast<size_t>(ticks / 10);
+  const size_t warm = o.warmUp >= 0 ? static_cast<size_t>(std::min<long long>(ticks - 1, std::llround(o.warmUp / tick)))
+                                    : static_cast<size_t>(ticks / 10);
   const std::vector<double> timed(stats.stepCpuSeconds.begin() + static_cast<long>(warm), stats.stepCpuSeconds.end());
   const std::vector<double> timedWall(stats.stepSeconds.begin() + static_cast<long>(warm), stats.stepSeconds.end());
   double sum = 0, total = 0;

@@ -126,8 +126,8 @@ int run(const Options& o) {
   }
   progress.finish();
 
-  // Timing: the first tenth of the steps is warm-up.
-  const size_t warm = static_cast<size_t>(steps / 10);
+  // Timing: the steps of --warm-up, or the first tenth of them, are warm-up.
+  const size_t warm = o.warmUp >= 0 ? static_cast<size_t>(std::round(o.warmUp / o.dt)) : static_cast<size_t>(steps / 10);
   const std::vector<double> timed(stepSeconds.begin() + static_cast<long>(warm), stepSeconds.end());
   const std::vector<double> timedWall(wallSeconds.begin() + static_cast<long>(warm), wallSeconds.end());
   double sum = 0, total = 0;

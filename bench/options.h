@@ -25,6 +25,9 @@ struct Options {
   bool csv = false;
   bool reference = true;  ///< run the exact reference (--no-reference skips it)
   int measureEvery = 1;   ///< measure overlaps and tunnelling after every k-th step (and the last)
+  /// Simulated seconds at the start whose steps are not timed; < 0: the first tenth of the steps.
+  double warmUp = -1;
+  std::string warmUpText;  ///< as given, for messages
   bool quiet = false;     ///< no progress line on stderr
   EngineSettings settings;
   bool help = false;
