@@ -68,13 +68,20 @@ void World::Impl::predict(uint32_t own, uint32_t other, double now, double dt) {
   const Vec2 pb = positionAt(b, now);
   const Motion relative{velocityAt(a, now) - velocityAt(b, now), a.acceleration - b.acceleration};
   auto impact = timeOfImpact(fixtures[own].geometry, pa, fixtures[other].geometry, pb, relative, dt - now, resolved);
-  if (!impact) return;
-  // The impact's point is in the frame where `other` rests; in the world it has moved with b.
-  const double h = impact->time;
+  if (impact) {
+    queueContact(*impact, own, other, a.collisionCount, b.collisionCount, velocityAt(b, now), b.acceleration, now, dt);
+  }
+}
+
+void World::Impl::queueContact(const Impact& impact, uint32_t own, uint32_t other, uint32_t countOwn,
+                               uint32_t countOther, Vec2 velocityOfOther, Vec2 accelerationOfOther, double now,
+                               double dt) {
+  // The impact's point is in the frame where `other` rests; in the world it has moved with it.
+  const double h = impact.time;
   const double time = std::min(now + h, dt);
-  const Vec2 travelOfB = velocityAt(b, now) * h + b.acceleration * (0.5 * h * h);
-  queue.push_back(PredictedContact{time, detail::EventKind::Contact, own, other, impact->feature, a.collisionCount,
-                                   b.collisionCount, impact->point + travelOfB, impact->normal});
+  const Vec2 travelOfOther = velocityOfOther * h + accelerationOfOther * (0.5 * h * h);
+  queue.push_back(PredictedContact{time, detail::EventKind::Contact, own, other, impact.feature, countOwn, countOther,
+                                   impact.point + travelOfOther, impact.normal});
   std::push_heap(queue.begin(), queue.end(), detail::later);
 }
 
@@ -101,12 +108,7 @@ void World::Impl::predictPlainPair(uint32_t fa, uint32_t fb, const detail::DiskP
   auto impact = timeOfImpactCircleCircle(circle, relative, Circle{Vec2{0.0, 0.0}, b.radius}, dt - 0.0, kNoFeature);
   if (!impact) return;
   impact->point += b.position;
-  const double h = impact->time;
-  const double time = std::min(0.0 + h, dt);
-  const Vec2 travelOfB = b.velocity * h + def.gravity * (0.5 * h * h);
-  queue.push_back(PredictedContact{time, detail::EventKind::Contact, own, other, impact->feature, a.collisionCount,
-                                   b.collisionCount, impact->point + travelOfB, impact->normal});
-  std::push_heap(queue.begin(), queue.end(), detail::later);
+  queueContact(*impact, own, other, a.collisionCount, b.collisionCount, b.velocity, def.gravity, 0.0, dt);
 }
 
 void World::Impl::predictSlideEnd(uint32_t bodyIndex, double now, double dt) {

@@ -13,6 +13,7 @@
 
 #include "broad_phase.h"
 #include "path_log.h"
+#include "rattle/time_of_impact.h"
 #include "rattle/world.h"
 
 namespace rattle {
@@ -245,6 +246,10 @@ struct World::Impl {
   void addPair(uint32_t fa, uint32_t fb);
   void sensorOverlapsSeen(uint32_t fa, uint32_t fb);
   void predict(uint32_t own, uint32_t other, double now, double dt);
+  /// Queues the contact `impact` found at `now` (in the frame where `other` rests, which moves on with
+  /// the given velocity and acceleration), carrying both bodies' collision counters.
+  void queueContact(const Impact& impact, uint32_t own, uint32_t other, uint32_t countOwn, uint32_t countOther,
+                    Vec2 velocityOfOther, Vec2 accelerationOfOther, double now, double dt);
   void predictSlideEnd(uint32_t body, double now, double dt);
   /// The sweep's pair of two plain disks (detail::DiskPath) at the step's start, as canCollide, addPair
   /// and predict would take it, from what the sweep carried.
