@@ -72,17 +72,37 @@ void BroadPhase::compact() {
   misfiled_ = 0;
 }
 
-bool BroadPhase::cutBands(double low, double high, double height) {
-  // The cut this step's boxes call for: bands twice the typical height over [low, high], at most 4096.
+namespace {
+
+// Bands of about `height` over [low, high]: how many (at most 4097) and 1 / their height; one band when
+// the height is unknown (0) or the span holds less than one.
+struct BandCut {
   uint32_t count = 1;
   double inverse = 0;
-  if (height > 0) {
-    const double bands = (high - low) / height;
-    if (bands > 1 && bands < 1e9) {
-      count = static_cast<uint32_t>(std::min(bands, 4096.0)) + 1;
-      inverse = static_cast<double>(count - 1) / (high - low);
-    }
+};
+BandCut bandsFor(double low, double high, double height) {
+  BandCut cut;
+  if (!(height > 0)) return cut;
+  const double bands = (high - low) / height;
+  if (bands > 1 && bands < 1e9) {
+    cut.count = static_cast<uint32_t>(std::min(bands, 4096.0)) + 1;
+    cut.inverse = static_cast<double>(cut.count - 1) / (high - low);
   }
+  return cut;
+}
+
+// The lowest quarter of a sample (reorders it): a typical size that a few large or fast boxes do not set.
+double lowestQuarter(std::vector<double>& v) {
+  auto quarter = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 4);
+  std::nth_element(v.begin(), quarter, v.end());
+  return *quarter;
+}
+
+}  // namespace
+
+bool BroadPhase::cutBands(double low, double high, double height) {
+  // The cut this step's boxes call for: bands twice the typical height (`height`) over [low, high].
+  const auto [count, inverse] = bandsFor(low, high, height);
   // Kept while it still fits: a new cut re-sorts every proxy, so the bands are cut again only when the
   // world has grown well past them or the typical height is off by more than a factor of two. Any cut
   // finds the same pairs; this only decides how fast.
@@ -138,13 +158,7 @@ void BroadPhase::sortByBand() {
     }
   }
   movingCount_ = moving;
-  // Typical: the lowest quarter (a few large or fast boxes say nothing about how crowded the rest are;
-  // static walls are left out, they can be long).
-  auto lowestQuarter = [](std::vector<double>& v) {
-    auto quarter = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 4);
-    std::nth_element(v.begin(), quarter, v.end());
-    return *quarter;
-  };
+  // Typical: the lowest quarter of the moving boxes (static walls are left out, they can be long).
   const bool sampled = moving >= 64;
   const double height = sampled ? 2 * lowestQuarter(heightsScratch_) : 0;
   wideThreshold_ = std::numeric_limits<double>::infinity();
@@ -297,14 +311,9 @@ void BroadPhase::splitIntoSensorBands() {
   const bool bySensors = sensorsSeen >= 64;
   std::vector<double>& sample = bySensors ? sensorHeights_ : heights_;
   if (movingSeen >= 64 || bySensors) {
-    auto quarter = sample.begin() + static_cast<std::ptrdiff_t>(sample.size() / 4);
-    std::nth_element(sample.begin(), quarter, sample.end());
-    const double bandHeight = (bySensors ? 1 : 2) * *quarter;
-    const double count = bandHeight > 0 ? (high - low) / bandHeight : 1;
-    if (count > 1 && count < 1e9) {
-      sensorBandCount_ = static_cast<uint32_t>(std::min(count, 4096.0)) + 1;
-      sensorInverseBandHeight_ = static_cast<double>(sensorBandCount_ - 1) / (high - low);
-    }
+    const BandCut cut = bandsFor(low, high, (bySensors ? 1 : 2) * lowestQuarter(sample));
+    sensorBandCount_ = cut.count;
+    sensorInverseBandHeight_ = cut.inverse;
   }
   if (sensorOthers_.size() < sensorBandCount_) sensorOthers_.resize(sensorBandCount_);
   if (sensorBands_.size() < sensorBandCount_) sensorBands_.resize(sensorBandCount_);
