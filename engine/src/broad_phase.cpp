@@ -12,13 +12,13 @@ void BroadPhase::add(uint32_t fixture, const Box& box, bool moving, bool sensor,
   if (!p.present && p.listed) --removed_;  // removed and added again before a sort: listed once
   const bool listed = p.listed;
   if (listed && p.sensor != sensor) ++misfiled_;  // in the other list until the next sort moves it
-  p = Proxy{box, moving, true, true, sensor, category, mask, p.stamp, DiskPath{}};
+  p = Proxy{box, moving, true, true, sensor, category, mask, p.stamp, kNoTag};
   if (!listed) {
     if (sensor) {
       sensorOrder_.push_back(fixture);
     } else {
       // A new proxy's band is not known yet: placed last, the next sort finds its place.
-      own_.push_back({box, fixture, bandCount_ - 1, category, mask, moving, false, DiskPath{}});
+      own_.push_back({box, fixture, bandCount_ - 1, category, mask, moving, false, kNoTag});
       order_.push_back(fixture);
     }
   }
@@ -62,7 +62,7 @@ void BroadPhase::compact() {
   }
   for (uint32_t f : nowOthers) {
     const Proxy& p = proxies_[f];
-    keptKeys.push_back({p.box, f, bandCount_ - 1, p.category, p.mask, p.moving, false, p.disk});
+    keptKeys.push_back({p.box, f, bandCount_ - 1, p.category, p.mask, p.moving, false, p.tag});
     kept.push_back(f);
   }
   own_ = std::move(keptKeys);
@@ -143,7 +143,7 @@ void BroadPhase::sortByBand() {
     e.category = p.category;
     e.mask = p.mask;
     e.moving = p.moving;
-    e.disk = p.disk;
+    e.tag = p.tag;
     if (i == 0) {
       low = p.box.min.y;
       high = p.box.max.y;
@@ -212,14 +212,20 @@ void BroadPhase::splitIntoBands() {
     tall_[b].clear();
     wide_[b].clear();
   }
+  const size_t n = own_.size();
+  ownKeys_.clear();
+  ownKeyStart_.assign(bandCount_ + 1, 0);
   ownReach_.assign(bandCount_, 0);
   spillReach_.assign(bandCount_, 0);
   wholeReach_.assign(bandCount_, 0);
   uint32_t band = 0;
-  const size_t n = own_.size();
   for (size_t i = 0; i < n; ++i) {
     const BandEntry& e = own_[i];
-    while (band < e.band) bandStart_[++band] = static_cast<uint32_t>(i);
+    while (band < e.band) {
+      bandStart_[++band] = static_cast<uint32_t>(i);
+      ownKeyStart_[band] = static_cast<uint32_t>(ownKeys_.size());
+    }
+    if ((i - bandStart_[band]) % kKeyStride == 0) ownKeys_.push_back(e.box.min.x);
     const double width = e.box.max.x - e.box.min.x;
     const bool wide = width > wideThreshold_;
     wholeReach_[e.band] = std::max(wholeReach_[e.band], width);
@@ -241,7 +247,18 @@ void BroadPhase::splitIntoBands() {
       for (uint32_t b = e.band + 1; b <= top; ++b) tall_[b].push_back(e);
     }
   }
-  while (band < bandCount_) bandStart_[++band] = static_cast<uint32_t>(n);
+  while (band < bandCount_) {
+    bandStart_[++band] = static_cast<uint32_t>(n);
+    ownKeyStart_[band] = static_cast<uint32_t>(ownKeys_.size());
+  }
+  spillKeys_.clear();
+  spillKeyStart_.assign(bandCount_ + 1, 0);
+  for (uint32_t b = 0; b < bandCount_; ++b) {
+    spillKeyStart_[b] = static_cast<uint32_t>(spillKeys_.size());
+    const std::vector<BandEntry>& spill = spill_[b];
+    for (size_t i = 0; i < spill.size(); i += kKeyStride) spillKeys_.push_back(spill[i].box.min.x);
+  }
+  spillKeyStart_[bandCount_] = static_cast<uint32_t>(spillKeys_.size());
 }
 
 void BroadPhase::sortList(std::vector<uint32_t>& order) {
@@ -291,7 +308,7 @@ void BroadPhase::splitIntoSensorBands() {
     entries.clear();
     for (uint32_t f : order) {
       const Proxy& p = proxies_[f];
-      entries.push_back({p.box, f, 0, p.category, p.mask, p.moving, p.sensor, DiskPath{}});
+      entries.push_back({p.box, f, 0, p.category, p.mask, p.moving, p.sensor, kNoTag});
       const Box& b = p.box;
       if (first) {
         low = b.min.y;
@@ -333,21 +350,27 @@ void BroadPhase::splitIntoSensorBands() {
 
 void BroadPhase::grow(uint32_t fixture, const Box& grown) {
   // Listed, from now until the next sweep, in every band the grown box reaches; its entry in the sorted
-  // lists stays where the sweep put it (a query may meet it twice: the stamp reports it once).
-  Proxy& p = proxies_[fixture];
-  p.box = grown;
+  // lists stays where the sweep put it, with the box the sweep saw (a query may meet it twice: the stamp
+  // reports it once). The box only grows, so only bands beyond those already listed are new.
+  proxies_[fixture].box = grown;
   if (grownBands_.size() < bandCount_) grownBands_.resize(bandCount_);
+  if (growth_.size() <= fixture) growth_.resize(proxies_.size());
+  Growth& g = growth_[fixture];
   const uint32_t low = bandOf(grown.min.y), high = bandOf(grown.max.y);
-  // A body growing again and again within a step (a disk rattling in a narrowing gap) is listed in each
-  // band once: the box only grows, so only bands beyond those already listed are new.
-  const bool listed = p.grownSweep == sweep_;
-  for (uint32_t band = low; band <= high; ++band) {
-    if (listed && band >= p.grownLow && band <= p.grownHigh) continue;
-    grownBands_[band].push_back(fixture);
+  const bool listed = g.sweep == sweep_;
+  if (listed) {
+    grown_[g.index].box = grown;
+  } else {
+    g.index = static_cast<uint32_t>(grown_.size());
+    grown_.push_back({grown, fixture});
   }
-  p.grownLow = listed ? std::min(p.grownLow, low) : low;
-  p.grownHigh = listed ? std::max(p.grownHigh, high) : high;
-  p.grownSweep = sweep_;
+  for (uint32_t band = low; band <= high; ++band) {
+    if (listed && band >= g.low && band <= g.high) continue;
+    grownBands_[band].push_back(g.index);
+  }
+  g.low = listed ? std::min(g.low, low) : low;
+  g.high = listed ? std::max(g.high, high) : high;
+  g.sweep = sweep_;
 }
 
 }  // namespace rattle::detail

@@ -35,21 +35,6 @@
 
 namespace rattle::detail {
 
-// A plain moving disk's state at the start of a step, set by the hybrid step with its box and handed back
-// with each pair, so that a pair of two such disks is tested for a time of impact without looking up
-// either body or fixture (in a large world each lookup is a cache miss, and most pairs never meet).
-// Plain: a dynamic body whose only physical fixture is a circle centred on the body, awake, moving on
-// a straight line, in no island and sliding on nothing.
-struct DiskPath {
-  Vec2 position;  // of the body, at the step's start (as World::Impl::positionAt gives it)
-  Vec2 velocity;
-  double radius = 0;
-  uint32_t body = 0;
-  int32_t group = 0;             // the fixture's collision group
-  uint32_t collisionCount = 0;   // the body's, at the step's start
-  bool plain = false;
-};
-
 class BroadPhase {
  public:
   /// `sensor`: two sensors never pair (they only sense physical fixtures), so the sweep skips them.
@@ -67,10 +52,12 @@ class BroadPhase {
   const Box& box(uint32_t fixture) const { return proxies_[fixture].box; }
   void setBox(uint32_t fixture, const Box& box) { proxies_[fixture].box = box; }
   void setMoving(uint32_t fixture, bool moving) { proxies_[fixture].moving = moving; }
-  /// What findPairs hands back with the proxy's pairs (the caller's; kept until set again).
-  void setDisk(uint32_t fixture, const DiskPath& disk) { proxies_[fixture].disk = disk; }
+  /// A tag that findPairs hands back with the proxy's pairs (the caller's; kept until set again;
+  /// kNoTag unless set).
+  void setTag(uint32_t fixture, uint32_t tag) { proxies_[fixture].tag = tag; }
+  static constexpr uint32_t kNoTag = 0xFFFFFFFFu;
 
-  /// Sorts and calls report(a, b) (or report(a, b, diskA, diskB), with what setDisk last set) for every
+  /// Sorts and calls report(a, b) (or report(a, b, tagA, tagB), with what setTag last set) for every
   /// overlapping pair of which one moves and neither is a sensor (sensors are paired by findSensorPairs
   /// alone), and whose filter bits meet. Then prepares `query` for this step's boxes.
   template <class Report>
@@ -100,13 +87,24 @@ class BroadPhase {
     bool sensor = false;
     uint32_t category = ~0u, mask = ~0u;  // the fixture's filter bits
     uint32_t stamp = 0;    // the last query that reported it
-    DiskPath disk;
-    uint32_t grownSweep = 0;         // the sweep in which grownLow..grownHigh were listed
-    uint32_t grownLow = 0, grownHigh = 0;  // the bands whose grown lists hold it
+    uint32_t tag = kNoTag;
   };
   struct Entry {
     double minX;  // lower x edge at the sweep
     uint32_t fixture;
+  };
+  // A proxy grown since the sweep, with its current box: grown_[k], listed by k in the grown lists of the
+  // bands its box reaches. Its place in grown_ and those bands are kept by fixture (Growth) for this sweep,
+  // so that a body growing again and again within a step (a disk rattling in a narrowing gap) is listed
+  // once in each band.
+  struct GrownEntry {
+    Box box;
+    uint32_t fixture;
+  };
+  struct Growth {
+    uint32_t sweep = 0;  // the sweep in which the rest was set
+    uint32_t index = 0;  // in grown_
+    uint32_t low = 0, high = 0;  // the bands whose grown lists hold it
   };
   // A proxy as a sweep reads it: a copy of its box and bits, in the order of the sweep, so that the sweep
   // reads each band's list in order instead of jumping through proxies_ by fixture index.
@@ -117,7 +115,7 @@ class BroadPhase {
     uint32_t category, mask;
     bool moving;
     bool sensor;
-    DiskPath disk;  // the collision sweep's only
+    uint32_t tag;  // the collision sweep's only
   };
   /// Drops removed proxies from the orders and moves a reused index to the list of its kind.
   void compact();
@@ -171,9 +169,18 @@ class BroadPhase {
   std::vector<std::vector<Entry>> wide_;       // by band: its wide boxes, own or spilled
   double wideThreshold_ = 0;
   size_t movingCount_ = 0;  // moving boxes at the last sweep
-  std::vector<std::vector<uint32_t>> grownBands_;
+  std::vector<GrownEntry> grown_;
+  LargeArray<Growth> growth_;  // by fixture index
+  std::vector<std::vector<uint32_t>> grownBands_;  // by band: indices into grown_
+  uint32_t sweep_ = 1;  // counts sweeps
+  // Queries find where to start in a band's sorted list by a binary search over every kKeyStride-th
+  // lower x edge of it, copied into one small array (a band's keys are ownKeys_[ownKeyStart_[b],
+  // ownKeyStart_[b + 1]), likewise for the spills): in a large world that array stays in cache while the
+  // lists themselves do not, so a search costs a miss or two instead of one per halving.
+  static constexpr uint32_t kKeyStride = 8;
+  std::vector<double> ownKeys_, spillKeys_;
+  std::vector<uint32_t> ownKeyStart_, spillKeyStart_;
   uint32_t queryStamp_ = 0;
-  uint32_t sweep_ = 1;  // counts sweeps, so that a proxy is listed in each band's grown list once
 
   // The sensor sweep: both kinds in x order, swept in bands cut for the sensors.
   std::vector<uint32_t> order_;        // the proxies that are not sensors, by box.min.x at the last sensor sweep
@@ -200,8 +207,8 @@ void BroadPhase::findPairs(Report&& report) {
     if (!pi.moving && !pj.moving) return;
     if ((pi.category & pj.mask) == 0 || (pj.category & pi.mask) == 0) return;
     if (pj.box.min.y > pi.box.max.y || pi.box.min.y > pj.box.max.y) return;
-    if constexpr (std::is_invocable_v<Report, uint32_t, uint32_t, const DiskPath&, const DiskPath&>) {
-      report(pi.fixture, pj.fixture, pi.disk, pj.disk);
+    if constexpr (std::is_invocable_v<Report, uint32_t, uint32_t, uint32_t, uint32_t>) {
+      report(pi.fixture, pj.fixture, pi.tag, pj.tag);
     } else {
       report(pi.fixture, pj.fixture);
     }
@@ -241,6 +248,7 @@ void BroadPhase::findPairs(Report&& report) {
     }
   }
   for (auto& g : grownBands_) g.clear();
+  grown_.clear();
   ++sweep_;
 }
 
@@ -333,24 +341,39 @@ void BroadPhase::query(const Box& q, Found&& found) {
     p.stamp = queryStamp_;
     found(f);
   };
-  // The boxes that start within a list's reach before q and before q ends (a box grown since the sweep
-  // starts further left than its place says: it is in the band's grown list).
-  auto scan = [&](const BandEntry* begin, const BandEntry* end, double reach) {
-    const BandEntry* it = std::lower_bound(begin, end, q.min.x - reach,
-                                           [](const BandEntry& e, double x) { return e.box.min.x < x; });
-    for (; it != end && it->box.min.x <= q.max.x; ++it) visit(it->fixture);
+  // The boxes that start within a list's reach before q and before q ends. An entry's box is the one the
+  // sweep saw; a box grown since is in the band's grown list with its grown box, so an entry whose box
+  // misses q is passed over without a look at its proxy.
+  auto scan = [&](const BandEntry* begin, const BandEntry* end, const double* keys, const double* keysEnd,
+                  double reach) {
+    const double x = q.min.x - reach;
+    // keys[k] is begin[k * stride]'s lower edge: the first entry at or past x lies in
+    // (stride (k - 1), stride k] for the first key k at or past x.
+    const size_t k = static_cast<size_t>(std::lower_bound(keys, keysEnd, x) - keys);
+    const size_t n = static_cast<size_t>(end - begin);
+    const BandEntry* from = begin + (k == 0 ? 0 : std::min(n, kKeyStride * (k - 1) + 1));
+    const BandEntry* to = begin + std::min(n, kKeyStride * k);
+    const BandEntry* it =
+        std::lower_bound(from, to, x, [](const BandEntry& e, double v) { return e.box.min.x < v; });
+    for (; it != end && it->box.min.x <= q.max.x; ++it) {
+      if (it->box.overlaps(q)) visit(it->fixture);
+    }
   };
   if (bandStart_.size() <= bandCount_) return;  // no sweep yet: nothing to find
   const uint32_t last = bandOf(q.max.y);
   for (uint32_t band = bandOf(q.min.y); band <= last; ++band) {
-    scan(own_.data() + bandStart_[band], own_.data() + bandStart_[band + 1], ownReach_[band]);
+    scan(own_.data() + bandStart_[band], own_.data() + bandStart_[band + 1], ownKeys_.data() + ownKeyStart_[band],
+         ownKeys_.data() + ownKeyStart_[band + 1], ownReach_[band]);
     const std::vector<BandEntry>& spill = spill_[band];
-    scan(spill.data(), spill.data() + spill.size(), spillReach_[band]);
+    scan(spill.data(), spill.data() + spill.size(), spillKeys_.data() + spillKeyStart_[band],
+         spillKeys_.data() + spillKeyStart_[band + 1], spillReach_[band]);
     for (const Entry& e : wide_[band]) {
       if (e.minX <= q.max.x) visit(e.fixture);
     }
     for (const BandEntry& t : tall_[band]) visit(t.fixture);
-    for (uint32_t f : grownBands_[band]) visit(f);
+    for (uint32_t k : grownBands_[band]) {
+      if (grown_[k].box.overlaps(q)) visit(grown_[k].fixture);
+    }
   }
 }
 

@@ -85,17 +85,18 @@ void World::Impl::queueContact(const Impact& impact, uint32_t own, uint32_t othe
   std::push_heap(queue.begin(), queue.end(), detail::later);
 }
 
-void World::Impl::predictPlainPair(uint32_t fa, uint32_t fb, const detail::DiskPath& da, const detail::DiskPath& db,
-                                   double dt) {
+void World::Impl::predictPlainPair(uint32_t fa, uint32_t fb, uint32_t ba, uint32_t bb, double dt) {
   // The sweep's candidate pair of two plain disks at the step's start: canCollide, addPair and
   // predict(own, other, 0, dt) as for any pair, on the state the sweep carried instead of the bodies and
   // fixtures. The arithmetic is predict's and timeOfImpact's for two circles centred on their bodies, step
   // by step, so the prediction has the same bits. (The broad phase has checked the filter bits; neither
   // is a sensor.)
-  if (da.body == db.body || (da.group != 0 && da.group == db.group)) return;
+  const detail::DiskPath& da = diskPaths[ba];
+  const detail::DiskPath& db = diskPaths[bb];
+  if (ba == bb || (da.group != 0 && da.group == db.group)) return;
   ++stats.candidatePairs;
-  pairsOfBody[da.body].push_back({fa, fb});
-  pairsOfBody[db.body].push_back({fb, fa});
+  pairsOfBody[ba].push_back({fa, fb});
+  pairsOfBody[bb].push_back({fb, fa});
   const bool aFirst = fa < fb;
   const uint32_t own = aFirst ? fa : fb, other = aFirst ? fb : fa;
   const detail::DiskPath& a = aFirst ? da : db;
@@ -312,6 +313,7 @@ void World::Impl::stepHybrid(double dt) {
   queue.clear();
   if (pairsOfBody.size() < bodies.size()) pairsOfBody.resize(bodies.size());
   if (stamp.size() < fixtures.size()) stamp.resize(fixtures.size(), 0);
+  if (diskPaths.size() < bodies.size()) diskPaths.resize(bodies.size());
 
   // 1. Swept boxes. A sleeping body does not move this step: its proxies count as resting.
   double speedScale = 0, straightSpeedSquared = 0;
@@ -359,7 +361,8 @@ void World::Impl::stepHybrid(double dt) {
       path = unionOf(path, pathBox(b.position, withGravity, {}, dt));
       path = Box{path.min - Vec2{reach, reach}, path.max + Vec2{reach, reach}};
     }
-    // A plain disk (DiskPath) hands its state at the step's start to the sweep with its box.
+    // A plain disk (DiskPath) leaves its state at the step's start for its pairs, and its proxy is
+    // tagged with its body.
     uint32_t physical = 0;
     for (uint32_t f : b.fixtures) physical += fixtures[f].sensor ? 0 : 1;
     const bool plainBody = b.type == BodyType::Dynamic && moving && !still && physical == 1 &&
@@ -371,14 +374,15 @@ void World::Impl::stepHybrid(double dt) {
       if (fixture.sensor) continue;
       broadPhase.setMoving(f, moving && !still);
       broadPhase.setBox(f, Box{path.min + fixture.localBox.min, path.max + fixture.localBox.max});
-      detail::DiskPath disk;
+      uint32_t tag = detail::BroadPhase::kNoTag;
       const Circle* circle = std::get_if<Circle>(&fixture.geometry);
       // Centred exactly on the body (+0, +0): the pair test then adds a centre of +0, as timeOfImpact does.
       if (plainBody && circle != nullptr && circle->center.x == 0 && circle->center.y == 0 &&
           !std::signbit(circle->center.x) && !std::signbit(circle->center.y)) {
-        disk = {positionAt(b, 0), velocityAt(b, 0), circle->radius, i, fixture.filter.group, b.collisionCount, true};
+        diskPaths[i] = {positionAt(b, 0), velocityAt(b, 0), circle->radius, fixture.filter.group, b.collisionCount};
+        tag = i;
       }
-      broadPhase.setDisk(f, disk);
+      broadPhase.setTag(f, tag);
     }
   }
   speedScale = std::max(speedScale, std::sqrt(straightSpeedSquared));
@@ -389,9 +393,9 @@ void World::Impl::stepHybrid(double dt) {
 
   // 2 and 3. Candidate pairs and their first predictions.
   deferred.clear();
-  broadPhase.findPairs([&](uint32_t fa, uint32_t fb, const detail::DiskPath& da, const detail::DiskPath& db) {
-    if (da.plain && db.plain) {
-      predictPlainPair(fa, fb, da, db, dt);
+  broadPhase.findPairs([&](uint32_t fa, uint32_t fb, uint32_t plainA, uint32_t plainB) {
+    if (plainA != detail::BroadPhase::kNoTag && plainB != detail::BroadPhase::kNoTag) {
+      predictPlainPair(fa, fb, plainA, plainB, dt);
       return;
     }
     if (canCollide(fa, fb)) {

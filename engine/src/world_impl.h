@@ -123,6 +123,20 @@ inline bool later(const PredictedContact& x, const PredictedContact& y) {
   return x.countB > y.countB;
 }
 
+// A plain moving disk's state at the start of a hybrid step, written by the step's first pass in body
+// order: a candidate pair of two such disks (the sweep hands back their body indices, BroadPhase::setTag)
+// is tested for a time of impact from these two records instead of two BodySlots and two FixtureSlots
+// (in a large world each is a cache miss, and most pairs never meet). Plain: a dynamic body whose only
+// physical fixture is a circle centred on the body, awake, moving on a straight line, in no island and
+// sliding on nothing. One record is 48 bytes, so the sweep's entries stay small too.
+struct DiskPath {
+  Vec2 position;  // of the body, at the step's start (as World::Impl::positionAt gives it)
+  Vec2 velocity;
+  double radius = 0;
+  int32_t group = 0;            // the fixture's collision group
+  uint32_t collisionCount = 0;  // the body's, at the step's start
+};
+
 struct CandidatePair {
   uint32_t own;  // a fixture of the body whose list this is
   uint32_t other;
@@ -152,6 +166,7 @@ struct World::Impl {
   detail::LargeArray<std::vector<detail::CandidatePair>> pairsOfBody;  // by body index; dynamic bodies only
   std::vector<detail::PredictedContact> queue;                  // binary heap ordered by detail::later
   detail::LargeArray<uint32_t> stamp;                           // by fixture index, for de-duplication
+  detail::LargeArray<detail::DiskPath> diskPaths;               // by body index; set for plain disks only
   uint32_t stampCounter = 0;
   std::vector<uint32_t> supporters;
   std::vector<uint32_t> sliding;  // scratch of stepHybrid: the bodies that start the step sliding
@@ -251,9 +266,9 @@ struct World::Impl {
   void queueContact(const Impact& impact, uint32_t own, uint32_t other, uint32_t countOwn, uint32_t countOther,
                     Vec2 velocityOfOther, Vec2 accelerationOfOther, double now, double dt);
   void predictSlideEnd(uint32_t body, double now, double dt);
-  /// The sweep's pair of two plain disks (detail::DiskPath) at the step's start, as canCollide, addPair
-  /// and predict would take it, from what the sweep carried.
-  void predictPlainPair(uint32_t fa, uint32_t fb, const detail::DiskPath& da, const detail::DiskPath& db, double dt);
+  /// The sweep's pair of two plain disks (fixtures fa and fb of bodies ba and bb, detail::DiskPath) at the
+  /// step's start, as canCollide, addPair and predict would take it, from their DiskPaths.
+  void predictPlainPair(uint32_t fa, uint32_t fb, uint32_t ba, uint32_t bb, double dt);
   void repredict(uint32_t body, double now, double dt, bool forceRequery = false);
   void advance(detail::BodySlot& b, double t);
   void resolve(const detail::PredictedContact& c, std::vector<uint32_t>& woken, bool zenoGuard = false);
