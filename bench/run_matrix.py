@@ -3,8 +3,9 @@
 
   python3 bench/run_matrix.py [--bench build/bin/rattle-bench] [--out bench] [--quick] [--only gas,bullets]
 
-Writes <out>/results.csv (one row per scene, engine and step size) and <out>/scaling.csv (hybrid time per step
-and predictive time per collision against the number of disks), then calls bench/report.py, which turns them
+Writes <out>/results.csv (one row per scene, engine and step size), <out>/scaling.csv (hybrid time per step
+and predictive time per collision against the number of disks) and <out>/repeats.csv (the gas rows the speed
+targets compare, run again several times), then calls bench/report.py, which turns them
 into <out>/RESULTS.md and the pictures in <out>/figures/. Each run is one rattle-bench process (so no run warms the caches of the next),
 one at a time (the timings are single-core). A progress line per run goes to stderr.
 
@@ -18,6 +19,10 @@ The matrix (what `make bench` runs; --quick shrinks every scene for a smoke test
   - arena (the demo's game) with discrete, hybrid and predictive only, at the game's tick (1/30 s): 100 and
     1000 units per team for 20 s (the armies meet after about 15 s; before that no projectile flies);
     --quick keeps only the 100 units
+  - repeats: the gas of the speed targets (10,000 disks, packing 0.3, dt 1/60, 3 s) with hybrid, box2d and
+    chipmunk, REPEATS times in turn (hybrid, box2d, chipmunk, hybrid, ...; 3 with --quick): one run's ratio
+    moves with the machine (Box2D's step took 6.3 to 8.4 ms across runs of one day), so the targets quote the
+    median of the repeats' ratios and their range as well as the matrix run's
   - scaling: hybrid on gas (packing 0.3, dt 1/60) at 10^3 .. 10^6 disks, timed after 0.5 s of settling
     (--warm-up 0.5); predictive on gas (packing 0.5) at
     10^3 .. 10^6 disks with one look at the end of the run (dt = the run), and with a look every 1/60 s.
@@ -38,6 +43,7 @@ STEPS = ["1/30", "1/60", "1/120", "1/240"]
 ARENA_ENGINES = ["discrete", "hybrid", "predictive"]
 ARENA_STEPS = ["1/30"]
 RUN_TIMEOUT_S = 600  # a run that takes longer is recorded as failed, and the matrix goes on
+REPEATS = 5
 
 
 def matrix(quick):
@@ -72,6 +78,17 @@ def matrix(quick):
                     # The arena stays at 100 units for 20 s, about a second a run: shorter, no shot is fired.
                     args["--seconds"] = str(min(float(args["--seconds"]), 0.5))
                 runs.append((table, args))
+    return runs
+
+
+def repeats(quick):
+    """(repeat number, args) for the repeated target rows, the engines in turn within each repeat."""
+    runs = []
+    for k in range(1, (3 if quick else REPEATS) + 1):
+        for engine in ("hybrid", "box2d", "chipmunk"):
+            runs.append((str(k), {"--scene": "gas", "--engine": engine, "--n": 996 if quick else 10000,  # as matrix()
+                                  "--packing": "0.3", "--dt": "1/60", "--seconds": "0.5" if quick else "3",
+                                  "--no-reference": None, "--measure-every": "1000000"}))
     return runs
 
 
@@ -157,7 +174,7 @@ def main():
     ap.add_argument("--out", default=here, help="where results.csv and scaling.csv go (default: bench/)")
     ap.add_argument("--quick", action="store_true", help="a small matrix, for trying the pipeline")
     ap.add_argument("--only", default="", help="comma-separated tables to run (gas,pile,bullets,cradle,sensors,"
-                                               "arena,scaling); default all")
+                                               "arena,repeats,scaling); default all")
     a = ap.parse_args()
     if not os.access(a.bench, os.X_OK):
         sys.exit("run_matrix: %s is not there; build it first (make bench)" % a.bench)
@@ -169,6 +186,10 @@ def main():
     if runs:
         _, p = run_all(a.bench, runs, os.path.join(a.out, "results.csv"),
                        lambda tag, args: {"collapse_time": args.get("--collapse-time", "")}, "bench")
+        problems += p
+    if not only or "repeats" in only:
+        _, p = run_all(a.bench, repeats(a.quick), os.path.join(a.out, "repeats.csv"),
+                       lambda tag, args: {"repeat": tag}, "repeats")
         problems += p
     if not only or "scaling" in only:
         _, p = run_all(a.bench, scaling(a.quick), os.path.join(a.out, "scaling.csv"),
@@ -183,7 +204,8 @@ def main():
     import report
     report.write_report(a.out, a.bench, elapsed, (load_start, "%.2f" % os.getloadavg()[0]))
     print("run_matrix: wrote %s" % ", ".join(os.path.join(a.out, f) for f in
-                                             ("results.csv", "scaling.csv", "RESULTS.md", "figures/")),
+                                             ("results.csv", "scaling.csv", "repeats.csv", "RESULTS.md",
+                                              "figures/")),
           file=sys.stderr)
     sys.exit(1 if problems else 0)
 
