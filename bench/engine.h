@@ -61,11 +61,16 @@ struct EngineSettings {
   BisectDepths bisect;
 };
 
-/// Builds the named engine's world from the scene. Throws std::invalid_argument for an unknown name and
-/// EngineUnavailable for one that was not compiled in.
+/// Builds the named engine's world from the scene. Throws std::invalid_argument for an unknown name,
+/// EngineUnavailable for one that was not compiled in and EngineCannotRun for a scene it cannot run.
 std::unique_ptr<Engine> makeEngine(const std::string& name, const Scene& scene, const EngineSettings& settings = {});
 
 struct EngineUnavailable : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// The engine cannot run this scene (edmd outside a closed elastic box).
+struct EngineCannotRun : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
@@ -79,5 +84,6 @@ std::unique_ptr<Engine> makeRattleEngine(const Scene& scene, RattleMode mode, do
 std::unique_ptr<Engine> makeBisectEngine(const Scene& scene, BisectDepths depths);
 std::unique_ptr<Engine> makeBox2dEngine(const Scene& scene, bool bullets);
 std::unique_ptr<Engine> makeChipmunkEngine(const Scene& scene);
+std::unique_ptr<Engine> makeEdmdEngine(const Scene& scene);
 
 }  // namespace rattle_bench

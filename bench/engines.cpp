@@ -31,6 +31,8 @@ const std::vector<EngineInfo>& engineList() {
       {"box2d", kHaveBox2d, "Box2D 2.4, default settings (8 velocity, 3 position iterations)"},
       {"box2d-bullet", kHaveBox2d, "Box2D 2.4 with every disk a bullet (continuous collision between disks)"},
       {"chipmunk", kHaveChipmunk, "Chipmunk 7, default settings (10 iterations)"},
+      {"edmd", true, "a baseline for predictive: the textbook event-driven gas (one event per disk, cell "
+                     "crossings, a 4-ary heap; engine_edmd.cpp); gas, cradle, bullets only"},
   };
   return list;
 }
@@ -50,8 +52,10 @@ std::unique_ptr<Engine> makeEngine(const std::string& name, const Scene& scene, 
   if (name == "box2d") return makeBox2dEngine(scene, false);
   if (name == "box2d-bullet") return makeBox2dEngine(scene, true);
   if (name == "chipmunk") return makeChipmunkEngine(scene);
+  if (name == "edmd") return makeEdmdEngine(scene);
   throw std::invalid_argument("--engine " + name +
-                              ": unknown (discrete, hybrid, predictive, bisect, box2d, box2d-bullet, chipmunk)");
+                              ": unknown (discrete, hybrid, predictive, bisect, box2d, box2d-bullet, chipmunk, "
+                              "edmd)");
 }
 
 }  // namespace rattle_bench

@@ -208,6 +208,9 @@ int main(int argc, char** argv) {
   } catch (const ArenaUnavailable& e) {
     std::fprintf(stderr, "rattle-bench: %s\n", e.what());
     return 4;
+  } catch (const EngineCannotRun& e) {
+    std::fprintf(stderr, "rattle-bench: %s\n", e.what());
+    return 4;
   } catch (const EngineUnavailable& e) {
     std::fprintf(stderr, "rattle-bench: %s\n", e.what());
     return 3;

@@ -256,7 +256,7 @@ def fit_slope(points):
 def scaling_series(rows):
     hybrid = sorted((num(r, "n"), num(r, "ms_per_step")) for r in rows if r["series"] == "hybrid")
     pred = {}
-    for s in ("predictive-one-look", "predictive-1/60"):
+    for s in ("predictive-one-look", "predictive-1/60", "edmd-one-look"):
         pts = []
         for r in rows:
             if r["series"] == s and num(r, "collisions") > 0:
@@ -277,6 +277,7 @@ def scaling_figure(rows, png, tmp):
     h = dat("hybrid.dat", hybrid)
     p1 = dat("pred1.dat", pred["predictive-one-look"])
     p2 = dat("pred60.dat", pred["predictive-1/60"])
+    p3 = dat("edmd.dat", pred["edmd-one-look"])
     x0, y0 = hybrid[0] if hybrid else (1, 1)
     script = """set terminal pngcairo size 1400,560 font ',10'
 set output '%s'
@@ -290,9 +291,10 @@ set ylabel 'ms per step (dt = 1/60, packing 0.3)'
 plot '%s' using 1:2 with linespoints pt 7 lw 1.5 title 'hybrid', %g*x/%g with lines dt 2 lc rgb '#888888' title 'proportional to N'
 set ylabel 'microseconds of step time per collision (packing 0.5)'
 plot '%s' using 1:2 with linespoints pt 7 lw 1.5 title 'predictive, one look at the end', \\
-     '%s' using 1:2 with linespoints pt 5 lw 1.5 title 'predictive, a look every 1/60 s'
+     '%s' using 1:2 with linespoints pt 5 lw 1.5 title 'predictive, a look every 1/60 s', \\
+     '%s' using 1:2 with linespoints pt 9 lw 1.5 dt 3 title 'baseline: textbook event-driven gas (edmd), one look'
 unset multiplot
-""" % (png, h, y0, x0, p1, p2)
+""" % (png, h, y0, x0, p1, p2, p3)
     gnuplot(script, tmp)
     return hybrid, pred
 
@@ -398,11 +400,17 @@ def targets(rows, scaling_rows, repeat_rows=()):
                    "%d runs | %s |" % (tunnelled, shots, len(ar), "yes" if tunnelled == 0 else "**no**"))
     for series, what in (("predictive-one-look", "one look at the end"), ("predictive-1/60", "a look every 1/60 s")):
         p = find(scaling_rows, series=series, n="100000")
+        e = find(scaling_rows, series="edmd-one-look", n="100000")
         if p:
             rate = num(p, "collisions_per_s")
+            baseline = ""
+            if e:
+                baseline = "; the textbook baseline (edmd) in this run: %.3g collisions/s (%s collisions), so " \
+                           "predictive is %.2fx its rate" % (num(e, "collisions_per_s"), e["collisions"],
+                                                             rate / num(e, "collisions_per_s"))
             out.append("| predictive gas 10^5, packing 0.5: >= 2e6 collisions per second (%s) | %.3g collisions/s "
-                       "(%s collisions in %s s) | %s |" % (what, rate, p["collisions"], p["seconds"],
-                                                          "yes" if rate >= 2e6 else "**no**"))
+                       "(%s collisions in %s s)%s | %s |" % (what, rate, p["collisions"], p["seconds"], baseline,
+                                                            "yes" if rate >= 2e6 else "**no**"))
     g = find(scaling_rows, series="hybrid", n="1000000")
     if g:
         ns = num(g, "ms_per_step") * 1e6 / num(g, "n")
@@ -516,15 +524,19 @@ def write_report(out_dir, bench, matrix_seconds=None, load=None):
                "Hybrid: median time of one step of 1/60 s on gas at packing 0.3 (it should grow like N). Predictive: "
                "all step time divided by the collisions processed, on gas at packing 0.5, with one look at the end "
                "of the run and with a look every 1/60 s (per collision it should grow like log N; a look costs "
-               "O(N), as every body is brought up to the time looked at). Slopes are least-squares fits of "
-               "log time against log N.", "",
+               "O(N), as every body is brought up to the time looked at). The baseline `edmd` is the textbook "
+               "event-driven gas written for the bench (bench/engine_edmd.cpp: one event per disk, cell "
+               "crossings, a 4-ary heap, nothing else), on the one-look runs: what a gas costs without an "
+               "engine's generality. Slopes are least-squares fits of log time against log N.", "",
                "| disks | hybrid ms/step | hybrid ns/disk/step | predictive us/collision (one look) | "
-               "predictive us/collision (look every 1/60 s) |", "|---|---|---|---|---|"]
+               "predictive us/collision (look every 1/60 s) | baseline edmd us/collision (one look) |",
+               "|---|---|---|---|---|---|"]
         ns = sorted({int(num(r, "n")) for r in scaling_rows})
         hd, p1, p2 = dict(hybrid), dict(pred["predictive-one-look"]), dict(pred["predictive-1/60"])
+        p3 = dict(pred["edmd-one-look"])
         for n in ns:
-            md.append("| %d | %s | %s | %s | %s |" % (n, fmt(hd.get(n)), fmt(hd[n] * 1e6 / n if n in hd else None),
-                                                       fmt(p1.get(n)), fmt(p2.get(n))))
+            md.append("| %d | %s | %s | %s | %s | %s |" % (n, fmt(hd.get(n)), fmt(hd[n] * 1e6 / n if n in hd else None),
+                                                            fmt(p1.get(n)), fmt(p2.get(n)), fmt(p3.get(n))))
         md += ["", "Slopes (log-log): hybrid time per step %.2f (1 = linear); predictive time per collision %.2f with "
                "one look, %.2f with a look every 1/60 s (0 = flat; log N grows by a slope of about 0.1 over this "
                "range)." % (fit_slope(hybrid), fit_slope(pred["predictive-one-look"]),

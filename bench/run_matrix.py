@@ -25,7 +25,8 @@ The matrix (what `make bench` runs; --quick shrinks every scene for a smoke test
     median of the repeats' ratios and their range as well as the matrix run's
   - scaling: hybrid on gas (packing 0.3, dt 1/60) at 10^3 .. 10^6 disks, timed after 0.5 s of settling
     (--warm-up 0.5); predictive on gas (packing 0.5) at
-    10^3 .. 10^6 disks with one look at the end of the run (dt = the run), and with a look every 1/60 s.
+    10^3 .. 10^6 disks with one look at the end of the run (dt = the run), and with a look every 1/60 s;
+    and the baseline `edmd` (the textbook event-driven gas, bench/engine_edmd.cpp) on the one-look runs.
 Seeds are fixed (1), so the scenes are the same on every run.
 """
 import argparse
@@ -110,6 +111,9 @@ def scaling(quick):
                                              "--packing": "0.5", "--dt": str(seconds), "--seconds": str(seconds)}))
         runs.append(("predictive-1/60", {"--scene": "gas", "--engine": "predictive", "--n": size,
                                          "--packing": "0.5", "--dt": "1/60", "--seconds": str(seconds)}))
+        # The baseline (engine_edmd.cpp: the textbook event-driven gas) on the same runs as one look.
+        runs.append(("edmd-one-look", {"--scene": "gas", "--engine": "edmd", "--n": size,
+                                       "--packing": "0.5", "--dt": str(seconds), "--seconds": str(seconds)}))
     for _, args in runs:
         args["--no-reference"] = None
         args["--measure-every"] = "1000000"
