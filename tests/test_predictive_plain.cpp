@@ -8,9 +8,12 @@
 
 #include <cmath>
 #include <cstring>
+#include <random>
 #include <vector>
 
+#include "plain_disk_impact.h"
 #include "rattle/rattle.h"
+#include "rattle/time_of_impact.h"
 #include "world_test_support.h"
 
 namespace {
@@ -134,6 +137,44 @@ TEST(PredictivePlain, FreeCloudConservesMomentumAndEnergy) {
   EXPECT_LE(std::fabs(static_cast<double>((p1.y - p0.y) / scale)), 1e-12);
   EXPECT_LE(std::fabs(static_cast<double>((kineticEnergy(plain.world, plain.disks) - e0) / e0)), 1e-12);
   EXPECT_LE(maxRelativeOverlap(plain.world, plain.disks), 1e-9);
+}
+
+TEST(PredictivePlain, SplitTimeOfImpactSameBitsAsCircleCircle) {
+  // plain_disk_impact.h against timeOfImpactCircleCircle, on pairs that meet, touch, overlap by
+  // round-off, graze and miss, with and without the LastContact guard and a tight time limit.
+  std::mt19937_64 rng(7);
+  auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * (static_cast<double>(rng() >> 11) * 0x1p-53); };
+  int found = 0, touching = 0;
+  for (int k = 0; k < 200000; ++k) {
+    const double ra = uniform(0.1, 1.0), rb = uniform(0.1, 1.0);
+    Vec2 centre{uniform(-3, 3), uniform(-3, 3)};
+    if (k % 5 == 0) {
+      // On the contact circle, up to a few ulps in or out.
+      const double angle = uniform(0, 6.283185307179586);
+      centre = Vec2{std::cos(angle), std::sin(angle)} * (ra + rb);
+    }
+    centre = centre + Vec2{uniform(-1e-15, 1e-15), 0.0};
+    const Vec2 v{uniform(-2, 2), uniform(-2, 2)};
+    const double maxTime = k % 3 == 0 ? uniform(0, 0.5) : 4.0;
+    const bool guard = k % 7 == 0;
+    const auto expected = rattle::timeOfImpactCircleCircle(rattle::Circle{centre, ra}, rattle::Motion{v},
+                                                           rattle::Circle{Vec2{}, rb}, maxTime, guard ? 0 : -1);
+    const Vec2 r = centre - Vec2{};
+    const double reach = ra + rb;
+    double t = -1;
+    const bool hit = rattle::detail::plainTimeToReach(dot(r, r) - reach * reach, dot(r, v), v, reach, maxTime, guard, t);
+    ASSERT_EQ(hit, expected.has_value()) << "pair " << k;
+    if (!hit) continue;
+    ++found;
+    if (t == 0) ++touching;
+    Vec2 point, normal;
+    rattle::detail::plainContact(r, v, rb, t, point, normal);
+    ASSERT_TRUE(sameBits(t, expected->time) && sameBits(point, expected->point) && sameBits(normal, expected->normal) &&
+                expected->feature == 0)
+        << "pair " << k;
+  }
+  EXPECT_GT(found, 20000);
+  EXPECT_GT(touching, 100);
 }
 
 }  // namespace

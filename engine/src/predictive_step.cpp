@@ -50,6 +50,7 @@
 
 #include "closest_point.h"
 #include "plain_collision.h"
+#include "plain_disk_impact.h"
 #include "rattle/time_of_impact.h"
 #include "world_impl.h"
 
@@ -108,6 +109,9 @@ double exitTime(double c, double b, double A) {
   return 2 * c / (-b + std::sqrt(disc));
 }
 
+
+// Neighbours of one body held on the stack; more (a crowd in a few cells) go to a vector.
+constexpr size_t kNeighbourBuffer = 128;
 
 // PredictiveState::heads: an entry's first slot, and the entry for a first slot (-1: none) and whether
 // more follow.
@@ -245,6 +249,7 @@ class Engine {
   template <class Visit>
   void forEachNeighbour(uint32_t slot, Visit&& visit) const;
   void gatherNeighbours(uint32_t slot, std::vector<uint32_t>& out) const;
+  size_t gatherNeighbours(uint32_t slot, uint32_t* out, size_t capacity) const;
   template <class Visit>
   void forEachPhysical(uint32_t slot, Visit&& visit) const;
 
@@ -269,6 +274,8 @@ class Engine {
   void pairPlain(Prediction& q, uint32_t other);
   void finishPrediction(Prediction& q);
   void predictBody(uint32_t slot, double now);
+  void predictPlain(uint32_t slot, double now);
+  void crossingStraight(Vec2 centre, Vec2 velocity, const ColdBody& cell, double& h, int& side) const;
   void crossing(const Predicting& p, double& h, int& side) const;
   void predictPair(uint32_t own, uint32_t other, double now, double horizon, PredictiveEvent& best);
   void predictCircles(const Predicting& p, uint32_t j, double horizon, PredictiveEvent& best);
@@ -695,7 +702,7 @@ void Engine<W>::reorder(bool fresh) {
   // reads, then lies in a few short runs of slots instead of three runs a whole row apart. Only where
   // things are stored changes: no prediction, time or order of events does.
   const size_t n = s_.hot.size();
-  std::vector<uint32_t>& order = s_.order;  // order[new slot] = old slot
+  auto& order = s_.order;  // order[new slot] = old slot
   order.clear();
   auto gather = [](uint64_t v) {  // the even bits of v, packed (a Z-order index to one coordinate)
     v &= 0x5555555555555555ull;
@@ -722,7 +729,7 @@ void Engine<W>::reorder(bool fresh) {
   for (uint32_t k = 0; k < n; ++k) newSlot[order[k]] = k;
   // In place, along the permutation's cycles: no second copy of the arrays (tens of megabytes at 10^6
   // bodies, to be faulted in before it is any use).
-  std::vector<uint8_t>& done = s_.permuted;
+  auto& done = s_.permuted;
   auto permute = [&](auto& v) {
     done.assign(n, 0);
     for (size_t start = 0; start < n; ++start) {
@@ -809,34 +816,51 @@ void Engine<W>::forEachPhysical(uint32_t slot, Visit&& visit) const {
 }
 
 template <class W>
-void Engine<W>::gatherNeighbours(uint32_t slot, std::vector<uint32_t>& out) const {
+size_t Engine<W>::gatherNeighbours(uint32_t slot, uint32_t* out, size_t capacity) const {
   // The other bodies in the 3 x 3 cells around it (distinct table entries, since the table is at least
-  // 4 x 4), into `out`. The cell's coordinates come folded from the HotBody (the same entries: the fold
-  // is a remainder by a power of two). Every neighbour's record is asked for as its slot is found (a
-  // prefetch): they are most often cache misses, and are then fetched side by side before the pair
-  // tests read them, instead of one after each test. The lists are in `links`, read only past a head
-  // whose entry says more follow.
-  out.clear();
+  // 4 x 4), into out[0, capacity); returns how many there are, which may be more than were written.
+  // The cell's coordinates come folded from the HotBody (the same entries: the fold is a remainder by a
+  // power of two). Every neighbour's record is asked for as its slot is found (a prefetch): they are
+  // most often cache misses, and are then fetched side by side before the pair tests read them,
+  // instead of one after each test. The lists are in `links`, read only past a head whose entry says
+  // more follow.
+  size_t count = 0;
   const uint32_t cell = s_.hot[slot].cell;
   const uint32_t x = cell & (s_.foldX - 1), y = cell / s_.foldX;
   const uint32_t maskX = s_.foldX - 1, maskY = s_.foldY - 1;
   const uint32_t columns[3] = {(x - 1) & maskX, x & maskX, (x + 1) & maskX};
   const HotBody* hot = s_.hot.data();
   const PredictiveState::CellLink* links = s_.links.data();
+  auto add = [&](int32_t j) {
+    __builtin_prefetch(hot + j);
+    if (static_cast<uint32_t>(j) == slot) return;
+    if (count < capacity) out[count] = static_cast<uint32_t>(j);
+    ++count;
+  };
   for (uint32_t dy = 0; dy < 3; ++dy) {
     const int32_t* row = s_.heads.data() + static_cast<size_t>((y + dy - 1) & maskY) * s_.foldX;
     for (uint32_t column : columns) {
       const int32_t entry = row[column];
       if (entry < 0) continue;
       int32_t j = headSlot(entry);
-      __builtin_prefetch(hot + j);
-      if (static_cast<uint32_t>(j) != slot) out.push_back(static_cast<uint32_t>(j));
+      add(j);
       if (!(entry & 1)) continue;  // alone in its cell: no look at `links`
-      for (j = links[j].next; j >= 0; j = links[j].next) {
-        __builtin_prefetch(hot + j);
-        if (static_cast<uint32_t>(j) != slot) out.push_back(static_cast<uint32_t>(j));
-      }
+      for (j = links[j].next; j >= 0; j = links[j].next) add(j);
     }
+  }
+  return count;
+}
+
+template <class W>
+void Engine<W>::gatherNeighbours(uint32_t slot, std::vector<uint32_t>& out) const {
+  // As above, into a vector of any length (a second pass when the first found more than it held).
+  uint32_t found[kNeighbourBuffer];
+  const size_t count = gatherNeighbours(slot, found, kNeighbourBuffer);
+  if (count <= kNeighbourBuffer) {
+    out.assign(found, found + count);
+  } else {
+    out.resize(count);
+    gatherNeighbours(slot, out.data(), count);
   }
 }
 
@@ -1149,6 +1173,10 @@ void Engine<W>::finishPrediction(Prediction& q) {
 
 template <class W>
 void Engine<W>::predictBody(uint32_t i, double now) {
+  if (plainWorld_ && isPlain(s_.hot[i]) && !dismissals(i) && isMoving(s_.hot[i])) {
+    predictPlain(i, now);
+    return;
+  }
   // The neighbours are gathered first, which asks for their records (forEachNeighbour), so that they
   // arrive while the body's own motion and cell crossing are worked out.
   std::vector<uint32_t>& neighbours = s_.neighbours;
@@ -1171,6 +1199,164 @@ void Engine<W>::predictBody(uint32_t i, double now) {
       if (j == popped_ || s_.event[j].kind == PredictiveKind::None || !isMoving(s_.hot[j])) continue;
       pairWith(q, j, std::max(s_.event[j].time, now));
     }
+  }
+  finishPrediction(q);
+}
+
+template <class W>
+void Engine<W>::crossingStraight(Vec2 c, Vec2 v, const ColdBody& cell, double& h, int& side) const {
+  // crossing() for a centre `c` moving in a straight line at `v`: exitTime() with no acceleration leaves
+  // each side's time infinite unless the centre moves toward that side, so at most one side of each axis
+  // has a finite time. The same arguments and the same tie rule (the first side in 0..3 wins), so the
+  // same values.
+  const double s = s_.cellSize, d = s_.hysteresis;
+  const int32_t x = cell.cx, y = cell.cy;
+  h = kInf;
+  side = -1;
+  auto leave = [](double gap, double speed) { return gap <= 0 ? 0.0 : gap / speed; };  // exitTime, A = 0, b < 0
+  if (v.x < 0) {
+    if (x > -kMaxCoord) {
+      h = leave(c.x - (s_.x0 + x * s - d), -v.x);
+      side = 0;
+    }
+  } else if (-v.x < 0) {
+    if (x < kMaxCoord) {
+      h = leave((s_.x0 + (x + 1.0) * s + d) - c.x, -(-v.x));
+      side = 1;
+    }
+  }
+  double t = kInf;
+  int k = -1;
+  if (v.y < 0) {
+    if (y > -kMaxCoord) {
+      t = leave(c.y - (s_.y0 + y * s - d), -v.y);
+      k = 2;
+    }
+  } else if (-v.y < 0) {
+    if (y < kMaxCoord) {
+      t = leave((s_.y0 + (y + 1.0) * s + d) - c.y, -(-v.y));
+      k = 3;
+    }
+  }
+  if (t < h) {
+    h = t;
+    side = k;
+  }
+}
+
+template <class W>
+void Engine<W>::predictPlain(uint32_t i, double now) {
+  // predictBody() for a moving plain body without dismissals in a plain world, where every neighbour is
+  // a plain disk too (plainWorld_; no acceleration anywhere): pairPlain() over the neighbours with
+  // everything the general path carries from pair to pair (the Prediction, the best event, the bound
+  // `within`) kept in registers, and the contact point and normal worked out once, for the earliest
+  // impact (plain_disk_impact.h). The same arithmetic and the same total order of events as
+  // predictBody(), so the same event, bit for bit (tests/test_predictive_plain.cpp).
+  uint32_t found[kNeighbourBuffer];
+  const uint32_t* neighbours = found;
+  size_t count = gatherNeighbours(i, found, kNeighbourBuffer);
+  if (count > kNeighbourBuffer) {
+    gatherNeighbours(i, s_.neighbours);
+    neighbours = s_.neighbours.data();
+  }
+  const HotBody& hb = s_.hot[i];
+  const ColdBody& cb = s_.cold[i];
+  Prediction q;
+  q.p.slot = i;
+  q.p.now = now;
+  q.p.hot = &hb;
+  q.p.cold = &cb;
+  q.p.position = positionAt(hb, Vec2{}, now);
+  q.p.velocity = velocityAt(hb, Vec2{}, now);
+  q.moving = true;
+  q.single = true;
+  q.plain = true;
+  const Vec2 centre = Vec2{} + q.p.position;  // the circle's centre (p.centre + p.position)
+  const Vec2 velocity = q.p.velocity;
+  double h;
+  int side;
+  crossingStraight(centre, velocity, cb, h, side);
+  const double horizon = h < kInf ? now + h : now + s_.capTime;
+  q.horizon = horizon;
+
+  // The best so far: the crossing, or a contact with neighbour `partner` at `bestTime`.
+  double bestTime = horizon;
+  uint32_t partner = PredictiveState::kNone;
+  double impactTime = 0;
+  Vec2 impactR, impactV, impactPb, impactVb;
+  // As pairPlain(): no impact later than this can beat the best (its comment says why).
+  auto bound = [&] {
+    return std::min(horizon - now, (bestTime - now) * (1 + 1e-9) + 8 * kEps * (std::fabs(bestTime) + std::fabs(now)) + 1e-300);
+  };
+  double within = bound();
+  const double radius = hb.radius;
+  const uint32_t fixture = hb.fixture;
+  const bool lastNow = cb.lastTime == now;
+  w_.stats.candidatePairs += static_cast<int>(count);
+  w_.stats.timeOfImpactTests += static_cast<int>(count);
+  for (size_t k = 0; k < count; ++k) {
+    const uint32_t j = neighbours[k];
+    const HotBody& b = s_.hot[j];
+    const Vec2 pb = positionAt(b, Vec2{}, now);
+    const Vec2 vb = velocityAt(b, Vec2{}, now);
+    const Vec2 v = velocity - vb;
+    const Vec2 r = centre - pb;
+    const double rv = dot(r, v);
+    if (!(rv < 0)) continue;
+    const double reach = radius + b.radius;
+    const double c = dot(r, r) - reach * reach;
+    if (c > 0 && c > -2 * rv * within * (1 + 1e-9)) continue;
+    // The LastContact guard: the pair is both bodies' last contact, resolved at this instant.
+    bool justResolved = false;
+    if (lastNow) {
+      const uint32_t low = std::min(fixture, b.fixture), high = std::max(fixture, b.fixture);
+      if (cb.lastLow == low && cb.lastHigh == high) {
+        const ColdBody& other = s_.cold[j];
+        justResolved = other.lastTime == now && other.lastLow == low && other.lastHigh == high && cb.lastFeature == 0;
+      }
+    }
+    double t;
+    if (!detail::plainTimeToReach(c, rv, v, reach, within, justResolved, t)) continue;
+    const double time = std::min(now + t, horizon);
+    if (time > bestTime) continue;
+    if (time == bestTime && partner != PredictiveState::kNone) {
+      // A tie with the contact held: the total order decides (the contacts differ in the partner only).
+      PredictiveEvent e, held;
+      e.time = held.time = time;
+      e.kind = held.kind = PredictiveKind::Contact;
+      e.a = held.a = fixture;
+      e.b = b.fixture;
+      e.countB = b.collisionCount;
+      held.b = s_.hot[partner].fixture;
+      held.countB = s_.hot[partner].collisionCount;
+      if (!earlier(e, held)) continue;
+    }
+    // (A contact at the crossing's time comes first: Contact < Cross in the order.)
+    bestTime = time;
+    partner = j;
+    impactTime = t;
+    impactR = r;
+    impactV = v;
+    impactPb = pb;
+    impactVb = vb;
+    within = bound();
+  }
+
+  PredictiveEvent& best = q.best;
+  best = PredictiveEvent{};
+  if (partner == PredictiveState::kNone) {
+    best.time = horizon;
+    best.kind = PredictiveKind::Cross;
+    best.a = best.b = fixture;
+    best.feature = h < kInf ? side : -1;
+  } else {
+    const HotBody& b = s_.hot[partner];
+    Vec2 point, normal;
+    detail::plainContact(impactR, impactV, b.radius, impactTime, point, normal);
+    point += impactPb;
+    const Vec2 travelOfB = impactVb * impactTime + Vec2{} * (0.5 * impactTime * impactTime);
+    best = PredictiveEvent{bestTime, fixture, b.fixture, 0, b.collisionCount, PredictiveKind::Contact, partner,
+                           point + travelOfB, normal};
   }
   finishPrediction(q);
 }

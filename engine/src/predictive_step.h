@@ -9,6 +9,7 @@
 #include <limits>
 #include <vector>
 
+#include "large_array.h"
 #include "path_log.h"
 #include "rattle/types.h"
 #include "rattle/vec2.h"
@@ -127,8 +128,8 @@ struct PredictiveState {
   // The first slot in the cell, times two, plus one if more follow it; or -1 for an empty cell. Cells
   // hold less than one body on average in a dense gas: most lists end at their head, and the bit says
   // so without a look at `links`. (Slots are < 2^30: a BodySlot alone is 240 bytes.)
-  std::vector<int32_t> heads;
-  std::vector<uint32_t> staticBegin;  // static fixtures near the cell: staticList[staticBegin[c], staticBegin[c + 1])
+  detail::LargeArray<int32_t> heads;
+  detail::LargeArray<uint32_t> staticBegin;  // static fixtures near the cell: staticList[staticBegin[c], staticBegin[c + 1])
   std::vector<uint64_t> staticNear;   // a bit by cell: staticBegin[c] != staticBegin[c + 1] (a table 32 times smaller)
   struct CellLink {
     int32_t next = -1, prev = -1;  // the next and previous slots in the cell's list, or -1
@@ -138,19 +139,19 @@ struct PredictiveState {
 
   // Tracked bodies (dynamic, with a physical fixture) have a slot; slots are ordered by cell when the
   // grid is built and re-ordered now and then as bodies move. Everything below is indexed by slot.
-  std::vector<uint32_t> slotOfBody;  // by body index; kNone: not tracked
+  detail::LargeArray<uint32_t> slotOfBody;  // by body index; kNone: not tracked
   std::vector<uint32_t> untracked;   // the kinematic bodies and dynamic ones without a physical fixture
-  std::vector<uint32_t> bodyOfSlot;
-  std::vector<HotBody> hot;
-  std::vector<ColdBody> cold;
-  std::vector<RareBody> rare;
-  std::vector<CellLink> links;
+  detail::LargeArray<uint32_t> bodyOfSlot;
+  detail::LargeArray<HotBody> hot;
+  detail::LargeArray<ColdBody> cold;
+  detail::LargeArray<RareBody> rare;
+  detail::LargeArray<CellLink> links;
   // Every tracked body is plain (one circle on its centre, the default filter) and no kinematic body has
   // a physical fixture: set by buildGrid. With no gravity, no sensors and nobody asleep, such a world's
   // disk-disk collisions are resolved on the copies (plain_collision.h).
   bool plainShapes = false;
-  std::vector<PredictiveEvent> event;
-  std::vector<std::vector<Dismissal>> dismissed;
+  detail::LargeArray<PredictiveEvent> event;
+  detail::LargeArray<std::vector<Dismissal>> dismissed;
   std::vector<uint32_t> dismissedSlots;  // slots whose `dismissed` is not empty
   uint64_t popsSinceReorder = 0;
   uint64_t popsSinceRetune = 0;
@@ -181,8 +182,8 @@ struct PredictiveState {
     int32_t where = -1;       // kNotQueued, kInHeap, kInBucket or kInOverflow
     uint32_t ticket = 0;
   };
-  std::vector<QueueSlot> queue;
-  std::vector<std::vector<QueueEntry>> buckets;  // a power of two of them
+  detail::LargeArray<QueueSlot> queue;
+  detail::LargeArray<std::vector<QueueEntry>> buckets;  // a power of two of them
   std::vector<QueueEntry> overflow;
   size_t inBuckets = 0, inOverflow = 0;  // live entries
   double base = 0, width = 1, inverseWidth = 1;
@@ -197,13 +198,13 @@ struct PredictiveState {
 
 
   // Scratch.
-  std::vector<uint8_t> permuted;  // reorder(): which slots are in place
-  std::vector<Vec2> centres;      // buildGrid(): the tracked bodies' centres, by slot before reorder()
+  detail::LargeArray<uint8_t> permuted;  // reorder(): which slots are in place
+  detail::LargeArray<Vec2> centres;      // buildGrid(): the tracked bodies' centres, by slot before reorder()
   std::vector<uint32_t> neighbours;  // of the body being predicted
   std::vector<uint32_t> visiting;    // Engine::forEachNeighbour
   std::vector<uint32_t> dirty;
   std::vector<uint32_t> woken;
-  std::vector<uint32_t> order;
+  detail::LargeArray<uint32_t> order;
   std::vector<double> scratchTimes;
 };
 
