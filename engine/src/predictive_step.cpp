@@ -110,8 +110,10 @@ double exitTime(double c, double b, double A) {
 }
 
 
-// Neighbours of one body held on the stack; more (a crowd in a few cells) go to a vector.
+// Neighbours of one body held on the stack; more (a crowd in a few cells) go to a vector. At least the
+// nine cells' heads (Engine::gatherNeighbours).
 constexpr size_t kNeighbourBuffer = 128;
+static_assert(kNeighbourBuffer >= 9);
 
 // PredictiveState::heads: an entry's first slot, and the entry for a first slot (-1: none) and whether
 // more follow.
@@ -180,6 +182,9 @@ class Engine {
   // This step resolves collisions of two plain disks on the copies (plain_collision.h): every tracked
   // body is plain, and there is no gravity, no sensor and nobody asleep or sliding.
   bool plainWorld_ = false;
+  // False while a fresh grid's bodies are first predicted: their events are only written, and retune()
+  // then queues them all at once (a calendar cut for them), instead of each being queued twice.
+  bool queueing_ = true;
 
   // Setup.
   void normalize(double dt);
@@ -294,8 +299,8 @@ class Engine {
     const int64_t k = static_cast<int64_t>(x);
     return static_cast<double>(k) > x ? k - 1 : k;
   }
-  void enqueue(uint32_t slot) { enqueue(slot, s_.event[slot].time); }
-  void enqueue(uint32_t slot, double time);
+  void enqueue(uint32_t slot) { enqueue(slot, s_.event[slot].time, s_.event[slot].partner); }
+  void enqueue(uint32_t slot, double time, uint32_t partner);
   void dequeue(uint32_t slot);
   void retune(double now, bool keepWidth = false);
   uint32_t top();
@@ -646,6 +651,40 @@ template <class W>
 double Engine<W>::meanNeighbours(double size) const {
   // How many other bodies the 3 x 3 cells around a body hold, on average, with cells of this size.
   const size_t n = s_.hot.size();
+  if (n == 0) return 0.0;
+  {
+    // Where the bodies' cells fit a table of a few entries per body (a gas, a pile): counted in it, in
+    // O(n + cells). The sum is of whole numbers below 2^53, so the same value in any order as below.
+    int64_t maxX = 0, maxY = 0;
+    std::vector<int64_t>& cells = s_.cellKeys;
+    cells.resize(2 * n);
+    bool fits = true;
+    for (uint32_t slot = 0; slot < n && fits; ++slot) {
+      const Vec2 c = s_.centres[slot];
+      const int64_t x = cellCoord(c.x, s_.x0, size), y = cellCoord(c.y, s_.y0, size);
+      // Cells are >= 0 here (the origin is the bodies' lowest corner); one cell of border on each side.
+      fits = x >= 0 && y >= 0 && x < int64_t{1} << 20 && y < int64_t{1} << 20;
+      cells[2 * slot] = x + 1;
+      cells[2 * slot + 1] = y + 1;
+      maxX = std::max(maxX, x + 1);
+      maxY = std::max(maxY, y + 1);
+    }
+    const int64_t width = maxX + 2, height = maxY + 2;
+    if (fits && width * height <= 8 * static_cast<int64_t>(n) + 1024) {
+      std::vector<uint32_t>& count = s_.cellCounts;
+      count.assign(static_cast<size_t>(width * height), 0);
+      for (size_t k = 0; k < n; ++k) ++count[static_cast<size_t>(cells[2 * k + 1] * width + cells[2 * k])];
+      double total = 0;
+      for (size_t k = 0; k < n; ++k) {
+        const size_t at = static_cast<size_t>(cells[2 * k + 1] * width + cells[2 * k]);
+        const size_t w = static_cast<size_t>(width);
+        const uint32_t around = count[at - w - 1] + count[at - w] + count[at - w + 1] + count[at - 1] + count[at] +
+                                count[at + 1] + count[at + w - 1] + count[at + w] + count[at + w + 1];
+        total += static_cast<double>(around - 1);
+      }
+      return total / static_cast<double>(n);
+    }
+  }
   std::vector<uint64_t> keys(n);
   auto key = [](int64_t x, int64_t y) { return (static_cast<uint64_t>(x) << 32) | static_cast<uint32_t>(y); };
   for (uint32_t slot = 0; slot < n; ++slot) {
@@ -818,34 +857,50 @@ void Engine<W>::forEachPhysical(uint32_t slot, Visit&& visit) const {
 template <class W>
 size_t Engine<W>::gatherNeighbours(uint32_t slot, uint32_t* out, size_t capacity) const {
   // The other bodies in the 3 x 3 cells around it (distinct table entries, since the table is at least
-  // 4 x 4), into out[0, capacity); returns how many there are, which may be more than were written.
+  // 4 x 4), into out[0, capacity), in no particular order (a plain prediction's result does not depend
+  // on it: events are totally ordered); returns how many there are, which may be more than were
+  // written.
   // The cell's coordinates come folded from the HotBody (the same entries: the fold is a remainder by a
   // power of two). Every neighbour's record is asked for as its slot is found (a prefetch): they are
   // most often cache misses, and are then fetched side by side before the pair tests read them,
   // instead of one after each test. The lists are in `links`, read only past a head whose entry says
   // more follow.
-  size_t count = 0;
+  // First the nine heads (capacity >= 9 then, as every caller's is), without a branch on whether each
+  // is the body itself; then, only if some cell holds more than one body (rare in a gas), the rest of
+  // those lists.
   const uint32_t cell = s_.hot[slot].cell;
-  const uint32_t x = cell & (s_.foldX - 1), y = cell / s_.foldX;
   const uint32_t maskX = s_.foldX - 1, maskY = s_.foldY - 1;
-  const uint32_t columns[3] = {(x - 1) & maskX, x & maskX, (x + 1) & maskX};
+  const int shift = __builtin_ctz(s_.foldX);  // foldX is a power of two
+  const uint32_t x = cell & maskX, y = cell >> shift;
+  const uint32_t columns[3] = {(x - 1) & maskX, x, (x + 1) & maskX};
+  const uint32_t rows[3] = {((y - 1) & maskY) << shift, y << shift, ((y + 1) & maskY) << shift};
+  const int32_t* heads = s_.heads.data();
   const HotBody* hot = s_.hot.data();
-  const PredictiveState::CellLink* links = s_.links.data();
-  auto add = [&](int32_t j) {
-    __builtin_prefetch(hot + j);
-    if (static_cast<uint32_t>(j) == slot) return;
-    if (count < capacity) out[count] = static_cast<uint32_t>(j);
-    ++count;
-  };
-  for (uint32_t dy = 0; dy < 3; ++dy) {
-    const int32_t* row = s_.heads.data() + static_cast<size_t>((y + dy - 1) & maskY) * s_.foldX;
+  size_t count = 0;
+  int32_t crowded = 0;
+  for (uint32_t row : rows) {
     for (uint32_t column : columns) {
-      const int32_t entry = row[column];
+      const int32_t entry = heads[row + column];
       if (entry < 0) continue;
-      int32_t j = headSlot(entry);
-      add(j);
-      if (!(entry & 1)) continue;  // alone in its cell: no look at `links`
-      for (j = links[j].next; j >= 0; j = links[j].next) add(j);
+      const uint32_t j = static_cast<uint32_t>(entry) >> 1;
+      __builtin_prefetch(hot + j);
+      out[count] = j;
+      count += j != slot;
+      crowded |= entry;
+    }
+  }
+  if (!(crowded & 1)) return count;
+  const PredictiveState::CellLink* links = s_.links.data();
+  for (uint32_t row : rows) {
+    for (uint32_t column : columns) {
+      const int32_t entry = heads[row + column];
+      if (entry < 0 || !(entry & 1)) continue;
+      for (int32_t j = links[headSlot(entry)].next; j >= 0; j = links[j].next) {
+        __builtin_prefetch(hot + j);
+        if (static_cast<uint32_t>(j) == slot) continue;
+        if (count < capacity) out[count] = static_cast<uint32_t>(j);
+        ++count;
+      }
     }
   }
   return count;
@@ -853,14 +908,29 @@ size_t Engine<W>::gatherNeighbours(uint32_t slot, uint32_t* out, size_t capacity
 
 template <class W>
 void Engine<W>::gatherNeighbours(uint32_t slot, std::vector<uint32_t>& out) const {
-  // As above, into a vector of any length (a second pass when the first found more than it held).
-  uint32_t found[kNeighbourBuffer];
-  const size_t count = gatherNeighbours(slot, found, kNeighbourBuffer);
-  if (count <= kNeighbourBuffer) {
-    out.assign(found, found + count);
-  } else {
-    out.resize(count);
-    gatherNeighbours(slot, out.data(), count);
+  // The same bodies in the order of the cells, row by row, and of their lists: the general path's order
+  // (the resting rules keep the first supports found, World::Impl::supportsAt).
+  out.clear();
+  const uint32_t cell = s_.hot[slot].cell;
+  const uint32_t x = cell & (s_.foldX - 1), y = cell / s_.foldX;
+  const uint32_t maskX = s_.foldX - 1, maskY = s_.foldY - 1;
+  const uint32_t columns[3] = {(x - 1) & maskX, x & maskX, (x + 1) & maskX};
+  const HotBody* hot = s_.hot.data();
+  const PredictiveState::CellLink* links = s_.links.data();
+  for (uint32_t dy = 0; dy < 3; ++dy) {
+    const int32_t* row = s_.heads.data() + static_cast<size_t>((y + dy - 1) & maskY) * s_.foldX;
+    for (uint32_t column : columns) {
+      const int32_t entry = row[column];
+      if (entry < 0) continue;
+      int32_t j = headSlot(entry);
+      __builtin_prefetch(hot + j);
+      if (static_cast<uint32_t>(j) != slot) out.push_back(static_cast<uint32_t>(j));
+      if (!(entry & 1)) continue;  // alone in its cell: no look at `links`
+      for (j = links[j].next; j >= 0; j = links[j].next) {
+        __builtin_prefetch(hot + j);
+        if (static_cast<uint32_t>(j) != slot) out.push_back(static_cast<uint32_t>(j));
+      }
+    }
   }
 }
 
@@ -1261,23 +1331,13 @@ void Engine<W>::predictPlain(uint32_t i, double now) {
   }
   const HotBody& hb = s_.hot[i];
   const ColdBody& cb = s_.cold[i];
-  Prediction q;
-  q.p.slot = i;
-  q.p.now = now;
-  q.p.hot = &hb;
-  q.p.cold = &cb;
-  q.p.position = positionAt(hb, Vec2{}, now);
-  q.p.velocity = velocityAt(hb, Vec2{}, now);
-  q.moving = true;
-  q.single = true;
-  q.plain = true;
-  const Vec2 centre = Vec2{} + q.p.position;  // the circle's centre (p.centre + p.position)
-  const Vec2 velocity = q.p.velocity;
+  const Vec2 position = positionAt(hb, Vec2{}, now);
+  const Vec2 velocity = velocityAt(hb, Vec2{}, now);
+  const Vec2 centre = Vec2{} + position;  // the circle's centre (Predicting: centre + position)
   double h;
   int side;
   crossingStraight(centre, velocity, cb, h, side);
   const double horizon = h < kInf ? now + h : now + s_.capTime;
-  q.horizon = horizon;
 
   // The best so far: the crossing, or a contact with neighbour `partner` at `bestTime`.
   double bestTime = horizon;
@@ -1294,15 +1354,28 @@ void Engine<W>::predictPlain(uint32_t i, double now) {
   const bool lastNow = cb.lastTime == now;
   w_.stats.candidatePairs += static_cast<int>(count);
   w_.stats.timeOfImpactTests += static_cast<int>(count);
+  // The neighbour's motion at `now` and the pair's relative motion, both coordinates at once (two lanes
+  // of one register, each lane the scalar expression of positionAt, velocityAt and dot, so the same
+  // values).
+  using Lanes = double __attribute__((vector_size(16)));
+  auto lanes = [](Vec2 a) { return Lanes{a.x, a.y}; };
+  const Lanes zero{0.0, 0.0};  // the zero acceleration's terms, kept: 0 * x is not always +0
+  const Lanes ownCentre = lanes(centre), ownVelocity = lanes(velocity);
   for (size_t k = 0; k < count; ++k) {
     const uint32_t j = neighbours[k];
     const HotBody& b = s_.hot[j];
-    const Vec2 pb = positionAt(b, Vec2{}, now);
-    const Vec2 vb = velocityAt(b, Vec2{}, now);
-    const Vec2 v = velocity - vb;
-    const Vec2 r = centre - pb;
-    const double rv = dot(r, v);
+    const double dt = now - b.localTime;
+    const Lanes step{dt, dt};
+    const double half = 0.5 * dt * dt;
+    const Lanes pbl = (lanes(b.position) + lanes(b.velocity) * step) + zero * Lanes{half, half};
+    const Lanes vbl = lanes(b.velocity) + zero * step;
+    const Lanes vl = ownVelocity - vbl;
+    const Lanes rl = ownCentre - pbl;
+    const Lanes rvl = rl * vl;
+    const double rv = rvl[0] + rvl[1];
     if (!(rv < 0)) continue;
+    const Vec2 r{rl[0], rl[1]}, v{vl[0], vl[1]};
+    const Vec2 pb{pbl[0], pbl[1]}, vb{vbl[0], vbl[1]};
     const double reach = radius + b.radius;
     const double c = dot(r, r) - reach * reach;
     if (c > 0 && c > -2 * rv * within * (1 + 1e-9)) continue;
@@ -1342,8 +1415,7 @@ void Engine<W>::predictPlain(uint32_t i, double now) {
     within = bound();
   }
 
-  PredictiveEvent& best = q.best;
-  best = PredictiveEvent{};
+  PredictiveEvent best;
   if (partner == PredictiveState::kNone) {
     best.time = horizon;
     best.kind = PredictiveKind::Cross;
@@ -1358,6 +1430,24 @@ void Engine<W>::predictPlain(uint32_t i, double now) {
     best = PredictiveEvent{bestTime, fixture, b.fixture, 0, b.collisionCount, PredictiveKind::Contact, partner,
                            point + travelOfB, normal};
   }
+  if ((hb.flags & (HotBody::kStaticNear | HotBody::kSliding)) == 0 && s_.kinematicFixtures.empty()) {
+    // Nothing else to look at (finishPrediction()): into the queue.
+    schedule(i, best);
+    if (i == popped_) popped_ = PredictiveState::kNone;
+    return;
+  }
+  Prediction q;
+  q.p.slot = i;
+  q.p.now = now;
+  q.p.hot = &hb;
+  q.p.cold = &cb;
+  q.p.position = position;
+  q.p.velocity = velocity;
+  q.moving = true;
+  q.single = true;
+  q.plain = true;
+  q.horizon = horizon;
+  q.best = best;
   finishPrediction(q);
 }
 
@@ -1394,22 +1484,23 @@ void Engine<W>::resetQueue() {
 }
 
 template <class W>
-void Engine<W>::enqueue(uint32_t slot, double t) {
-  // Into the heap, a bucket or the overflow array, by its time's bucket (t is event[slot].time, passed
-  // along: the record was most often just written, and reading it back waits for its line).
+void Engine<W>::enqueue(uint32_t slot, double t, uint32_t partner) {
+  // Into the heap, a bucket or the overflow array, by its time's bucket (t and partner are
+  // event[slot]'s, passed along: the record was most often just written, and reading it back waits for
+  // its line).
   const int64_t k = bucketOf(t);
   if (k <= s_.current) {
-    s_.heap.push_back({t, slot});
+    s_.heap.push_back({t, slot, partner});
     s_.queue[slot].heapPos = static_cast<int32_t>(s_.heap.size() - 1);
     s_.queue[slot].where = PredictiveState::kInHeap;
     siftUp(s_.heap.size() - 1);
   } else if (k < s_.limit) {
-    s_.buckets[static_cast<size_t>(k & static_cast<int64_t>(s_.buckets.size() - 1))].push_back(
-        {t, slot, ++s_.queue[slot].ticket});
+    s_.buckets[static_cast<size_t>(k & static_cast<int64_t>(s_.buckets.size() - 1))].push(
+        {t, slot, ++s_.queue[slot].ticket, partner});
     s_.queue[slot].where = PredictiveState::kInBucket;
     ++s_.inBuckets;
   } else {
-    s_.overflow.push_back({t, slot, ++s_.queue[slot].ticket});
+    s_.overflow.push_back({t, slot, ++s_.queue[slot].ticket, partner});
     s_.queue[slot].where = PredictiveState::kInOverflow;
     ++s_.inOverflow;
   }
@@ -1531,18 +1622,33 @@ uint32_t Engine<W>::top() {
       waiting.clear();
       if (s_.overflow.empty()) waiting.swap(s_.overflow);  // keep the memory
     }
-    auto& bucket = s_.buckets[static_cast<size_t>(s_.current & static_cast<int64_t>(s_.buckets.size() - 1))];
-    // The entries' tickets first, all asked for at once (scattered over the slots).
+    const size_t mask = s_.buckets.size() - 1;
+    auto& bucket = s_.buckets[static_cast<size_t>(s_.current) & mask];
+    // The buckets ahead are asked for a round early, so that reading them waits for nothing: the next
+    // bucket's tickets (its entries were asked for by the last round), and the entries of the one after.
+    if (s_.current + 1 < s_.limit) {
+      for (const auto& e : s_.buckets[static_cast<size_t>(s_.current + 1) & mask]) __builtin_prefetch(&s_.queue[e.slot]);
+    }
+    if (s_.current + 2 < s_.limit) {
+      const auto& later = s_.buckets[static_cast<size_t>(s_.current + 2) & mask];
+      const char* data = reinterpret_cast<const char*>(later.begin());
+      for (size_t b = 0; b < later.size() * sizeof(PredictiveState::QueueEntry); b += 64) __builtin_prefetch(data + b);
+    }
     for (const auto& e : bucket) __builtin_prefetch(&s_.queue[e.slot]);
     for (const auto& e : bucket) {
       if (s_.queue[e.slot].ticket != e.ticket) continue;
-      // Its event record and body are read when it comes up, a few dozen events from now: ask for them
-      // now, side by side, rather than one miss after another then.
+      // Its event record, its body and its partner are read when it comes up, a few dozen events from
+      // now: ask for them now, side by side, rather than one miss after another then.
       __builtin_prefetch(&s_.event[e.slot]);
       __builtin_prefetch(&s_.hot[e.slot]);
+      __builtin_prefetch(&s_.cold[e.slot]);
+      if (e.partner != PredictiveState::kNone) {
+        __builtin_prefetch(&s_.hot[e.partner]);
+        __builtin_prefetch(&s_.cold[e.partner]);
+      }
       --s_.inBuckets;
       s_.queue[e.slot].heapPos = static_cast<int32_t>(s_.heap.size());
-      s_.heap.push_back({e.time, e.slot});
+      s_.heap.push_back({e.time, e.slot, e.partner});
       s_.queue[e.slot].where = PredictiveState::kInHeap;
     }
     bucket.clear();
@@ -1555,42 +1661,55 @@ uint32_t Engine<W>::top() {
 
 template <class W>
 void Engine<W>::siftUp(size_t k) {
-  const detail::HeapNode node = s_.heap[k];
+  detail::HeapNode* heap = s_.heap.data();
+  PredictiveState::QueueSlot* queue = s_.queue.data();
+  const detail::HeapNode node = heap[k];
   while (k > 0) {
     const size_t parent = (k - 1) / 4;
-    if (!before(node, s_.heap[parent])) break;
-    place(k, s_.heap[parent]);
+    if (!before(node, heap[parent])) break;
+    heap[k] = heap[parent];
+    queue[heap[k].slot].heapPos = static_cast<int32_t>(k);
     k = parent;
   }
-  place(k, node);
+  heap[k] = node;
+  queue[node.slot].heapPos = static_cast<int32_t>(k);
 }
 
 template <class W>
 void Engine<W>::siftDown(size_t k) {
-  const detail::HeapNode node = s_.heap[k];
+  detail::HeapNode* heap = s_.heap.data();
+  PredictiveState::QueueSlot* queue = s_.queue.data();
   const size_t n = s_.heap.size();
+  const detail::HeapNode node = heap[k];
   for (;;) {
     const size_t first = 4 * k + 1;
     if (first >= n) break;
     size_t child = first;
     const size_t last = std::min(first + 4, n);
     for (size_t c = first + 1; c < last; ++c) {
-      if (before(s_.heap[c], s_.heap[child])) child = c;
+      if (before(heap[c], heap[child])) child = c;
     }
-    if (!before(s_.heap[child], node)) break;
-    place(k, s_.heap[child]);
+    if (!before(heap[child], node)) break;
+    heap[k] = heap[child];
+    queue[heap[k].slot].heapPos = static_cast<int32_t>(k);
     k = child;
   }
-  place(k, node);
+  heap[k] = node;
+  queue[node.slot].heapPos = static_cast<int32_t>(k);
 }
 
 template <class W>
 void Engine<W>::schedule(uint32_t slot, const PredictiveEvent& e) {
+  if (!queueing_) {
+    s_.event[slot] = e;
+    return;
+  }
   if (s_.queue[slot].where == PredictiveState::kInHeap && bucketOf(e.time) <= s_.current) {
     // Stays in the heap: move it up or down.
     s_.event[slot] = e;
     const size_t k = static_cast<size_t>(s_.queue[slot].heapPos);
     s_.heap[k].time = e.time;
+    s_.heap[k].partner = e.partner;
     if (k > 0 && before(s_.heap[k], s_.heap[(k - 1) / 4])) {
       siftUp(k);
     } else {
@@ -1600,12 +1719,12 @@ void Engine<W>::schedule(uint32_t slot, const PredictiveEvent& e) {
   }
   dequeue(slot);
   s_.event[slot] = e;
-  enqueue(slot, e.time);
+  enqueue(slot, e.time, e.partner);
 }
 
 template <class W>
 void Engine<W>::unschedule(uint32_t slot) {
-  dequeue(slot);
+  if (queueing_) dequeue(slot);
   s_.event[slot].kind = PredictiveKind::None;
 }
 
@@ -1722,7 +1841,9 @@ void Engine<W>::step(double dt) {
   }
   plainWorld_ = s_.plainShapes && w_.def.gravity == Vec2{} && w_.liveSensors == 0 && !anyAsleep_ && !anySliding_;
   if (rebuild) {
+    queueing_ = false;  // retune() below queues them
     for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) predictBody(slot, 0);
+    queueing_ = true;
   } else {
     for (uint32_t slot : s_.dirty) {
       // Moved, given a velocity, woken or put to sleep from outside: predictions against its old path
@@ -1794,8 +1915,8 @@ void Engine<W>::step(double dt) {
       predictBody(i, c.time);
       continue;
     }
-    const uint32_t ia = s_.bodyOfSlot[i];
     if (c.kind == PredictiveKind::SlideEnd) {
+      const uint32_t ia = s_.bodyOfSlot[i];
       attach(i);
       BodySlot& a = w_.bodies[ia];
       if (a.support.generation == 0) {
@@ -1885,6 +2006,7 @@ void Engine<W>::step(double dt) {
       predictBody(j, c.time);
       continue;
     }
+    const uint32_t ia = s_.bodyOfSlot[i];
     attach(i);
     if (j != PredictiveState::kNone) attach(j);
     // The resting rules look at the bodies' candidate pairs.

@@ -5,6 +5,7 @@
 // heap position, reused from step to step: nothing is allocated per event.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -100,6 +101,7 @@ static_assert(sizeof(HotBody) == 64 && sizeof(ColdBody) == 64 && sizeof(Predicti
 struct HeapNode {
   double time;
   uint32_t slot;
+  uint32_t partner;  // PredictiveEvent::partner, so that the partner's record is asked for early
 };
 
 struct PredictiveState {
@@ -174,6 +176,7 @@ struct PredictiveState {
     double time;
     uint32_t slot;
     uint32_t ticket;
+    uint32_t partner;  // as HeapNode::partner
   };
   std::vector<HeapNode> heap;
   // By slot, in one record (a queue operation reads and writes them together, one cache line).
@@ -183,7 +186,24 @@ struct PredictiveState {
     uint32_t ticket = 0;
   };
   detail::LargeArray<QueueSlot> queue;
-  detail::LargeArray<std::vector<QueueEntry>> buckets;  // a power of two of them
+  // A bucket: appended to, read whole and emptied, its memory kept (an append is a store and a count,
+  // inlined).
+  class Bucket {
+   public:
+    void push(const QueueEntry& e) {
+      if (count_ == items_.size()) items_.resize(std::max<size_t>(8, 2 * items_.size()));
+      items_[count_++] = e;
+    }
+    const QueueEntry* begin() const { return items_.data(); }
+    const QueueEntry* end() const { return items_.data() + count_; }
+    size_t size() const { return count_; }
+    void clear() { count_ = 0; }
+
+   private:
+    std::vector<QueueEntry> items_;
+    uint32_t count_ = 0;
+  };
+  detail::LargeArray<Bucket> buckets;  // a power of two of them
   std::vector<QueueEntry> overflow;
   size_t inBuckets = 0, inOverflow = 0;  // live entries
   double base = 0, width = 1, inverseWidth = 1;
@@ -200,6 +220,8 @@ struct PredictiveState {
   // Scratch.
   detail::LargeArray<uint8_t> permuted;  // reorder(): which slots are in place
   detail::LargeArray<Vec2> centres;      // buildGrid(): the tracked bodies' centres, by slot before reorder()
+  std::vector<int64_t> cellKeys;     // Engine::meanNeighbours
+  std::vector<uint32_t> cellCounts;  // Engine::meanNeighbours
   std::vector<uint32_t> neighbours;  // of the body being predicted
   std::vector<uint32_t> visiting;    // Engine::forEachNeighbour
   std::vector<uint32_t> dirty;
