@@ -280,6 +280,10 @@ class Engine {
   void finishPrediction(Prediction& q);
   void predictBody(uint32_t slot, double now);
   void predictPlain(uint32_t slot, double now);
+  void predictPlainAmong(uint32_t slot, double now, const uint32_t* neighbours, size_t count);
+  bool predictsPlain(uint32_t slot) const {
+    return plainWorld_ && isPlain(s_.hot[slot]) && !dismissals(slot) && isMoving(s_.hot[slot]);
+  }
   void crossingStraight(Vec2 centre, Vec2 velocity, const ColdBody& cell, double& h, int& side) const;
   void crossing(const Predicting& p, double& h, int& side) const;
   void predictPair(uint32_t own, uint32_t other, double now, double horizon, PredictiveEvent& best);
@@ -1243,7 +1247,7 @@ void Engine<W>::finishPrediction(Prediction& q) {
 
 template <class W>
 void Engine<W>::predictBody(uint32_t i, double now) {
-  if (plainWorld_ && isPlain(s_.hot[i]) && !dismissals(i) && isMoving(s_.hot[i])) {
+  if (predictsPlain(i)) {
     predictPlain(i, now);
     return;
   }
@@ -1323,8 +1327,14 @@ void Engine<W>::predictPlain(uint32_t i, double now) {
   // impact (plain_disk_impact.h). The same arithmetic and the same total order of events as
   // predictBody(), so the same event, bit for bit (tests/test_predictive_plain.cpp).
   uint32_t found[kNeighbourBuffer];
-  const uint32_t* neighbours = found;
-  size_t count = gatherNeighbours(i, found, kNeighbourBuffer);
+  const size_t count = gatherNeighbours(i, found, kNeighbourBuffer);
+  predictPlainAmong(i, now, found, count);
+}
+
+template <class W>
+void Engine<W>::predictPlainAmong(uint32_t i, double now, const uint32_t* neighbours, size_t count) {
+  // predictPlain() with the neighbours gathered already (into a buffer of kNeighbourBuffer: a longer
+  // list is gathered again here).
   if (count > kNeighbourBuffer) {
     gatherNeighbours(i, s_.neighbours);
     neighbours = s_.neighbours.data();
@@ -1627,7 +1637,11 @@ uint32_t Engine<W>::top() {
     // The buckets ahead are asked for a round early, so that reading them waits for nothing: the next
     // bucket's tickets (its entries were asked for by the last round), and the entries of the one after.
     if (s_.current + 1 < s_.limit) {
-      for (const auto& e : s_.buckets[static_cast<size_t>(s_.current + 1) & mask]) __builtin_prefetch(&s_.queue[e.slot]);
+      for (const auto& e : s_.buckets[static_cast<size_t>(s_.current + 1) & mask]) {
+        __builtin_prefetch(&s_.queue[e.slot]);
+        __builtin_prefetch(&s_.hot[e.slot]);
+        if (e.partner != PredictiveState::kNone) __builtin_prefetch(&s_.hot[e.partner]);
+      }
     }
     if (s_.current + 2 < s_.limit) {
       const auto& later = s_.buckets[static_cast<size_t>(s_.current + 2) & mask];
@@ -1639,12 +1653,13 @@ uint32_t Engine<W>::top() {
       if (s_.queue[e.slot].ticket != e.ticket) continue;
       // Its event record, its body and its partner are read when it comes up, a few dozen events from
       // now: ask for them now, side by side, rather than one miss after another then.
+      // (The HotBodies were asked for a round ago: the cells around them can be asked for now.)
       __builtin_prefetch(&s_.event[e.slot]);
-      __builtin_prefetch(&s_.hot[e.slot]);
       __builtin_prefetch(&s_.cold[e.slot]);
+      prefetchNeighbourhood(e.slot);
       if (e.partner != PredictiveState::kNone) {
-        __builtin_prefetch(&s_.hot[e.partner]);
         __builtin_prefetch(&s_.cold[e.partner]);
+        prefetchNeighbourhood(e.partner);
       }
       --s_.inBuckets;
       s_.queue[e.slot].heapPos = static_cast<int32_t>(s_.heap.size());
@@ -1894,7 +1909,21 @@ void Engine<W>::step(double dt) {
     // What comes next reads these; ask for them together (the HotBody came with the event, see top()).
     prefetchNeighbourhood(i);
     __builtin_prefetch(&s_.cold[i]);
-    if (j != PredictiveState::kNone) __builtin_prefetch(&s_.hot[j]);
+    if (j != PredictiveState::kNone) {
+      __builtin_prefetch(&s_.hot[j]);
+      prefetchNeighbourhood(j);
+    }
+    // And the cells around the bodies of the event most likely next (the earliest of the top's
+    // children in the heap), whose records came when its bucket was read (top()).
+    if (s_.heap.size() > 1) {
+      size_t next = 1;
+      const size_t last = std::min<size_t>(5, s_.heap.size());
+      for (size_t k = 2; k < last; ++k) {
+        if (s_.heap[k].time < s_.heap[next].time) next = k;
+      }
+      prefetchNeighbourhood(s_.heap[next].slot);
+      if (s_.heap[next].partner != PredictiveState::kNone) prefetchNeighbourhood(s_.heap[next].partner);
+    }
 
     if (c.kind == PredictiveKind::Cross) {
       if (c.feature >= 0) {
@@ -1940,10 +1969,7 @@ void Engine<W>::step(double dt) {
       predictBody(i, c.time);
       continue;
     }
-    if (j != PredictiveState::kNone) {
-      __builtin_prefetch(&s_.cold[j]);
-      prefetchNeighbourhood(j);
-    }
+    if (j != PredictiveState::kNone) __builtin_prefetch(&s_.cold[j]);
     // The hybrid step's check at pop: an approach no faster than round-off, with nothing pressing the two
     // together, is not a collision. It is absorbed when the bodies still move, or else dropped.
     Vec2 relativeVelocity, relativeAcceleration;
@@ -2000,10 +2026,23 @@ void Engine<W>::step(double dt) {
       break;
     }
     if (plainWorld_ && j != PredictiveState::kNone) {
+      // Both bodies' neighbours are gathered first, which asks for their records, so that they arrive
+      // while the collision is resolved (it moves no body between cells).
+      uint32_t aroundI[kNeighbourBuffer], aroundJ[kNeighbourBuffer];
+      const size_t countI = gatherNeighbours(i, aroundI, kNeighbourBuffer);
+      const size_t countJ = gatherNeighbours(j, aroundJ, kNeighbourBuffer);
       collidePlain(i, j, c, tolerance);
       ++w_.stats.eventsProcessed;
-      predictBody(i, c.time);
-      predictBody(j, c.time);
+      if (predictsPlain(i)) {
+        predictPlainAmong(i, c.time, aroundI, countI);
+      } else {
+        predictBody(i, c.time);
+      }
+      if (predictsPlain(j)) {
+        predictPlainAmong(j, c.time, aroundJ, countJ);
+      } else {
+        predictBody(j, c.time);
+      }
       continue;
     }
     const uint32_t ia = s_.bodyOfSlot[i];
