@@ -186,24 +186,50 @@ struct PredictiveState {
     uint32_t ticket = 0;
   };
   detail::LargeArray<QueueSlot> queue;
-  // A bucket: appended to, read whole and emptied, its memory kept (an append is a store and a count,
-  // inlined).
-  class Bucket {
+  // The buckets (a power of two of them): each appended to, read whole and emptied, its memory kept.
+  // What an append reads (where the bucket's array is, how full and how long) is in three small arrays
+  // of their own, which stay in cache; the bucket's array itself most often does not, and the append is
+  // then a store that misses, which does not hold up what follows (a load that misses does).
+  class Buckets {
    public:
-    void push(const QueueEntry& e) {
-      if (count_ == items_.size()) items_.resize(std::max<size_t>(8, 2 * items_.size()));
-      items_[count_++] = e;
+    struct View {
+      const QueueEntry* first;
+      const QueueEntry* last;
+      const QueueEntry* begin() const { return first; }
+      const QueueEntry* end() const { return last; }
+      size_t size() const { return static_cast<size_t>(last - first); }
+    };
+    size_t size() const { return size_.size(); }
+    bool empty() const { return size_.empty(); }
+    void resize(size_t n) {
+      store_.resize(n);
+      data_.resize(n);
+      size_.resize(n, 0);
+      capacity_.resize(n, 0);
+      for (size_t k = 0; k < n; ++k) {
+        data_[k] = store_[k].data();
+        capacity_[k] = static_cast<uint32_t>(store_[k].size());
+      }
     }
-    const QueueEntry* begin() const { return items_.data(); }
-    const QueueEntry* end() const { return items_.data() + count_; }
-    size_t size() const { return count_; }
-    void clear() { count_ = 0; }
+    void push(size_t k, const QueueEntry& e) {
+      if (size_[k] == capacity_[k]) grow(k);
+      data_[k][size_[k]++] = e;
+    }
+    View operator[](size_t k) const { return {data_[k], data_[k] + size_[k]}; }
+    void clear(size_t k) { size_[k] = 0; }
+    void clearAll() { std::fill(size_.begin(), size_.end(), 0u); }
 
    private:
-    std::vector<QueueEntry> items_;
-    uint32_t count_ = 0;
+    [[gnu::noinline]] void grow(size_t k) {
+      store_[k].resize(std::max<size_t>(8, 2 * store_[k].size()));
+      data_[k] = store_[k].data();
+      capacity_[k] = static_cast<uint32_t>(store_[k].size());
+    }
+    std::vector<std::vector<QueueEntry>> store_;
+    std::vector<QueueEntry*> data_;
+    std::vector<uint32_t> size_, capacity_;
   };
-  detail::LargeArray<Bucket> buckets;  // a power of two of them
+  Buckets buckets;
   std::vector<QueueEntry> overflow;
   size_t inBuckets = 0, inOverflow = 0;  // live entries
   double base = 0, width = 1, inverseWidth = 1;
