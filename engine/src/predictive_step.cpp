@@ -880,17 +880,19 @@ size_t Engine<W>::gatherNeighbours(uint32_t slot, uint32_t* out, size_t capacity
   const uint32_t rows[3] = {((y - 1) & maskY) << shift, y << shift, ((y + 1) & maskY) << shift};
   const int32_t* heads = s_.heads.data();
   const HotBody* hot = s_.hot.data();
+  // Whether a cell is empty is a coin toss in a gas (about half are), which a branch predictor loses
+  // half the time: the heads are taken without a branch.
   size_t count = 0;
   int32_t crowded = 0;
   for (uint32_t row : rows) {
     for (uint32_t column : columns) {
       const int32_t entry = heads[row + column];
-      if (entry < 0) continue;
+      const bool found = entry >= 0;
       const uint32_t j = static_cast<uint32_t>(entry) >> 1;
-      __builtin_prefetch(hot + j);
+      __builtin_prefetch(hot + (j & (0u - static_cast<uint32_t>(found))));  // (an empty cell: slot 0)
       out[count] = j;
-      count += j != slot;
-      crowded |= entry;
+      count += found & (j != slot);
+      crowded |= found ? entry : 0;
     }
   }
   if (!(crowded & 1)) return count;
@@ -1371,23 +1373,54 @@ void Engine<W>::predictPlainAmong(uint32_t i, double now, const uint32_t* neighb
   auto lanes = [](Vec2 a) { return Lanes{a.x, a.y}; };
   const Lanes zero{0.0, 0.0};  // the zero acceleration's terms, kept: 0 * x is not always +0
   const Lanes ownCentre = lanes(centre), ownVelocity = lanes(velocity);
-  for (size_t k = 0; k < count; ++k) {
-    const uint32_t j = neighbours[k];
-    const HotBody& b = s_.hot[j];
+  struct Relative {
+    Lanes pb, vb, v, r;
+    double rv, c, reach;
+  };
+  auto relative = [&](const HotBody& b) {
+    Relative m;
     const double dt = now - b.localTime;
     const Lanes step{dt, dt};
     const double half = 0.5 * dt * dt;
-    const Lanes pbl = (lanes(b.position) + lanes(b.velocity) * step) + zero * Lanes{half, half};
-    const Lanes vbl = lanes(b.velocity) + zero * step;
-    const Lanes vl = ownVelocity - vbl;
-    const Lanes rl = ownCentre - pbl;
-    const Lanes rvl = rl * vl;
-    const double rv = rvl[0] + rvl[1];
+    m.pb = (lanes(b.position) + lanes(b.velocity) * step) + zero * Lanes{half, half};
+    m.vb = lanes(b.velocity) + zero * step;
+    m.v = ownVelocity - m.vb;
+    m.r = ownCentre - m.pb;
+    const Lanes rv = m.r * m.v, rr = m.r * m.r;
+    m.rv = rv[0] + rv[1];
+    m.reach = radius + b.radius;
+    m.c = (rr[0] + rr[1]) - m.reach * m.reach;
+    return m;
+  };
+  // Two passes. The first, without a branch per pair (whether a pair approaches is a coin toss that
+  // the branch predictor loses half the time), keeps the pairs that approach and can meet within the
+  // bound as it stands at the start; the second takes them in order with the bound as it tightens. The
+  // bound only tightens, so a pair dropped by the first would have been dropped by the second: the
+  // pairs whose time of impact is sought are pairPlain()'s.
+  // (A crowd beyond the buffer goes to the second pass whole.)
+  const bool filtered = count <= kNeighbourBuffer;
+  uint32_t kept[kNeighbourBuffer];
+  size_t keptCount = 0;
+  if (filtered) {
+    for (size_t k = 0; k < count; ++k) {
+      const Relative m = relative(s_.hot[neighbours[k]]);
+      const bool far = (m.c > 0) & (m.c > -2 * m.rv * within * (1 + 1e-9));
+      kept[keptCount] = static_cast<uint32_t>(k);
+      keptCount += (m.rv < 0) & !far;
+    }
+  }
+  const size_t tested = filtered ? keptCount : count;
+  for (size_t q = 0; q < tested; ++q) {
+    const size_t k = filtered ? kept[q] : q;
+    const uint32_t j = neighbours[k];
+    const HotBody& b = s_.hot[j];
+    const Relative m = relative(b);
+    const double rv = m.rv;
     if (!(rv < 0)) continue;
-    const Vec2 r{rl[0], rl[1]}, v{vl[0], vl[1]};
-    const Vec2 pb{pbl[0], pbl[1]}, vb{vbl[0], vbl[1]};
-    const double reach = radius + b.radius;
-    const double c = dot(r, r) - reach * reach;
+    const Vec2 r{m.r[0], m.r[1]}, v{m.v[0], m.v[1]};
+    const Vec2 pb{m.pb[0], m.pb[1]}, vb{m.vb[0], m.vb[1]};
+    const double reach = m.reach;
+    const double c = m.c;
     if (c > 0 && c > -2 * rv * within * (1 + 1e-9)) continue;
     // The LastContact guard: the pair is both bodies' last contact, resolved at this instant.
     bool justResolved = false;
@@ -1635,28 +1668,42 @@ uint32_t Engine<W>::top() {
     const size_t mask = s_.buckets.size() - 1;
     const size_t here = static_cast<size_t>(s_.current) & mask;
     const auto bucket = s_.buckets[here];
-    // The buckets ahead are asked for a round early, so that reading them waits for nothing: the next
-    // bucket's tickets (its entries were asked for by the last round), and the entries of the one after.
-    if (s_.current + 1 < s_.limit) {
-      for (const auto& e : s_.buckets[static_cast<size_t>(s_.current + 1) & mask]) {
-        __builtin_prefetch(&s_.queue[e.slot]);
-        __builtin_prefetch(&s_.event[e.slot]);
-        __builtin_prefetch(&s_.hot[e.slot]);
-        if (e.partner != PredictiveState::kNone) __builtin_prefetch(&s_.hot[e.partner]);
-      }
-    }
-    if (s_.current + 2 < s_.limit) {
-      const auto& later = s_.buckets[static_cast<size_t>(s_.current + 2) & mask];
+    // The buckets ahead are read a little at a time, so that by the time each moves into the heap what
+    // its events read is in cache: three buckets ahead its entries; two ahead the records that its
+    // events read first (tickets, event records, the bodies and their partners); one ahead what those
+    // records lead to (the cells around the bodies, what a collision reads). A bucket moved in because
+    // the heap ran empty hands over its earliest event at once, so this cannot wait until then.
+    // (Entries appended since are asked for below, as the bucket moves in.)
+    auto ahead = [&](int64_t d) {
+      return s_.current + d < s_.limit ? s_.buckets[static_cast<size_t>(s_.current + d) & mask]
+                                       : PredictiveState::Buckets::View{nullptr, nullptr};
+    };
+    {
+      const auto later = ahead(3);
       const char* data = reinterpret_cast<const char*>(later.begin());
       for (size_t b = 0; b < later.size() * sizeof(PredictiveState::QueueEntry); b += 64) __builtin_prefetch(data + b);
+    }
+    for (const auto& e : ahead(2)) {
+      __builtin_prefetch(&s_.queue[e.slot]);
+      __builtin_prefetch(&s_.event[e.slot]);
+      __builtin_prefetch(&s_.hot[e.slot]);
+      if (e.partner != PredictiveState::kNone) __builtin_prefetch(&s_.hot[e.partner]);
+    }
+    for (const auto& e : ahead(1)) {
+      __builtin_prefetch(&s_.cold[e.slot]);
+      prefetchNeighbourhood(e.slot);
+      if (e.partner != PredictiveState::kNone) {
+        __builtin_prefetch(&s_.cold[e.partner]);
+        prefetchNeighbourhood(e.partner);
+        // A collision's contact event names the bodies.
+        __builtin_prefetch(&s_.bodyOfSlot[e.slot]);
+        __builtin_prefetch(&s_.bodyOfSlot[e.partner]);
+      }
     }
     for (const auto& e : bucket) __builtin_prefetch(&s_.queue[e.slot]);
     for (const auto& e : bucket) {
       if (s_.queue[e.slot].ticket != e.ticket) continue;
-      // Its event record, its body and its partner are read when it comes up, a few dozen events from
-      // now: ask for them now, side by side, rather than one miss after another then.
-      // (The HotBodies were asked for a round ago: the cells around them can be asked for now. The event
-      // record too, unless this bucket is the first read since the calendar was laid.)
+      // Asked for already, unless appended since (or this is the calendar's first bucket).
       __builtin_prefetch(&s_.event[e.slot]);
       __builtin_prefetch(&s_.cold[e.slot]);
       prefetchNeighbourhood(e.slot);
