@@ -185,6 +185,7 @@ class Engine {
   // False while a fresh grid's bodies are first predicted: their events are only written, and retune()
   // then queues them all at once (a calendar cut for them), instead of each being queued twice.
   bool queueing_ = true;
+  double stepLength_ = 1;  // this step's dt
 
   // Setup.
   void normalize(double dt);
@@ -261,7 +262,7 @@ class Engine {
   // Dismissed contacts.
   bool dismissals(uint32_t slot) const { return (s_.hot[slot].flags & HotBody::kDismissals) != 0; }
   void clearDismissals(uint32_t slot) {
-    s_.dismissed[slot].clear();
+    if (slot < s_.dismissed.size()) s_.dismissed[slot].clear();
     s_.hot[slot].flags = static_cast<uint8_t>(s_.hot[slot].flags & ~HotBody::kDismissals);
   }
   bool isDismissed(uint32_t slot, uint32_t own, uint32_t other) const;
@@ -545,8 +546,7 @@ void Engine<W>::buildGrid() {
   s_.links.assign(n, PredictiveState::CellLink{});
   s_.event.assign(n, PredictiveEvent{});
   resetQueue();
-  s_.dismissed.resize(n);
-  for (auto& d : s_.dismissed) d.clear();
+  s_.dismissed.clear();  // made as long as the slots when first needed: most worlds never dismiss
   s_.dismissedSlots.clear();
   for (uint32_t slot = 0; slot < n; ++slot) {
     placeInCell(slot, centreOf(slot, s_.hot[slot].localTime));
@@ -659,28 +659,34 @@ double Engine<W>::meanNeighbours(double size) const {
   {
     // Where the bodies' cells fit a table of a few entries per body (a gas, a pile): counted in it, in
     // O(n + cells). The sum is of whole numbers below 2^53, so the same value in any order as below.
+    // Cells are >= 0 here (the origin is the bodies' lowest corner); one cell of border on each side.
+    auto cellOfCentre = [&](uint32_t slot, int64_t& x, int64_t& y) {
+      const Vec2 c = s_.centres[slot];
+      x = cellCoord(c.x, s_.x0, size) + int64_t{1};
+      y = cellCoord(c.y, s_.y0, size) + int64_t{1};
+    };
     int64_t maxX = 0, maxY = 0;
-    std::vector<int64_t>& cells = s_.cellKeys;
-    cells.resize(2 * n);
     bool fits = true;
     for (uint32_t slot = 0; slot < n && fits; ++slot) {
-      const Vec2 c = s_.centres[slot];
-      const int64_t x = cellCoord(c.x, s_.x0, size), y = cellCoord(c.y, s_.y0, size);
-      // Cells are >= 0 here (the origin is the bodies' lowest corner); one cell of border on each side.
-      fits = x >= 0 && y >= 0 && x < int64_t{1} << 20 && y < int64_t{1} << 20;
-      cells[2 * slot] = x + 1;
-      cells[2 * slot + 1] = y + 1;
-      maxX = std::max(maxX, x + 1);
-      maxY = std::max(maxY, y + 1);
+      int64_t x, y;
+      cellOfCentre(slot, x, y);
+      fits = x >= 1 && y >= 1 && x <= int64_t{1} << 20 && y <= int64_t{1} << 20;
+      maxX = std::max(maxX, x);
+      maxY = std::max(maxY, y);
     }
     const int64_t width = maxX + 2, height = maxY + 2;
     if (fits && width * height <= 8 * static_cast<int64_t>(n) + 1024) {
       std::vector<uint32_t>& count = s_.cellCounts;
       count.assign(static_cast<size_t>(width * height), 0);
-      for (size_t k = 0; k < n; ++k) ++count[static_cast<size_t>(cells[2 * k + 1] * width + cells[2 * k])];
+      auto entry = [&](uint32_t slot) {
+        int64_t x, y;
+        cellOfCentre(slot, x, y);
+        return static_cast<size_t>(y * width + x);
+      };
+      for (uint32_t k = 0; k < n; ++k) ++count[entry(k)];
       double total = 0;
-      for (size_t k = 0; k < n; ++k) {
-        const size_t at = static_cast<size_t>(cells[2 * k + 1] * width + cells[2 * k]);
+      for (uint32_t k = 0; k < n; ++k) {
+        const size_t at = entry(k);
         const size_t w = static_cast<size_t>(width);
         const uint32_t around = count[at - w - 1] + count[at - w] + count[at - w + 1] + count[at - 1] + count[at] +
                                 count[at + 1] + count[at + w - 1] + count[at + w] + count[at + w + 1];
@@ -798,7 +804,7 @@ void Engine<W>::reorder(bool fresh) {
   if (!fresh) {
     // (Fresh from buildGrid: no events and no dismissals yet, nothing to carry over.)
     permute(s_.event);
-    permute(s_.dismissed);
+    if (!s_.dismissed.empty()) permute(s_.dismissed);
     for (PredictiveEvent& e : s_.event) {
       if (e.partner != PredictiveState::kNone) e.partner = newSlot[e.partner];
     }
@@ -1858,11 +1864,25 @@ void Engine<W>::collidePlain(uint32_t i, uint32_t j, const PredictiveEvent& c, d
   event.bodyA = {s_.bodyOfSlot[lower], s_.cold[lower].bodyGeneration};
   event.bodyB = {s_.bodyOfSlot[upper], s_.cold[upper].bodyGeneration};
   event.normal = aIsLower ? -c.normal : c.normal;  // c.normal points from c.b toward c.a
-  w_.contactEvents.push_back(event);
+  std::vector<ContactEvent>& events = w_.contactEvents;
+  if (events.size() == events.capacity()) {
+    // Room for as many as this step is on course for (a quarter more), rather than doubling: a long step
+    // of a gas reports millions, each doubling copies what came before into fresh memory, and the
+    // system's first touch of fresh memory costs more than the copy. The rate is read once a
+    // thousand are in; the room only changes speed.
+    const double done = c.time / stepLength_;
+    size_t room = std::max<size_t>(1024, 2 * events.capacity());
+    if (events.size() >= 1024 && done > 1.0 / 256) {
+      room = std::max(room, static_cast<size_t>(1.25 * static_cast<double>(events.size()) / done));
+    }
+    events.reserve(room);
+  }
+  events.push_back(event);
 }
 
 template <class W>
 void Engine<W>::step(double dt) {
+  stepLength_ = dt;
   w_.contactEvents.clear();
   w_.sensorEvents.clear();
   w_.sensorEvents.swap(w_.pendingSensorEvents);
@@ -2065,6 +2085,7 @@ void Engine<W>::step(double dt) {
         if (!dismissals(i)) s_.dismissedSlots.push_back(i);
         s_.hot[i].flags |= HotBody::kDismissals;
         // Only entries that still hold are kept (a body at rest in a pile is dismissed again and again).
+        if (s_.dismissed.size() < s_.hot.size()) s_.dismissed.resize(s_.hot.size());
         auto& list = s_.dismissed[i];
         list.erase(std::remove_if(list.begin(), list.end(),
                                   [&](const detail::Dismissal& d) {

@@ -246,7 +246,6 @@ struct PredictiveState {
   // Scratch.
   detail::LargeArray<uint8_t> permuted;  // reorder(): which slots are in place
   detail::LargeArray<Vec2> centres;      // buildGrid(): the tracked bodies' centres, by slot before reorder()
-  std::vector<int64_t> cellKeys;     // Engine::meanNeighbours
   std::vector<uint32_t> cellCounts;  // Engine::meanNeighbours
   std::vector<uint32_t> neighbours;  // of the body being predicted
   std::vector<uint32_t> visiting;    // Engine::forEachNeighbour
