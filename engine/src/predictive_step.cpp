@@ -1545,11 +1545,11 @@ void Engine<W>::enqueue(uint32_t slot, double t, uint32_t partner) {
     siftUp(s_.heap.size() - 1);
   } else if (k < s_.limit) {
     s_.buckets.push(static_cast<size_t>(k & static_cast<int64_t>(s_.buckets.size() - 1)),
-                    {t, slot, ++s_.queue[slot].ticket, partner});
+                    {t, slot, ++s_.queue[slot].ticket});
     s_.queue[slot].where = PredictiveState::kInBucket;
     ++s_.inBuckets;
   } else {
-    s_.overflow.push_back({t, slot, ++s_.queue[slot].ticket, partner});
+    s_.overflow.push_back({t, slot, ++s_.queue[slot].ticket});
     s_.queue[slot].where = PredictiveState::kInOverflow;
     ++s_.inOverflow;
   }
@@ -1693,36 +1693,32 @@ uint32_t Engine<W>::top() {
       __builtin_prefetch(&s_.queue[e.slot]);
       __builtin_prefetch(&s_.event[e.slot]);
       __builtin_prefetch(&s_.hot[e.slot]);
-      if (e.partner != PredictiveState::kNone) __builtin_prefetch(&s_.hot[e.partner]);
     }
     for (const auto& e : ahead(1)) {
       __builtin_prefetch(&s_.cold[e.slot]);
       prefetchNeighbourhood(e.slot);
-      if (e.partner != PredictiveState::kNone) {
-        __builtin_prefetch(&s_.cold[e.partner]);
-        prefetchNeighbourhood(e.partner);
-        // A collision's contact event names the bodies.
-        __builtin_prefetch(&s_.bodyOfSlot[e.slot]);
-        __builtin_prefetch(&s_.bodyOfSlot[e.partner]);
+      const uint32_t partner = s_.event[e.slot].partner;  // (a stale entry's: a wasted prefetch)
+      if (partner != PredictiveState::kNone) {
+        __builtin_prefetch(&s_.hot[partner]);
+        __builtin_prefetch(&s_.cold[partner]);
       }
     }
     for (const auto& e : bucket) __builtin_prefetch(&s_.queue[e.slot]);
     for (const auto& e : bucket) {
       if (s_.queue[e.slot].ticket != e.ticket) continue;
       // Asked for already, unless appended since (or this is the calendar's first bucket).
-      __builtin_prefetch(&s_.event[e.slot]);
       __builtin_prefetch(&s_.cold[e.slot]);
       prefetchNeighbourhood(e.slot);
-      if (e.partner != PredictiveState::kNone) {
-        __builtin_prefetch(&s_.cold[e.partner]);
-        prefetchNeighbourhood(e.partner);
+      const uint32_t partner = s_.event[e.slot].partner;
+      if (partner != PredictiveState::kNone) {
+        prefetchNeighbourhood(partner);
         // A collision's contact event names the bodies.
         __builtin_prefetch(&s_.bodyOfSlot[e.slot]);
-        __builtin_prefetch(&s_.bodyOfSlot[e.partner]);
+        __builtin_prefetch(&s_.bodyOfSlot[partner]);
       }
       --s_.inBuckets;
       s_.queue[e.slot].heapPos = static_cast<int32_t>(s_.heap.size());
-      s_.heap.push_back({e.time, e.slot, e.partner});
+      s_.heap.push_back({e.time, e.slot, partner});
       s_.queue[e.slot].where = PredictiveState::kInHeap;
     }
     s_.buckets.clear(here);

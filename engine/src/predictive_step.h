@@ -172,11 +172,10 @@ struct PredictiveState {
   // The bucket of a time, floor((t - base) / width), never decreases as t grows, so the heap always holds
   // the earliest events. Arrays are appended to and never searched: an entry whose ticket is no longer
   // its slot's is dropped when the bucket is read.
-  struct QueueEntry {
+  struct QueueEntry {  // 16 bytes: the partner, which the calendar asks for early, is read from the event
     double time;
     uint32_t slot;
     uint32_t ticket;
-    uint32_t partner;  // as HeapNode::partner
   };
   std::vector<HeapNode> heap;
   // By slot, in one record (a queue operation reads and writes them together, one cache line).
@@ -187,9 +186,9 @@ struct PredictiveState {
   };
   detail::LargeArray<QueueSlot> queue;
   // The buckets (a power of two of them): each appended to, read whole and emptied, its memory kept.
-  // What an append reads (where the bucket's array is, how full and how long) is in three small arrays
-  // of their own, which stay in cache; the bucket's array itself most often does not, and the append is
-  // then a store that misses, which does not hold up what follows (a load that misses does).
+  // What an append reads (where the bucket's array is, how full and how long) is one small record in
+  // an array of their own: one line to fetch (often a miss: appends go all over the calendar), where a
+  // vector of vectors had the record and the count in two.
   class Buckets {
    public:
     struct View {
@@ -199,35 +198,40 @@ struct PredictiveState {
       const QueueEntry* end() const { return last; }
       size_t size() const { return static_cast<size_t>(last - first); }
     };
-    size_t size() const { return size_.size(); }
-    bool empty() const { return size_.empty(); }
+    size_t size() const { return header_.size(); }
+    bool empty() const { return header_.empty(); }
     void resize(size_t n) {
       store_.resize(n);
-      data_.resize(n);
-      size_.resize(n, 0);
-      capacity_.resize(n, 0);
+      header_.resize(n);
       for (size_t k = 0; k < n; ++k) {
-        data_[k] = store_[k].data();
-        capacity_[k] = static_cast<uint32_t>(store_[k].size());
+        header_[k].data = store_[k].data();
+        header_[k].capacity = static_cast<uint32_t>(store_[k].size());
+        header_[k].size = std::min(header_[k].size, header_[k].capacity);
       }
     }
     void push(size_t k, const QueueEntry& e) {
-      if (size_[k] == capacity_[k]) grow(k);
-      data_[k][size_[k]++] = e;
+      Header& h = header_[k];
+      if (h.size == h.capacity) grow(k);
+      h.data[h.size++] = e;
     }
-    View operator[](size_t k) const { return {data_[k], data_[k] + size_[k]}; }
-    void clear(size_t k) { size_[k] = 0; }
-    void clearAll() { std::fill(size_.begin(), size_.end(), 0u); }
+    View operator[](size_t k) const { return {header_[k].data, header_[k].data + header_[k].size}; }
+    void clear(size_t k) { header_[k].size = 0; }
+    void clearAll() {
+      for (Header& h : header_) h.size = 0;
+    }
 
    private:
+    struct Header {
+      QueueEntry* data = nullptr;
+      uint32_t size = 0, capacity = 0;
+    };
     [[gnu::noinline]] void grow(size_t k) {
       store_[k].resize(std::max<size_t>(8, 2 * store_[k].size()));
-      data_[k] = store_[k].data();
-      capacity_[k] = static_cast<uint32_t>(store_[k].size());
+      header_[k].data = store_[k].data();
+      header_[k].capacity = static_cast<uint32_t>(store_[k].size());
     }
     std::vector<std::vector<QueueEntry>> store_;
-    std::vector<QueueEntry*> data_;
-    std::vector<uint32_t> size_, capacity_;
+    std::vector<Header> header_;
   };
   Buckets buckets;
   std::vector<QueueEntry> overflow;
