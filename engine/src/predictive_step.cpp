@@ -876,8 +876,7 @@ size_t Engine<W>::gatherNeighbours(uint32_t slot, uint32_t* out, size_t capacity
   // instead of one after each test. The lists are in `links`, read only past a head whose entry says
   // more follow.
   // First the nine heads (capacity >= 9 then, as every caller's is), without a branch on whether each
-  // is the body itself; then, only if some cell holds more than one body (rare in a gas), the rest of
-  // those lists.
+  // is the body itself; then the rest of the lists of the cells that hold more than one body.
   const uint32_t cell = s_.hot[slot].cell;
   const uint32_t maskX = s_.foldX - 1, maskY = s_.foldY - 1;
   const int shift = __builtin_ctz(s_.foldX);  // foldX is a power of two
@@ -889,30 +888,35 @@ size_t Engine<W>::gatherNeighbours(uint32_t slot, uint32_t* out, size_t capacity
   // Whether a cell is empty is a coin toss in a gas (about half are), which a branch predictor loses
   // half the time: the heads are taken without a branch.
   size_t count = 0;
-  int32_t crowded = 0;
-  for (uint32_t row : rows) {
-    for (uint32_t column : columns) {
-      const int32_t entry = heads[row + column];
-      const bool found = entry >= 0;
-      const uint32_t j = static_cast<uint32_t>(entry) >> 1;
-      __builtin_prefetch(hot + (j & (0u - static_cast<uint32_t>(found))));  // (an empty cell: slot 0)
-      out[count] = j;
-      count += found & (j != slot);
-      crowded |= found ? entry : 0;
-    }
-  }
-  if (!(crowded & 1)) return count;
+  uint32_t crowded = 0;  // bit k: cell k of the nine holds more than its head
+  int32_t entries[9];
+  auto take = [&](uint32_t k, int32_t entry) {
+    entries[k] = entry;
+    const bool found = entry >= 0;
+    const uint32_t j = static_cast<uint32_t>(entry) >> 1;
+    __builtin_prefetch(hot + (j & (0u - static_cast<uint32_t>(found))));  // (an empty cell: slot 0)
+    out[count] = j;
+    count += found & (j != slot);
+    crowded |= static_cast<uint32_t>(found & (entry & 1)) << k;
+  };
+  // (Written out: a loop over the nine is not unrolled, and costs twice the instructions.)
+  take(0, heads[rows[0] + columns[0]]);
+  take(1, heads[rows[0] + columns[1]]);
+  take(2, heads[rows[0] + columns[2]]);
+  take(3, heads[rows[1] + columns[0]]);
+  take(4, heads[rows[1] + columns[1]]);
+  take(5, heads[rows[1] + columns[2]]);
+  take(6, heads[rows[2] + columns[0]]);
+  take(7, heads[rows[2] + columns[1]]);
+  take(8, heads[rows[2] + columns[2]]);
   const PredictiveState::CellLink* links = s_.links.data();
-  for (uint32_t row : rows) {
-    for (uint32_t column : columns) {
-      const int32_t entry = heads[row + column];
-      if (entry < 0 || !(entry & 1)) continue;
-      for (int32_t j = links[headSlot(entry)].next; j >= 0; j = links[j].next) {
-        __builtin_prefetch(hot + j);
-        if (static_cast<uint32_t>(j) == slot) continue;
-        if (count < capacity) out[count] = static_cast<uint32_t>(j);
-        ++count;
-      }
+  for (; crowded != 0; crowded &= crowded - 1) {
+    const int32_t entry = entries[__builtin_ctz(crowded)];
+    for (int32_t j = links[headSlot(entry)].next; j >= 0; j = links[j].next) {
+      __builtin_prefetch(hot + j);
+      if (static_cast<uint32_t>(j) == slot) continue;
+      if (count < capacity) out[count] = static_cast<uint32_t>(j);
+      ++count;
     }
   }
   return count;
@@ -1408,9 +1412,12 @@ void Engine<W>::predictPlainAmong(uint32_t i, double now, const uint32_t* neighb
   uint32_t kept[kNeighbourBuffer];
   size_t keptCount = 0;
   if (filtered) {
+    // The second pass's test, -2 rv within (1 + 1e-9) < c, with a bound a little looser (and worked
+    // out once): what it drops, the second pass would have dropped too.
+    const double reachLimit = -2 * within * (1 + 4e-9);
     for (size_t k = 0; k < count; ++k) {
       const Relative m = relative(s_.hot[neighbours[k]]);
-      const bool far = (m.c > 0) & (m.c > -2 * m.rv * within * (1 + 1e-9));
+      const bool far = (m.c > 0) & (m.c > m.rv * reachLimit);
       kept[keptCount] = static_cast<uint32_t>(k);
       keptCount += (m.rv < 0) & !far;
     }
@@ -1466,10 +1473,7 @@ void Engine<W>::predictPlainAmong(uint32_t i, double now, const uint32_t* neighb
 
   PredictiveEvent best;
   if (partner == PredictiveState::kNone) {
-    best.time = horizon;
-    best.kind = PredictiveKind::Cross;
-    best.a = best.b = fixture;
-    best.feature = h < kInf ? side : -1;
+    best = PredictiveEvent{horizon, fixture, fixture, h < kInf ? side : -1, 0, PredictiveKind::Cross};
   } else {
     const HotBody& b = s_.hot[partner];
     Vec2 point, normal;
