@@ -139,6 +139,40 @@ TEST(PredictivePlain, FreeCloudConservesMomentumAndEnergy) {
   EXPECT_LE(maxRelativeOverlap(plain.world, plain.disks), 1e-9);
 }
 
+TEST(PredictivePlain, CrowdedCellsSameBitsAsGeneralPath) {
+  // Cells are as wide as the largest disk: one big disk among many small ones puts hundreds of bodies
+  // in a cell's neighbourhood, more than the plain path's neighbour buffer holds (it then takes them
+  // from a vector, in another order), and many cells hold several bodies (their lists are walked).
+  auto options = gasDiskOptions(700, 30);
+  options.minRadius = 0.1;
+  options.maxRadius = 0.2;
+  options.minSpeed = 1.0;
+  options.maxSpeed = 2.0;
+  options.seed = 5;
+  std::vector<DiskSpec> specs;
+  specs.push_back(DiskSpec{{15, 15}, {0.4, 0.3}, 3.0, 1.0, 1.0});
+  for (const DiskSpec& d : randomDisks(options)) {
+    if (rattle::length(d.position - Vec2{15, 15}) > 3.5) specs.push_back(d);
+  }
+  WorldDef def;
+  def.mode = StepMode::Predictive;
+  Twin plain(def), general(def);
+  for (Twin* t : {&plain, &general}) {
+    makeClosedBox(t->world, 0, 0, 30, 30, 1.0);
+    t->disks = addDisks(t->world, specs);
+  }
+  addFarSensor(general.world);
+  size_t compared = 0;
+  for (int k = 0; k < 80; ++k) {
+    plain.world.step(0.1);
+    general.world.step(0.1);
+    expectBitIdentical(plain, general, k);
+    if (::testing::Test::HasFatalFailure()) return;
+    compared += plain.world.contactEvents().size();
+  }
+  EXPECT_GT(compared, 2000u);
+}
+
 TEST(PredictivePlain, SplitTimeOfImpactSameBitsAsCircleCircle) {
   // plain_disk_impact.h against timeOfImpactCircleCircle, on pairs that meet, touch, overlap by
   // round-off, graze and miss, with and without the LastContact guard and a tight time limit.
