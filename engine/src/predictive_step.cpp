@@ -1759,9 +1759,28 @@ void Engine<W>::siftDown(size_t k) {
     const size_t first = 4 * k + 1;
     if (first >= n) break;
     size_t child = first;
-    const size_t last = std::min(first + 4, n);
-    for (size_t c = first + 1; c < last; ++c) {
-      if (before(heap[c], heap[child])) child = c;
+    if (first + 4 <= n) {
+      // Four children: the earliest by time without branches (which of four is earliest is what a
+      // branch predictor cannot guess), unless two of the times are equal, when before() decides.
+      const double t0 = heap[first].time, t1 = heap[first + 1].time, t2 = heap[first + 2].time,
+                   t3 = heap[first + 3].time;
+      const bool b01 = t1 < t0, b23 = t3 < t2;
+      const double m01 = b01 ? t1 : t0, m23 = b23 ? t3 : t2;
+      const size_t c01 = first + (b01 ? 1 : 0), c23 = first + (b23 ? 3 : 2);
+      const bool b = m23 < m01;
+      const double m = b ? m23 : m01;
+      child = b ? c23 : c01;
+      const int equal = (t0 == m) + (t1 == m) + (t2 == m) + (t3 == m);
+      if (equal > 1) {
+        child = first;
+        for (size_t c = first + 1; c < first + 4; ++c) {
+          if (before(heap[c], heap[child])) child = c;
+        }
+      }
+    } else {
+      for (size_t c = first + 1; c < n; ++c) {
+        if (before(heap[c], heap[child])) child = c;
+      }
     }
     if (!before(heap[child], node)) break;
     heap[k] = heap[child];
