@@ -47,6 +47,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 #include "closest_point.h"
 #include "plain_collision.h"
@@ -779,31 +780,33 @@ void Engine<W>::reorder(bool fresh) {
   // In place, along the permutation's cycles: no second copy of the arrays (tens of megabytes at 10^6
   // bodies, to be faulted in before it is any use).
   auto& done = s_.permuted;
-  auto permute = [&](auto& v) {
+  // Several arrays at once, along one walk of the cycles (their records at one index are fetched side
+  // by side, and the walk is made once).
+  auto permute = [&](auto&... v) {
     done.assign(n, 0);
     for (size_t start = 0; start < n; ++start) {
       if (done[start]) continue;
-      auto held = std::move(v[start]);
+      auto held = std::make_tuple(std::move(v[start])...);
       for (size_t k = start;;) {
         done[k] = 1;
         const size_t from = order[k];
         if (from == start) {
-          v[k] = std::move(held);
+          std::apply([&](auto&... h) { ((v[k] = std::move(h)), ...); }, held);
           break;
         }
-        v[k] = std::move(v[from]);
+        ((v[k] = std::move(v[from])), ...);
         k = from;
       }
     }
   };
-  permute(s_.hot);
-  permute(s_.cold);
-  permute(s_.rare);
-  permute(s_.bodyOfSlot);
+  if (fresh) {
+    // (Fresh from buildGrid: no events and no dismissals yet, nothing to carry over.)
+    permute(s_.hot, s_.cold, s_.rare, s_.bodyOfSlot);
+  } else {
+    permute(s_.hot, s_.cold, s_.rare, s_.bodyOfSlot, s_.event);
+  }
   for (uint32_t k = 0; k < n; ++k) s_.slotOfBody[s_.bodyOfSlot[k]] = k;
   if (!fresh) {
-    // (Fresh from buildGrid: no events and no dismissals yet, nothing to carry over.)
-    permute(s_.event);
     if (!s_.dismissed.empty()) permute(s_.dismissed);
     for (PredictiveEvent& e : s_.event) {
       if (e.partner != PredictiveState::kNone) e.partner = newSlot[e.partner];
