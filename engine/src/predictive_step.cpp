@@ -30,10 +30,18 @@
 //    records (plain_collision.h, the same arithmetic, so the same bits), and the BodySlot catches up
 //    (attach()) before anything else reads it and at the step's end. A gas then never touches its
 //    240-byte BodySlots between the step's start and end.
+//    There, too, a moving body is predicted by predictPlain(): pairPlain()'s tests with what they carry
+//    from pair to pair in registers, in two passes (a branch-free one that keeps the neighbours that
+//    approach and can meet in time, and one that seeks their times of impact, plain_disk_impact.h), the
+//    contact point and normal worked out for the winner only. The same tests in the same order with
+//    the same arithmetic, so the same event (tests/test_predictive_plain.cpp compares the two paths).
 //  - Memory, not arithmetic, sets the pace at 10^5 bodies and more: the cell lists are linked through a
 //    small array of their own, a body's neighbours are gathered (and their records asked for) before
-//    they are tested, an event's records and neighbourhood are asked for as soon as it comes up, and
-//    the calendar's buckets reach no further than the step's end.
+//    they are tested (a collision's two bodies' both before it is resolved), the calendar reads its
+//    buckets ahead in stages (entries, then the events' first records, then the cells around their
+//    bodies) so that an event's records are in cache when it comes up, and the calendar's buckets reach
+//    no further than the step's end. Branches that a predictor cannot guess (is a cell empty, does a
+//    neighbour approach, which heap child is earliest) are taken without branching.
 //  - Between steps the world may change (bodies created, destroyed, moved, given a velocity, woken; a
 //    filter changed). The World API reports every change (World::Impl::touched), so a step costs nothing
 //    for bodies nobody touched: a dynamic body that was changed is relocated and predicted again (its
@@ -872,14 +880,11 @@ size_t Engine<W>::gatherNeighbours(uint32_t slot, uint32_t* out, size_t capacity
   // The other bodies in the 3 x 3 cells around it (distinct table entries, since the table is at least
   // 4 x 4), into out[0, capacity), in no particular order (a plain prediction's result does not depend
   // on it: events are totally ordered); returns how many there are, which may be more than were
-  // written.
-  // The cell's coordinates come folded from the HotBody (the same entries: the fold is a remainder by a
-  // power of two). Every neighbour's record is asked for as its slot is found (a prefetch): they are
-  // most often cache misses, and are then fetched side by side before the pair tests read them,
-  // instead of one after each test. The lists are in `links`, read only past a head whose entry says
-  // more follow.
-  // First the nine heads (capacity >= 9 then, as every caller's is), without a branch on whether each
-  // is the body itself; then the rest of the lists of the cells that hold more than one body.
+  // written. The cell's coordinates come folded from the HotBody (the same entries: the fold is a
+  // remainder by a power of two). Every neighbour's record is asked for as its slot is found (a
+  // prefetch): they are most often cache misses, and are then fetched side by side before the pair
+  // tests read them, instead of one after each test. First the nine heads (capacity >= 9, as every
+  // caller's is), then the rest of the lists (in `links`) of the cells whose head says more follow.
   const uint32_t cell = s_.hot[slot].cell;
   const uint32_t maskX = s_.foldX - 1, maskY = s_.foldY - 1;
   const int shift = __builtin_ctz(s_.foldX);  // foldX is a power of two

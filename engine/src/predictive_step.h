@@ -2,7 +2,9 @@
 // the method).
 //
 // Everything is in flat arrays indexed by slot (a tracked body's place in spatial order), table entry or
-// heap position, reused from step to step: nothing is allocated per event.
+// heap position, reused from step to step: nothing is allocated per event. Those that grow with the
+// bodies or the cells are LargeArrays (large_array.h: 2 MiB pages once large), as the world's own are:
+// fewer page faults when a grid is first built, fewer TLB misses when an event reaches into them.
 #pragma once
 
 #include <algorithm>
@@ -153,7 +155,7 @@ struct PredictiveState {
   // disk-disk collisions are resolved on the copies (plain_collision.h).
   bool plainShapes = false;
   detail::LargeArray<PredictiveEvent> event;
-  detail::LargeArray<std::vector<Dismissal>> dismissed;
+  detail::LargeArray<std::vector<Dismissal>> dismissed;  // by slot once a contact was dismissed; else empty
   std::vector<uint32_t> dismissedSlots;  // slots whose `dismissed` is not empty
   uint64_t popsSinceReorder = 0;
   uint64_t popsSinceRetune = 0;
