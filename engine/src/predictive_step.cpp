@@ -1479,18 +1479,18 @@ void Engine<W>::predictPlainAmong(uint32_t i, double now, const uint32_t* neighb
     within = bound();
   }
 
-  PredictiveEvent best;
-  if (partner == PredictiveState::kNone) {
-    best = PredictiveEvent{horizon, fixture, fixture, h < kInf ? side : -1, 0, PredictiveKind::Cross};
-  } else {
+  const PredictiveEvent best = [&] {
+    if (partner == PredictiveState::kNone) {
+      return PredictiveEvent{horizon, fixture, fixture, h < kInf ? side : -1, 0, PredictiveKind::Cross};
+    }
     const HotBody& b = s_.hot[partner];
     Vec2 point, normal;
     detail::plainContact(impactR, impactV, b.radius, impactTime, point, normal);
     point += impactPb;
     const Vec2 travelOfB = impactVb * impactTime + Vec2{} * (0.5 * impactTime * impactTime);
-    best = PredictiveEvent{bestTime, fixture, b.fixture, 0, b.collisionCount, PredictiveKind::Contact, partner,
+    return PredictiveEvent{bestTime, fixture, b.fixture, 0, b.collisionCount, PredictiveKind::Contact, partner,
                            point + travelOfB, normal};
-  }
+  }();
   if ((hb.flags & (HotBody::kStaticNear | HotBody::kSliding)) == 0 && s_.kinematicFixtures.empty()) {
     // Nothing else to look at (finishPrediction()): into the queue.
     schedule(i, best);
