@@ -1635,7 +1635,10 @@ void Engine<W>::retune(double now, bool keepWidth) {
   s_.base = now;
   s_.width = width;
   s_.inverseWidth = 1 / width;
-  if (s_.buckets.size() != buckets) s_.buckets.resize(buckets);
+  // Room in each bucket for twice the events it holds on average, stale entries included.
+  if (s_.buckets.size() != buckets) {
+    s_.buckets.reset(buckets, static_cast<uint32_t>(std::max<size_t>(8, 2 * (ahead.size() / buckets + 1))));
+  }
   s_.current = bucketOf(now);
   s_.stepBucket = bucketOf(s_.stepEnd);
   s_.limit = roundLimit();

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -188,9 +189,10 @@ struct PredictiveState {
   };
   detail::LargeArray<QueueSlot> queue;
   // The buckets (a power of two of them): each appended to, read whole and emptied, its memory kept.
-  // What an append reads (where the bucket's array is, how full and how long) is one small record in
-  // an array of their own: one line to fetch (often a miss: appends go all over the calendar), where a
-  // vector of vectors had the record and the count in two.
+  // Each has room for a few entries in one shared array at a place fixed by its index, so an append
+  // reads only the bucket's count (a small array that stays in cache) and writes the entry (a store,
+  // which does not hold up what follows even when its line is not in cache; appends go all over the
+  // calendar). A bucket that outgrows its room moves to an array of its own until it is emptied.
   class Buckets {
    public:
     struct View {
@@ -200,40 +202,48 @@ struct PredictiveState {
       const QueueEntry* end() const { return last; }
       size_t size() const { return static_cast<size_t>(last - first); }
     };
-    size_t size() const { return header_.size(); }
-    bool empty() const { return header_.empty(); }
-    void resize(size_t n) {
-      store_.resize(n);
-      header_.resize(n);
-      for (size_t k = 0; k < n; ++k) {
-        header_[k].data = store_[k].data();
-        header_[k].capacity = static_cast<uint32_t>(store_[k].size());
-        header_[k].size = std::min(header_[k].size, header_[k].capacity);
-      }
+    size_t size() const { return count_.size(); }
+    bool empty() const { return count_.empty(); }
+    // n empty buckets with room for `room` entries each.
+    void reset(size_t n, uint32_t room) {
+      room_ = std::max<uint32_t>(room, 1);
+      shared_.assign(n * room_, QueueEntry{});
+      count_.assign(n, 0);
+      own_.clear();
+      own_.resize(n);
     }
     void push(size_t k, const QueueEntry& e) {
-      Header& h = header_[k];
-      if (h.size == h.capacity) grow(k);
-      h.data[h.size++] = e;
+      const uint32_t at = count_[k]++;
+      if (at < room_) {
+        shared_[k * room_ + at] = e;
+      } else {
+        pushOwn(k, at, e);
+      }
     }
-    View operator[](size_t k) const { return {header_[k].data, header_[k].data + header_[k].size}; }
-    void clear(size_t k) { header_[k].size = 0; }
+    View operator[](size_t k) const {
+      const uint32_t n = count_[k];
+      const QueueEntry* first = n <= room_ ? shared_.data() + k * room_ : own_[k].data();
+      return {first, first + n};
+    }
+    void clear(size_t k) {
+      if (count_[k] > room_) own_[k].clear();
+      count_[k] = 0;
+    }
     void clearAll() {
-      for (Header& h : header_) h.size = 0;
+      for (size_t k = 0; k < count_.size(); ++k) clear(k);
     }
 
    private:
-    struct Header {
-      QueueEntry* data = nullptr;
-      uint32_t size = 0, capacity = 0;
-    };
-    [[gnu::noinline]] void grow(size_t k) {
-      store_[k].resize(std::max<size_t>(8, 2 * store_[k].size()));
-      header_[k].data = store_[k].data();
-      header_[k].capacity = static_cast<uint32_t>(store_[k].size());
+    [[gnu::noinline]] void pushOwn(size_t k, uint32_t at, const QueueEntry& e) {
+      std::vector<QueueEntry>& own = own_[k];
+      if (at == room_) own.assign(shared_.begin() + static_cast<std::ptrdiff_t>(k * room_),
+                                  shared_.begin() + static_cast<std::ptrdiff_t>((k + 1) * room_));
+      own.push_back(e);
     }
-    std::vector<std::vector<QueueEntry>> store_;
-    std::vector<Header> header_;
+    uint32_t room_ = 1;
+    detail::LargeArray<QueueEntry> shared_;
+    std::vector<uint32_t> count_;
+    std::vector<std::vector<QueueEntry>> own_;
   };
   Buckets buckets;
   std::vector<QueueEntry> overflow;
