@@ -229,8 +229,24 @@ class Engine {
     const HotBody& h = s_.hot[slot];
     return positionAt(h, accelerationOf(h, s_.rare[slot]), now) + s_.rare[slot].centre;
   }
+  // The table entry of cell (x, y) (PredictiveState::heads): the parts of a column and of a row, which add
+  // up to it, and back from an entry to its folded column and row.
+  uint32_t columnPart(uint32_t x) const {
+    x &= s_.foldX - 1;
+    return ((x >> 2) << 4) | (x & 3);
+  }
+  uint32_t rowPart(uint32_t y) const {
+    y &= s_.foldY - 1;
+    return ((y >> 2) << (__builtin_ctz(s_.foldX) + 2)) | ((y & 3) << 2);
+  }
   uint32_t folded(int32_t x, int32_t y) const {
-    return (static_cast<uint32_t>(y) & (s_.foldY - 1)) * s_.foldX + (static_cast<uint32_t>(x) & (s_.foldX - 1));
+    return rowPart(static_cast<uint32_t>(y)) + columnPart(static_cast<uint32_t>(x));
+  }
+  void unfold(uint32_t entry, uint32_t& x, uint32_t& y) const {
+    const int tileRow = __builtin_ctz(s_.foldX) + 2;
+    const uint32_t within = entry & ((1u << tileRow) - 1);
+    x = ((within >> 4) << 2) | (within & 3);
+    y = ((entry >> tileRow) << 2) | ((within >> 2) & 3);
   }
   void placeInCell(uint32_t slot, Vec2 centre) {
     ColdBody& c = s_.cold[slot];
@@ -251,12 +267,13 @@ class Engine {
   // Asks for the lines of the table that gatherNeighbours() will read for the body (its record is in
   // cache): the three rows of three entries around its cell.
   void prefetchNeighbourhood(uint32_t slot) const {
-    const uint32_t cell = s_.hot[slot].cell;
-    const uint32_t x = cell & (s_.foldX - 1), y = cell / s_.foldX;
+    uint32_t x, y;
+    unfold(s_.hot[slot].cell, x, y);
+    const uint32_t left = columnPart(x - 1), right = columnPart(x + 1);
     for (uint32_t dy = 0; dy < 3; ++dy) {
-      const int32_t* row = s_.heads.data() + static_cast<size_t>((y + dy - 1) & (s_.foldY - 1)) * s_.foldX;
-      __builtin_prefetch(row + ((x - 1) & (s_.foldX - 1)));
-      __builtin_prefetch(row + ((x + 1) & (s_.foldX - 1)));
+      const int32_t* row = s_.heads.data() + rowPart(y + dy - 1);
+      __builtin_prefetch(row + left);
+      __builtin_prefetch(row + right);
     }
   }
   void link(uint32_t slot);
@@ -777,7 +794,8 @@ void Engine<W>::reorder(bool fresh) {
     for (uint64_t tx = 0; tx < s_.foldX; tx += side) {
       for (uint64_t z = 0; z < side * side; ++z) {
         const uint64_t x = tx + gather(z), y = ty + gather(z >> 1);
-        for (int32_t k = headSlot(s_.heads[y * s_.foldX + x]); k >= 0; k = s_.links[k].next) {
+        for (int32_t k = headSlot(s_.heads[folded(static_cast<int32_t>(x), static_cast<int32_t>(y))]); k >= 0;
+             k = s_.links[k].next) {
           order.push_back(static_cast<uint32_t>(k));
         }
       }
@@ -885,12 +903,10 @@ size_t Engine<W>::gatherNeighbours(uint32_t slot, uint32_t* out, size_t capacity
   // prefetch): they are most often cache misses, and are then fetched side by side before the pair
   // tests read them, instead of one after each test. First the nine heads (capacity >= 9, as every
   // caller's is), then the rest of the lists (in `links`) of the cells whose head says more follow.
-  const uint32_t cell = s_.hot[slot].cell;
-  const uint32_t maskX = s_.foldX - 1, maskY = s_.foldY - 1;
-  const int shift = __builtin_ctz(s_.foldX);  // foldX is a power of two
-  const uint32_t x = cell & maskX, y = cell >> shift;
-  const uint32_t columns[3] = {(x - 1) & maskX, x, (x + 1) & maskX};
-  const uint32_t rows[3] = {((y - 1) & maskY) << shift, y << shift, ((y + 1) & maskY) << shift};
+  uint32_t x, y;
+  unfold(s_.hot[slot].cell, x, y);
+  const uint32_t columns[3] = {columnPart(x - 1), columnPart(x), columnPart(x + 1)};
+  const uint32_t rows[3] = {rowPart(y - 1), rowPart(y), rowPart(y + 1)};
   const int32_t* heads = s_.heads.data();
   const HotBody* hot = s_.hot.data();
   // Whether a cell is empty is a coin toss in a gas (about half are), which a branch predictor loses
@@ -935,14 +951,13 @@ void Engine<W>::gatherNeighbours(uint32_t slot, std::vector<uint32_t>& out) cons
   // The same bodies in the order of the cells, row by row, and of their lists: the general path's order
   // (the resting rules keep the first supports found, World::Impl::supportsAt).
   out.clear();
-  const uint32_t cell = s_.hot[slot].cell;
-  const uint32_t x = cell & (s_.foldX - 1), y = cell / s_.foldX;
-  const uint32_t maskX = s_.foldX - 1, maskY = s_.foldY - 1;
-  const uint32_t columns[3] = {(x - 1) & maskX, x & maskX, (x + 1) & maskX};
+  uint32_t x, y;
+  unfold(s_.hot[slot].cell, x, y);
+  const uint32_t columns[3] = {columnPart(x - 1), columnPart(x), columnPart(x + 1)};
   const HotBody* hot = s_.hot.data();
   const PredictiveState::CellLink* links = s_.links.data();
   for (uint32_t dy = 0; dy < 3; ++dy) {
-    const int32_t* row = s_.heads.data() + static_cast<size_t>((y + dy - 1) & maskY) * s_.foldX;
+    const int32_t* row = s_.heads.data() + rowPart(y + dy - 1);
     for (uint32_t column : columns) {
       const int32_t entry = row[column];
       if (entry < 0) continue;

@@ -120,9 +120,11 @@ struct PredictiveState {
   bool movingKinematic = false;
 
   // The grid: unbounded, folded onto a table. Cell (cx, cy) covers [x0 + cx s, x0 + (cx + 1) s) (and
-  // likewise in y; cells at +-kMaxCoord reach to infinity) and lives in table entry
-  // (cy mod foldY) foldX + (cx mod foldX): rows stay contiguous, and cells far apart may share an entry,
-  // which only adds candidates that the time of impact turns down.
+  // likewise in y; cells at +-kMaxCoord reach to infinity) and lives in the table entry of
+  // (cx mod foldX, cy mod foldY); cells far apart may share an entry, which only adds candidates that the
+  // time of impact turns down. The table is laid out in tiles of 4 x 4 entries, row by row, each tile
+  // row by row (Engine::folded): a tile is one cache line, and the 3 x 3 cells around a body lie in
+  // 2.25 lines on average, against 3.4 for rows of the whole table.
   double x0 = 0, y0 = 0, cellSize = 1;
   double hysteresis = 0;          // how far past its cell's side a body goes before it crosses (see buildGrid)
   double extent = 0;              // the largest coordinate of a body when the grid was made
