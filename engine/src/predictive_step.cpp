@@ -1932,7 +1932,10 @@ void Engine<W>::step(double dt) {
   w_.sensorEvents.clear();
   w_.sensorEvents.swap(w_.pendingSensorEvents);
   w_.stats = StepStats{};
-  if (w_.pairsOfBody.size() < w_.bodies.size()) w_.pairsOfBody.resize(w_.bodies.size());
+  // The bodies' candidate pairs are read only by the resting rules and the Zeno guard, which need gravity
+  // (fillPairs, World::Impl::supportsAt): a world without it does not make them (a vector a body, fresh
+  // memory written at the first step).
+  if (!(w_.def.gravity == Vec2{}) && w_.pairsOfBody.size() < w_.bodies.size()) w_.pairsOfBody.resize(w_.bodies.size());
 
   // 1. Notice what changed since the last step; re-base the clocks to this step's start. After a plain
   // world's step, with nothing touched since, normalize() would change nothing (no gravity, sleep or
