@@ -2030,23 +2030,13 @@ void Engine<W>::step(double dt) {
     const uint32_t j = c.kind == PredictiveKind::Contact ? c.partner : PredictiveState::kNone;
     // Every way on from here predicts `i` again (or ends the step, which then starts afresh).
     popped_ = i;
-    // What comes next reads these; ask for them together (the HotBody came with the event, see top()).
+    // What comes next reads these; ask for them together (asked for already when the event's bucket was
+    // read, top(), unless it went straight into the heap).
     prefetchNeighbourhood(i);
     __builtin_prefetch(&s_.cold[i]);
     if (j != PredictiveState::kNone) {
       __builtin_prefetch(&s_.hot[j]);
       prefetchNeighbourhood(j);
-    }
-    // And the cells around the bodies of the event most likely next (the earliest of the top's
-    // children in the heap), whose records came when its bucket was read (top()).
-    if (s_.heap.size() > 1) {
-      size_t next = 1;
-      const size_t last = std::min<size_t>(5, s_.heap.size());
-      for (size_t k = 2; k < last; ++k) {
-        if (s_.heap[k].time < s_.heap[next].time) next = k;
-      }
-      prefetchNeighbourhood(s_.heap[next].slot);
-      if (s_.heap[next].partner != PredictiveState::kNone) prefetchNeighbourhood(s_.heap[next].partner);
     }
 
     if (c.kind == PredictiveKind::Cross) {
