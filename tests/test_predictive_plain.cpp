@@ -8,9 +8,12 @@
 
 #include <cmath>
 #include <cstring>
+#include <random>
 #include <vector>
 
+#include "plain_disk_impact.h"
 #include "rattle/rattle.h"
+#include "rattle/time_of_impact.h"
 #include "world_test_support.h"
 
 namespace {
@@ -134,6 +137,78 @@ TEST(PredictivePlain, FreeCloudConservesMomentumAndEnergy) {
   EXPECT_LE(std::fabs(static_cast<double>((p1.y - p0.y) / scale)), 1e-12);
   EXPECT_LE(std::fabs(static_cast<double>((kineticEnergy(plain.world, plain.disks) - e0) / e0)), 1e-12);
   EXPECT_LE(maxRelativeOverlap(plain.world, plain.disks), 1e-9);
+}
+
+TEST(PredictivePlain, CrowdedCellsSameBitsAsGeneralPath) {
+  // Cells are as wide as the largest disk: one big disk among many small ones puts hundreds of bodies
+  // in a cell's neighbourhood, more than the plain path's neighbour buffer holds (it then takes them
+  // from a vector, in another order), and many cells hold several bodies (their lists are walked).
+  auto options = gasDiskOptions(700, 30);
+  options.minRadius = 0.1;
+  options.maxRadius = 0.2;
+  options.minSpeed = 1.0;
+  options.maxSpeed = 2.0;
+  options.seed = 5;
+  std::vector<DiskSpec> specs;
+  specs.push_back(DiskSpec{{15, 15}, {0.4, 0.3}, 3.0, 1.0, 1.0});
+  for (const DiskSpec& d : randomDisks(options)) {
+    if (rattle::length(d.position - Vec2{15, 15}) > 3.5) specs.push_back(d);
+  }
+  WorldDef def;
+  def.mode = StepMode::Predictive;
+  Twin plain(def), general(def);
+  for (Twin* t : {&plain, &general}) {
+    makeClosedBox(t->world, 0, 0, 30, 30, 1.0);
+    t->disks = addDisks(t->world, specs);
+  }
+  addFarSensor(general.world);
+  size_t compared = 0;
+  for (int k = 0; k < 80; ++k) {
+    plain.world.step(0.1);
+    general.world.step(0.1);
+    expectBitIdentical(plain, general, k);
+    if (::testing::Test::HasFatalFailure()) return;
+    compared += plain.world.contactEvents().size();
+  }
+  EXPECT_GT(compared, 2000u);
+}
+
+TEST(PredictivePlain, SplitTimeOfImpactSameBitsAsCircleCircle) {
+  // plain_disk_impact.h against timeOfImpactCircleCircle, on pairs that meet, touch, overlap by
+  // round-off, graze and miss, with and without the LastContact guard and a tight time limit.
+  std::mt19937_64 rng(7);
+  auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * (static_cast<double>(rng() >> 11) * 0x1p-53); };
+  int found = 0, touching = 0;
+  for (int k = 0; k < 200000; ++k) {
+    const double ra = uniform(0.1, 1.0), rb = uniform(0.1, 1.0);
+    Vec2 centre{uniform(-3, 3), uniform(-3, 3)};
+    if (k % 5 == 0) {
+      // On the contact circle, up to a few ulps in or out.
+      const double angle = uniform(0, 6.283185307179586);
+      centre = Vec2{std::cos(angle), std::sin(angle)} * (ra + rb);
+    }
+    centre = centre + Vec2{uniform(-1e-15, 1e-15), 0.0};
+    const Vec2 v{uniform(-2, 2), uniform(-2, 2)};
+    const double maxTime = k % 3 == 0 ? uniform(0, 0.5) : 4.0;
+    const bool guard = k % 7 == 0;
+    const auto expected = rattle::timeOfImpactCircleCircle(rattle::Circle{centre, ra}, rattle::Motion{v},
+                                                           rattle::Circle{Vec2{}, rb}, maxTime, guard ? 0 : -1);
+    const Vec2 r = centre - Vec2{};
+    const double reach = ra + rb;
+    double t = -1;
+    const bool hit = rattle::detail::plainTimeToReach(dot(r, r) - reach * reach, dot(r, v), v, reach, maxTime, guard, t);
+    ASSERT_EQ(hit, expected.has_value()) << "pair " << k;
+    if (!hit) continue;
+    ++found;
+    if (t == 0) ++touching;
+    Vec2 point, normal;
+    rattle::detail::plainContact(r, v, rb, t, point, normal);
+    ASSERT_TRUE(sameBits(t, expected->time) && sameBits(point, expected->point) && sameBits(normal, expected->normal) &&
+                expected->feature == 0)
+        << "pair " << k;
+  }
+  EXPECT_GT(found, 20000);
+  EXPECT_GT(touching, 100);
 }
 
 }  // namespace
