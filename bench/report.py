@@ -445,8 +445,12 @@ def commit(root):
     try:
         rev = subprocess.run(["git", "-C", root, "rev-parse", "--short=12", "HEAD"], capture_output=True,
                              text=True).stdout.strip()
-        dirty = subprocess.run(["git", "-C", root, "status", "--porcelain", "--untracked-files=no"],
-                               capture_output=True, text=True).stdout.strip()
+        # The bench's own outputs, just written, are not changes to what was measured.
+        outputs = ("bench/results.csv", "bench/scaling.csv", "bench/repeats.csv", "bench/RESULTS.md",
+                   "bench/figures/")
+        status = subprocess.run(["git", "-C", root, "status", "--porcelain", "--untracked-files=no"],
+                                capture_output=True, text=True).stdout.splitlines()
+        dirty = [line for line in status if not line[3:].startswith(outputs)]
         return rev + (" (with uncommitted changes)" if dirty else "") if rev else "?"
     except OSError:
         return "?"
