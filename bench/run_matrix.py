@@ -21,7 +21,7 @@ The matrix (what `make bench` runs; --quick shrinks every scene for a smoke test
     --quick keeps only the 100 units
   - repeats: the gas of the speed targets (10,000 disks, packing 0.3, dt 1/60, 3 s) with hybrid, box2d and
     chipmunk, REPEATS times in turn (hybrid, box2d, chipmunk, hybrid, ...; 3 with --quick): one run's ratio
-    moves with the machine (Box2D's step took 6.3 to 8.4 ms across runs of one day), so the targets quote the
+    moves with the machine (Box2D's step took 5.8 to 9.4 ms within one matrix), so the targets quote the
     median of the repeats' ratios and their range as well as the matrix run's
   - scaling: hybrid on gas (packing 0.3, dt 1/60) at 10^3 .. 10^6 disks, timed after 0.5 s of settling
     (--warm-up 0.5); predictive on gas (packing 0.5) at
