@@ -311,13 +311,18 @@ def find(rows, **want):
     return None
 
 
-def repeat_ratios(repeat_rows):
-    """{engine: [its ms_per_step / hybrid's, one per repeat]} for box2d and chipmunk, from repeats.csv."""
+def repeat_times(repeat_rows):
+    """{repeat: {engine: ms_per_step}} from repeats.csv."""
     by_repeat = {}
     for r in repeat_rows:
         by_repeat.setdefault(r["repeat"], {})[r["engine"]] = num(r, "ms_per_step")
+    return by_repeat
+
+
+def repeat_ratios(repeat_rows):
+    """{engine: [its ms_per_step / hybrid's, one per repeat]} for box2d and chipmunk, from repeats.csv."""
     ratios = {"box2d": [], "chipmunk": []}
-    for times in by_repeat.values():
+    for times in repeat_times(repeat_rows).values():
         for engine in ratios:
             if "hybrid" in times and engine in times and times["hybrid"] > 0:
                 ratios[engine].append(times[engine] / times["hybrid"])
@@ -325,9 +330,7 @@ def repeat_ratios(repeat_rows):
 
 
 def repeats_table(repeat_rows):
-    by_repeat = {}
-    for r in repeat_rows:
-        by_repeat.setdefault(r["repeat"], {})[r["engine"]] = num(r, "ms_per_step")
+    by_repeat = repeat_times(repeat_rows)
     out = ["| repeat | hybrid ms/step | Box2D ms/step | Chipmunk ms/step | Box2D / hybrid | Chipmunk / hybrid |",
            "|---|---|---|---|---|---|"]
     for k in sorted(by_repeat, key=int):

@@ -119,6 +119,15 @@ double exitTime(double c, double b, double A) {
 }
 
 
+// The furthest a plain pair's time of impact is sought from `now` while the best event so far is at
+// `best`, within the body's `horizon`: an impact later than this is past `best` even after rounding
+// now + h (the margin covers the round-off of best - now and of now + h), and the time of impact depends
+// on its limit only through the final t <= maxTime. The last term keeps a time of impact that would
+// underflow to 0 (best = now = 0) from being cut.
+double searchBound(double horizon, double best, double now) {
+  return std::min(horizon - now, (best - now) * (1 + 1e-9) + 8 * kEps * (std::fabs(best) + std::fabs(now)) + 1e-300);
+}
+
 // Neighbours of one body held on the stack; more (a crowd in a few cells) go to a vector. At least the
 // nine cells' heads (Engine::gatherNeighbours).
 constexpr size_t kNeighbourBuffer = 128;
@@ -1198,13 +1207,8 @@ inline void Engine<W>::pairPlain(Prediction& q, uint32_t j) {
     const Vec2 r = circleA.center - Vec2{};
     const double rv = dot(r, relative.velocity);
     if (!(rv < 0)) return;
-    // An impact is kept only if no later than the best so far (q.best). One later than `within` is past
-    // best.time even after rounding now + h (the margin covers the round-off of best.time - now and of
-    // now + h) and would be turned down below, so the search stops there (the time of impact depends on
-    // its limit only through the final t <= maxTime). The last term keeps a time of impact that would
-    // underflow to 0 (best.time = now = 0) from being cut.
-    within = std::min(q.horizon - now, (q.best.time - now) * (1 + 1e-9) +
-                                           8 * kEps * (std::fabs(q.best.time) + std::fabs(now)) + 1e-300);
+    // An impact is kept only if no later than the best so far (q.best): the search stops at searchBound.
+    within = searchBound(q.horizon, q.best.time, now);
     const double reach = circleA.radius + b.radius;
     const double c = dot(r, r) - reach * reach;
     if (c > 0 && c > -2 * rv * within * (1 + 1e-9)) return;
@@ -1320,33 +1324,29 @@ void Engine<W>::crossingStraight(Vec2 c, Vec2 v, const ColdBody& cell, double& h
   // same values.
   const double s = s_.cellSize, d = s_.hysteresis;
   const int32_t x = cell.cx, y = cell.cy;
-  h = kInf;
-  side = -1;
   auto leave = [](double gap, double speed) { return gap <= 0 ? 0.0 : gap / speed; };  // exitTime, A = 0, b < 0
-  if (v.x < 0) {
-    if (x > -kMaxCoord) {
-      h = leave(c.x - (s_.x0 + x * s - d), -v.x);
-      side = 0;
+  // One axis: the centre's coordinate, its speed, the cell's index and origin on that axis, and the
+  // axis's low side's number (the high side's is the next).
+  auto axis = [&](double centre, double speed, int32_t cellIndex, double origin, int lowSide, double& time,
+                  int& which) {
+    time = kInf;
+    which = -1;
+    if (speed < 0) {
+      if (cellIndex > -kMaxCoord) {
+        time = leave(centre - (origin + cellIndex * s - d), -speed);
+        which = lowSide;
+      }
+    } else if (-speed < 0) {
+      if (cellIndex < kMaxCoord) {
+        time = leave((origin + (cellIndex + 1.0) * s + d) - centre, -(-speed));
+        which = lowSide + 1;
+      }
     }
-  } else if (-v.x < 0) {
-    if (x < kMaxCoord) {
-      h = leave((s_.x0 + (x + 1.0) * s + d) - c.x, -(-v.x));
-      side = 1;
-    }
-  }
-  double t = kInf;
-  int k = -1;
-  if (v.y < 0) {
-    if (y > -kMaxCoord) {
-      t = leave(c.y - (s_.y0 + y * s - d), -v.y);
-      k = 2;
-    }
-  } else if (-v.y < 0) {
-    if (y < kMaxCoord) {
-      t = leave((s_.y0 + (y + 1.0) * s + d) - c.y, -(-v.y));
-      k = 3;
-    }
-  }
+  };
+  axis(c.x, v.x, x, s_.x0, 0, h, side);
+  double t;
+  int k;
+  axis(c.y, v.y, y, s_.y0, 2, t, k);
   if (t < h) {
     h = t;
     side = k;
@@ -1389,11 +1389,8 @@ void Engine<W>::predictPlainAmong(uint32_t i, double now, const uint32_t* neighb
   uint32_t partner = PredictiveState::kNone;
   double impactTime = 0;
   Vec2 impactR, impactV, impactPb, impactVb;
-  // As pairPlain(): no impact later than this can beat the best (its comment says why).
-  auto bound = [&] {
-    return std::min(horizon - now, (bestTime - now) * (1 + 1e-9) + 8 * kEps * (std::fabs(bestTime) + std::fabs(now)) + 1e-300);
-  };
-  double within = bound();
+  // No impact later than this can beat the best (searchBound).
+  double within = searchBound(horizon, bestTime, now);
   const double radius = hb.radius;
   const uint32_t fixture = hb.fixture;
   const bool lastNow = cb.lastTime == now;
@@ -1491,7 +1488,7 @@ void Engine<W>::predictPlainAmong(uint32_t i, double now, const uint32_t* neighb
     impactV = v;
     impactPb = pb;
     impactVb = vb;
-    within = bound();
+    within = searchBound(horizon, bestTime, now);
   }
 
   const PredictiveEvent best = [&] {
