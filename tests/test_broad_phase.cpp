@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <random>
 #include <set>
@@ -103,11 +104,14 @@ PairSet collisionPairs(BroadPhase& bp, int& reportedTwice) {
   return out;
 }
 
-TEST(BroadPhase, PairsAndQueriesMatchBruteForceWhileBoxesMoveComeAndGoAndTheWorldGrows) {
+// Checks findPairs, mid-step queries and findSensorPairs against brute force over 40 steps of random
+// changes, with the pair cache on or off.
+void checkAgainstBruteForceWhileBoxesMoveComeAndGo(bool pairCache) {
   for (uint32_t seed = 1; seed <= 6; ++seed) {
     SCOPED_TRACE(seed);
     RandomBoxes random(seed);
     BroadPhase bp;
+    bp.setPairCache(pairCache);
     std::vector<Item> items;
     double extent = 40;
     for (uint32_t f = 0; f < 500; ++f) {
@@ -203,6 +207,127 @@ TEST(BroadPhase, PairsAndQueriesMatchBruteForceWhileBoxesMoveComeAndGoAndTheWorl
     // The checks were not vacuous.
     EXPECT_GT(checkedPairs, 2000u);
     EXPECT_GT(checkedQueries, 500u);
+  }
+}
+
+TEST(BroadPhase, PairsAndQueriesMatchBruteForceWhileBoxesMoveComeAndGoAndTheWorldGrows) {
+  checkAgainstBruteForceWhileBoxesMoveComeAndGo(false);
+}
+
+TEST(BroadPhase, WithThePairCacheTheSamePairsWhileBoxesMoveComeAndGoAndTheWorldGrows) {
+  // Every step removes and adds boxes here, so the cache is dropped and swept again each time.
+  checkAgainstBruteForceWhileBoxesMoveComeAndGo(true);
+}
+
+TEST(BroadPhase, PairCacheServesStepsOfSmallMovesWithTheSamePairsAndQueriesAsBruteForce) {
+  // A gas-like world: 2,000 small moving boxes drifting a little each step (most stay inside their
+  // reach), a few fast ones that leave it within a step or two, static walls across the world, sensors,
+  // filters, and mid-step growth with queries. Nothing is added or removed, so steps are served from the
+  // kept pairs, with the escaped boxes looked up on their own, until too many have escaped.
+  for (const double margin : {0.0, BroadPhase::kDefaultMargin, 1.0}) {
+    SCOPED_TRACE(margin);
+    RandomBoxes random(7);
+    BroadPhase bp;
+    bp.setPairCache(true);
+    bp.setMargin(margin);
+    std::vector<Item> items;
+    std::vector<Vec2> velocity;
+    const double extent = 60;
+    for (uint32_t f = 0; f < 2000; ++f) {
+      Item it;
+      it.present = true;
+      it.moving = random.below(10) != 0;
+      it.sensor = random.below(20) == 0;
+      if (random.below(5) == 0) {
+        it.category = 1u << random.below(3);
+        it.mask = random.below(2) == 0 ? ~0u : 1u << random.below(3);
+      }
+      const Vec2 c{random.uniform(0, extent), random.uniform(0, extent)};
+      const Vec2 half{random.uniform(0.4, 0.6), random.uniform(0.4, 0.6)};
+      it.box = {c - half, c + half};
+      items.push_back(it);
+      // Most drift at about 0.02 a step; one in 50 at 0.5 (a fast body).
+      const double speed = random.below(50) == 0 ? 0.5 : random.uniform(0, 0.04);
+      const double angle = random.uniform(0, 6.283185307179586);
+      velocity.push_back(it.moving ? Vec2{speed * std::cos(angle), speed * std::sin(angle)} : Vec2{});
+    }
+    for (const double y : {10.0, 30.0, 50.0}) {
+      Item wall;
+      wall.present = true;
+      wall.box = {{-1, y}, {extent + 1, y}};
+      items.push_back(wall);
+      velocity.push_back({});
+    }
+    for (uint32_t f = 0; f < items.size(); ++f) add(bp, f, items[f]);
+    int fromCache = 0;
+    size_t checkedPairs = 0, checkedQueries = 0, checkedAround = 0;
+    for (int step = 0; step < 60; ++step) {
+      SCOPED_TRACE(step);
+      for (uint32_t f = 0; f < items.size(); ++f) {
+        if (!items[f].moving) continue;
+        items[f].box = items[f].box.translated(velocity[f]);
+        bp.setBox(f, items[f].box);
+      }
+      int twice = 0;
+      const PairSet found = collisionPairs(bp, twice);
+      fromCache += bp.lastFromCache() ? 1 : 0;
+      EXPECT_EQ(twice, 0);
+      const PairSet expected = bruteCollisionPairs(items);
+      ASSERT_EQ(found, expected);
+      checkedPairs += expected.size();
+      for (uint32_t f = 0; f < items.size(); ++f) {
+        Item& it = items[f];
+        if (it.sensor || !it.moving || random.below(20) != 0) continue;
+        const double grow = random.uniform(0, 2);
+        it.box = {it.box.min - Vec2{grow * random.uniform(0, 1), grow * random.uniform(0, 1)},
+                  it.box.max + Vec2{grow * random.uniform(0, 1), grow * random.uniform(0, 1)}};
+        bp.grow(f, it.box);
+      }
+      // queryAround: a moving proxy's own (grown) box; every other proxy it overlaps whose filter bits
+      // meet the proxy's.
+      for (int q = 0; q < 40; ++q) {
+        const uint32_t f = random.below(2000);
+        if (items[f].sensor || !items[f].moving) continue;
+        std::vector<uint32_t> got;
+        bp.queryAround(f, [&](uint32_t g) {
+          if (g != f && filtersMeet(items[f], items[g])) got.push_back(g);
+        });
+        std::vector<uint32_t> want;
+        for (uint32_t g = 0; g < items.size(); ++g) {
+          if (g != f && !items[g].sensor && filtersMeet(items[f], items[g]) && items[g].box.overlaps(items[f].box)) {
+            want.push_back(g);
+          }
+        }
+        std::sort(got.begin(), got.end());
+        ASSERT_EQ(got, want) << "queryAround " << f;
+        checkedAround += want.size();
+      }
+      for (int q = 0; q < 40; ++q) {
+        const Vec2 c{random.uniform(0, extent), random.uniform(0, extent)};
+        const Vec2 half{random.uniform(0, 2), random.uniform(0, 2)};
+        const Box box{c - half, c + half};
+        std::vector<uint32_t> got;
+        bp.query(box, [&](uint32_t f) { got.push_back(f); });
+        std::vector<uint32_t> want;
+        for (uint32_t f = 0; f < items.size(); ++f) {
+          if (!items[f].sensor && items[f].box.overlaps(box)) want.push_back(f);
+        }
+        std::sort(got.begin(), got.end());
+        ASSERT_EQ(got, want);
+        checkedQueries += want.size();
+      }
+    }
+    EXPECT_GT(checkedPairs, 20000u);
+    EXPECT_GT(checkedQueries, 1000u);
+    EXPECT_GT(checkedAround, 1000u);
+    // With a margin many steps were served from the cache (26 of 60 at 0.2: the fast boxes, 1 in 50,
+    // escape within a step or two, and past 16 + pairs / 128 escapes the next step sweeps); with none,
+    // the drifting boxes leave their reach at once and nearly every step sweeps.
+    if (margin > 0) {
+      EXPECT_GT(fromCache, 20);
+    } else {
+      EXPECT_LT(fromCache, 10);
+    }
   }
 }
 

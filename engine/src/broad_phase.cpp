@@ -8,11 +8,16 @@ namespace rattle::detail {
 
 void BroadPhase::add(uint32_t fixture, const Box& box, bool moving, bool sensor, uint32_t category, uint32_t mask) {
   if (proxies_.size() <= fixture) proxies_.resize(fixture + 1);
+  if (reach_.size() < proxies_.size()) reach_.resize(proxies_.size());
+  if (!sensor) cacheValid_ = false;
   Proxy& p = proxies_[fixture];
+  if (p.escaped) {
+    escaped_.erase(std::find(escaped_.begin(), escaped_.end(), fixture));
+  }
   if (!p.present && p.listed) --removed_;  // removed and added again before a sort: listed once
   const bool listed = p.listed;
   if (listed && p.sensor != sensor) ++misfiled_;  // in the other list until the next sort moves it
-  p = Proxy{box, moving, true, true, sensor, category, mask, p.stamp, kNoTag};
+  p = Proxy{box, moving, true, true, sensor, false, category, mask, p.stamp, kNoTag};
   if (!listed) {
     if (sensor) {
       sensorOrder_.push_back(fixture);
@@ -28,6 +33,7 @@ void BroadPhase::remove(uint32_t fixture) {
   Proxy& p = proxies_[fixture];
   if (!p.present) return;
   p.present = false;
+  if (!p.sensor) cacheValid_ = false;
   ++removed_;
 }
 
@@ -135,21 +141,29 @@ void BroadPhase::sortByBand() {
   widthsScratch_.clear();
   size_t untilSample = 1;  // the first moving box is sampled, then every stride-th
   size_t moving = 0;
+  size_t crossed = 0;  // entries whose home band changed
+  // The margin from the typical height the last sweep sampled (none at the first, none without the cache).
+  const double margin = pairCache_ ? marginFraction_ * typicalHeight_ : 0;
+  margin_ = margin;
   for (size_t i = 0; i < n; ++i) {
     BandEntry& e = own_[i];
     const Proxy& p = proxies_[e.fixture];
-    e.box = p.box;
-    e.band = bandOf(p.box.min.y);
+    e.box = p.moving ? Box{p.box.min - Vec2{margin, margin}, p.box.max + Vec2{margin, margin}} : p.box;
+    reach_[e.fixture] = e.box;
+    const uint32_t band = bandOf(e.box.min.y);
+    e.crossed = band != e.band;
+    crossed += e.crossed ? 1 : 0;
+    e.band = band;
     e.category = p.category;
     e.mask = p.mask;
     e.moving = p.moving;
     e.tag = p.tag;
     if (i == 0) {
-      low = p.box.min.y;
-      high = p.box.max.y;
+      low = e.box.min.y;
+      high = e.box.max.y;
     }
-    low = std::min(low, p.box.min.y);
-    high = std::max(high, p.box.max.y);
+    low = std::min(low, e.box.min.y);
+    high = std::max(high, e.box.max.y);
     moving += p.moving ? 1 : 0;
     if (p.moving && --untilSample == 0) {
       untilSample = stride;
@@ -160,21 +174,68 @@ void BroadPhase::sortByBand() {
   movingCount_ = moving;
   // Typical: the lowest quarter of the moving boxes (static walls are left out, they can be long).
   const bool sampled = moving >= 64;
-  const double height = sampled ? 2 * lowestQuarter(heightsScratch_) : 0;
+  typicalHeight_ = sampled ? lowestQuarter(heightsScratch_) : 0;
+  const double height = sampled ? 2 * typicalHeight_ + 2 * margin : 0;
   wideThreshold_ = std::numeric_limits<double>::infinity();
   if (sampled) {
     const double w = lowestQuarter(widthsScratch_);
     if (w > 0) wideThreshold_ = 4 * w;
   }
-  auto fullSort = [this] {
-    std::sort(own_.begin(), own_.end(), [](const BandEntry& a, const BandEntry& b) {
-      if (a.band != b.band) return a.band < b.band;
-      return a.box.min.x < b.box.min.x || (a.box.min.x == b.box.min.x && a.fixture < b.fixture);
-    });
+  // The order of a full sort: total, ties by fixture index.
+  auto before = [](const BandEntry& a, const BandEntry& b) {
+    if (a.band != b.band) return a.band < b.band;
+    return a.box.min.x < b.box.min.x || (a.box.min.x == b.box.min.x && a.fixture < b.fixture);
   };
+  auto fullSort = [&] { std::sort(own_.begin(), own_.end(), before); };
   if (cutBands(low, high, height)) {
     for (BandEntry& e : own_) e.band = bandOf(e.box.min.y);
     fullSort();
+    return;
+  }
+  // An entry that changed band must move past about a band's worth of entries, so insertion sort costs
+  // about n / bands moves for each. When that would pass the budget below (a large world whose boxes
+  // drifted for several steps since the last sort), the entries that kept their band (nearly sorted)
+  // and those that changed it (few) are sorted apart and merged: the full sort's order, in O(n). Only
+  // with the pair cache on, whose callers do not depend on the order of the pairs: where the old path
+  // would have sorted within its budget, ties may come out in another order (island solves under
+  // gravity read pairs in sweep order, and the 2,000-disk pour test fails with this order).
+  if (pairCache_ && bandCount_ > 1 && crossed > 4 * static_cast<size_t>(bandCount_)) {
+    crossedScratch_.clear();
+    size_t kept = 0;
+    for (size_t i = 0; i < n; ++i) {
+      if (own_[i].crossed) {
+        crossedScratch_.push_back(own_[i]);
+      } else {
+        own_[kept++] = own_[i];
+      }
+    }
+    size_t budget = 8 * kept + 64;
+    for (size_t i = 1; i < kept; ++i) {
+      if (!before(own_[i], own_[i - 1])) continue;
+      const BandEntry e = own_[i];
+      size_t j = i;
+      while (j > 0 && before(e, own_[j - 1])) {
+        own_[j] = own_[j - 1];
+        --j;
+      }
+      own_[j] = e;
+      if (i - j > budget) {
+        for (const BandEntry& c : crossedScratch_) own_[kept++] = c;
+        fullSort();
+        return;
+      }
+      budget -= i - j;
+    }
+    std::sort(crossedScratch_.begin(), crossedScratch_.end(), before);
+    // Merged from the back, in place: the kept entries fill own_ from the front.
+    size_t i = kept, j = crossedScratch_.size(), k = n;
+    while (j > 0) {
+      if (i > 0 && before(crossedScratch_[j - 1], own_[i - 1])) {
+        own_[--k] = own_[--i];
+      } else {
+        own_[--k] = crossedScratch_[--j];
+      }
+    }
     return;
   }
   // Insertion sort: near-linear on the nearly sorted order left by the previous step. When the order is
@@ -199,6 +260,29 @@ void BroadPhase::sortByBand() {
     }
     budget -= i - j;
   }
+}
+
+void BroadPhase::sweepReaches() {
+  sortByBand();
+  splitIntoBands();
+  cachedPairs_.clear();
+  sweepBands([&](const BandEntry& a, const BandEntry& b) { cachedPairs_.push_back({a.fixture, b.fixture}); });
+  // The pairs by fixture (a counting sort), for queryAround.
+  partnerStart_.assign(proxies_.size() + 1, 0);
+  for (const CachedPair& c : cachedPairs_) {
+    ++partnerStart_[c.a + 1];
+    ++partnerStart_[c.b + 1];
+  }
+  for (size_t f = 0; f < proxies_.size(); ++f) partnerStart_[f + 1] += partnerStart_[f];
+  partners_.resize(2 * cachedPairs_.size());
+  for (const CachedPair& c : cachedPairs_) {
+    partners_[partnerStart_[c.a]++] = c.b;
+    partners_[partnerStart_[c.b]++] = c.a;
+  }
+  // The fill moved each start to the next fixture's: move them back.
+  for (size_t f = proxies_.size(); f > 0; --f) partnerStart_[f] = partnerStart_[f - 1];
+  partnerStart_[0] = 0;
+  cacheValid_ = true;
 }
 
 void BroadPhase::splitIntoBands() {
@@ -353,6 +437,7 @@ void BroadPhase::grow(uint32_t fixture, const Box& grown) {
   // lists stays where the sweep put it, with the box the sweep saw (a query may meet it twice: the stamp
   // reports it once). The box only grows, so only bands beyond those already listed are new.
   proxies_[fixture].box = grown;
+  noteReach(fixture, proxies_[fixture]);
   if (grownBands_.size() < bandCount_) grownBands_.resize(bandCount_);
   if (growth_.size() <= fixture) growth_.resize(proxies_.size());
   Growth& g = growth_[fixture];

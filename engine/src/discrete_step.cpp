@@ -86,6 +86,7 @@ void World::Impl::stepDiscrete(double dt) {
   };
   auto byIds = [](const Pair& x, const Pair& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; };
   std::vector<Pair> pairs;
+  broadPhase.setPairCache(false);  // its responses follow the sweep's order
   broadPhase.findPairs([&](uint32_t fa, uint32_t fb) {
     if (canCollide(fa, fb)) pairs.push_back({std::min(fa, fb), std::max(fa, fb)});
   });

@@ -3,7 +3,9 @@
 //  1. Every fixture of a moving body gets the box of its path over the step (a straight line, or a
 //     parabola under gravity); sleeping bodies count as resting.
 //  2. Sort-and-sweep turns overlapping boxes into candidate pairs (static-static and filtered pairs
-//     never get this far; sensors wait for step 6).
+//     never get this far; sensors wait for step 6). Without gravity the broad phase keeps the pairs of
+//     slightly widened boxes from step to step and sweeps again only when many boxes have left them
+//     (broad_phase.h, the pair cache): the same pairs, in another order.
 //  3. Each candidate pair gets its exact time of impact within the step; the predictions go into one
 //     queue ordered by time, kind and then ids.
 //  4. Events are resolved in time order. A prediction carries the collision counters its bodies had when
@@ -146,7 +148,7 @@ void World::Impl::repredict(uint32_t bodyIndex, double now, double dt, bool forc
     for (const auto& p : pairs) {
       if (p.own == f) stamp[p.other] = stampCounter;
     }
-    broadPhase.query(broadPhase.box(f), [&](uint32_t g) {
+    broadPhase.queryAround(f, [&](uint32_t g) {
       if (stamp[g] == stampCounter || !canCollide(f, g)) return;
       stamp[g] = stampCounter;
       ++stats.candidatePairs;
@@ -393,6 +395,9 @@ void World::Impl::stepHybrid(double dt) {
 
   // 2 and 3. Candidate pairs and their first predictions.
   deferred.clear();
+  // Without gravity nothing reads the pairs in the order the sweep found them (island solves do), so the
+  // broad phase may keep them from step to step.
+  broadPhase.setPairCache(def.gravity.x == 0 && def.gravity.y == 0);
   broadPhase.findPairs([&](uint32_t fa, uint32_t fb, uint32_t plainA, uint32_t plainB) {
     if (plainA != detail::BroadPhase::kNoTag && plainB != detail::BroadPhase::kNoTag) {
       predictPlainPair(fa, fb, plainA, plainB, dt);
