@@ -9,7 +9,7 @@ namespace rattle::detail {
 void BroadPhase::add(uint32_t fixture, const Box& box, bool moving, bool sensor, uint32_t category, uint32_t mask) {
   if (proxies_.size() <= fixture) proxies_.resize(fixture + 1);
   if (reach_.size() < proxies_.size()) reach_.resize(proxies_.size());
-  if (!sensor) cacheValid_ = false;
+  if (!sensor) noteChange();
   Proxy& p = proxies_[fixture];
   if (p.escaped) {
     escaped_.erase(std::find(escaped_.begin(), escaped_.end(), fixture));
@@ -33,7 +33,7 @@ void BroadPhase::remove(uint32_t fixture) {
   Proxy& p = proxies_[fixture];
   if (!p.present) return;
   p.present = false;
-  if (!p.sensor) cacheValid_ = false;
+  if (!p.sensor) noteChange();
   ++removed_;
 }
 
@@ -129,7 +129,7 @@ bool BroadPhase::cutBands(double low, double high, double height) {
   return true;
 }
 
-void BroadPhase::sortByBand() {
+void BroadPhase::sortByBand(double margin) {
   compact();
   // Read every proxy once, in the last sweep's order, with a sample of about 512 moving boxes (every
   // stride-th, which depends only on the data) for the typical height and width.
@@ -142,9 +142,6 @@ void BroadPhase::sortByBand() {
   size_t untilSample = 1;  // the first moving box is sampled, then every stride-th
   size_t moving = 0;
   size_t crossed = 0;  // entries whose home band changed
-  // The margin from the typical height the last sweep sampled (none at the first, none without the cache).
-  const double margin = pairCache_ ? marginFraction_ * typicalHeight_ : 0;
-  margin_ = margin;
   for (size_t i = 0; i < n; ++i) {
     BandEntry& e = own_[i];
     const Proxy& p = proxies_[e.fixture];
@@ -263,7 +260,8 @@ void BroadPhase::sortByBand() {
 }
 
 void BroadPhase::sweepReaches() {
-  sortByBand();
+  // The margin from the typical height the last sort sampled (none at the first).
+  sortByBand(marginFraction_ * typicalHeight_);
   splitIntoBands();
   cachedPairs_.clear();
   sweepBands([&](const BandEntry& a, const BandEntry& b) { cachedPairs_.push_back({a.fixture, b.fixture}); });

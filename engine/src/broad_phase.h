@@ -49,7 +49,7 @@ class BroadPhase {
   void setFilter(uint32_t fixture, uint32_t category, uint32_t mask) {
     proxies_[fixture].category = category;
     proxies_[fixture].mask = mask;
-    cacheValid_ = false;
+    noteChange();
   }
   /// Lazy: the proxy leaves the sorted order at the next sort.
   void remove(uint32_t fixture);
@@ -62,14 +62,14 @@ class BroadPhase {
   }
   void setMoving(uint32_t fixture, bool moving) {
     Proxy& p = proxies_[fixture];
-    if (p.moving != moving && !p.sensor) cacheValid_ = false;
+    if (p.moving != moving && !p.sensor) noteChange();
     p.moving = moving;
   }
   /// A tag that findPairs hands back with the proxy's pairs (the caller's; kept until set again;
   /// kNoTag unless set).
   void setTag(uint32_t fixture, uint32_t tag) {
     Proxy& p = proxies_[fixture];
-    if (p.tag != tag) cacheValid_ = false;
+    if (p.tag != tag) noteChange();
     p.tag = tag;
   }
   /// Whether findPairs may keep pairs from one step to the next (the pair cache, below; off unless set).
@@ -129,6 +129,12 @@ class BroadPhase {
     uint32_t stamp = 0;    // the last query that reported it
     uint32_t tag = kNoTag;
   };
+  /// Something the sweep decided by changed (a proxy added or removed, a filter, a moving flag, a tag):
+  /// the kept pairs are void.
+  void noteChange() {
+    cacheValid_ = false;
+    changed_ = true;
+  }
   /// Lists the proxy as escaped when its box has left the reach of the last sweep.
   void noteReach(uint32_t fixture, Proxy& p) {
     if (!cacheValid_ || p.escaped || reach_[fixture].contains(p.box)) return;
@@ -175,7 +181,8 @@ class BroadPhase {
   void compact();
   /// Reads every proxy into own_, cuts the bands again when they no longer fit (cutBands) and sorts own_
   /// by (home band, lower x edge).
-  void sortByBand();
+  /// `margin` widens every moving box (the pair cache's reach; 0 for a plain sweep).
+  void sortByBand(double margin);
   /// Chooses the bands for boxes spanning [low, high] whose typical height is `height` (0: unknown, one
   /// band); true when that is a new cut.
   bool cutBands(double low, double high, double height);
@@ -243,8 +250,10 @@ class BroadPhase {
   // overlapping reaches. While a later step's boxes stay inside their reaches, the pairs whose boxes
   // overlap are among those kept, and that step only filters them: no sort, no split, no sweep. A box
   // that leaves its reach (escaped) is looked up by query instead, and its kept pairs are passed over;
-  // when many have escaped, or anything the sweep decided by has changed (a proxy added or removed, a
-  // filter, a moving flag, a tag), the next step sweeps again. Either way findPairs reports the same pairs.
+  // when many have escaped, the next step sweeps the reaches again. When anything the sweep decided by has
+  // changed (a proxy added or removed, a filter, a moving flag, a tag), the next step sweeps plainly, and
+  // the reaches are swept at the first step after an unchanged one. Either way findPairs reports the same
+  // pairs.
   struct CachedPair {
     uint32_t a, b;
   };
@@ -259,7 +268,7 @@ class BroadPhase {
   bool cacheValid_ = false;
   bool lastFromCache_ = false;
   double marginFraction_ = kDefaultMargin;
-  double margin_ = 0;  // at the last sweep
+  bool changed_ = false;  // noteChange since the last findPairs
   double typicalHeight_ = 0;  // of the moving boxes, as the last sweep sampled it (lowest quarter)
 
   // The sensor sweep: both kinds in x order, swept in bands cut for the sensors.
@@ -288,10 +297,15 @@ void BroadPhase::findPairs(Report&& report) {
       report(a, b);
     }
   };
-  if (!pairCache_) {
+  // A world that changed since the last step (a game's shots come and go, its units stop and start) is
+  // likely to change again before kept pairs could serve: it is swept plainly, and the pairs are kept
+  // only from a step that follows an unchanged one.
+  const bool changed = changed_;
+  changed_ = false;
+  if (!pairCache_ || changed) {
     // Every step sorts and sweeps this step's boxes, and reports in the sweep's order.
     lastFromCache_ = false;
-    sortByBand();
+    sortByBand(0);
     splitIntoBands();
     sweepBands([&](const BandEntry& a, const BandEntry& b) {
       if constexpr (std::is_invocable_v<Report, uint32_t, uint32_t, uint32_t, uint32_t>) {
