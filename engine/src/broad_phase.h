@@ -129,6 +129,21 @@ class BroadPhase {
     uint32_t stamp = 0;    // the last query that reported it
     uint32_t tag = kNoTag;
   };
+  /// A new stamp for a query: a proxy is reported once per query, by the stamp it carries.
+  void startQuery() {
+    if (++queryStamp_ == 0) {
+      for (Proxy& p : proxies_) p.stamp = 0;
+      queryStamp_ = 1;
+    }
+  }
+  /// Reports proxy f to a query of box q, unless it does not overlap q or the query has reported it.
+  template <class Found>
+  void visitOnce(uint32_t f, const Box& q, Found& found) {
+    Proxy& p = proxies_[f];
+    if (p.stamp == queryStamp_ || !p.box.overlaps(q)) return;
+    p.stamp = queryStamp_;
+    found(f);
+  }
   /// Something the sweep decided by changed (a proxy added or removed, a filter, a moving flag, a tag):
   /// the kept pairs are void.
   void noteChange() {
@@ -496,16 +511,8 @@ void BroadPhase::findSensorPairs(Report&& report) {
 
 template <class Found>
 void BroadPhase::query(const Box& q, Found&& found) {
-  if (++queryStamp_ == 0) {
-    for (Proxy& p : proxies_) p.stamp = 0;
-    queryStamp_ = 1;
-  }
-  auto visit = [&](uint32_t f) {
-    Proxy& p = proxies_[f];
-    if (p.stamp == queryStamp_ || !p.box.overlaps(q)) return;
-    p.stamp = queryStamp_;
-    found(f);
-  };
+  startQuery();
+  auto visit = [&](uint32_t f) { visitOnce(f, q, found); };
   // The boxes that start within a list's reach before q and before q ends. An entry's box is the one the
   // sweep saw; a box grown since is in the band's grown list with its grown box, so an entry whose box
   // misses q is passed over without a look at its proxy.
@@ -554,16 +561,8 @@ void BroadPhase::queryAround(uint32_t fixture, Found&& found) {
     query(q, found);
     return;
   }
-  if (++queryStamp_ == 0) {
-    for (Proxy& x : proxies_) x.stamp = 0;
-    queryStamp_ = 1;
-  }
-  auto visit = [&](uint32_t f) {
-    Proxy& x = proxies_[f];
-    if (x.stamp == queryStamp_ || !x.box.overlaps(q)) return;
-    x.stamp = queryStamp_;
-    found(f);
-  };
+  startQuery();
+  auto visit = [&](uint32_t f) { visitOnce(f, q, found); };
   visit(fixture);
   for (uint32_t k = partnerStart_[fixture]; k < partnerStart_[fixture + 1]; ++k) visit(partners_[k]);
   const uint32_t last = bandOf(q.max.y);
