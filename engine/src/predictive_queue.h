@@ -1,0 +1,311 @@
+// The predictive step's queue of events: a calendar of buckets by time, a 4-ary heap for the current one
+// and an overflow array past the last; top() reads the buckets ahead in stages.
+// Part of the predictive step's Engine (predictive_engine.h); included only by predictive_step.cpp, whose
+// opening comment describes the mode as a whole.
+#pragma once
+
+#include "predictive_engine.h"
+
+namespace rattle {
+namespace {
+
+template <class W>
+void Engine<W>::resetQueue() {
+  const size_t n = s_.hot.size();
+  s_.heap.clear();
+  s_.queue.assign(n, PredictiveState::QueueSlot{});
+  s_.buckets.clearAll();
+  s_.overflow.clear();
+  s_.inBuckets = s_.inOverflow = 0;
+}
+
+template <class W>
+void Engine<W>::enqueue(uint32_t slot, double t, uint32_t partner) {
+  // Into the heap, a bucket or the overflow array, by its time's bucket (t and partner are
+  // event[slot]'s, passed along: the record was most often just written, and reading it back waits for
+  // its line).
+  const int64_t k = bucketOf(t);
+  if (k <= s_.current) {
+    s_.heap.push_back({t, slot, partner});
+    s_.queue[slot].heapPos = static_cast<int32_t>(s_.heap.size() - 1);
+    s_.queue[slot].where = PredictiveState::kInHeap;
+    siftUp(s_.heap.size() - 1);
+  } else if (k < s_.limit) {
+    s_.buckets.push(static_cast<size_t>(k & static_cast<int64_t>(s_.buckets.size() - 1)),
+                    {t, slot, ++s_.queue[slot].ticket});
+    s_.queue[slot].where = PredictiveState::kInBucket;
+    ++s_.inBuckets;
+  } else {
+    s_.overflow.push_back({t, slot, ++s_.queue[slot].ticket});
+    s_.queue[slot].where = PredictiveState::kInOverflow;
+    ++s_.inOverflow;
+  }
+}
+
+template <class W>
+void Engine<W>::dequeue(uint32_t slot) {
+  const int32_t where = s_.queue[slot].where;
+  if (where == PredictiveState::kNotQueued) return;
+  s_.queue[slot].where = PredictiveState::kNotQueued;
+  if (where == PredictiveState::kInHeap) {
+    const size_t k = static_cast<size_t>(s_.queue[slot].heapPos);
+    s_.queue[slot].heapPos = -1;
+    const detail::HeapNode last = s_.heap.back();
+    s_.heap.pop_back();
+    if (k == s_.heap.size()) return;
+    place(k, last);
+    if (k > 0 && before(last, s_.heap[(k - 1) / 4])) {
+      siftUp(k);
+    } else {
+      siftDown(k);
+    }
+    return;
+  }
+  ++s_.queue[slot].ticket;  // its entry is left behind, and dropped when read
+  --(where == PredictiveState::kInOverflow ? s_.inOverflow : s_.inBuckets);
+}
+
+template <class W>
+void Engine<W>::retune(double now, bool keepWidth) {
+  // A new calendar from `now`: buckets about as wide as the time in which ~32 events fall near now (the
+  // density read from the nearest sixteenth of the events, not just a few, which may all be due at once),
+  // and enough of them to reach well past most events. `keepWidth`: the buckets of the last calendar
+  // again, only laid from `now` (after the times were re-based): the queue is rebuilt without measuring
+  // the density (a calendar's cut changes how fast events are found, never their order).
+  if (keepWidth && !s_.buckets.empty()) {
+    s_.base = now;
+    s_.current = bucketOf(now);
+    s_.stepBucket = bucketOf(s_.stepEnd);
+    s_.limit = roundLimit();
+    resetQueue();
+    for (uint32_t k = 0; k < s_.hot.size(); ++k) {
+      if (s_.event[k].kind != PredictiveKind::None) enqueue(k);
+    }
+    return;
+  }
+  std::vector<double>& ahead = s_.scratchTimes;
+  ahead.clear();
+  const size_t n = s_.hot.size();
+  for (uint32_t k = 0; k < n; ++k) {
+    const PredictiveEvent& e = s_.event[k];
+    if (e.kind != PredictiveKind::None && e.time < kInf) ahead.push_back(std::max(e.time - now, 0.0));
+  }
+  double span = 0;
+  size_t count = 0;
+  if (!ahead.empty()) {
+    count = std::min<size_t>(ahead.size(), std::max<size_t>(256, ahead.size() / 16));
+    std::nth_element(ahead.begin(), ahead.begin() + static_cast<std::ptrdiff_t>(count - 1), ahead.end());
+    span = ahead[count - 1];
+    if (!(span > 0)) {
+      double sum = 0;
+      for (double t : ahead) sum += t;
+      span = sum / static_cast<double>(ahead.size());
+      count = ahead.size();
+    }
+  }
+  double width = span > 0 ? 8 * span / static_cast<double>(count) : 1.0;
+  if (!(width > 0) || !std::isfinite(width)) width = 1.0;
+  size_t buckets = 16;
+  while (buckets < ahead.size() / 8 && buckets < (size_t{1} << 22)) buckets *= 2;
+  s_.base = now;
+  s_.width = width;
+  s_.inverseWidth = 1 / width;
+  // Room in each bucket for twice the events it holds on average, stale entries included.
+  if (s_.buckets.size() != buckets) {
+    s_.buckets.reset(buckets, static_cast<uint32_t>(std::max<size_t>(8, 2 * (ahead.size() / buckets + 1))));
+  }
+  s_.current = bucketOf(now);
+  s_.stepBucket = bucketOf(s_.stepEnd);
+  s_.limit = roundLimit();
+  resetQueue();
+  for (uint32_t k = 0; k < n; ++k) {
+    if (s_.event[k].kind != PredictiveKind::None) enqueue(k);
+  }
+  s_.popsSinceRetune = 0;
+}
+
+template <class W>
+uint32_t Engine<W>::top() {
+  // The earliest event's slot, moving later buckets into the heap as it runs empty.
+  while (s_.heap.empty()) {
+    // Every event of the buckets up to the step's end has been taken: what is left is due after it.
+    if (s_.current >= s_.stepBucket) return PredictiveState::kNone;
+    if (s_.inBuckets == 0) {
+      if (s_.inOverflow == 0) return PredictiveState::kNone;
+      // Nothing left but the overflow: skip to its first bucket.
+      int64_t first = int64_t{1} << 62;
+      for (const auto& e : s_.overflow) {
+        if (s_.queue[e.slot].ticket == e.ticket) first = std::min(first, bucketOf(e.time));
+      }
+      if (first > s_.stepBucket) return PredictiveState::kNone;
+      s_.current = std::max(s_.current, first - 1);
+      s_.limit = s_.current + 1;
+    }
+    ++s_.current;
+    if (s_.current >= s_.limit && s_.inOverflow > scheduledCount() / 2 && s_.popsSinceRetune > s_.hot.size() / 4) {
+      // A new round of the buckets, and most events are still beyond it: the buckets are too narrow.
+      retune(s_.base + static_cast<double>(s_.current) * s_.width);
+      continue;
+    }
+    if (s_.current >= s_.limit) {
+      // A new round of the buckets: the overflow events now within reach move in.
+      s_.limit = roundLimit();
+      std::vector<PredictiveState::QueueEntry> waiting;
+      waiting.swap(s_.overflow);
+      s_.inOverflow = 0;
+      for (const auto& e : waiting) {
+        if (s_.queue[e.slot].ticket != e.ticket) continue;
+        s_.queue[e.slot].where = PredictiveState::kNotQueued;
+        enqueue(e.slot);
+      }
+      waiting.clear();
+      if (s_.overflow.empty()) waiting.swap(s_.overflow);  // keep the memory
+    }
+    const size_t mask = s_.buckets.size() - 1;
+    const size_t here = static_cast<size_t>(s_.current) & mask;
+    const auto bucket = s_.buckets[here];
+    // The buckets ahead are read a little at a time, so that by the time each moves into the heap what
+    // its events read is in cache: three buckets ahead its entries; two ahead the records that its
+    // events read first (tickets, event records, the bodies and their partners); one ahead what those
+    // records lead to (the cells around the bodies, what a collision reads). A bucket moved in because
+    // the heap ran empty hands over its earliest event at once, so this cannot wait until then.
+    // (Entries appended since are asked for below, as the bucket moves in.)
+    auto ahead = [&](int64_t d) {
+      return s_.current + d < s_.limit ? s_.buckets[static_cast<size_t>(s_.current + d) & mask]
+                                       : PredictiveState::Buckets::View{nullptr, nullptr};
+    };
+    {
+      const auto later = ahead(3);
+      const char* data = reinterpret_cast<const char*>(later.begin());
+      for (size_t b = 0; b < later.size() * sizeof(PredictiveState::QueueEntry); b += 64) __builtin_prefetch(data + b);
+    }
+    for (const auto& e : ahead(2)) {
+      __builtin_prefetch(&s_.queue[e.slot]);
+      __builtin_prefetch(&s_.event[e.slot]);
+      __builtin_prefetch(&s_.hot[e.slot]);
+    }
+    for (const auto& e : ahead(1)) {
+      __builtin_prefetch(&s_.cold[e.slot]);
+      prefetchNeighbourhood(e.slot);
+      const uint32_t partner = s_.event[e.slot].partner;  // (a stale entry's: a wasted prefetch)
+      if (partner != PredictiveState::kNone) {
+        __builtin_prefetch(&s_.hot[partner]);
+        __builtin_prefetch(&s_.cold[partner]);
+      }
+    }
+    for (const auto& e : bucket) __builtin_prefetch(&s_.queue[e.slot]);
+    for (const auto& e : bucket) {
+      if (s_.queue[e.slot].ticket != e.ticket) continue;
+      // Asked for already, unless appended since (or this is the calendar's first bucket).
+      __builtin_prefetch(&s_.cold[e.slot]);
+      prefetchNeighbourhood(e.slot);
+      const uint32_t partner = s_.event[e.slot].partner;
+      if (partner != PredictiveState::kNone) {
+        prefetchNeighbourhood(partner);
+        // A collision's contact event names the bodies.
+        __builtin_prefetch(&s_.bodyOfSlot[e.slot]);
+        __builtin_prefetch(&s_.bodyOfSlot[partner]);
+      }
+      --s_.inBuckets;
+      s_.queue[e.slot].heapPos = static_cast<int32_t>(s_.heap.size());
+      s_.heap.push_back({e.time, e.slot, partner});
+      s_.queue[e.slot].where = PredictiveState::kInHeap;
+    }
+    s_.buckets.clear(here);
+    for (size_t p = s_.heap.size() / 4 + 1; p-- > 0;) {
+      if (p < s_.heap.size()) siftDown(p);
+    }
+  }
+  return s_.heap.front().slot;
+}
+
+template <class W>
+void Engine<W>::siftUp(size_t k) {
+  detail::HeapNode* heap = s_.heap.data();
+  PredictiveState::QueueSlot* queue = s_.queue.data();
+  const detail::HeapNode node = heap[k];
+  while (k > 0) {
+    const size_t parent = (k - 1) / 4;
+    if (!before(node, heap[parent])) break;
+    heap[k] = heap[parent];
+    queue[heap[k].slot].heapPos = static_cast<int32_t>(k);
+    k = parent;
+  }
+  heap[k] = node;
+  queue[node.slot].heapPos = static_cast<int32_t>(k);
+}
+
+template <class W>
+void Engine<W>::siftDown(size_t k) {
+  detail::HeapNode* heap = s_.heap.data();
+  PredictiveState::QueueSlot* queue = s_.queue.data();
+  const size_t n = s_.heap.size();
+  const detail::HeapNode node = heap[k];
+  for (;;) {
+    const size_t first = 4 * k + 1;
+    if (first >= n) break;
+    size_t child = first;
+    if (first + 4 <= n) {
+      // Four children: the earliest by time without branches (which of four is earliest is what a
+      // branch predictor cannot guess), unless two of the times are equal, when before() decides.
+      const double t0 = heap[first].time, t1 = heap[first + 1].time, t2 = heap[first + 2].time,
+                   t3 = heap[first + 3].time;
+      const bool b01 = t1 < t0, b23 = t3 < t2;
+      const double m01 = b01 ? t1 : t0, m23 = b23 ? t3 : t2;
+      const size_t c01 = first + (b01 ? 1 : 0), c23 = first + (b23 ? 3 : 2);
+      const bool b = m23 < m01;
+      const double m = b ? m23 : m01;
+      child = b ? c23 : c01;
+      const int equal = (t0 == m) + (t1 == m) + (t2 == m) + (t3 == m);
+      if (equal > 1) {
+        child = first;
+        for (size_t c = first + 1; c < first + 4; ++c) {
+          if (before(heap[c], heap[child])) child = c;
+        }
+      }
+    } else {
+      for (size_t c = first + 1; c < n; ++c) {
+        if (before(heap[c], heap[child])) child = c;
+      }
+    }
+    if (!before(heap[child], node)) break;
+    heap[k] = heap[child];
+    queue[heap[k].slot].heapPos = static_cast<int32_t>(k);
+    k = child;
+  }
+  heap[k] = node;
+  queue[node.slot].heapPos = static_cast<int32_t>(k);
+}
+
+template <class W>
+void Engine<W>::schedule(uint32_t slot, const PredictiveEvent& e) {
+  if (!queueing_) {
+    s_.event[slot] = e;
+    return;
+  }
+  if (s_.queue[slot].where == PredictiveState::kInHeap && bucketOf(e.time) <= s_.current) {
+    // Stays in the heap: move it up or down.
+    s_.event[slot] = e;
+    const size_t k = static_cast<size_t>(s_.queue[slot].heapPos);
+    s_.heap[k].time = e.time;
+    s_.heap[k].partner = e.partner;
+    if (k > 0 && before(s_.heap[k], s_.heap[(k - 1) / 4])) {
+      siftUp(k);
+    } else {
+      siftDown(k);
+    }
+    return;
+  }
+  dequeue(slot);
+  s_.event[slot] = e;
+  enqueue(slot, e.time, e.partner);
+}
+
+template <class W>
+void Engine<W>::unschedule(uint32_t slot) {
+  if (queueing_) dequeue(slot);
+  s_.event[slot].kind = PredictiveKind::None;
+}
+
+}  // namespace
+}  // namespace rattle

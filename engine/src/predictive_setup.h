@@ -1,0 +1,640 @@
+// The predictive step's setup: the tracked bodies' hot and cold copies, brought up to date with the
+// world, and the cell grid they are linked into.
+// Part of the predictive step's Engine (predictive_engine.h); included only by predictive_step.cpp, whose
+// opening comment describes the mode as a whole.
+#pragma once
+
+#include "predictive_engine.h"
+
+namespace rattle {
+namespace {
+
+template <class W>
+void Engine<W>::normalize(double dt) {
+  // As at the start of a hybrid step: the Zeno guard's count starts again, a slide on a fixture that is
+  // gone ends, and an awake free dynamic body falls with gravity. The same pass gathers what
+  // computeConstants() needs from every body (one pass over the bodies instead of two; nothing in
+  // between changes a body's motion, type or sleep).
+  double speedScale = 0;
+  bool movingKinematic = false;
+  bool anyAsleep = false, anySliding = false;
+  for (BodySlot& b : w_.bodies) {
+    if (!b.alive) continue;
+    b.stepCollisions = 0;
+    if (b.support.generation != 0 &&
+        (!w_.fixtures[b.support.fixture].alive || w_.fixtures[b.support.fixture].generation != b.support.generation)) {
+      w_.stopSliding(b);
+    }
+    if (b.type == BodyType::Dynamic && !b.asleep && b.support.generation == 0) b.acceleration = w_.def.gravity;
+    if (b.type == BodyType::Dynamic) {
+      anyAsleep = anyAsleep || b.asleep;
+      anySliding = anySliding || b.support.generation != 0;
+    }
+    // As the hybrid step: approach speeds below 1e-13 of the fastest body's are round-off.
+    if (b.type == BodyType::Static || b.asleep) continue;
+    speedScale = std::max(speedScale, length(b.velocity) + length(b.acceleration) * dt);
+    if (b.type == BodyType::Kinematic && !(b.velocity == Vec2{}) && !b.fixtures.empty()) movingKinematic = true;
+  }
+  speedScale_ = speedScale;
+  movingKinematic_ = movingKinematic;
+  anyAsleep_ = anyAsleep;
+  anySliding_ = anySliding;
+}
+
+template <class W>
+void Engine<W>::rebase(double by) {
+  if (by == 0) return;
+  // The queue is out of order until the next retune().
+  for (PredictiveEvent& e : s_.event) {
+    if (e.kind != PredictiveKind::None) e.time -= by;
+  }
+  for (detail::HeapNode& n : s_.heap) n.time = s_.event[n.slot].time;
+  // The bodies' own times (localTime, last.time) were re-based at the end of the last step.
+}
+
+template <class W>
+void Engine<W>::computeConstants(double dt) {
+  const double speedScale = speedScale_;
+  const bool movingKinematic = movingKinematic_;
+  s_.approachTolerance = 1e-13 * speedScale;
+  s_.restTolerance = 8 * kEps / dt;
+  s_.movingKinematic = movingKinematic;
+  // Horizon of a prediction that no cell crossing bounds (a body at the far edge of the coordinates, or
+  // at rest next to a moving kinematic body): a few dozen cells at the fastest speed.
+  s_.capTime = speedScale > 0 ? 32 * s_.cellSize / speedScale : 1.0;
+  if (!(s_.capTime > 0) || !std::isfinite(s_.capTime)) s_.capTime = 1.0;
+}
+
+template <class W>
+void Engine<W>::sync(uint32_t slot) {
+  // The copy from the body, after anything changed it.
+  const BodySlot& b = w_.bodies[s_.bodyOfSlot[slot]];
+  HotBody& h = s_.hot[slot];
+  ColdBody& c = s_.cold[slot];
+  h.position = b.position;
+  h.velocity = b.velocity;
+  h.localTime = b.localTime;
+  h.collisionCount = b.collisionCount;
+  constexpr uint8_t keep =
+      HotBody::kSingle | HotBody::kOffCentre | HotBody::kCustomFilter | HotBody::kDismissals | HotBody::kStaticNear;
+  h.flags = static_cast<uint8_t>((h.flags & keep) | (b.acceleration == Vec2{} ? 0 : HotBody::kAccelerating) |
+                                 (b.support.generation != 0 ? HotBody::kSliding : 0));
+  s_.rare[slot].acceleration = b.acceleration;
+  c.lastTime = b.last.time;
+  c.lastLow = b.last.fixtureLow;
+  c.lastHigh = b.last.fixtureHigh;
+  c.lastFeature = b.last.feature;
+  c.inverseMass = b.inverseMass;
+  c.lastContactTime = b.lastContactTime;
+  if (w_.pathLog.active) w_.pathLog.record(s_.bodyOfSlot[slot], {b.localTime, b.position, b.velocity, b.acceleration});
+}
+
+template <class W>
+void Engine<W>::attach(uint32_t slot) {
+  // The copy back into the BodySlot, after collisions resolved on the copy (collidePlain): before
+  // anything reads the BodySlot, and at the step's end.
+  HotBody& h = s_.hot[slot];
+  if (!(h.flags & HotBody::kDetached)) return;
+  const ColdBody& c = s_.cold[slot];
+  BodySlot& b = w_.bodies[s_.bodyOfSlot[slot]];
+  b.position = h.position;
+  b.velocity = h.velocity;
+  b.localTime = h.localTime;
+  b.collisionCount = h.collisionCount;
+  b.last = detail::LastContact{c.lastLow, c.lastHigh, c.lastFeature, c.lastTime};
+  b.lastContactTime = c.lastContactTime;
+  h.flags = static_cast<uint8_t>(h.flags & ~HotBody::kDetached);
+}
+
+template <class W>
+void Engine<W>::buildGrid() {
+  const size_t nb = w_.bodies.size();
+  s_.slotOfBody.assign(nb, PredictiveState::kNone);
+  s_.bodyOfSlot.clear();
+  s_.hot.clear();
+  s_.cold.clear();
+  s_.rare.clear();
+  s_.centres.clear();
+  s_.untracked.clear();
+  s_.plainShapes = true;
+  s_.bodyOfSlot.reserve(nb);
+  s_.hot.reserve(nb);
+  s_.cold.reserve(nb);
+  s_.rare.reserve(nb);
+
+  // Tracked bodies: dynamic ones with a physical fixture.
+  double diameter = 0;
+  double minX = kInf, minY = kInf, maxX = -kInf, maxY = -kInf;
+  for (uint32_t body = 0; body < nb; ++body) {
+    BodySlot& b = w_.bodies[body];
+    if (!b.alive) continue;
+    b.last = detail::LastContact{};
+    if (b.type == BodyType::Kinematic) s_.untracked.push_back(body);
+    if (b.type != BodyType::Dynamic) continue;
+    int physical = 0;
+    HotBody h;
+    ColdBody c;
+    detail::RareBody r;
+    for (uint32_t f : b.fixtures) {
+      const detail::FixtureSlot& fs = w_.fixtures[f];
+      if (fs.sensor) continue;
+      if (physical == 0) {
+        h.fixture = f;
+        r.centre = detail::circleCentre(fs.geometry);
+        r.categoryBits = fs.filter.categoryBits;
+        r.maskBits = fs.filter.maskBits;
+        r.group = fs.filter.group;
+        h.radius = detail::circleRadius(fs.geometry);
+        c.restitution = fs.restitution;
+        c.bodyGeneration = b.generation;
+        c.fixtureGeneration = fs.generation;
+        if (std::holds_alternative<Circle>(fs.geometry)) h.flags |= HotBody::kSingle;
+        if (!(r.centre == Vec2{})) h.flags |= HotBody::kOffCentre;
+        if (r.categoryBits != Filter{}.categoryBits || r.maskBits != Filter{}.maskBits || r.group != 0) {
+          h.flags |= HotBody::kCustomFilter;
+        }
+      }
+      ++physical;
+      diameter = std::max(diameter, 2 * detail::circleRadius(fs.geometry));
+    }
+    if (physical == 0) {
+      s_.untracked.push_back(body);
+      continue;
+    }
+    if (physical > 1) h.flags = static_cast<uint8_t>(h.flags & ~HotBody::kSingle);
+    s_.slotOfBody[body] = static_cast<uint32_t>(s_.hot.size());
+    s_.bodyOfSlot.push_back(body);
+    s_.hot.push_back(h);
+    s_.cold.push_back(c);
+    s_.rare.push_back(r);
+    constexpr uint8_t shape = HotBody::kSingle | HotBody::kOffCentre | HotBody::kCustomFilter;
+    if ((h.flags & shape) != HotBody::kSingle) s_.plainShapes = false;
+    const Vec2 centre = b.position + r.centre;
+    s_.centres.push_back(centre);
+    minX = std::min(minX, centre.x);
+    minY = std::min(minY, centre.y);
+    maxX = std::max(maxX, centre.x);
+    maxY = std::max(maxY, centre.y);
+  }
+  const size_t n = s_.hot.size();
+  for (uint32_t slot = 0; slot < n; ++slot) sync(slot);
+
+  // Cell size: the largest diameter, with a margin for round-off in cell crossings. The table: about
+  // the bodies' region, at most a few entries per body.
+  double size = 1;
+  s_.x0 = s_.y0 = 0;
+  uint32_t foldX = 4, foldY = 4;
+  if (n > 0 && std::isfinite(maxX - minX) && std::isfinite(maxY - minY)) {
+    const double width = maxX - minX, height = maxY - minY;
+    const double extent = std::max({std::fabs(minX), std::fabs(maxX), std::fabs(minY), std::fabs(maxY)});
+    size = diameter * (1 + 1e-6) + 256 * kEps * extent;
+    if (!(size > 0)) size = std::max(width, height) / std::sqrt(static_cast<double>(n));
+    if (!(size > 0) || !std::isfinite(size)) size = 1;
+    s_.x0 = minX;
+    s_.y0 = minY;
+    size = sparseCellSize(size, std::max(sceneExtent(), diameter));
+    const double cap = static_cast<double>(std::max<size_t>(8 * n, 1024));
+    while (foldX < width / size + 3 && foldX < cap) foldX *= 2;
+    while (foldY < height / size + 3 && foldY < cap) foldY *= 2;
+    while (static_cast<double>(foldX) * foldY > cap) {
+      if (foldX >= foldY) {
+        foldX /= 2;
+      } else {
+        foldY /= 2;
+      }
+    }
+    foldX = std::max(foldX, 4u);
+    foldY = std::max(foldY, 4u);
+  }
+  s_.cellSize = size;
+  // A body leaves its cell only once it is this far past the side: without it, a body resting exactly on a
+  // side could cross back and forth at one instant forever. Touching bodies still sit in neighbouring
+  // cells: two cells apart their centres are >= size - 2 hysteresis > diameter apart; and a static
+  // fixture within a disk's reach of its centre is within hysteresis + diameter / 2 < size / 2 of its
+  // cell, so it is listed there.
+  s_.hysteresis = 0.25 * (size - diameter);
+  s_.extent = 0;
+  for (const Vec2 c : s_.centres) s_.extent = std::max({s_.extent, std::fabs(c.x), std::fabs(c.y)});
+  s_.foldX = foldX;
+  s_.foldY = foldY;
+  const size_t cells = static_cast<size_t>(foldX) * foldY;
+  s_.heads.assign(cells, -1);
+  s_.staticBegin.assign(cells + 1, 0);
+  s_.staticNear.assign((cells + 63) / 64, 0);
+  s_.links.assign(n, PredictiveState::CellLink{});
+  s_.event.assign(n, PredictiveEvent{});
+  resetQueue();
+  s_.dismissed.clear();  // made as long as the slots when first needed: most worlds never dismiss
+  s_.dismissedSlots.clear();
+  for (uint32_t slot = 0; slot < n; ++slot) {
+    placeInCell(slot, centreOf(slot, s_.hot[slot].localTime));
+    link(slot);
+  }
+  reorder(/*fresh=*/true);
+
+  // Static fixtures: in every cell whose region, grown by half a cell (the reach of any dynamic body
+  // whose centre is in it), the fixture overlaps.
+  std::vector<std::pair<uint32_t, uint32_t>> entries;  // (cell, fixture)
+  s_.kinematicFixtures.clear();
+  const double reach = 0.5 * size;
+  for (uint32_t body = 0; body < nb; ++body) {
+    const BodySlot& b = w_.bodies[body];
+    if (!b.alive || b.type == BodyType::Dynamic) continue;
+    for (uint32_t f : b.fixtures) {
+      const detail::FixtureSlot& fs = w_.fixtures[f];
+      if (fs.sensor) continue;
+      if (b.type == BodyType::Kinematic) {
+        s_.kinematicFixtures.push_back(f);
+        continue;
+      }
+      const Box box = w_.worldBox(f);
+      const Box grown{{box.min.x - reach, box.min.y - reach}, {box.max.x + reach, box.max.y + reach}};
+      const int32_t ax = cellCoord(grown.min.x, s_.x0, size), bx = cellCoord(grown.max.x, s_.x0, size);
+      const int32_t ay = cellCoord(grown.min.y, s_.y0, size), by = cellCoord(grown.max.y, s_.y0, size);
+      const int64_t countX = int64_t{bx} - ax + 1, countY = int64_t{by} - ay + 1;
+      if (countX * countY <= 4 * static_cast<int64_t>(cells) + 64) {
+        for (int32_t y = ay; y <= by; ++y) {
+          for (int32_t x = ax; x <= bx; ++x) {
+            // The cell's region grown by `reach`; cells reaching to infinity cut at the fixture's box.
+            Box region;
+            region.min.x = x == -kMaxCoord ? grown.min.x : s_.x0 + x * size - reach;
+            region.max.x = x == kMaxCoord ? grown.max.x : s_.x0 + (x + 1.0) * size + reach;
+            region.min.y = y == -kMaxCoord ? grown.min.y : s_.y0 + y * size - reach;
+            region.max.y = y == kMaxCoord ? grown.max.y : s_.y0 + (y + 1.0) * size + reach;
+            if (overlapsBox(fs.geometry, b.position, region)) entries.emplace_back(folded(x, y), f);
+          }
+        }
+      } else {
+        // Huge: every table entry its box folds onto, without looking closer.
+        const int64_t fx = std::min<int64_t>(countX, s_.foldX), fy = std::min<int64_t>(countY, s_.foldY);
+        for (int64_t y = 0; y < fy; ++y) {
+          for (int64_t x = 0; x < fx; ++x) {
+            entries.emplace_back(folded(static_cast<int32_t>(ax + x), static_cast<int32_t>(ay + y)), f);
+          }
+        }
+      }
+    }
+  }
+  std::sort(entries.begin(), entries.end());
+  entries.erase(std::unique(entries.begin(), entries.end()), entries.end());
+  for (const auto& e : entries) ++s_.staticBegin[e.first + 1];
+  for (size_t c = 0; c < cells; ++c) s_.staticBegin[c + 1] += s_.staticBegin[c];
+  s_.staticList.assign(entries.size(), 0);
+  {
+    std::vector<uint32_t> fill(cells);
+    for (size_t c = 0; c < cells; ++c) fill[c] = s_.staticBegin[c];
+    for (const auto& e : entries) s_.staticList[fill[e.first]++] = e.second;
+  }
+  s_.staticNear.assign((cells + 63) / 64, 0);
+  for (size_t c = 0; c < cells; ++c) {
+    if (s_.staticBegin[c] != s_.staticBegin[c + 1]) s_.staticNear[c >> 6] |= uint64_t{1} << (c & 63);
+  }
+  for (uint32_t slot = 0; slot < n; ++slot) setCell(slot);
+  s_.valid = true;
+}
+
+// Sorts by radix, 16 bits at a time from the lowest (LSD), skipping digits all keys share: O(n), where
+// std::sort of 10^5 keys took longer than the rest of the grid's set-up.
+void sortKeys(std::vector<uint64_t>& keys) {
+  const size_t n = keys.size();
+  std::vector<uint64_t> other(n);
+  std::vector<uint32_t> count(size_t{1} << 16);
+  for (int shift = 0; shift < 64; shift += 16) {
+    std::fill(count.begin(), count.end(), 0u);
+    for (uint64_t k : keys) ++count[(k >> shift) & 0xFFFF];
+    if (n == 0 || count[(keys[0] >> shift) & 0xFFFF] == n) continue;
+    uint32_t sum = 0;
+    for (uint32_t& c : count) {
+      const uint32_t here = c;
+      c = sum;
+      sum += here;
+    }
+    for (uint64_t k : keys) other[count[(k >> shift) & 0xFFFF]++] = k;
+    keys.swap(other);
+  }
+}
+
+template <class W>
+double Engine<W>::sceneExtent() const {
+  // The size of the box around every tracked body's centre and every static and kinematic fixture.
+  Box box{{kInf, kInf}, {-kInf, -kInf}};
+  for (const Vec2 c : s_.centres) box = unionOf(box, Box{c, c});
+  for (const BodySlot& b : w_.bodies) {
+    if (!b.alive || b.type == BodyType::Dynamic) continue;
+    for (uint32_t f : b.fixtures) {
+      if (!w_.fixtures[f].sensor) box = unionOf(box, w_.fixtures[f].localBox.translated(b.position));
+    }
+  }
+  const double extent = std::max(box.max.x - box.min.x, box.max.y - box.min.y);
+  return std::isfinite(extent) ? extent : 0.0;
+}
+
+template <class W>
+double Engine<W>::meanNeighbours(double size) const {
+  // How many other bodies the 3 x 3 cells around a body hold, on average, with cells of this size.
+  const size_t n = s_.hot.size();
+  if (n == 0) return 0.0;
+  {
+    // Where the bodies' cells fit a table of a few entries per body (a gas, a pile): counted in it, in
+    // O(n + cells). The sum is of whole numbers below 2^53, so the same value in any order as below.
+    // Cells are >= 0 here (the origin is the bodies' lowest corner); one cell of border on each side.
+    auto cellOfCentre = [&](uint32_t slot, int64_t& x, int64_t& y) {
+      const Vec2 c = s_.centres[slot];
+      x = cellCoord(c.x, s_.x0, size) + int64_t{1};
+      y = cellCoord(c.y, s_.y0, size) + int64_t{1};
+    };
+    int64_t maxX = 0, maxY = 0;
+    bool fits = true;
+    for (uint32_t slot = 0; slot < n && fits; ++slot) {
+      int64_t x, y;
+      cellOfCentre(slot, x, y);
+      fits = x >= 1 && y >= 1 && x <= int64_t{1} << 20 && y <= int64_t{1} << 20;
+      maxX = std::max(maxX, x);
+      maxY = std::max(maxY, y);
+    }
+    const int64_t width = maxX + 2, height = maxY + 2;
+    if (fits && width * height <= 8 * static_cast<int64_t>(n) + 1024) {
+      std::vector<uint32_t>& count = s_.cellCounts;
+      count.assign(static_cast<size_t>(width * height), 0);
+      auto entry = [&](uint32_t slot) {
+        int64_t x, y;
+        cellOfCentre(slot, x, y);
+        return static_cast<size_t>(y * width + x);
+      };
+      for (uint32_t k = 0; k < n; ++k) ++count[entry(k)];
+      double total = 0;
+      for (uint32_t k = 0; k < n; ++k) {
+        const size_t at = entry(k);
+        const size_t w = static_cast<size_t>(width);
+        const uint32_t around = count[at - w - 1] + count[at - w] + count[at - w + 1] + count[at - 1] + count[at] +
+                                count[at + 1] + count[at + w - 1] + count[at + w] + count[at + w + 1];
+        total += static_cast<double>(around - 1);
+      }
+      return total / static_cast<double>(n);
+    }
+  }
+  std::vector<uint64_t> keys(n);
+  auto key = [](int64_t x, int64_t y) { return (static_cast<uint64_t>(x) << 32) | static_cast<uint32_t>(y); };
+  for (uint32_t slot = 0; slot < n; ++slot) {
+    const Vec2 c = s_.centres[slot];
+    keys[slot] = key(cellCoord(c.x, s_.x0, size) + int64_t{kMaxCoord} + 1, cellCoord(c.y, s_.y0, size) + 1);
+  }
+  sortKeys(keys);
+  // Cells are visited in key order, so each of the nine neighbouring keys (x + dx, y + dy) only grows:
+  // nine cursors that only move forward find every neighbouring cell's run of keys in O(n) in all. Cell
+  // coordinates here are >= 0 (the origin is the bodies' lowest corner), so y + dy never wraps the key.
+  struct Cursor {
+    size_t begin = 0, end = 0;
+  };
+  Cursor cursors[9];
+  double total = 0;
+  for (size_t k = 0; k < n;) {
+    size_t end = k;
+    while (end < n && keys[end] == keys[k]) ++end;
+    const int64_t x = static_cast<int64_t>(keys[k] >> 32), y = static_cast<int64_t>(keys[k] & 0xFFFFFFFFu);
+    size_t around = 0;
+    Cursor* cursor = cursors;
+    for (int64_t dx = -1; dx <= 1; ++dx) {
+      for (int64_t dy = -1; dy <= 1; ++dy, ++cursor) {
+        const uint64_t q = key(x + dx, y + dy);
+        while (cursor->begin < n && keys[cursor->begin] < q) ++cursor->begin;
+        if (cursor->end < cursor->begin) cursor->end = cursor->begin;
+        while (cursor->end < n && keys[cursor->end] <= q) ++cursor->end;
+        around += cursor->end - cursor->begin;
+      }
+    }
+    total += static_cast<double>(end - k) * static_cast<double>(around - 1);
+    k = end;
+  }
+  return n > 0 ? total / static_cast<double>(n) : 0.0;
+}
+
+template <class W>
+double Engine<W>::sparseCellSize(double size, double limit) const {
+  // Cells of one diameter suit a dense gas. Where bodies are sparse, a body crossing cells of that size
+  // would do little else (a fast body in an empty arena crosses millions): cells grow, doubling, while a
+  // body still has few neighbours (each crossing costs about as much as a handful of pair tests), up to
+  // the size of the whole scene.
+  for (int k = 0; k < 64 && 2 * size <= 2 * limit; ++k) {
+    if (meanNeighbours(2 * size) > 6) break;
+    size *= 2;
+  }
+  return size;
+}
+
+template <class W>
+void Engine<W>::reorder(bool fresh) {
+  // Slots in cell order, so that neighbours sit close in memory. The cells are taken along a Z-order
+  // (Morton) curve over the table rather than row by row: a 3 x 3 block of cells, which every prediction
+  // reads, then lies in a few short runs of slots instead of three runs a whole row apart. Only where
+  // things are stored changes: no prediction, time or order of events does.
+  const size_t n = s_.hot.size();
+  auto& order = s_.order;  // order[new slot] = old slot
+  order.clear();
+  auto gather = [](uint64_t v) {  // the even bits of v, packed (a Z-order index to one coordinate)
+    v &= 0x5555555555555555ull;
+    v = (v | (v >> 1)) & 0x3333333333333333ull;
+    v = (v | (v >> 2)) & 0x0F0F0F0F0F0F0F0Full;
+    v = (v | (v >> 4)) & 0x00FF00FF00FF00FFull;
+    v = (v | (v >> 8)) & 0x0000FFFF0000FFFFull;
+    v = (v | (v >> 16)) & 0x00000000FFFFFFFFull;
+    return v;
+  };
+  // The table (powers of two on each side) as square tiles, row by row, each along the curve.
+  const uint64_t side = std::min(s_.foldX, s_.foldY);
+  for (uint64_t ty = 0; ty < s_.foldY; ty += side) {
+    for (uint64_t tx = 0; tx < s_.foldX; tx += side) {
+      for (uint64_t z = 0; z < side * side; ++z) {
+        const uint64_t x = tx + gather(z), y = ty + gather(z >> 1);
+        for (int32_t k = headSlot(s_.heads[folded(static_cast<int32_t>(x), static_cast<int32_t>(y))]); k >= 0;
+             k = s_.links[k].next) {
+          order.push_back(static_cast<uint32_t>(k));
+        }
+      }
+    }
+  }
+  std::vector<uint32_t> newSlot(n);
+  for (uint32_t k = 0; k < n; ++k) newSlot[order[k]] = k;
+  // In place, along the permutation's cycles: no second copy of the arrays (tens of megabytes at 10^6
+  // bodies, to be faulted in before it is any use).
+  auto& done = s_.permuted;
+  // Several arrays at once, along one walk of the cycles (their records at one index are fetched side
+  // by side, and the walk is made once).
+  auto permute = [&](auto&... v) {
+    done.assign(n, 0);
+    for (size_t start = 0; start < n; ++start) {
+      if (done[start]) continue;
+      auto held = std::make_tuple(std::move(v[start])...);
+      for (size_t k = start;;) {
+        done[k] = 1;
+        const size_t from = order[k];
+        if (from == start) {
+          std::apply([&](auto&... h) { ((v[k] = std::move(h)), ...); }, held);
+          break;
+        }
+        ((v[k] = std::move(v[from])), ...);
+        k = from;
+      }
+    }
+  };
+  if (fresh) {
+    // (Fresh from buildGrid: no events and no dismissals yet, nothing to carry over.)
+    permute(s_.hot, s_.cold, s_.rare, s_.bodyOfSlot);
+  } else {
+    permute(s_.hot, s_.cold, s_.rare, s_.bodyOfSlot, s_.event);
+  }
+  for (uint32_t k = 0; k < n; ++k) s_.slotOfBody[s_.bodyOfSlot[k]] = k;
+  if (!fresh) {
+    if (!s_.dismissed.empty()) permute(s_.dismissed);
+    for (PredictiveEvent& e : s_.event) {
+      if (e.partner != PredictiveState::kNone) e.partner = newSlot[e.partner];
+    }
+    for (uint32_t& slot : s_.dismissedSlots) slot = newSlot[slot];
+    // The queue again, with the same calendar.
+    resetQueue();
+    for (uint32_t k = 0; k < n; ++k) {
+      if (s_.event[k].kind != PredictiveKind::None) enqueue(k);
+    }
+  }
+  std::fill(s_.heads.begin(), s_.heads.end(), -1);
+  s_.links.resize(n);
+  for (uint32_t k = static_cast<uint32_t>(n); k-- > 0;) link(k);
+  s_.popsSinceReorder = 0;
+}
+
+template <class W>
+void Engine<W>::link(uint32_t slot) {
+  const size_t cell = cellOf(slot);
+  const int32_t head = headSlot(s_.heads[cell]);
+  s_.links[slot] = {head, -1};
+  if (head >= 0) s_.links[head].prev = static_cast<int32_t>(slot);
+  s_.heads[cell] = headEntry(static_cast<int32_t>(slot), head >= 0);
+}
+
+template <class W>
+void Engine<W>::unlink(uint32_t slot) {
+  const auto [n, p] = s_.links[slot];
+  if (p >= 0) {
+    s_.links[p].next = n;
+    if (n < 0 && s_.links[p].prev < 0) s_.heads[cellOf(slot)] = headEntry(p, false);  // p is left alone
+  } else {
+    s_.heads[cellOf(slot)] = headEntry(n, n >= 0 && s_.links[n].next >= 0);
+  }
+  if (n >= 0) s_.links[n].prev = p;
+  s_.links[slot] = {};
+}
+
+template <class W>
+template <class Visit>
+void Engine<W>::forEachNeighbour(uint32_t slot, Visit&& visit) const {
+  // The other bodies in the 3 x 3 cells around it (gatherNeighbours()).
+  std::vector<uint32_t>& found = s_.visiting;
+  gatherNeighbours(slot, found);
+  for (uint32_t j : found) visit(j);
+}
+
+template <class W>
+template <class Visit>
+void Engine<W>::forEachPhysical(uint32_t slot, Visit&& visit) const {
+  if (s_.hot[slot].flags & HotBody::kSingle) {
+    visit(s_.hot[slot].fixture);
+    return;
+  }
+  for (uint32_t f : w_.bodies[s_.bodyOfSlot[slot]].fixtures) {
+    if (!w_.fixtures[f].sensor) visit(f);
+  }
+}
+
+template <class W>
+size_t Engine<W>::gatherNeighbours(uint32_t slot, uint32_t* out, size_t capacity) const {
+  // The other bodies in the 3 x 3 cells around it (distinct table entries, since the table is at least
+  // 4 x 4), into out[0, capacity), in no particular order (a plain prediction's result does not depend
+  // on it: events are totally ordered); returns how many there are, which may be more than were
+  // written. The cell's coordinates come folded from the HotBody (the same entries: the fold is a
+  // remainder by a power of two). Every neighbour's record is asked for as its slot is found (a
+  // prefetch): they are most often cache misses, and are then fetched side by side before the pair
+  // tests read them, instead of one after each test. First the nine heads (capacity >= 9, as every
+  // caller's is), then the rest of the lists (in `links`) of the cells whose head says more follow.
+  uint32_t x, y;
+  unfold(s_.hot[slot].cell, x, y);
+  const uint32_t columns[3] = {columnPart(x - 1), columnPart(x), columnPart(x + 1)};
+  const uint32_t rows[3] = {rowPart(y - 1), rowPart(y), rowPart(y + 1)};
+  const int32_t* heads = s_.heads.data();
+  const HotBody* hot = s_.hot.data();
+  // Whether a cell is empty is a coin toss in a gas (about half are), which a branch predictor loses
+  // half the time: the heads are taken without a branch.
+  size_t count = 0;
+  uint32_t crowded = 0;  // bit k: cell k of the nine holds more than its head
+  int32_t entries[9];
+  auto take = [&](uint32_t k, int32_t entry) {
+    entries[k] = entry;
+    const bool found = entry >= 0;
+    const uint32_t j = static_cast<uint32_t>(entry) >> 1;
+    __builtin_prefetch(hot + (j & (0u - static_cast<uint32_t>(found))));  // (an empty cell: slot 0)
+    out[count] = j;
+    count += found & (j != slot);
+    crowded |= static_cast<uint32_t>(found & (entry & 1)) << k;
+  };
+  // (Written out: a loop over the nine is not unrolled, and costs twice the instructions.)
+  take(0, heads[rows[0] + columns[0]]);
+  take(1, heads[rows[0] + columns[1]]);
+  take(2, heads[rows[0] + columns[2]]);
+  take(3, heads[rows[1] + columns[0]]);
+  take(4, heads[rows[1] + columns[1]]);
+  take(5, heads[rows[1] + columns[2]]);
+  take(6, heads[rows[2] + columns[0]]);
+  take(7, heads[rows[2] + columns[1]]);
+  take(8, heads[rows[2] + columns[2]]);
+  const PredictiveState::CellLink* links = s_.links.data();
+  for (; crowded != 0; crowded &= crowded - 1) {
+    const int32_t entry = entries[__builtin_ctz(crowded)];
+    for (int32_t j = links[headSlot(entry)].next; j >= 0; j = links[j].next) {
+      __builtin_prefetch(hot + j);
+      if (static_cast<uint32_t>(j) == slot) continue;
+      if (count < capacity) out[count] = static_cast<uint32_t>(j);
+      ++count;
+    }
+  }
+  return count;
+}
+
+template <class W>
+void Engine<W>::gatherNeighbours(uint32_t slot, std::vector<uint32_t>& out) const {
+  // The same bodies in the order of the cells, row by row, and of their lists: the general path's order
+  // (the resting rules keep the first supports found, World::Impl::supportsAt).
+  out.clear();
+  uint32_t x, y;
+  unfold(s_.hot[slot].cell, x, y);
+  const uint32_t columns[3] = {columnPart(x - 1), columnPart(x), columnPart(x + 1)};
+  const HotBody* hot = s_.hot.data();
+  const PredictiveState::CellLink* links = s_.links.data();
+  for (uint32_t dy = 0; dy < 3; ++dy) {
+    const int32_t* row = s_.heads.data() + rowPart(y + dy - 1);
+    for (uint32_t column : columns) {
+      const int32_t entry = row[column];
+      if (entry < 0) continue;
+      int32_t j = headSlot(entry);
+      __builtin_prefetch(hot + j);
+      if (static_cast<uint32_t>(j) != slot) out.push_back(static_cast<uint32_t>(j));
+      if (!(entry & 1)) continue;  // alone in its cell: no look at `links`
+      for (j = links[j].next; j >= 0; j = links[j].next) {
+        __builtin_prefetch(hot + j);
+        if (static_cast<uint32_t>(j) != slot) out.push_back(static_cast<uint32_t>(j));
+      }
+    }
+  }
+}
+
+template <class W>
+bool Engine<W>::isDismissed(uint32_t slot, uint32_t own, uint32_t other) const {
+  const uint32_t countOwn = s_.hot[slot].collisionCount;
+  for (const detail::Dismissal& d : s_.dismissed[slot]) {
+    if (d.own == own && d.other == other && d.countOwn == countOwn && d.countOther == countOf(other)) {
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+}  // namespace rattle
