@@ -104,6 +104,28 @@ double lowestQuarter(std::vector<double>& v) {
   return *quarter;
 }
 
+// Insertion sort of a[0, n) by `less`: near-linear on the nearly sorted order left by the previous step,
+// ties kept in their previous order. Far from sorted (many new proxies, a teleport) it would go quadratic,
+// so past a budget of 8n + 64 moves it stops and returns false, and the caller sorts fully (a total order,
+// ties by fixture index): either way the result depends only on the data.
+template <class T, class Less>
+bool insertionSortWithinBudget(T* a, size_t n, Less less) {
+  size_t budget = 8 * n + 64;
+  for (size_t i = 1; i < n; ++i) {
+    if (!less(a[i], a[i - 1])) continue;
+    const T e = a[i];
+    size_t j = i;
+    while (j > 0 && less(e, a[j - 1])) {
+      a[j] = a[j - 1];
+      --j;
+    }
+    a[j] = e;
+    if (i - j > budget) return false;
+    budget -= i - j;
+  }
+  return true;
+}
+
 }  // namespace
 
 bool BroadPhase::cutBands(double low, double high, double height) {
@@ -206,22 +228,10 @@ void BroadPhase::sortByBand(double margin) {
         own_[kept++] = own_[i];
       }
     }
-    size_t budget = 8 * kept + 64;
-    for (size_t i = 1; i < kept; ++i) {
-      if (!before(own_[i], own_[i - 1])) continue;
-      const BandEntry e = own_[i];
-      size_t j = i;
-      while (j > 0 && before(e, own_[j - 1])) {
-        own_[j] = own_[j - 1];
-        --j;
-      }
-      own_[j] = e;
-      if (i - j > budget) {
-        for (const BandEntry& c : crossedScratch_) own_[kept++] = c;
-        fullSort();
-        return;
-      }
-      budget -= i - j;
+    if (!insertionSortWithinBudget(own_.data(), kept, before)) {
+      for (const BandEntry& c : crossedScratch_) own_[kept++] = c;
+      fullSort();
+      return;
     }
     std::sort(crossedScratch_.begin(), crossedScratch_.end(), before);
     // Merged from the back, in place: the kept entries fill own_ from the front.
@@ -235,28 +245,12 @@ void BroadPhase::sortByBand(double margin) {
     }
     return;
   }
-  // Insertion sort: near-linear on the nearly sorted order left by the previous step. When the order is
-  // far from sorted (many new proxies, a teleport) it would go quadratic, so past a budget of moves it
-  // hands over to a full sort. Both orders are total (ties by fixture index in the full sort, by the
-  // previous order in insertion sort), so the result depends only on the data.
-  size_t budget = 8 * n + 64;
-  for (size_t i = 1; i < n; ++i) {
-    const BandEntry& next = own_[i];
-    const BandEntry& prev = own_[i - 1];
-    if (prev.band < next.band || (prev.band == next.band && prev.box.min.x <= next.box.min.x)) continue;
-    const BandEntry e = next;
-    size_t j = i;
-    while (j > 0 && (e.band < own_[j - 1].band || (e.band == own_[j - 1].band && e.box.min.x < own_[j - 1].box.min.x))) {
-      own_[j] = own_[j - 1];
-      --j;
-    }
-    own_[j] = e;
-    if (i - j > budget) {
-      fullSort();
-      return;
-    }
-    budget -= i - j;
-  }
+  // By (band, lower x edge) alone: ties keep the previous step's order, which is what island solves
+  // under gravity have always read.
+  auto byBandAndX = [](const BandEntry& a, const BandEntry& b) {
+    return a.band < b.band || (a.band == b.band && a.box.min.x < b.box.min.x);
+  };
+  if (!insertionSortWithinBudget(own_.data(), n, byBandAndX)) fullSort();
 }
 
 void BroadPhase::sweepReaches() {
@@ -344,31 +338,13 @@ void BroadPhase::splitIntoBands() {
 }
 
 void BroadPhase::sortList(std::vector<uint32_t>& order) {
-  // Insertion sort by lower x edge, with the same budget and fallback as sortByBand.
-  const size_t n = order.size();
-  // Insertion sort: near-linear on the nearly sorted order left by the previous step. When the order is
-  // far from sorted (many new proxies, a teleport) it would go quadratic, so past a budget of moves it
-  // hands over to a full sort. Both orders are total (ties by fixture index in the full sort, by the
-  // previous order in insertion sort), so the result depends only on the data.
-  size_t budget = 8 * n + 64;
-  for (size_t i = 1; i < n; ++i) {
-    const uint32_t f = order[i];
-    const double x = proxies_[f].box.min.x;
-    size_t j = i;
-    while (j > 0 && proxies_[order[j - 1]].box.min.x > x) {
-      order[j] = order[j - 1];
-      --j;
-    }
-    order[j] = f;
-    if (i - j > budget) {
-      std::sort(order.begin(), order.end(), [this](uint32_t a, uint32_t b) {
-        const double xa = proxies_[a].box.min.x, xb = proxies_[b].box.min.x;
-        return xa < xb || (xa == xb && a < b);
-      });
-      return;
-    }
-    budget -= i - j;
-  }
+  // By lower x edge, with the same budget and fallback as sortByBand.
+  auto byX = [this](uint32_t a, uint32_t b) { return proxies_[a].box.min.x < proxies_[b].box.min.x; };
+  if (insertionSortWithinBudget(order.data(), order.size(), byX)) return;
+  std::sort(order.begin(), order.end(), [this](uint32_t a, uint32_t b) {
+    const double xa = proxies_[a].box.min.x, xb = proxies_[b].box.min.x;
+    return xa < xb || (xa == xb && a < b);
+  });
 }
 
 void BroadPhase::splitIntoSensorBands() {

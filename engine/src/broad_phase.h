@@ -144,6 +144,12 @@ class BroadPhase {
     p.stamp = queryStamp_;
     found(f);
   }
+  /// A step's growth is over: the grown lists are emptied and growth_ entries go stale.
+  void forgetGrowth() {
+    for (auto& g : grownBands_) g.clear();
+    grown_.clear();
+    ++sweep_;
+  }
   /// Something the sweep decided by changed (a proxy added or removed, a filter, a moving flag, a tag):
   /// the kept pairs are void.
   void noteChange() {
@@ -249,7 +255,7 @@ class BroadPhase {
   std::vector<GrownEntry> grown_;
   LargeArray<Growth> growth_;  // by fixture index
   std::vector<std::vector<uint32_t>> grownBands_;  // by band: indices into grown_
-  uint32_t sweep_ = 1;  // counts sweeps
+  uint32_t sweep_ = 1;  // counts findPairs calls: growth_ entries from earlier ones are stale
   // Queries find where to start in a band's sorted list by a binary search over every kKeyStride-th
   // lower x edge of it, copied into one small array (a band's keys are ownKeys_[ownKeyStart_[b],
   // ownKeyStart_[b + 1]), likewise for the spills): in a large world that array stays in cache while the
@@ -305,13 +311,14 @@ class BroadPhase {
 
 template <class Report>
 void BroadPhase::findPairs(Report&& report) {
-  auto reportPair = [&](uint32_t a, uint32_t b) {
+  auto reportTagged = [&](uint32_t a, uint32_t b, uint32_t tagA, uint32_t tagB) {
     if constexpr (std::is_invocable_v<Report, uint32_t, uint32_t, uint32_t, uint32_t>) {
-      report(a, b, proxies_[a].tag, proxies_[b].tag);
+      report(a, b, tagA, tagB);
     } else {
       report(a, b);
     }
   };
+  auto reportPair = [&](uint32_t a, uint32_t b) { reportTagged(a, b, proxies_[a].tag, proxies_[b].tag); };
   // A world that changed since the last step (a game's shots come and go, its units stop and start) is
   // likely to change again before kept pairs could serve: it is swept plainly, and the pairs are kept
   // only from a step that follows an unchanged one.
@@ -322,16 +329,8 @@ void BroadPhase::findPairs(Report&& report) {
     lastFromCache_ = false;
     sortByBand(0);
     splitIntoBands();
-    sweepBands([&](const BandEntry& a, const BandEntry& b) {
-      if constexpr (std::is_invocable_v<Report, uint32_t, uint32_t, uint32_t, uint32_t>) {
-        report(a.fixture, b.fixture, a.tag, b.tag);
-      } else {
-        report(a.fixture, b.fixture);
-      }
-    });
-    for (auto& g : grownBands_) g.clear();
-    grown_.clear();
-    ++sweep_;
+    sweepBands([&](const BandEntry& a, const BandEntry& b) { reportTagged(a.fixture, b.fixture, a.tag, b.tag); });
+    forgetGrowth();
     return;
   }
   // An escaped box that is back inside its reach is served by the kept pairs again.
@@ -354,9 +353,7 @@ void BroadPhase::findPairs(Report&& report) {
     escaped_.clear();
     sweepReaches();
   }
-  for (auto& g : grownBands_) g.clear();
-  grown_.clear();
-  ++sweep_;
+  forgetGrowth();
   // Most kept pairs do not overlap this step, and which do is a coin toss to the branch predictor: the
   // test writes every pair and keeps those that pass, without a branch.
   const size_t kept = cachedPairs_.size();
@@ -556,8 +553,8 @@ void BroadPhase::queryAround(uint32_t fixture, Found&& found) {
   // Every proxy whose box overlaps q is either inside its own reach, which then overlaps this one's, so
   // that the sweep kept the pair (p moves, and a pair whose filters meet is kept when one of the two
   // moves), or it has left its reach and is in the grown lists.
-  if (!pairCache_ || !cacheValid_ || p.escaped || !p.moving || !reach_[fixture].contains(q) ||
-      partnerStart_.size() <= fixture + 1) {
+  // (A valid cache has every present proxy in partnerStart_: an added one voids it.)
+  if (!pairCache_ || !cacheValid_ || p.escaped || !p.moving || !reach_[fixture].contains(q)) {
     query(q, found);
     return;
   }
