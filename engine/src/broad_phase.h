@@ -93,7 +93,15 @@ class BroadPhase {
   /// overlapping pair of which one moves and neither is a sensor (sensors are paired by findSensorPairs
   /// alone), and whose filter bits meet. Then prepares `query` for this step's boxes.
   template <class Report>
-  void findPairs(Report&& report);
+  void findPairs(Report&& report) {
+    findPairs(report, [](uint32_t, uint32_t, uint32_t, uint32_t) {});
+  }
+  /// The same, and where the order of the pairs is known before they are reported (the pair cache's
+  /// steps), ahead(a, b, tagA, tagB) is called with each pair kReportAhead pairs before report gets it,
+  /// so that the caller can ask for what it will read then (a prefetch). It must change nothing.
+  template <class Report, class Ahead>
+  void findPairs(Report&& report, Ahead&& ahead);
+  static constexpr size_t kReportAhead = 16;
 
   /// The same for the pairs of a sensor and a fixture that is not one, only: within each band the
   /// sensors and the others are swept as two lists against each other, so a crowd's sight circles never
@@ -309,8 +317,8 @@ class BroadPhase {
   std::vector<FilterBits> sensorFilters_;  // scratch of findSensorPairs: the sensors' filters in a band
 };
 
-template <class Report>
-void BroadPhase::findPairs(Report&& report) {
+template <class Report, class Ahead>
+void BroadPhase::findPairs(Report&& report, Ahead&& ahead) {
   auto reportTagged = [&](uint32_t a, uint32_t b, uint32_t tagA, uint32_t tagB) {
     if constexpr (std::is_invocable_v<Report, uint32_t, uint32_t, uint32_t, uint32_t>) {
       report(a, b, tagA, tagB);
@@ -367,7 +375,18 @@ void BroadPhase::findPairs(Report&& report) {
     hits_[hits] = static_cast<uint32_t>(k);
     hits += static_cast<size_t>(overlap & !(a.escaped | b.escaped));
   }
-  for (size_t h = 0; h < hits; ++h) reportPair(cachedPairs_[hits_[h]].a, cachedPairs_[hits_[h]].b);
+  // The report reads what the two proxies stand for (a plain pair: both bodies' disk paths and pair
+  // lists), scattered over memory at 10^6 bodies; one pair after another, each of those reads waited for
+  // memory in turn. Told ahead, the caller has them on their way several pairs at a time.
+  auto tellAhead = [&](size_t h) {
+    const CachedPair& c = cachedPairs_[hits_[h]];
+    ahead(c.a, c.b, proxies_[c.a].tag, proxies_[c.b].tag);
+  };
+  for (size_t h = 0; h < std::min(hits, kReportAhead); ++h) tellAhead(h);
+  for (size_t h = 0; h < hits; ++h) {
+    if (h + kReportAhead < hits) tellAhead(h + kReportAhead);
+    reportPair(cachedPairs_[hits_[h]].a, cachedPairs_[hits_[h]].b);
+  }
   if (escaped_.empty()) return;
   // The escaped boxes, listed as grown (so that queries, theirs and those mid-step, see where they are
   // now), then each looked up; a pair of two escaped ones is reported by the lower fixture's query.

@@ -398,6 +398,32 @@ void World::Impl::stepHybrid(double dt) {
   // Without gravity nothing reads the pairs in the order the sweep found them (island solves do), so the
   // broad phase may keep them from step to step.
   broadPhase.setPairCache(def.gravity.x == 0 && def.gravity.y == 0);
+  // What a plain pair's report will read (predictPlainPair), asked for ahead of it in two stages: the
+  // disk paths and the pair lists' headers kReportAhead pairs ahead, and the lists' ends (whose address
+  // is in the header) half as far ahead, from the pairs told kReportAhead / 2 calls ago. On the bench's
+  // gas at 10^6 disks this made the whole step about 7% faster (5 of 6 alternating runs).
+  constexpr size_t kHalfAhead = detail::BroadPhase::kReportAhead / 2;
+  uint32_t toldPairs[kHalfAhead][2];
+  for (auto& told : toldPairs) told[0] = told[1] = detail::BroadPhase::kNoTag;
+  size_t toldCount = 0;
+  auto reportAhead = [&](uint32_t, uint32_t, uint32_t plainA, uint32_t plainB) {
+    uint32_t* told = toldPairs[toldCount++ % kHalfAhead];
+    if (told[0] != detail::BroadPhase::kNoTag) {
+      const auto& pairsA = pairsOfBody[told[0]];
+      const auto& pairsB = pairsOfBody[told[1]];
+      __builtin_prefetch(pairsA.data() + pairsA.size(), 1);
+      __builtin_prefetch(pairsB.data() + pairsB.size(), 1);
+    }
+    const bool plain = plainA != detail::BroadPhase::kNoTag && plainB != detail::BroadPhase::kNoTag;
+    told[0] = plain ? plainA : detail::BroadPhase::kNoTag;
+    told[1] = plainB;
+    if (plain) {
+      __builtin_prefetch(&diskPaths[plainA]);
+      __builtin_prefetch(&diskPaths[plainB]);
+      __builtin_prefetch(&pairsOfBody[plainA], 1);
+      __builtin_prefetch(&pairsOfBody[plainB], 1);
+    }
+  };
   broadPhase.findPairs([&](uint32_t fa, uint32_t fb, uint32_t plainA, uint32_t plainB) {
     if (plainA != detail::BroadPhase::kNoTag && plainB != detail::BroadPhase::kNoTag) {
       predictPlainPair(fa, fb, plainA, plainB, dt);
@@ -420,7 +446,7 @@ void World::Impl::stepHybrid(double dt) {
         predict(own, other, 0, dt);
       }
     }
-  });
+  }, reportAhead);
   // Stepped islands (island.cpp): gravity and the solve, then the predictions that wait for them.
   std::vector<uint32_t>& freed = islandFreed;
   startIslands(dt, freed);
