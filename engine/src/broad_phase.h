@@ -290,7 +290,12 @@ class BroadPhase {
   // The kept pairs by fixture, both ways: fixture f's partners are partners_[partnerStart_[f],
   // partnerStart_[f + 1]) (queryAround).
   std::vector<uint32_t> partnerStart_, partners_;
-  std::vector<uint32_t> hits_;  // scratch of findPairs: the kept pairs whose boxes overlap
+  // Scratch of findPairs: the kept pairs whose boxes overlap, with their proxies' tags (read with the
+  // boxes: by the time the pairs are reported, a large world's proxies are out of cache again).
+  struct Hit {
+    uint32_t a, b, tagA, tagB;
+  };
+  std::vector<Hit> hits_;
   LargeArray<Box> reach_;          // by fixture index: the box widened by the margin, at the last sweep
   std::vector<uint32_t> escaped_;  // proxies whose box left their reach (Proxy::escaped)
   bool pairCache_ = false;
@@ -368,24 +373,24 @@ void BroadPhase::findPairs(Report&& report, Ahead&& ahead) {
   hits_.resize(kept);
   size_t hits = 0;
   for (size_t k = 0; k < kept; ++k) {
-    const Proxy& a = proxies_[cachedPairs_[k].a];
-    const Proxy& b = proxies_[cachedPairs_[k].b];
+    const CachedPair& c = cachedPairs_[k];
+    const Proxy& a = proxies_[c.a];
+    const Proxy& b = proxies_[c.b];
     const bool overlap = (a.box.min.x <= b.box.max.x) & (b.box.min.x <= a.box.max.x) &
                          (a.box.min.y <= b.box.max.y) & (b.box.min.y <= a.box.max.y);
-    hits_[hits] = static_cast<uint32_t>(k);
+    hits_[hits] = {c.a, c.b, a.tag, b.tag};
     hits += static_cast<size_t>(overlap & !(a.escaped | b.escaped));
   }
   // The report reads what the two proxies stand for (a plain pair: both bodies' disk paths and pair
   // lists), scattered over memory at 10^6 bodies; one pair after another, each of those reads waited for
   // memory in turn. Told ahead, the caller has them on their way several pairs at a time.
-  auto tellAhead = [&](size_t h) {
-    const CachedPair& c = cachedPairs_[hits_[h]];
-    ahead(c.a, c.b, proxies_[c.a].tag, proxies_[c.b].tag);
-  };
-  for (size_t h = 0; h < std::min(hits, kReportAhead); ++h) tellAhead(h);
+  for (size_t h = 0; h < std::min(hits, kReportAhead); ++h) ahead(hits_[h].a, hits_[h].b, hits_[h].tagA, hits_[h].tagB);
   for (size_t h = 0; h < hits; ++h) {
-    if (h + kReportAhead < hits) tellAhead(h + kReportAhead);
-    reportPair(cachedPairs_[hits_[h]].a, cachedPairs_[hits_[h]].b);
+    if (h + kReportAhead < hits) {
+      const Hit& next = hits_[h + kReportAhead];
+      ahead(next.a, next.b, next.tagA, next.tagB);
+    }
+    reportTagged(hits_[h].a, hits_[h].b, hits_[h].tagA, hits_[h].tagB);
   }
   if (escaped_.empty()) return;
   // The escaped boxes, listed as grown (so that queries, theirs and those mid-step, see where they are
