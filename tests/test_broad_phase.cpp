@@ -24,6 +24,7 @@ struct Item {
   bool moving = false;
   bool sensor = false;
   uint32_t category = ~0u, mask = ~0u;
+  uint32_t tag = BroadPhase::kNoTag;
 };
 
 using PairSet = std::set<std::pair<uint32_t, uint32_t>>;
@@ -93,7 +94,13 @@ class RandomBoxes {
   std::mt19937 rng_;
 };
 
-void add(BroadPhase& bp, uint32_t f, const Item& it) { bp.add(f, it.box, it.moving, it.sensor, it.category, it.mask); }
+// A tag for proxy f (every fifth none), and another after a change of it.
+uint32_t tagFor(uint32_t f, uint32_t changes = 0) { return f % 5 == 0 ? BroadPhase::kNoTag : 3 * f + changes; }
+
+void add(BroadPhase& bp, uint32_t f, const Item& it) {
+  bp.add(f, it.box, it.moving, it.sensor, it.category, it.mask);
+  bp.setTag(f, it.tag);
+}
 
 PairSet collisionPairs(BroadPhase& bp, int& reportedTwice) {
   PairSet out;
@@ -104,17 +111,41 @@ PairSet collisionPairs(BroadPhase& bp, int& reportedTwice) {
   return out;
 }
 
-// One findPairs against brute force: every overlapping pair reported once. Adds the pairs checked to
-// `checked`.
-::testing::AssertionResult pairsMatchBruteForce(BroadPhase& bp, const std::vector<Item>& items, size_t& checked) {
-  int twice = 0;
-  const PairSet found = collisionPairs(bp, twice);
+// One findPairs against brute force: every overlapping pair reported once, with both proxies' tags as
+// last set; the pairs told ahead are the first ones reported, each told before it is reported, with the
+// same tags. Adds the pairs checked to `checked`, and those told ahead to `toldAhead`.
+::testing::AssertionResult pairsMatchBruteForce(BroadPhase& bp, const std::vector<Item>& items, size_t& checked,
+                                                size_t* toldAhead = nullptr) {
+  int twice = 0, wrongTags = 0;
+  PairSet found;
+  struct Told {
+    uint32_t a, b, tagA, tagB;
+    bool operator==(const Told&) const = default;
+  };
+  std::vector<Told> told, reported;
+  std::vector<size_t> toldBefore;  // how many pairs had been told when each was reported
+  bp.findPairs(
+      [&](uint32_t a, uint32_t b, uint32_t tagA, uint32_t tagB) {
+        if (!found.insert(ordered(a, b)).second) ++twice;
+        if (tagA != items[a].tag || tagB != items[b].tag) ++wrongTags;
+        toldBefore.push_back(told.size());
+        reported.push_back({a, b, tagA, tagB});
+      },
+      [&](uint32_t a, uint32_t b, uint32_t tagA, uint32_t tagB) { told.push_back({a, b, tagA, tagB}); });
   const PairSet expected = bruteCollisionPairs(items);
   if (twice != 0) return ::testing::AssertionFailure() << twice << " pairs reported twice";
+  if (wrongTags != 0) return ::testing::AssertionFailure() << wrongTags << " pairs reported with wrong tags";
+  if (told.size() > reported.size() || !std::equal(told.begin(), told.end(), reported.begin())) {
+    return ::testing::AssertionFailure() << "the pairs told ahead are not the first ones reported";
+  }
+  for (size_t k = 0; k < told.size(); ++k) {
+    if (toldBefore[k] <= k) return ::testing::AssertionFailure() << "pair " << k << " was reported before it was told";
+  }
   if (found != expected) {
     return ::testing::AssertionFailure() << found.size() << " pairs found, " << expected.size() << " expected";
   }
   checked += expected.size();
+  if (toldAhead != nullptr) *toldAhead += told.size();
   return ::testing::AssertionSuccess();
 }
 
@@ -130,6 +161,7 @@ void checkAgainstBruteForceWhileBoxesMoveComeAndGo(bool pairCache) {
     double extent = 40;
     for (uint32_t f = 0; f < 500; ++f) {
       items.push_back(random.make(extent));
+      items.back().tag = tagFor(f);
       add(bp, f, items.back());
     }
     size_t checkedPairs = 0, checkedQueries = 0;
@@ -162,15 +194,21 @@ void checkAgainstBruteForceWhileBoxesMoveComeAndGo(bool pairCache) {
           it.moving = !it.moving;
           bp.setMoving(f, it.moving);
         }
+        if (what == 98) {
+          it.tag = tagFor(f, static_cast<uint32_t>(step) + 1);
+          bp.setTag(f, it.tag);
+        }
       }
       for (uint32_t f = 0; f < items.size(); ++f) {
         if (!items[f].present && random.below(2) == 0) {
           items[f] = random.make(extent);
+          items[f].tag = tagFor(f);
           add(bp, f, items[f]);
         }
       }
       for (int k = 0; k < 10; ++k) {
         items.push_back(random.make(extent));
+        items.back().tag = tagFor(static_cast<uint32_t>(items.size() - 1));
         add(bp, static_cast<uint32_t>(items.size() - 1), items.back());
       }
 
@@ -255,6 +293,7 @@ TEST(BroadPhase, PairCacheServesStepsOfSmallMovesWithTheSamePairsAndQueriesAsBru
       const Vec2 c{random.uniform(0, extent), random.uniform(0, extent)};
       const Vec2 half{random.uniform(0.4, 0.6), random.uniform(0.4, 0.6)};
       it.box = {c - half, c + half};
+      it.tag = tagFor(f);
       items.push_back(it);
       // Most drift at about 0.02 a step; one in 50 at 0.5 (a fast body).
       const double speed = random.below(50) == 0 ? 0.5 : random.uniform(0, 0.04);
@@ -270,7 +309,7 @@ TEST(BroadPhase, PairCacheServesStepsOfSmallMovesWithTheSamePairsAndQueriesAsBru
     }
     for (uint32_t f = 0; f < items.size(); ++f) add(bp, f, items[f]);
     int fromCache = 0;
-    size_t checkedPairs = 0, checkedQueries = 0, checkedAround = 0;
+    size_t checkedPairs = 0, checkedQueries = 0, checkedAround = 0, toldAhead = 0;
     for (int step = 0; step < 60; ++step) {
       SCOPED_TRACE(step);
       for (uint32_t f = 0; f < items.size(); ++f) {
@@ -278,7 +317,7 @@ TEST(BroadPhase, PairCacheServesStepsOfSmallMovesWithTheSamePairsAndQueriesAsBru
         items[f].box = items[f].box.translated(velocity[f]);
         bp.setBox(f, items[f].box);
       }
-      ASSERT_TRUE(pairsMatchBruteForce(bp, items, checkedPairs));
+      ASSERT_TRUE(pairsMatchBruteForce(bp, items, checkedPairs, &toldAhead));
       fromCache += bp.lastFromCache() ? 1 : 0;
       for (uint32_t f = 0; f < items.size(); ++f) {
         Item& it = items[f];
@@ -330,6 +369,8 @@ TEST(BroadPhase, PairCacheServesStepsOfSmallMovesWithTheSamePairsAndQueriesAsBru
     // the drifting boxes leave their reach at once and nearly every step sweeps.
     if (margin > 0) {
       EXPECT_GT(fromCache, 20);
+      // The kept pairs' steps told their pairs ahead (the tags checked with them).
+      EXPECT_GT(toldAhead, 10000u);
     } else {
       EXPECT_LT(fromCache, 10);
     }
