@@ -384,12 +384,10 @@ void BroadPhase::findPairs(Report&& report, Ahead&& ahead) {
   // The report reads what the two proxies stand for (a plain pair: both bodies' disk paths and pair
   // lists), scattered over memory at 10^6 bodies; one pair after another, each of those reads waited for
   // memory in turn. Told ahead, the caller has them on their way several pairs at a time.
-  for (size_t h = 0; h < std::min(hits, kReportAhead); ++h) ahead(hits_[h].a, hits_[h].b, hits_[h].tagA, hits_[h].tagB);
+  auto tellAhead = [&](const Hit& x) { ahead(x.a, x.b, x.tagA, x.tagB); };
+  for (size_t h = 0; h < std::min(hits, kReportAhead); ++h) tellAhead(hits_[h]);
   for (size_t h = 0; h < hits; ++h) {
-    if (h + kReportAhead < hits) {
-      const Hit& next = hits_[h + kReportAhead];
-      ahead(next.a, next.b, next.tagA, next.tagB);
-    }
+    if (h + kReportAhead < hits) tellAhead(hits_[h + kReportAhead]);
     reportTagged(hits_[h].a, hits_[h].b, hits_[h].tagA, hits_[h].tagB);
   }
   if (escaped_.empty()) return;

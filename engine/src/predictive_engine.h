@@ -121,6 +121,13 @@ bool isPlain(const HotBody& b) {
   return (b.flags & mask) == HotBody::kSingle;
 }
 
+// The contact event of the predicted body's fixture `own` with body `b` (slot `j`): `point` in the world
+// at `time`, `normal` from b toward own (PredictiveEvent).
+PredictiveEvent contactEvent(double time, uint32_t own, const HotBody& b, uint32_t j, int32_t feature, Vec2 point,
+                             Vec2 normal) {
+  return PredictiveEvent{time, own, b.fixture, feature, b.collisionCount, PredictiveKind::Contact, j, point, normal};
+}
+
 // A body being predicted, as every pair test reads it.
 struct Predicting {
   uint32_t slot;

@@ -129,15 +129,7 @@ void Engine<W>::predictCircles(const Predicting& p, uint32_t j, double horizon, 
   if (time > best.time) return;
   impact->point += pb;
   const Vec2 travelOfB = vb * h + accB * (0.5 * h * h);
-  const PredictiveEvent e{time,
-                          a.fixture,
-                          b.fixture,
-                          impact->feature,
-                          b.collisionCount,
-                          PredictiveKind::Contact,
-                          j,
-                          impact->point + travelOfB,
-                          impact->normal};
+  const PredictiveEvent e = contactEvent(time, a.fixture, b, j, impact->feature, impact->point + travelOfB, impact->normal);
   if (earlier(e, best)) best = e;
 }
 
@@ -246,15 +238,8 @@ inline void Engine<W>::pairPlain(Prediction& q, uint32_t j) {
   if (time > best.time) return;
   impact->point += pb;
   const Vec2 travelOfB = vb * h + Vec2{} * (0.5 * h * h);
-  const PredictiveEvent e{time,
-                          p.hot->fixture,
-                          b.fixture,
-                          impact->feature,
-                          b.collisionCount,
-                          PredictiveKind::Contact,
-                          j,
-                          impact->point + travelOfB,
-                          impact->normal};
+  const PredictiveEvent e =
+      contactEvent(time, p.hot->fixture, b, j, impact->feature, impact->point + travelOfB, impact->normal);
   if (earlier(e, best)) best = e;
 }
 
@@ -514,8 +499,7 @@ void Engine<W>::predictPlainAmong(uint32_t i, double now, const uint32_t* neighb
     detail::plainContact(impactR, impactV, b.radius, impactTime, point, normal);
     point += impactPb;
     const Vec2 travelOfB = impactVb * impactTime + Vec2{} * (0.5 * impactTime * impactTime);
-    return PredictiveEvent{bestTime, fixture, b.fixture, 0, b.collisionCount, PredictiveKind::Contact, partner,
-                           point + travelOfB, normal};
+    return contactEvent(bestTime, fixture, b, partner, 0, point + travelOfB, normal);
   }();
   if ((hb.flags & (HotBody::kStaticNear | HotBody::kSliding)) == 0 && s_.kinematicFixtures.empty()) {
     // Nothing else to look at (finishPrediction()): into the queue.

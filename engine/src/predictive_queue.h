@@ -221,24 +221,20 @@ uint32_t Engine<W>::top() {
 
 template <class W>
 void Engine<W>::siftUp(size_t k) {
-  detail::HeapNode* heap = s_.heap.data();
-  PredictiveState::QueueSlot* queue = s_.queue.data();
+  const detail::HeapNode* heap = s_.heap.data();
   const detail::HeapNode node = heap[k];
   while (k > 0) {
     const size_t parent = (k - 1) / 4;
     if (!before(node, heap[parent])) break;
-    heap[k] = heap[parent];
-    queue[heap[k].slot].heapPos = static_cast<int32_t>(k);
+    place(k, heap[parent]);
     k = parent;
   }
-  heap[k] = node;
-  queue[node.slot].heapPos = static_cast<int32_t>(k);
+  place(k, node);
 }
 
 template <class W>
 void Engine<W>::siftDown(size_t k) {
-  detail::HeapNode* heap = s_.heap.data();
-  PredictiveState::QueueSlot* queue = s_.queue.data();
+  const detail::HeapNode* heap = s_.heap.data();
   const size_t n = s_.heap.size();
   const detail::HeapNode node = heap[k];
   for (;;) {
@@ -269,12 +265,10 @@ void Engine<W>::siftDown(size_t k) {
       }
     }
     if (!before(heap[child], node)) break;
-    heap[k] = heap[child];
-    queue[heap[k].slot].heapPos = static_cast<int32_t>(k);
+    place(k, heap[child]);
     k = child;
   }
-  heap[k] = node;
-  queue[node.slot].heapPos = static_cast<int32_t>(k);
+  place(k, node);
 }
 
 template <class W>
