@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "broad_phase.h"
+#include "fixture_list.h"
 #include "path_log.h"
 #include "rattle/time_of_impact.h"
 #include "rattle/world.h"
@@ -61,7 +62,7 @@ struct BodySlot {
   Support support;
   uint32_t generation = 1;
   int stepCollisions = 0;  // collisions in the current step, for the Zeno guard
-  std::vector<uint32_t> fixtures;
+  FixtureList fixtures;  // in place for up to four (fixture_list.h)
   // The jam that last settled it (World::Impl::jamCounter) and when, in step time; < 0: none this step.
   double jamTime = -1;
   uint32_t jam = 0;
