@@ -568,7 +568,14 @@ def write_report(out_dir, bench, matrix_seconds=None, load=None):
         md += ["", "Slopes (log-log): hybrid time per step %.2f (1 = linear); predictive time per collision %.2f with "
                "one look, %.2f with a look every 1/60 s (0 = flat; log N grows by a slope of about 0.1 over this "
                "range)." % (fit_slope(hybrid), fit_slope(pred["predictive-one-look"]),
-                            fit_slope(pred["predictive-1/60"])), "", "![scaling](figures/scaling.png)", ""]
+                            fit_slope(pred["predictive-1/60"])), ""]
+        # A step stopped by the event budget covered less than its dt: its time per collision still holds,
+        # but say so rather than let it pass for a whole look.
+        budget = ["%s at %d disks (%s)" % (r["series"], int(num(r, "n")), r["notes"]) for r in scaling_rows
+                  if "event budget" in r.get("notes", "")]
+        if budget:
+            md += ["Runs that reached the world's event budget: " + "; ".join(budget) + ".", ""]
+        md += ["![scaling](figures/scaling.png)", ""]
     with open(os.path.join(out_dir, "RESULTS.md"), "w") as f:
         f.write("\n".join(md))
 

@@ -25,7 +25,9 @@ The matrix (what `make bench` runs; --quick shrinks every scene for a smoke test
     median of the repeats' ratios and their range as well as the matrix run's
   - scaling: hybrid on gas (packing 0.3, dt 1/60) at 10^3 .. 10^6 disks, timed after 0.5 s of settling
     (--warm-up 0.5); predictive on gas (packing 0.5) at 10^3 .. 10^6 disks with one look (dt = the timed
-    stretch, after an untimed first look as long) and with a look every 1/60 s (after 0.5 s untimed);
+    stretch, after an untimed first look as long, at least 0.5 s; at 10^6 disks looks of 0.25 s, since one
+    look of 0.5 s would pass the world's budget of 10^6 events a step) and with a look every 1/60 s
+    (after 0.5 s untimed);
     and the baseline `edmd` (the textbook event-driven gas, bench/engine_edmd.cpp) on the one-look runs.
 Seeds are fixed (1), so the scenes are the same on every run.
 """
@@ -111,8 +113,12 @@ def scaling(quick):
         # settle, a cost of starting that a run of about one collision per disk (10^6 disks for 0.5 s)
         # would otherwise count as most of its cost per collision.
         seconds = {1000: 4, 3000: 4, 10000: 2, 30000: 2, 100000: 1, 300000: 0.5, 1000000: 0.5}[size]
-        one_look = {"--packing": "0.5", "--dt": str(seconds), "--seconds": str(2 * seconds),
-                    "--warm-up": str(seconds)}
+        # One look holds every event of its stretch, and a world's step stops at WorldDef::maxEventsPerStep
+        # (10^6): at 10^6 disks the settled gas has about 1.2 million collisions in 0.5 s, so the look
+        # there is 0.25 s, after two untimed ones.
+        look = 0.25 if size >= 1000000 else seconds
+        warm = max(look, 0.5)
+        one_look = {"--packing": "0.5", "--dt": str(look), "--seconds": str(warm + look), "--warm-up": str(warm)}
         runs.append(("predictive-one-look", dict({"--scene": "gas", "--engine": "predictive", "--n": size},
                                                  **one_look)))
         runs.append(("predictive-1/60", {"--scene": "gas", "--engine": "predictive", "--n": size,
