@@ -99,7 +99,8 @@ int run(const Options& o) {
   StepTimer timer;
   std::vector<double> stepSeconds(static_cast<size_t>(steps)), wallSeconds(static_cast<size_t>(steps));
   // Timing: the steps of --warm-up, or the first tenth of them, are warm-up.
-  const size_t warm = o.warmUp >= 0 ? static_cast<size_t>(std::round(o.warmUp / o.dt)) : static_cast<size_t>(steps / 10);
+  const size_t warm =
+      o.warmUp >= 0 ? static_cast<size_t>(std::round(o.warmUp / o.dt)) : static_cast<size_t>(steps / 10);
   long long warmCollisions = 0;  // the collisions of the warm-up steps, left out of collisions_per_s
   for (long long k = 0; k < steps; ++k) {
     if (static_cast<size_t>(k) == warm) warmCollisions = engine->collisions;

@@ -222,7 +222,8 @@ engines:
 The row: times are the CPU time of the thread running step() (other work on the machine does not count;
 wall_ms_per_step gives the wall-clock median too). ms_per_step is the median time of one step() after a
 warm-up (--warm-up; the first tenth of the steps); ms_per_simulated_second the mean step time after warm-up divided
-by DT; collisions_per_s the collisions counted over the whole timed run per second of step time; energy_drift (E_end - E_0) / |E_0| with E
+by DT; collisions_per_s the collisions of the timed steps (after warm-up) per second of their step time
+(timed_collisions; collisions counts every step); energy_drift (E_end - E_0) / |E_0| with E
 kinetic plus potential; max_overlap and mean_overlap the depths of disk-disk and disk-wall overlaps
 relative to the smaller radius, measured after the steps outside the timing; tunnelled the disks ever
 found outside the container; sensor_missed the exact sensor visits the engine did not report;

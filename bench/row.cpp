@@ -18,8 +18,8 @@ const char* const kColumns[] = {
     "scene", "engine", "n", "dt", "seconds", "ms_per_step", "ms_per_simulated_second", "collisions_per_s",
     "energy_drift", "max_overlap", "mean_overlap", "tunnelled", "sensor_missed", "collision_count_error",
     // Beyond the columns: what the row was run with, and the raw counts.
-    "seed", "packing", "speed", "steps", "warm_up_s", "collisions", "timed_collisions", "reference_collisions", "sensor_visits",
-    "reference_sensor_visits", "wall_ms_per_step", "setup_s",
+    "seed", "packing", "speed", "steps", "warm_up_s", "collisions", "timed_collisions", "reference_collisions",
+    "sensor_visits", "reference_sensor_visits", "wall_ms_per_step", "setup_s",
     // The arena scene's game counts (empty for the other scenes).
     "shots", "shots_out_of_range", "reference_shots", "reference_shots_out_of_range", "crossings",
     "reference_crossings",

@@ -108,9 +108,9 @@ def scaling(quick):
         runs.append(("hybrid", {"--scene": "gas", "--engine": "hybrid", "--n": size, "--packing": "0.3",
                                 "--dt": "1/60", "--seconds": str(seconds), "--warm-up": "0.5"}))
     for size in sizes:
-        # Timed on a settled gas too, after a first look of the same length (or 0.5 s of looks every 1/60
-        # s): that first stretch builds the grid, predicts every disk once and lets the collision rate
-        # settle, a cost of starting that a run of about one collision per disk (10^6 disks for 0.5 s)
+        # Timed on a settled gas too, after an untimed stretch of at least 0.5 s (looks as long as the timed
+        # one, or looks every 1/60 s): it builds the grid, predicts every disk once and lets the collision
+        # rate settle, a cost of starting that a run of about one collision per disk (10^6 disks for 0.5 s)
         # would otherwise count as most of its cost per collision.
         seconds = {1000: 4, 3000: 4, 10000: 2, 30000: 2, 100000: 1, 300000: 0.5, 1000000: 0.5}[size]
         # One look holds every event of its stretch, and a world's step stops at WorldDef::maxEventsPerStep
