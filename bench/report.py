@@ -311,11 +311,6 @@ def find(rows, **want):
     return None
 
 
-def timed_collisions(r):
-    """The collisions of the timed steps (after warm-up), which collisions_per_s counts."""
-    return r.get("timed_collisions") or r.get("collisions", "")
-
-
 def mean_step(r):
     """The mean CPU time of a step after warm-up, in ms (ms_per_simulated_second times dt). The speed
     targets are judged by it, not by the median (ms_per_step): the hybrid's steps are not alike, since one
@@ -425,11 +420,11 @@ def targets(rows, scaling_rows, repeat_rows=()):
             baseline = ""
             if e:
                 baseline = "; the textbook baseline (edmd) in this run: %.3g collisions/s (%s timed collisions), " \
-                           "so predictive is %.2fx its rate" % (num(e, "collisions_per_s"), timed_collisions(e),
+                           "so predictive is %.2fx its rate" % (num(e, "collisions_per_s"), e["timed_collisions"],
                                                                 rate / num(e, "collisions_per_s"))
             out.append("| predictive gas 10^5, packing 0.5: >= 2e6 collisions per second (%s) | %.3g collisions/s "
                        "(%s collisions in the %g s timed after %s s of warm-up)%s | %s |" %
-                       (what, rate, timed_collisions(p), num(p, "seconds") - num(p, "warm_up_s"),
+                       (what, rate, p["timed_collisions"], num(p, "seconds") - num(p, "warm_up_s"),
                         p.get("warm_up_s") or "0", baseline, "yes" if rate >= 2e6 else "**no**"))
     g = find(scaling_rows, series="hybrid", n="1000000")
     if g:
@@ -547,9 +542,9 @@ def write_report(out_dir, bench, matrix_seconds=None, load=None):
         md += ["## Scaling", "",
                "Hybrid: mean time of one step of 1/60 s on gas at packing 0.3, after 0.5 s of settling (it should "
                "grow like N). Predictive: the step time divided by the collisions processed in it, on gas at "
-               "packing 0.5, with one look at the end of the timed stretch (after an untimed first look as long) "
-               "and with a look every 1/60 s (after 0.5 s untimed): the untimed start builds the grid, predicts "
-               "every disk once and lets the collision rate settle, a cost of starting and not of collisions, "
+               "packing 0.5, with one look at the end of the timed stretch (after untimed looks as long, at least "
+               "0.5 s of them) and with a look every 1/60 s (after 0.5 s untimed): the untimed start builds the "
+               "grid, predicts every disk once and lets the collision rate settle, a cost of starting and not of collisions, "
                "which at 10^6 disks (under one collision per disk in 0.5 s) would otherwise be most of the "
                "measure. Per collision it should grow like log N; a look costs O(N), as every body is brought up "
                "to the time looked at. The baseline `edmd` is the textbook "
