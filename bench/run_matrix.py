@@ -194,6 +194,11 @@ def main():
     a = ap.parse_args()
     if not os.access(a.bench, os.X_OK):
         sys.exit("run_matrix: %s is not there; build it first (make bench)" % a.bench)
+    # Made before the matrix runs, so that a folder that cannot be made says so at once, not after it.
+    try:
+        os.makedirs(a.out, exist_ok=True)
+    except OSError as e:
+        sys.exit("run_matrix: --out %s: cannot make the folder: %s" % (a.out, e.strerror))
     only = set(filter(None, a.only.split(",")))
     load_start = "%.2f" % os.getloadavg()[0]
     t0 = time.monotonic()
