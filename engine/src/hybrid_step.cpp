@@ -26,6 +26,7 @@
 // bodies that do not collide are moved once per step and times stay in [0, dt] where they are precise.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "path_box.h"
@@ -184,7 +185,7 @@ void World::Impl::absorb(const PredictedContact& c, double vn) {
   for (BodySlot* s : {&a, &b}) {
     if (s->type != BodyType::Dynamic) continue;
     ++s->collisionCount;
-    s->last = last;
+    s->setLast(last);
   }
 }
 
@@ -285,7 +286,7 @@ void World::Impl::resolve(const PredictedContact& c, std::vector<uint32_t>& woke
   for (BodySlot* s : {&a, &b}) {
     if (s->type != BodyType::Dynamic) continue;
     ++s->collisionCount;
-    s->last = last;
+    s->setLast(last);
     s->lastContactTime = now;
     // Any other contact ends a slide: the body either leaves the face or is pushed into it, and then
     // the face's own contact (touching and approaching: now) resolves that, resting rules included.
@@ -306,6 +307,48 @@ void World::Impl::resolve(const PredictedContact& c, std::vector<uint32_t>& woke
   contactEvents.push_back(event);
 }
 
+void World::Impl::learnDiskShape(uint32_t bodyIndex) {
+  BodySlot& b = bodies[bodyIndex];
+  if (b.fixtures.size() != 1) return;
+  const uint32_t f = b.fixtures.front();
+  const detail::FixtureSlot& fixture = fixtures[f];
+  const Circle* circle = std::get_if<Circle>(&fixture.geometry);
+  if (fixture.sensor || circle == nullptr) return;
+  const Vec2 zero{0.0, 0.0};
+  const Box box{Vec2{-circle->radius, -circle->radius}, Vec2{circle->radius, circle->radius}};
+  // Exactly, bit for bit (a radius of 0 gives a box from +0 where -radius is -0): the first pass then
+  // adds the same box to the path as it would read from the fixture.
+  auto same = [](const Vec2& p, const Vec2& q) { return std::memcmp(&p, &q, sizeof(Vec2)) == 0; };
+  if (!same(circle->center, zero) || !same(fixture.localBox.min, box.min) || !same(fixture.localBox.max, box.max)) {
+    return;
+  }
+  diskShapes[bodyIndex] = {circle->radius, f, fixture.filter.group};
+  b.diskShapeKnown = true;
+}
+
+void World::Impl::prefetchFirstPass(uint32_t i, uint32_t count) const {
+  // The first pass streams several arrays at once (the bodies' first lines, the pair lists' headers, the
+  // disk paths and shapes, the proxies), which the hardware prefetcher does not keep ahead of: it stops
+  // at every 4 KiB page, 21 BodySlots. Asked for kStreamAhead bodies ahead, and what depends on a slot's
+  // first line half as far ahead, once that line has arrived.
+  if (i + kStreamAhead < count) {
+    __builtin_prefetch(&bodies[i + kStreamAhead], 1);
+    __builtin_prefetch(&pairsOfBody[i + kStreamAhead], 1);
+    __builtin_prefetch(&diskPaths[i + kStreamAhead], 1);
+  }
+  constexpr uint32_t kHalf = kStreamAhead / 2;
+  if (i + kHalf >= count) return;
+  const BodySlot& b = bodies[i + kHalf];
+  if (!b.alive) return;
+  if (b.diskShapeKnown) {
+    broadPhase.prefetch(diskShapes[i + kHalf].fixture);
+  }
+  if (b.stepLocalsSet || b.sliding || !b.diskShapeKnown) {
+    const char* slot = reinterpret_cast<const char*>(&b);
+    for (size_t line = 64; line < sizeof(BodySlot); line += 64) __builtin_prefetch(slot + line, 1);
+  }
+}
+
 void World::Impl::stepHybrid(double dt) {
   contactEvents.clear();
   sensorEvents.swap(pendingSensorEvents);
@@ -316,27 +359,35 @@ void World::Impl::stepHybrid(double dt) {
   if (pairsOfBody.size() < bodies.size()) pairsOfBody.resize(bodies.size());
   if (stamp.size() < fixtures.size()) stamp.resize(fixtures.size(), 0);
   if (diskPaths.size() < bodies.size()) diskPaths.resize(bodies.size());
+  if (diskShapes.size() < bodies.size()) diskShapes.resize(bodies.size());
 
   // 1. Swept boxes. A sleeping body does not move this step: its proxies count as resting.
   double speedScale = 0, straightSpeedSquared = 0;
   sliding.clear();
   stepped.clear();
-  for (uint32_t i = 0; i < bodies.size(); ++i) {
+  const uint32_t bodyCount = static_cast<uint32_t>(bodies.size());
+  for (uint32_t i = 0; i < bodyCount; ++i) {
+    prefetchFirstPass(i, bodyCount);
     BodySlot& b = bodies[i];
     if (!b.alive) continue;
     pairsOfBody[i].clear();
     b.localTime = 0;
-    b.last = detail::LastContact{};
-    b.jamTime = -1;
-    b.stepCollisions = 0;
-    if (b.support.generation != 0 &&
+    // Most bodies of a large world did not collide last step: their step-local state is as reset, and
+    // its lines (and the support's) are left unread (BodySlot::stepLocalsSet, BodySlot::sliding).
+    if (b.stepLocalsSet) {
+      b.last = detail::LastContact{};
+      b.jamTime = -1;
+      b.stepCollisions = 0;
+      b.stepLocalsSet = false;
+    }
+    if (b.sliding &&
         (!fixtures[b.support.fixture].alive || fixtures[b.support.fixture].generation != b.support.generation)) {
       stopSliding(b);
     }
-    if (b.type == BodyType::Dynamic && !b.asleep && b.support.generation == 0) {
+    if (b.type == BodyType::Dynamic && !b.asleep && !b.sliding) {
       b.acceleration = b.stepped ? Vec2{} : def.gravity;
     }
-    if (b.support.generation != 0) sliding.push_back(i);
+    if (b.sliding) sliding.push_back(i);
     if (b.stepped) stepped.push_back(i);
     const bool moving = moves(b) && !b.asleep;
     // A body standing still all step (a crowd's waiting units) meets another still one only after
@@ -365,27 +416,40 @@ void World::Impl::stepHybrid(double dt) {
     }
     // A plain disk (DiskPath) leaves its state at the step's start for its pairs, and its proxy is
     // tagged with its body.
+    const bool plainMotion = b.type == BodyType::Dynamic && moving && !still && b.acceleration.x == 0 &&
+                             b.acceleration.y == 0 && !b.sliding && !b.stepped;
+    // centred: the fixture is a circle centred exactly on the body (+0, +0), so the pair test adds a
+    // centre of +0, as timeOfImpact does.
+    auto placeProxy = [&](uint32_t f, const Box& localBox, bool plain, bool centred, double radius, int32_t group) {
+      broadPhase.setMoving(f, moving && !still);
+      broadPhase.setBox(f, Box{path.min + localBox.min, path.max + localBox.max});
+      uint32_t tag = detail::BroadPhase::kNoTag;
+      if (plain && centred) {
+        diskPaths[i] = {positionAt(b, 0), velocityAt(b, 0), radius, group, b.collisionCount};
+        tag = i;
+      }
+      broadPhase.setTag(f, tag);
+    };
+    if (b.diskShapeKnown) {
+      const detail::DiskShape& shape = diskShapes[i];
+      const Box localBox{Vec2{-shape.radius, -shape.radius}, Vec2{shape.radius, shape.radius}};
+      placeProxy(shape.fixture, localBox, plainMotion, true, shape.radius, shape.group);
+      continue;
+    }
     uint32_t physical = 0;
     for (uint32_t f : b.fixtures) physical += fixtures[f].sensor ? 0 : 1;
-    const bool plainBody = b.type == BodyType::Dynamic && moving && !still && physical == 1 &&
-                           b.acceleration.x == 0 && b.acceleration.y == 0 && b.support.generation == 0 && !b.stepped;
     for (uint32_t f : b.fixtures) {
       // A sensor takes no part in the collisions (the collision sweep and queries never see one): its
       // box is set by the sweep of the paths after the step (sensor_paths.cpp).
       const detail::FixtureSlot& fixture = fixtures[f];
       if (fixture.sensor) continue;
-      broadPhase.setMoving(f, moving && !still);
-      broadPhase.setBox(f, Box{path.min + fixture.localBox.min, path.max + fixture.localBox.max});
-      uint32_t tag = detail::BroadPhase::kNoTag;
       const Circle* circle = std::get_if<Circle>(&fixture.geometry);
-      // Centred exactly on the body (+0, +0): the pair test then adds a centre of +0, as timeOfImpact does.
-      if (plainBody && circle != nullptr && circle->center.x == 0 && circle->center.y == 0 &&
-          !std::signbit(circle->center.x) && !std::signbit(circle->center.y)) {
-        diskPaths[i] = {positionAt(b, 0), velocityAt(b, 0), circle->radius, fixture.filter.group, b.collisionCount};
-        tag = i;
-      }
-      broadPhase.setTag(f, tag);
+      const bool centred = circle != nullptr && circle->center.x == 0 && circle->center.y == 0 &&
+                           !std::signbit(circle->center.x) && !std::signbit(circle->center.y);
+      placeProxy(f, fixture.localBox, plainMotion && physical == 1, centred, centred ? circle->radius : 0,
+                 fixture.filter.group);
     }
+    learnDiskShape(i);
   }
   speedScale = std::max(speedScale, std::sqrt(straightSpeedSquared));
   startPaths();
@@ -600,7 +664,10 @@ void World::Impl::stepHybrid(double dt) {
     pathLog.active = false;
   }
   endIslands(end);
-  for (BodySlot& b : bodies) {
+  for (uint32_t i = 0; i < bodyCount; ++i) {
+    // As in the first pass, the slots are asked for ahead (only their first line is read and written).
+    if (i + kStreamAhead < bodyCount) __builtin_prefetch(&bodies[i + kStreamAhead], 1);
+    BodySlot& b = bodies[i];
     if (!b.alive || !moves(b)) continue;
     if (b.type == BodyType::Dynamic) {
       advance(b, end);

@@ -153,7 +153,7 @@ int World::Impl::settleAround(const std::vector<uint32_t>& seeds, int hops, doub
       BodySlot& b = bodies[members[k]];
       b.velocity = before[k];
       b.collisionCount = counts[k];
-      b.last = lasts[k];
+      b.setLast(lasts[k]);
     }
     contactEvents.resize(mark);
   }
@@ -194,7 +194,7 @@ void World::Impl::joinIslands(const std::vector<uint32_t>& joining, double now, 
     // The rest of the step's gravity at once, then a straight path (see above).
     b.velocity += def.gravity * (dt - now);
     b.acceleration = {};
-    b.support.generation = 0;
+    b.clearSupport();
     b.stepped = true;
   }
 }

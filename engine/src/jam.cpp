@@ -27,6 +27,7 @@ bool World::Impl::isJammed(uint32_t bodyIndex) {
   BodySlot& s = bodies[bodyIndex];
   if (s.type != BodyType::Dynamic || s.asleep) return false;
   if (!(def.restingSpeed > 0) || (def.gravity.x == 0 && def.gravity.y == 0)) return false;
+  s.stepLocalsSet = true;
   return ++s.stepCollisions > kJamCollisions;
 }
 
@@ -87,6 +88,7 @@ int World::Impl::settleJam(uint32_t seed, double now, double dt, int budget) {
     b.jam = jamCounter;
     b.jamTime = now;
     b.stepCollisions = 0;
+    b.stepLocalsSet = true;
     b.lastContactTime = time + now;
     ++b.collisionCount;
   }

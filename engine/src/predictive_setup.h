@@ -101,7 +101,7 @@ void Engine<W>::attach(uint32_t slot) {
   b.velocity = h.velocity;
   b.localTime = h.localTime;
   b.collisionCount = h.collisionCount;
-  b.last = detail::LastContact{c.lastLow, c.lastHigh, c.lastFeature, c.lastTime};
+  b.setLast(detail::LastContact{c.lastLow, c.lastHigh, c.lastFeature, c.lastTime});
   b.lastContactTime = c.lastContactTime;
   h.flags = static_cast<uint8_t>(h.flags & ~HotBody::kDetached);
 }

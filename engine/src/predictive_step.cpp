@@ -92,7 +92,7 @@ double Engine<W>::endPlain(double end, double& speed) {
     b.localTime = h.localTime = 0;
     b.collisionCount = h.collisionCount;
     c.lastTime = lastTime;
-    b.last = detail::LastContact{c.lastLow, c.lastHigh, c.lastFeature, lastTime};
+    b.setLast(detail::LastContact{c.lastLow, c.lastHigh, c.lastFeature, lastTime});
     b.lastContactTime = c.lastContactTime;
     h.flags = static_cast<uint8_t>(h.flags & ~HotBody::kDetached);
     extent = std::max({extent, std::fabs(p.x), std::fabs(p.y)});

@@ -106,6 +106,7 @@ void World::Impl::sleepIfZeno(uint32_t bodyIndex, double now) {
   BodySlot& s = bodies[bodyIndex];
   if (!(def.restingSpeed > 0) || (def.gravity.x == 0 && def.gravity.y == 0)) return;
   if (s.type != BodyType::Dynamic || s.asleep) return;
+  s.stepLocalsSet = true;
   if (++s.stepCollisions > kZenoCollisions && supportsAt(bodyIndex, now, supporters)) putToSleep(bodyIndex, supporters);
 }
 
@@ -115,9 +116,9 @@ void World::Impl::putToSleep(uint32_t bodyIndex, const std::vector<uint32_t>& su
   b.stepped = false;
   b.velocity = {};
   b.acceleration = {};
-  b.support.generation = 0;
+  b.clearSupport();
   ++b.collisionCount;
-  for (uint32_t s : supporters) bodies[s].dependents.push_back(bodyIndex);
+  for (uint32_t s : supporters) dependents[s].push_back(bodyIndex);
 }
 
 void World::Impl::wakeUp(uint32_t bodyIndex, double now, std::vector<uint32_t>& woken) {
@@ -134,20 +135,21 @@ void World::Impl::wakeUp(uint32_t bodyIndex, double now, std::vector<uint32_t>& 
     b.acceleration = def.gravity;
     ++b.collisionCount;
     woken.push_back(i);
-    for (auto it = b.dependents.rbegin(); it != b.dependents.rend(); ++it) stack.push_back(*it);
-    b.dependents.clear();
+    std::vector<uint32_t>& held = dependents[i];
+    for (auto it = held.rbegin(); it != held.rend(); ++it) stack.push_back(*it);
+    held.clear();
   }
 }
 
 void World::Impl::startSliding(uint32_t bodyIndex, uint32_t fixture, int feature, Vec2 normal) {
   BodySlot& b = bodies[bodyIndex];
-  b.support = detail::Support{fixture, fixtures[fixture].generation, feature, normal};
+  b.setSupport(detail::Support{fixture, fixtures[fixture].generation, feature, normal});
   b.velocity -= normal * dot(b.velocity, normal);
   b.acceleration = def.gravity - normal * dot(def.gravity, normal);
 }
 
 void World::Impl::stopSliding(BodySlot& b) {
-  b.support.generation = 0;
+  b.clearSupport();
   if (!b.asleep) b.acceleration = def.gravity;
 }
 

@@ -165,6 +165,8 @@ BodyId World::createBody(const BodyDef& def) {
   } else {
     index = static_cast<uint32_t>(w.bodies.size());
     w.bodies.emplace_back();
+    w.userData.emplace_back();
+    w.dependents.emplace_back();
   }
   BodySlot& b = w.bodies[index];
   const uint32_t generation = b.generation;
@@ -174,7 +176,8 @@ BodyId World::createBody(const BodyDef& def) {
   b.type = def.type;
   b.position = def.position;
   b.velocity = def.velocity;
-  b.userData = def.userData;
+  w.userData[index] = def.userData;
+  w.dependents[index].clear();
   w.recomputeMass(b);
   ++w.liveBodies;
   w.structureChanged = true;
@@ -186,8 +189,8 @@ void World::destroyBody(BodyId id) {
   BodySlot& b = lookUp(w.bodies, id);
   // What it held up falls.
   std::vector<uint32_t> woken;
-  for (uint32_t d : b.dependents) w.wakeUp(d, 0.0, woken);
-  b.dependents.clear();
+  for (uint32_t d : w.dependents[id.index]) w.wakeUp(d, 0.0, woken);
+  w.dependents[id.index].clear();
   for (uint32_t f : b.fixtures) w.endOverlapsOf(f, [](uint32_t) { return false; });
   for (uint32_t f : b.fixtures) {
     w.broadPhase.remove(f);
@@ -199,6 +202,7 @@ void World::destroyBody(BodyId id) {
     w.freeFixtures.push_back(f);
   }
   b.fixtures.clear();
+  b.diskShapeKnown = false;
   // Island impulses are kept by fixture index, and indices are reused: forget them (island.cpp).
   w.islandNext.clear();
   b.alive = false;
@@ -225,7 +229,11 @@ void World::wake(BodyId id) {
   impl_->wakeUp(id.index, 0.0, woken);
   impl_->touched(woken);
 }
-uint64_t World::userData(BodyId id) const { return lookUp(impl_->bodies, id).userData; }
+
+uint64_t World::userData(BodyId id) const {
+  lookUp(impl_->bodies, id);  // checks the handle
+  return impl_->userData[id.index];
+}
 int World::bodyCount() const { return impl_->liveBodies; }
 
 void World::setPosition(BodyId id, Vec2 position) {
@@ -239,9 +247,9 @@ void World::setPosition(BodyId id, Vec2 position) {
   }
   std::vector<uint32_t> woken;
   impl_->wakeUp(id.index, 0.0, woken);
-  for (uint32_t d : b.dependents) impl_->wakeUp(d, 0.0, woken);
-  b.dependents.clear();
-  b.support.generation = 0;
+  for (uint32_t d : impl_->dependents[id.index]) impl_->wakeUp(d, 0.0, woken);
+  impl_->dependents[id.index].clear();
+  b.clearSupport();
   b.position = position;
   // Static proxies are not refreshed each step, so move their boxes now.
   for (uint32_t f : b.fixtures) impl_->broadPhase.setBox(f, impl_->worldBox(f));
@@ -326,6 +334,7 @@ FixtureId World::createFixture(BodyId bodyId, const FixtureDef& def) {
   f.sensor = def.sensor;
   f.filter = def.filter;
   body.fixtures.push_back(index);
+  body.diskShapeKnown = false;
   w.recomputeMass(body);
   w.structureChanged = true;
   w.broadPhase.add(index, w.worldBox(index), body.type != BodyType::Static, f.sensor, f.filter.categoryBits,
@@ -340,6 +349,7 @@ void World::destroyFixture(FixtureId id) {
   BodySlot& body = w.bodies[f.body];
   w.endOverlapsOf(id.index, [](uint32_t) { return false; });
   body.fixtures.erase(std::find(body.fixtures.begin(), body.fixtures.end(), id.index));
+  body.diskShapeKnown = false;
   w.broadPhase.remove(id.index);
   if (f.sensor) --w.liveSensors;
   w.structureChanged = true;
@@ -396,7 +406,9 @@ void World::setRestitution(FixtureId id, double restitution) {
 }
 
 void World::setFilter(FixtureId id, const Filter& filter) {
-  lookUp(impl_->fixtures, id).filter = filter;
+  FixtureSlot& fixture = lookUp(impl_->fixtures, id);
+  fixture.filter = filter;
+  impl_->bodies[fixture.body].diskShapeKnown = false;
   impl_->broadPhase.setFilter(id.index, filter.categoryBits, filter.maskBits);
   impl_->structureChanged = true;
   // Overlaps the new filter forbids end now; new ones begin when the next step finds them.

@@ -42,22 +42,35 @@ struct Support {
   Vec2 normal;
 };
 
-struct BodySlot {
+struct alignas(64) BodySlot {
   // The step reads a body in its first pass and a candidate pair's two bodies in every prediction, and
   // the two bodies of a pair are rarely near each other in memory: what those read is in the first two
   // cache lines (the motion, the counter a prediction carries and the flags that decide whether a pair
-  // is an event at all in the first), the rest after.
+  // is an event at all in the first), the rest after. Three whole lines: the hybrid step's passes over
+  // every body read the first line of each, and a loop reading the first 64 bytes of 10^6 slots took
+  // about 5 ms at a stride of 192 bytes, aligned, against 12 at 224 (where half the slots' first 64
+  // bytes straddle two lines) on the bench's machine. The 224-byte slot held what is now
+  // World::Impl::dependents and userData.
   Vec2 position;      // at localTime within the current step (0 between steps)
   Vec2 velocity;      // at localTime
   Vec2 acceleration;  // gravity when awake and free, its tangential part when sliding, else zero
   double localTime = 0;
   uint32_t collisionCount = 0;  // step-local: bumps on every velocity change; predictions carry it
   BodyType type = BodyType::Static;
-  bool alive = false;
-  bool asleep = false;
+  bool alive : 1 = false;
+  bool asleep : 1 = false;
   // In a stepped island (island.cpp): its contacts with other stepped bodies and with what cannot move
   // are held by a solve once per step, and it moves along straight lines. Kept from step to step.
-  bool stepped = false;
+  bool stepped : 1 = false;
+  // The hybrid step's first pass reads only this line of a body whose state allows it; these three say
+  // whether it does. `sliding` is support.generation != 0 (setSupport, clearSupport).
+  bool sliding : 1 = false;
+  // last, jamTime or stepCollisions may differ from their values at a step's start (every write of them
+  // sets it; the hybrid step's first pass resets them only then).
+  bool stepLocalsSet : 1 = false;
+  // World::Impl::diskShapes[this body] holds its fixtures: one circle centred on it (the hybrid step
+  // learns it; World's changes to the body's fixtures or their filters clear it).
+  bool diskShapeKnown : 1 = false;
   LastContact last;  // step-local
   Support support;
   uint32_t generation = 1;
@@ -68,10 +81,21 @@ struct BodySlot {
   uint32_t jam = 0;
   bool steppedHeld = false;  // a contact of an island solve pushed it this step
   double lastContactTime = -std::numeric_limits<double>::infinity();  // world time of its last collision
-  std::vector<uint32_t> dependents;  // sleeping bodies this one holds up (may hold stale entries)
   double mass = std::numeric_limits<double>::infinity();
   double inverseMass = 0;
-  uint64_t userData = 0;
+
+  void setSupport(const Support& s) {
+    support = s;
+    sliding = s.generation != 0;
+  }
+  void clearSupport() {
+    support.generation = 0;
+    sliding = false;
+  }
+  void setLast(const LastContact& contact) {
+    last = contact;
+    stepLocalsSet = true;
+  }
 };
 
 struct FixtureSlot {
@@ -89,6 +113,7 @@ struct FixtureSlot {
   double restitution = 0;
 };
 
+static_assert(sizeof(BodySlot) == 192, "BodySlot: three whole cache lines");
 static_assert(offsetof(BodySlot, last) == 64 && sizeof(Support) + sizeof(LastContact) <= 64 - 8,
               "BodySlot: the motion and flags in the first cache line, what predictions read next in the second");
 static_assert(sizeof(Geometry) + offsetof(FixtureSlot, localBox) - offsetof(FixtureSlot, body) <= 64,
@@ -138,6 +163,15 @@ struct DiskPath {
   uint32_t collisionCount = 0;  // the body's, at the step's start
 };
 
+// A body's fixtures when they are one physical circle centred on the body, as the hybrid step's first
+// pass needs them (BodySlot::diskShapeKnown says when this holds): 16 bytes read in body order, instead
+// of the body's fixture list and its fixture's two lines.
+struct DiskShape {
+  double radius = 0;  // the circle's; its box relative to the body is exactly [-radius, radius]^2
+  uint32_t fixture = 0;
+  int32_t group = 0;  // its filter's collision group
+};
+
 struct CandidatePair {
   uint32_t own;  // a fixture of the body whose list this is
   uint32_t other;
@@ -152,6 +186,10 @@ struct World::Impl {
   WorldDef def;
   double time = 0;
   detail::LargeArray<detail::BodySlot> bodies;
+  // By body index, apart from the BodySlots (which the step streams): what World::createBody was given,
+  // and the sleeping bodies each body holds up (may hold stale entries; resting.cpp).
+  detail::LargeArray<uint64_t> userData;
+  detail::LargeArray<std::vector<uint32_t>> dependents;
   std::vector<uint32_t> freeBodies;  // reused last-freed first
   detail::LargeArray<detail::FixtureSlot> fixtures;
   std::vector<uint32_t> freeFixtures;
@@ -168,6 +206,7 @@ struct World::Impl {
   std::vector<detail::PredictedContact> queue;                  // binary heap ordered by detail::later
   detail::LargeArray<uint32_t> stamp;                           // by fixture index, for de-duplication
   detail::LargeArray<detail::DiskPath> diskPaths;               // by body index; set for plain disks only
+  detail::LargeArray<detail::DiskShape> diskShapes;             // by body index; see BodySlot::diskShapeKnown
   uint32_t stampCounter = 0;
   std::vector<uint32_t> supporters;
   std::vector<uint32_t> sliding;  // scratch of stepHybrid: the bodies that start the step sliding
@@ -259,6 +298,13 @@ struct World::Impl {
 
   // hybrid_step.cpp
   void stepHybrid(double dt);
+  /// How many bodies ahead the hybrid step's passes over all bodies ask for their slots.
+  static constexpr uint32_t kStreamAhead = 16;
+  /// Asks for what the hybrid step's first pass will read of body i + kStreamAhead (a prefetch).
+  void prefetchFirstPass(uint32_t i, uint32_t count) const;
+  /// Sets diskShapes[body] and BodySlot::diskShapeKnown when the body's fixtures are one circle
+  /// centred on it, not a sensor.
+  void learnDiskShape(uint32_t body);
   void addPair(uint32_t fa, uint32_t fb);
   void sensorOverlapsSeen(uint32_t fa, uint32_t fb);
   void predict(uint32_t own, uint32_t other, double now, double dt);
