@@ -35,6 +35,16 @@
 
 namespace rattle {
 
+namespace {
+
+// Stores `value` unless `to` already holds its very bits (a signed zero differs from the other).
+template <class T>
+void storeIfChanged(T& to, const T& value) {
+  if (std::memcmp(&to, &value, sizeof(T)) != 0) to = value;
+}
+
+}  // namespace
+
 using detail::BodySlot;
 using detail::PredictedContact;
 using detail::pathBox;
@@ -326,7 +336,7 @@ void World::Impl::learnDiskShape(uint32_t bodyIndex) {
   b.diskShapeKnown = true;
 }
 
-void World::Impl::prefetchFirstPass(uint32_t i, uint32_t count) const {
+[[gnu::always_inline]] inline void World::Impl::prefetchFirstPass(uint32_t i, uint32_t count) const {
   // The first pass streams several arrays at once (the bodies' first lines, the pair lists' headers, the
   // disk paths and shapes, the proxies), which the hardware prefetcher does not keep ahead of: it stops
   // at every 4 KiB page, 21 BodySlots. Asked for kStreamAhead bodies ahead, and what depends on a slot's
@@ -370,8 +380,10 @@ void World::Impl::stepHybrid(double dt) {
     prefetchFirstPass(i, bodyCount);
     BodySlot& b = bodies[i];
     if (!b.alive) continue;
-    pairsOfBody[i].clear();
-    b.localTime = 0;
+    // The stores below are skipped when they would not change a bit: most bodies of a large world
+    // start the step as the last one left them, and a line that is only read is not written back.
+    if (!pairsOfBody[i].empty()) pairsOfBody[i].clear();
+    storeIfChanged(b.localTime, 0.0);
     // Most bodies of a large world did not collide last step: their step-local state is as reset, and
     // its lines (and the support's) are left unread (BodySlot::stepLocalsSet, BodySlot::sliding).
     if (b.stepLocalsSet) {
@@ -385,7 +397,7 @@ void World::Impl::stepHybrid(double dt) {
       stopSliding(b);
     }
     if (b.type == BodyType::Dynamic && !b.asleep && !b.sliding) {
-      b.acceleration = b.stepped ? Vec2{} : def.gravity;
+      storeIfChanged(b.acceleration, b.stepped ? Vec2{} : def.gravity);
     }
     if (b.sliding) sliding.push_back(i);
     if (b.stepped) stepped.push_back(i);

@@ -300,8 +300,10 @@ struct World::Impl {
   void stepHybrid(double dt);
   /// How many bodies ahead the hybrid step's passes over all bodies ask for their slots.
   static constexpr uint32_t kStreamAhead = 16;
-  /// Asks for what the hybrid step's first pass will read of body i + kStreamAhead (a prefetch).
-  void prefetchFirstPass(uint32_t i, uint32_t count) const;
+  /// Asks for what the hybrid step's first pass will read of body i + kStreamAhead (a prefetch). Inline
+  /// in hybrid_step.cpp: a call to a function that only prefetches is one GCC may drop (it finds it has
+  /// no effect), and did.
+  inline void prefetchFirstPass(uint32_t i, uint32_t count) const;
   /// Sets diskShapes[body] and BodySlot::diskShapeKnown when the body's fixtures are one circle
   /// centred on it, not a sensor.
   void learnDiskShape(uint32_t body);
