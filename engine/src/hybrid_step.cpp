@@ -100,29 +100,32 @@ void World::Impl::queueContact(const Impact& impact, uint32_t own, uint32_t othe
 
 void World::Impl::predictPlainPair(uint32_t fa, uint32_t fb, uint32_t ba, uint32_t bb, double dt) {
   // The sweep's candidate pair of two plain disks at the step's start: canCollide, addPair and
-  // predict(own, other, 0, dt) as for any pair, on the state the sweep carried instead of the bodies and
-  // fixtures. The arithmetic is predict's and timeOfImpact's for two circles centred on their bodies, step
-  // by step, so the prediction has the same bits. (The broad phase has checked the filter bits; neither
-  // is a sensor.)
-  const detail::DiskPath& da = diskPaths[ba];
-  const detail::DiskPath& db = diskPaths[bb];
-  if (ba == bb || (da.group != 0 && da.group == db.group)) return;
+  // predict(own, other, 0, dt) as for any pair, reading each body's first line and its DiskShape instead
+  // of its fixture. The arithmetic is predict's and timeOfImpact's for two circles centred on their
+  // bodies, step by step, so the prediction has the same bits. (The broad phase has checked the filter
+  // bits; neither is a sensor.)
+  const detail::DiskShape& sa = diskShapes[ba];
+  const detail::DiskShape& sb = diskShapes[bb];
+  if (ba == bb || (sa.group != 0 && sa.group == sb.group)) return;
   ++stats.candidatePairs;
   pairsOfBody[ba].push_back({fa, fb});
   pairsOfBody[bb].push_back({fb, fa});
   const bool aFirst = fa < fb;
   const uint32_t own = aFirst ? fa : fb, other = aFirst ? fb : fa;
-  const detail::DiskPath& a = aFirst ? da : db;
-  const detail::DiskPath& b = aFirst ? db : da;
+  const BodySlot& a = bodies[aFirst ? ba : bb];
+  const BodySlot& b = bodies[aFirst ? bb : ba];
+  const double radiusA = aFirst ? sa.radius : sb.radius, radiusB = aFirst ? sb.radius : sa.radius;
   ++stats.timeOfImpactTests;
+  const Vec2 positionA = positionAt(a, 0), positionB = positionAt(b, 0);
+  const Vec2 velocityB = velocityAt(b, 0);
   // Both accelerate by the world's gravity, which is zero for a plain disk: g - g = +0.
-  const Motion relative{a.velocity - b.velocity, def.gravity - def.gravity};
-  Circle circle{Vec2{0.0, 0.0} + a.position, a.radius};  // as circleVs: the centre (+0, +0) plus the position
-  circle.center -= b.position;
-  auto impact = timeOfImpactCircleCircle(circle, relative, Circle{Vec2{0.0, 0.0}, b.radius}, dt - 0.0, kNoFeature);
+  const Motion relative{velocityAt(a, 0) - velocityB, def.gravity - def.gravity};
+  Circle circle{Vec2{0.0, 0.0} + positionA, radiusA};  // as circleVs: the centre (+0, +0) plus the position
+  circle.center -= positionB;
+  auto impact = timeOfImpactCircleCircle(circle, relative, Circle{Vec2{0.0, 0.0}, radiusB}, dt - 0.0, kNoFeature);
   if (!impact) return;
-  impact->point += b.position;
-  queueContact(*impact, own, other, a.collisionCount, b.collisionCount, b.velocity, def.gravity, 0.0, dt);
+  impact->point += positionB;
+  queueContact(*impact, own, other, a.collisionCount, b.collisionCount, velocityB, def.gravity, 0.0, dt);
 }
 
 void World::Impl::predictSlideEnd(uint32_t bodyIndex, double now, double dt) {
@@ -319,11 +322,16 @@ void World::Impl::resolve(const PredictedContact& c, std::vector<uint32_t>& woke
 
 void World::Impl::learnDiskShape(uint32_t bodyIndex) {
   BodySlot& b = bodies[bodyIndex];
-  if (b.fixtures.size() != 1) return;
-  const uint32_t f = b.fixtures.front();
+  uint32_t physical = 0, f = 0;
+  for (uint32_t g : b.fixtures) {
+    if (fixtures[g].sensor) continue;  // the step's collisions never see it
+    ++physical;
+    f = g;
+  }
+  if (physical != 1) return;
   const detail::FixtureSlot& fixture = fixtures[f];
   const Circle* circle = std::get_if<Circle>(&fixture.geometry);
-  if (fixture.sensor || circle == nullptr) return;
+  if (circle == nullptr) return;
   const Vec2 zero{0.0, 0.0};
   const Box box{Vec2{-circle->radius, -circle->radius}, Vec2{circle->radius, circle->radius}};
   // Exactly, bit for bit (a radius of 0 gives a box from +0 where -radius is -0): the first pass then
@@ -344,7 +352,6 @@ void World::Impl::learnDiskShape(uint32_t bodyIndex) {
   if (i + kStreamAhead < count) {
     __builtin_prefetch(&bodies[i + kStreamAhead], 1);
     __builtin_prefetch(&pairsOfBody[i + kStreamAhead], 1);
-    __builtin_prefetch(&diskPaths[i + kStreamAhead], 1);
   }
   constexpr uint32_t kHalf = kStreamAhead / 2;
   if (i + kHalf >= count) return;
@@ -368,7 +375,6 @@ void World::Impl::stepHybrid(double dt) {
   queue.clear();
   if (pairsOfBody.size() < bodies.size()) pairsOfBody.resize(bodies.size());
   if (stamp.size() < fixtures.size()) stamp.resize(fixtures.size(), 0);
-  if (diskPaths.size() < bodies.size()) diskPaths.resize(bodies.size());
   if (diskShapes.size() < bodies.size()) diskShapes.resize(bodies.size());
 
   // 1. Swept boxes. A sleeping body does not move this step: its proxies count as resting.
@@ -426,42 +432,30 @@ void World::Impl::stepHybrid(double dt) {
       path = unionOf(path, pathBox(b.position, withGravity, {}, dt));
       path = Box{path.min - Vec2{reach, reach}, path.max + Vec2{reach, reach}};
     }
-    // A plain disk (DiskPath) leaves its state at the step's start for its pairs, and its proxy is
-    // tagged with its body.
-    const bool plainMotion = b.type == BodyType::Dynamic && moving && !still && b.acceleration.x == 0 &&
-                             b.acceleration.y == 0 && !b.sliding && !b.stepped;
-    // centred: the fixture is a circle centred exactly on the body (+0, +0), so the pair test adds a
-    // centre of +0, as timeOfImpact does.
-    auto placeProxy = [&](uint32_t f, const Box& localBox, bool plain, bool centred, double radius, int32_t group) {
-      broadPhase.setMoving(f, moving && !still);
-      broadPhase.setBox(f, Box{path.min + localBox.min, path.max + localBox.max});
-      uint32_t tag = detail::BroadPhase::kNoTag;
-      if (plain && centred) {
-        diskPaths[i] = {positionAt(b, 0), velocityAt(b, 0), radius, group, b.collisionCount};
-        tag = i;
-      }
-      broadPhase.setTag(f, tag);
-    };
+    // A sensor takes no part in the collisions (the collision sweep and queries never see one): its box
+    // is set by the sweep of the paths after the step (sensor_paths.cpp).
+    if (!b.diskShapeKnown) learnDiskShape(i);
     if (b.diskShapeKnown) {
+      // One physical circle centred on the body (DiskShape). Moving on a straight line, awake, in no
+      // island and sliding on nothing, it is a plain disk: its proxy is tagged with its body, and a
+      // candidate pair of two plain disks is predicted from their bodies' first lines and DiskShapes
+      // (predictPlainPair), without a look at their fixtures.
       const detail::DiskShape& shape = diskShapes[i];
-      const Box localBox{Vec2{-shape.radius, -shape.radius}, Vec2{shape.radius, shape.radius}};
-      placeProxy(shape.fixture, localBox, plainMotion, true, shape.radius, shape.group);
+      const bool plain = b.type == BodyType::Dynamic && moving && !still && b.acceleration.x == 0 &&
+                         b.acceleration.y == 0 && !b.sliding && !b.stepped;
+      broadPhase.setMoving(shape.fixture, moving && !still);
+      broadPhase.setBox(shape.fixture, Box{path.min + Vec2{-shape.radius, -shape.radius},
+                                           path.max + Vec2{shape.radius, shape.radius}});
+      broadPhase.setTag(shape.fixture, plain ? i : detail::BroadPhase::kNoTag);
       continue;
     }
-    uint32_t physical = 0;
-    for (uint32_t f : b.fixtures) physical += fixtures[f].sensor ? 0 : 1;
     for (uint32_t f : b.fixtures) {
-      // A sensor takes no part in the collisions (the collision sweep and queries never see one): its
-      // box is set by the sweep of the paths after the step (sensor_paths.cpp).
       const detail::FixtureSlot& fixture = fixtures[f];
       if (fixture.sensor) continue;
-      const Circle* circle = std::get_if<Circle>(&fixture.geometry);
-      const bool centred = circle != nullptr && circle->center.x == 0 && circle->center.y == 0 &&
-                           !std::signbit(circle->center.x) && !std::signbit(circle->center.y);
-      placeProxy(f, fixture.localBox, plainMotion && physical == 1, centred, centred ? circle->radius : 0,
-                 fixture.filter.group);
+      broadPhase.setMoving(f, moving && !still);
+      broadPhase.setBox(f, Box{path.min + fixture.localBox.min, path.max + fixture.localBox.max});
+      broadPhase.setTag(f, detail::BroadPhase::kNoTag);
     }
-    learnDiskShape(i);
   }
   speedScale = std::max(speedScale, std::sqrt(straightSpeedSquared));
   startPaths();
@@ -494,8 +488,10 @@ void World::Impl::stepHybrid(double dt) {
     told[0] = plain ? plainA : detail::BroadPhase::kNoTag;
     told[1] = plainB;
     if (plain) {
-      __builtin_prefetch(&diskPaths[plainA]);
-      __builtin_prefetch(&diskPaths[plainB]);
+      __builtin_prefetch(&bodies[plainA]);
+      __builtin_prefetch(&bodies[plainB]);
+      __builtin_prefetch(&diskShapes[plainA]);
+      __builtin_prefetch(&diskShapes[plainB]);
       __builtin_prefetch(&pairsOfBody[plainA], 1);
       __builtin_prefetch(&pairsOfBody[plainB], 1);
     }

@@ -68,8 +68,8 @@ struct alignas(64) BodySlot {
   // last, jamTime or stepCollisions may differ from their values at a step's start (every write of them
   // sets it; the hybrid step's first pass resets them only then).
   bool stepLocalsSet : 1 = false;
-  // World::Impl::diskShapes[this body] holds its fixtures: one circle centred on it (the hybrid step
-  // learns it; World's changes to the body's fixtures or their filters clear it).
+  // World::Impl::diskShapes[this body] holds its one fixture that is not a sensor, a circle centred on
+  // it (the hybrid step learns it; World's changes to the body's fixtures or their filters clear it).
   bool diskShapeKnown : 1 = false;
   LastContact last;  // step-local
   Support support;
@@ -149,23 +149,10 @@ inline bool later(const PredictedContact& x, const PredictedContact& y) {
   return x.countB > y.countB;
 }
 
-// A plain moving disk's state at the start of a hybrid step, written by the step's first pass in body
-// order: a candidate pair of two such disks (the sweep hands back their body indices, BroadPhase::setTag)
-// is tested for a time of impact from these two records instead of two BodySlots and two FixtureSlots
-// (in a large world each is a cache miss, and most pairs never meet). Plain: a dynamic body whose only
-// physical fixture is a circle centred on the body, awake, moving on a straight line, in no island and
-// sliding on nothing. One record is 48 bytes, so the sweep's entries stay small too.
-struct DiskPath {
-  Vec2 position;  // of the body, at the step's start (as World::Impl::positionAt gives it)
-  Vec2 velocity;
-  double radius = 0;
-  int32_t group = 0;            // the fixture's collision group
-  uint32_t collisionCount = 0;  // the body's, at the step's start
-};
-
-// A body's fixtures when they are one physical circle centred on the body, as the hybrid step's first
-// pass needs them (BodySlot::diskShapeKnown says when this holds): 16 bytes read in body order, instead
-// of the body's fixture list and its fixture's two lines.
+// A body's fixtures when the only one that is not a sensor is a circle centred on the body, as the hybrid
+// step needs them (BodySlot::diskShapeKnown says when this holds): its first pass reads these 16 bytes in
+// body order instead of the body's fixture list and its fixture's two lines, and a candidate pair of two
+// plain disks (predictPlainPair) reads them with the bodies' first lines instead of their fixtures.
 struct DiskShape {
   double radius = 0;  // the circle's; its box relative to the body is exactly [-radius, radius]^2
   uint32_t fixture = 0;
@@ -205,7 +192,6 @@ struct World::Impl {
   detail::LargeArray<std::vector<detail::CandidatePair>> pairsOfBody;  // by body index; dynamic bodies only
   std::vector<detail::PredictedContact> queue;                  // binary heap ordered by detail::later
   detail::LargeArray<uint32_t> stamp;                           // by fixture index, for de-duplication
-  detail::LargeArray<detail::DiskPath> diskPaths;               // by body index; set for plain disks only
   detail::LargeArray<detail::DiskShape> diskShapes;             // by body index; see BodySlot::diskShapeKnown
   uint32_t stampCounter = 0;
   std::vector<uint32_t> supporters;
@@ -304,8 +290,8 @@ struct World::Impl {
   /// in hybrid_step.cpp: a call to a function that only prefetches is one GCC may drop (it finds it has
   /// no effect), and did.
   inline void prefetchFirstPass(uint32_t i, uint32_t count) const;
-  /// Sets diskShapes[body] and BodySlot::diskShapeKnown when the body's fixtures are one circle
-  /// centred on it, not a sensor.
+  /// Sets diskShapes[body] and BodySlot::diskShapeKnown when the only fixture of the body that is not a
+  /// sensor is a circle centred on it.
   void learnDiskShape(uint32_t body);
   void addPair(uint32_t fa, uint32_t fb);
   void sensorOverlapsSeen(uint32_t fa, uint32_t fb);
@@ -315,8 +301,8 @@ struct World::Impl {
   void queueContact(const Impact& impact, uint32_t own, uint32_t other, uint32_t countOwn, uint32_t countOther,
                     Vec2 velocityOfOther, Vec2 accelerationOfOther, double now, double dt);
   void predictSlideEnd(uint32_t body, double now, double dt);
-  /// The sweep's pair of two plain disks (fixtures fa and fb of bodies ba and bb, detail::DiskPath) at the
-  /// step's start, as canCollide, addPair and predict would take it, from their DiskPaths.
+  /// The sweep's pair of two plain disks (fixtures fa and fb of bodies ba and bb) at the step's start, as
+  /// canCollide, addPair and predict would take it, from their bodies' first lines and DiskShapes.
   void predictPlainPair(uint32_t fa, uint32_t fb, uint32_t ba, uint32_t bb, double dt);
   void repredict(uint32_t body, double now, double dt, bool forceRequery = false);
   void advance(detail::BodySlot& b, double t);
