@@ -284,6 +284,12 @@ struct World::Impl {
 
   // hybrid_step.cpp
   void stepHybrid(double dt);
+  /// Without gravity, a plain disk's swept box holds every straight path from its start at this many
+  /// times its speed, besides its own path. On the bench's gas at 10^6 disks (packing 0.3, dt 1/60) the
+  /// broad phase was asked again 21,500 times a step without it, 5,400 at 1, 1,650 at 1.5 and 850 at 2;
+  /// the whole step was fastest at 1.5 (per-phase clocks, two alternating runs): the events' time fell
+  /// from about 31 ms to 17, for 30% more candidate pairs.
+  static constexpr double kPlainSlack = 1.5;
   /// How many bodies ahead the hybrid step's passes over all bodies ask for their slots.
   static constexpr uint32_t kStreamAhead = 16;
   /// Asks for what the hybrid step's first pass will read of body i + kStreamAhead (a prefetch). Inline
