@@ -1,7 +1,9 @@
 // The hybrid step (the default): swept boxes through sort-and-sweep, then exact events inside the step.
 //
 //  1. Every fixture of a moving body gets the box of its path over the step (a straight line, or a
-//     parabola under gravity); sleeping bodies count as resting.
+//     parabola under gravity); sleeping bodies count as resting. Without gravity a plain disk's box also
+//     has room for a turn at 1.5 times its speed (World::Impl::kPlainSlack), so that after most of its
+//     collisions step 4 need not ask the broad phase again.
 //  2. Sort-and-sweep turns overlapping boxes into candidate pairs (static-static and filtered pairs
 //     never get this far; sensors wait for step 6). Without gravity the broad phase keeps the pairs of
 //     slightly widened boxes from step to step and sweeps again only when many boxes have left them
@@ -346,9 +348,9 @@ void World::Impl::learnDiskShape(uint32_t bodyIndex) {
 
 [[gnu::always_inline]] inline void World::Impl::prefetchFirstPass(uint32_t i, uint32_t count) const {
   // The first pass streams several arrays at once (the bodies' first lines, the pair lists' headers, the
-  // disk paths and shapes, the proxies), which the hardware prefetcher does not keep ahead of: it stops
-  // at every 4 KiB page, 21 BodySlots. Asked for kStreamAhead bodies ahead, and what depends on a slot's
-  // first line half as far ahead, once that line has arrived.
+  // disk shapes, the proxies and their reaches), which the hardware prefetcher does not keep ahead of:
+  // it stops at every 4 KiB page, 21 BodySlots. Asked for kStreamAhead bodies ahead, and what depends on
+  // a slot's first line half as far ahead, once that line has arrived.
   if (i + kStreamAhead < count) {
     __builtin_prefetch(&bodies[i + kStreamAhead], 1);
     __builtin_prefetch(&pairsOfBody[i + kStreamAhead], 1);
