@@ -1,9 +1,9 @@
 // The hybrid step (the default): swept boxes through sort-and-sweep, then exact events inside the step.
 //
 //  1. Every fixture of a moving body gets the box of its path over the step (a straight line, or a
-//     parabola under gravity); sleeping bodies count as resting. Without gravity a plain disk's box also
-//     has room for a turn at 1.5 times its speed (World::Impl::kPlainSlack), so that after most of its
-//     collisions step 4 need not ask the broad phase again.
+//     parabola under gravity); sleeping bodies count as resting. Without gravity a slow plain disk's box
+//     also has room for a turn at 1.5 times its speed (World::Impl::kPlainSlack), so that after most of
+//     its collisions step 4 need not ask the broad phase again.
 //  2. Sort-and-sweep turns overlapping boxes into candidate pairs (static-static and filtered pairs
 //     never get this far; sensors wait for step 6). Without gravity the broad phase keeps the pairs of
 //     slightly widened boxes from step to step and sweeps again only when many boxes have left them
@@ -452,9 +452,14 @@ void World::Impl::stepHybrid(double dt) {
         // Room around the path for kPlainSlack times the disk's own speed in any direction: a disk
         // sent off another way by a collision mid-step then mostly stays inside the box the sweep saw,
         // and the broad phase is not asked again for it (repredict). Under gravity the island solves
-        // read the sweep's pairs, and get none they did not get before.
-        const double reach = shape.radius + kPlainSlack * std::sqrt(dot(b.velocity, b.velocity)) * dt;
-        swept = unionOf(swept, Box{b.position - Vec2{reach, reach}, b.position + Vec2{reach, reach}});
+        // read the sweep's pairs, and get none they did not get before. Only for a disk that moves
+        // little in a step for its size (kPlainSlackLimit): a fast one's box is mostly its path, and
+        // room all round would multiply its area (and its candidate pairs) many times.
+        const double slack = kPlainSlack * std::sqrt(dot(b.velocity, b.velocity)) * dt;
+        if (slack <= kPlainSlackLimit * shape.radius) {
+          const double reach = shape.radius + slack;
+          swept = unionOf(swept, Box{b.position - Vec2{reach, reach}, b.position + Vec2{reach, reach}});
+        }
       }
       broadPhase.setBox(shape.fixture, swept);
       broadPhase.setTag(shape.fixture, plain ? i : detail::BroadPhase::kNoTag);
