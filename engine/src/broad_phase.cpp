@@ -257,8 +257,16 @@ void BroadPhase::sweepReaches() {
   // The margin from the typical height the last sort sampled (none at the first).
   sortByBand(marginFraction_ * typicalHeight_);
   splitIntoBands();
-  cachedPairs_.clear();
-  sweepBands([&](const BandEntry& a, const BandEntry& b) { cachedPairs_.push_back({a.fixture, b.fixture}); });
+  // Every candidate is written and the count moves on only for a pair (sweepBands): room for a quarter
+  // more than the last sweep kept, grown when a sweep finds more.
+  size_t kept = 0;
+  cachedPairs_.resize(std::max<size_t>(1024, cachedPairs_.size() + cachedPairs_.size() / 4));
+  sweepBands([&](const BandEntry& a, const BandEntry& b, bool meets) {
+    if (kept == cachedPairs_.size()) cachedPairs_.resize(2 * kept);
+    cachedPairs_[kept] = {a.fixture, b.fixture};
+    kept += meets ? 1 : 0;
+  });
+  cachedPairs_.resize(kept);
   // The pairs by fixture (a counting sort), for queryAround.
   partnerStart_.assign(proxies_.size() + 1, 0);
   for (const CachedPair& c : cachedPairs_) {

@@ -177,8 +177,8 @@ class BroadPhase {
     p.escaped = true;
     escaped_.push_back(fixture);
   }
-  /// Calls pair(a, b) for every pair of overlapping entries of which one moves and whose filter bits
-  /// meet, band by band (the sweep proper).
+  /// Calls pair(a, b, meets) for every pair of entries whose boxes overlap in x, band by band (the sweep
+  /// proper); `meets`: they overlap in y too, one of them moves and their filter bits meet.
   template <class Pair>
   void sweepBands(Pair&& pair);
   /// Sorts, and keeps every pair of overlapping reaches in cachedPairs_ (findPairs, when the cache
@@ -349,7 +349,9 @@ void BroadPhase::findPairs(Report&& report, Ahead&& ahead) {
     lastFromCache_ = false;
     sortByBand(0);
     splitIntoBands();
-    sweepBands([&](const BandEntry& a, const BandEntry& b) { reportTagged(a.fixture, b.fixture, a.tag, b.tag); });
+    sweepBands([&](const BandEntry& a, const BandEntry& b, bool meets) {
+      if (meets) reportTagged(a.fixture, b.fixture, a.tag, b.tag);
+    });
     forgetGrowth();
     return;
   }
@@ -416,11 +418,13 @@ void BroadPhase::findPairs(Report&& report, Ahead&& ahead) {
 
 template <class Pair>
 void BroadPhase::sweepBands(Pair&& pair) {
+  // Whether two boxes that overlap in x make a pair, without a branch: whether they overlap in y is a coin
+  // toss to the branch predictor, and the caller that keeps the pairs (sweepReaches) stores every
+  // candidate and keeps those that pass, without one either.
   auto test = [&](const BandEntry& pi, const BandEntry& pj) {
-    if (!pi.moving && !pj.moving) return;
-    if ((pi.category & pj.mask) == 0 || (pj.category & pi.mask) == 0) return;
-    if (pj.box.min.y > pi.box.max.y || pi.box.min.y > pj.box.max.y) return;
-    pair(pi, pj);
+    const bool meets = (pi.moving | pj.moving) & ((pi.category & pj.mask) != 0) & ((pj.category & pi.mask) != 0) &
+                       !(pj.box.min.y > pi.box.max.y) & !(pi.box.min.y > pj.box.max.y);
+    pair(pi, pj, meets);
   };
   // A pair is found in the higher of its two home bands: there both are listed, the one as its own, the
   // other as its own or as a spill from below. Two spills are never swept against each other.
