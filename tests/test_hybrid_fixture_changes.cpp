@@ -35,12 +35,14 @@ struct Pair {
   FixtureId leftDisk, rightDisk;
 };
 
-// Two disks of the given radius on the x axis, centres 10 apart, closing at 2 units per second (1 each).
-void makePair(Pair& p, double radius, Filter filter = {}) {
+// Two disks of the given radius on the x axis, centres 10 apart, closing at 2 units per second (1 each),
+// after one step of 0.25 s (in which the hybrid step learns their shapes): centres at -4.75 and 4.75.
+void makeSteppedPair(Pair& p, double radius, Filter filter = {}) {
   p.left = p.world.createBody(bodyDef(BodyType::Dynamic, {-5, 0}, {1, 0}));
   p.right = p.world.createBody(bodyDef(BodyType::Dynamic, {5, 0}, {-1, 0}));
   p.leftDisk = p.world.createFixture(p.left, diskDef(radius, filter));
   p.rightDisk = p.world.createFixture(p.right, diskDef(radius, filter));
+  p.world.step(0.25);
 }
 
 // The world time of the first contact in the steps up to `until` (steps of 0.25 s), if any.
@@ -53,23 +55,25 @@ std::optional<double> firstContact(World& world, double until) {
   return std::nullopt;
 }
 
+void expectFirstContactAt(World& world, double until, double expected) {
+  const auto met = firstContact(world, until);
+  ASSERT_TRUE(met.has_value());
+  EXPECT_NEAR(*met, expected, 1e-12);
+}
+
 TEST(HybridFixtureChanges, AFilterChangedAfterAStepDecidesWhetherTheDisksMeet) {
   // Same negative group: they pass through each other; a group of 0 set after the first step lets them
   // meet when 10 - 2 * 0.5 = 9 units have closed, at t = 4.5.
   Pair p;
-  makePair(p, 0.5, filterOf(0x0001, 0xFFFFFFFF, -1));
-  p.world.step(0.25);
+  makeSteppedPair(p, 0.5, filterOf(0x0001, 0xFFFFFFFF, -1));
   p.world.setFilter(p.leftDisk, filterOf());
-  const auto met = firstContact(p.world, 6);
-  ASSERT_TRUE(met.has_value());
-  EXPECT_NEAR(*met, 4.5, 1e-12);
+  expectFirstContactAt(p.world, 6, 4.5);
   EXPECT_NEAR(p.world.velocity(p.left).x, -1, 1e-12);
   EXPECT_NEAR(p.world.velocity(p.right).x, 1, 1e-12);
 
   // And the other way: put into the same negative group after a step, they pass through.
   Pair q;
-  makePair(q, 0.5);
-  q.world.step(0.25);
+  makeSteppedPair(q, 0.5);
   q.world.setFilter(q.leftDisk, filterOf(0x0001, 0xFFFFFFFF, -3));
   q.world.setFilter(q.rightDisk, filterOf(0x0001, 0xFFFFFFFF, -3));
   EXPECT_FALSE(firstContact(q.world, 6).has_value());
@@ -80,13 +84,10 @@ TEST(HybridFixtureChanges, AFixtureReplacedAfterAStepCollidesWithItsOwnRadius) {
   // The left disk's radius 0.5 circle replaced by one of radius 2: contact when 10 - 2.5 = 7.5 units
   // have closed, at t = 3.75 (3.75 s after the start; the step before the change moved both).
   Pair p;
-  makePair(p, 0.5);
-  p.world.step(0.25);
+  makeSteppedPair(p, 0.5);
   p.world.destroyFixture(p.leftDisk);
   p.world.createFixture(p.left, diskDef(2));
-  const auto met = firstContact(p.world, 6);
-  ASSERT_TRUE(met.has_value());
-  EXPECT_NEAR(*met, 3.75, 1e-12);
+  expectFirstContactAt(p.world, 6, 3.75);
 }
 
 TEST(HybridFixtureChanges, AFixtureDestroyedAfterAStepIsGone) {
@@ -94,15 +95,12 @@ TEST(HybridFixtureChanges, AFixtureDestroyedAfterAStepIsGone) {
   // A static disk made next takes the freed fixture's slot, at x = -2 in the right disk's way: they meet
   // when the right disk's centre, at 4.75 after the first step, reaches -1, at t = 6.
   Pair p;
-  makePair(p, 0.5);
-  p.world.step(0.25);
+  makeSteppedPair(p, 0.5);
   p.world.destroyFixture(p.leftDisk);
   const BodyId post = p.world.createBody(bodyDef(BodyType::Static, {-2, 0}));
   const FixtureId postDisk = p.world.createFixture(post, diskDef(0.5));
   EXPECT_EQ(postDisk.index, p.leftDisk.index);
-  const auto met = firstContact(p.world, 7);
-  ASSERT_TRUE(met.has_value());
-  EXPECT_NEAR(*met, 6, 1e-12);
+  expectFirstContactAt(p.world, 7, 6);
   EXPECT_NEAR(p.world.velocity(p.right).x, 1, 1e-12);
   EXPECT_NEAR(p.world.velocity(p.left).x, 1, 1e-12);  // it passed through where the right disk was
 }
@@ -111,20 +109,16 @@ TEST(HybridFixtureChanges, ASecondFixtureAddedAfterAStepCollides) {
   // A larger circle (radius 1.5) added to the left body: it meets the right disk when 10 - 2 = 8 units
   // have closed, at t = 4. (No sensor here: a world with sensors sets every box again after the step.)
   Pair p;
-  makePair(p, 0.5);
-  p.world.step(0.25);
+  makeSteppedPair(p, 0.5);
   p.world.createFixture(p.left, diskDef(1.5));
-  const auto met = firstContact(p.world, 6);
-  ASSERT_TRUE(met.has_value());
-  EXPECT_NEAR(*met, 4, 1e-12);
+  expectFirstContactAt(p.world, 6, 4);
 }
 
 TEST(HybridFixtureChanges, ASensorAddedAfterAStepDoesNotCollide) {
   // A sensor of radius 3 added to the right body: the disks still meet at t = 4.5, and the sensor
   // reports the left disk when it comes within 3.5 (t = 3.25).
   Pair p;
-  makePair(p, 0.5);
-  p.world.step(0.25);
+  makeSteppedPair(p, 0.5);
   const FixtureId sight = p.world.createFixture(p.right, diskDef(3, {}, true));
   std::optional<double> sensed, met;
   while (p.world.time() < 6 - 1e-12 && !met) {
@@ -145,8 +139,7 @@ TEST(HybridFixtureChanges, ABodyCreatedInAFreedSlotHasItsOwnShape) {
   // The right body destroyed after a step and a new one made (in its slot) with a radius of 1 and a
   // group that keeps it from the left disk; then a third body, in no group, with a radius of 2.5.
   Pair p;
-  makePair(p, 0.5);
-  p.world.step(0.25);
+  makeSteppedPair(p, 0.5);
   const double x = p.world.position(p.right).x;
   p.world.destroyBody(p.right);
   const BodyId ghost = p.world.createBody(bodyDef(BodyType::Dynamic, {x, 0}, {-1, 0}));
@@ -160,9 +153,7 @@ TEST(HybridFixtureChanges, ABodyCreatedInAFreedSlotHasItsOwnShape) {
   p.world.createFixture(wide, diskDef(2.5));
   p.world.setFilter(p.leftDisk, filterOf());
   // At t = 0.5 the centres are 9 apart; they meet when 9 - 3 = 6 more units have closed, at t = 3.5.
-  const auto met = firstContact(p.world, 6);
-  ASSERT_TRUE(met.has_value());
-  EXPECT_NEAR(*met, 3.5, 1e-12);
+  expectFirstContactAt(p.world, 6, 3.5);
 }
 
 }  // namespace
