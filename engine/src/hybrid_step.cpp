@@ -39,10 +39,16 @@ namespace rattle {
 
 namespace {
 
-// Stores `value` unless `to` already holds its very bits (a signed zero differs from the other).
+// Whether two values have the very same bits (a signed zero differs from the other).
+template <class T>
+bool sameBits(const T& a, const T& b) {
+  return std::memcmp(&a, &b, sizeof(T)) == 0;
+}
+
+// Stores `value` unless `to` already holds its very bits.
 template <class T>
 void storeIfChanged(T& to, const T& value) {
-  if (std::memcmp(&to, &value, sizeof(T)) != 0) to = value;
+  if (!sameBits(to, value)) to = value;
 }
 
 }  // namespace
@@ -338,8 +344,8 @@ void World::Impl::learnDiskShape(uint32_t bodyIndex) {
   const Box box{Vec2{-circle->radius, -circle->radius}, Vec2{circle->radius, circle->radius}};
   // Exactly, bit for bit (a radius of 0 gives a box from +0 where -radius is -0): the first pass then
   // adds the same box to the path as it would read from the fixture.
-  auto same = [](const Vec2& p, const Vec2& q) { return std::memcmp(&p, &q, sizeof(Vec2)) == 0; };
-  if (!same(circle->center, zero) || !same(fixture.localBox.min, box.min) || !same(fixture.localBox.max, box.max)) {
+  if (!sameBits(circle->center, zero) || !sameBits(fixture.localBox.min, box.min) ||
+      !sameBits(fixture.localBox.max, box.max)) {
     return;
   }
   diskShapes[bodyIndex] = {circle->radius, f, fixture.filter.group};

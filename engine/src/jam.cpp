@@ -27,8 +27,7 @@ bool World::Impl::isJammed(uint32_t bodyIndex) {
   BodySlot& s = bodies[bodyIndex];
   if (s.type != BodyType::Dynamic || s.asleep) return false;
   if (!(def.restingSpeed > 0) || (def.gravity.x == 0 && def.gravity.y == 0)) return false;
-  s.stepLocalsSet = true;
-  return ++s.stepCollisions > kJamCollisions;
+  return s.countStepCollision() > kJamCollisions;
 }
 
 bool World::Impl::settleJamAt(const detail::PredictedContact& c, double dt) {

@@ -106,8 +106,9 @@ void World::Impl::sleepIfZeno(uint32_t bodyIndex, double now) {
   BodySlot& s = bodies[bodyIndex];
   if (!(def.restingSpeed > 0) || (def.gravity.x == 0 && def.gravity.y == 0)) return;
   if (s.type != BodyType::Dynamic || s.asleep) return;
-  s.stepLocalsSet = true;
-  if (++s.stepCollisions > kZenoCollisions && supportsAt(bodyIndex, now, supporters)) putToSleep(bodyIndex, supporters);
+  if (s.countStepCollision() > kZenoCollisions && supportsAt(bodyIndex, now, supporters)) {
+    putToSleep(bodyIndex, supporters);
+  }
 }
 
 void World::Impl::putToSleep(uint32_t bodyIndex, const std::vector<uint32_t>& supporters) {

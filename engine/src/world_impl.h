@@ -66,7 +66,7 @@ struct alignas(64) BodySlot {
   // whether it does. `sliding` is support.generation != 0 (setSupport, clearSupport).
   bool sliding : 1 = false;
   // last, jamTime or stepCollisions may differ from their values at a step's start (every write of them
-  // sets it; the hybrid step's first pass resets them only then).
+  // sets it: setLast, countStepCollision, settleJam; the hybrid step's first pass resets them only then).
   bool stepLocalsSet : 1 = false;
   // World::Impl::diskShapes[this body] holds its one fixture that is not a sensor, a circle centred on
   // it (the hybrid step learns it; World's changes to the body's fixtures or their filters clear it).
@@ -95,6 +95,11 @@ struct alignas(64) BodySlot {
   void setLast(const LastContact& contact) {
     last = contact;
     stepLocalsSet = true;
+  }
+  /// Counts a collision in the current step (the jam and Zeno guards); returns the count.
+  int countStepCollision() {
+    stepLocalsSet = true;
+    return ++stepCollisions;
   }
 };
 
