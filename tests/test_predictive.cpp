@@ -1,8 +1,9 @@
 // Predictive mode tests: the same answers as the hybrid mode where the physics is exact (one collision,
-// Newton's cradle, a short run of a gas, mixed shapes with sensors, changes made between steps), conservation and no
-// overlaps over a long run, frames that are only times to look at, a ball bouncing under gravity at the
-// analytic times and coming to rest, a pile, sparse far-apart clusters with fast bodies, the event
-// budget, determinism, and a 10^5-disk gas at packing fraction 0.5.
+// Newton's cradle, a short run of a gas, mixed shapes with sensors, changes made between steps, static and
+// kinematic shapes changed on a large map), conservation and no overlaps over a long run, frames that are
+// only times to look at, a ball bouncing under gravity at the analytic times and coming to rest, a pile,
+// sparse far-apart clusters with fast bodies, the event budget, determinism, and a 10^5-disk gas at
+// packing fraction 0.5.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -374,6 +375,174 @@ TEST(PredictiveChanges, ChangesBetweenStepsMatchHybrid) {
   for (const Disk& d : h.disks)
     if (h.world.isValid(d.body)) aliveH.push_back(d);
   expectSameState(p.world, h.world, alive, aliveH, 1e-8);
+}
+
+// A large map with fast disks and a crowd in a corner (the predictive grid's table then covers the walls'
+// region and is mostly empty), whose static and kinematic shapes change between steps in each way that
+// can change the predictive mode's listing of static fixtures by cell, with changes among dynamic bodies
+// (which keep that listing) in between. The hybrid mode keeps no such listing: any listing kept too long, or not
+// kept right, shows up as a missed or an extra collision.
+struct ChangingMap {
+  BodyId wall, mover;
+  FixtureId segment;
+  std::vector<FixtureId> wallFixtures;  // the segment, the block, the kinematic body's
+};
+
+// A crowd at rest in a pen of its own in the corner of a 400 x 200 map: it keeps the predictive grid's
+// cells near a diameter wide, so that the table covering the map is mostly empty (the predictive mode
+// then orders its bodies from the occupied entries alone) and a wall is listed only in the cells near
+// it. (Walled off: a fast disk running into a crowd sets off a cascade that turns round-off into large
+// differences between the two modes.)
+void addRestingCrowd(Scene& s) {
+  makeClosedBox(s.world, 364, 164, 382, 182, 1.0);
+  auto crowd = gasOptions(60, 14);
+  crowd.xmin = 366;
+  crowd.ymin = 166;
+  crowd.xmax = 380;
+  crowd.ymax = 180;
+  crowd.minSpeed = crowd.maxSpeed = 0;
+  for (const DiskSpec& d : randomDisks(crowd)) s.disks.push_back(addDisk(s.world, d));
+}
+
+void buildChangingMap(Scene& s) {
+  makeClosedBox(s.world, 0, 0, 400, 200, 1.0);
+  for (int k = 0; k < 40; ++k) {
+    const Vec2 velocity{(k % 2 ? 1 : -1) * (20.0 + k), (k % 3 - 1) * (10.0 + k)};
+    s.disks.push_back(addDisk(s.world, {{10 + 9.0 * k, 10 + 4.5 * k}, velocity, 0.5, 1.0, 1.0}));
+  }
+  addRestingCrowd(s);
+}
+
+void changeMap(Scene& s, ChangingMap& m, int step) {
+  FixtureDef fd;
+  fd.restitution = 1.0;
+  if (step == 3) {  // a static body and a wall across the map
+    m.wall = s.world.createBody(bodyDef(BodyType::Static, {60, 100}));
+    fd.geometry = rattle::Segment{{0, -99}, {0, 99}};
+    m.segment = s.world.createFixture(m.wall, fd);
+    m.wallFixtures.push_back(m.segment);
+  }
+  if (step == 12) s.disks.push_back(addDisk(s.world, {{300, 150}, {-3, 1}, 0.5, 1.0, 1.0}));  // keeps the listing
+  if (step == 20) s.world.setPosition(m.wall, {150, 100});  // the wall moves
+  if (step == 28) s.world.destroyBody(s.disks[4].body);     // keeps the listing
+  if (step == 35) {  // a second fixture on the static body
+    fd.geometry = rattle::Polygon{{{-40, -5}, {-20, -5}, {-20, 5}, {-40, 5}}};
+    m.wallFixtures.push_back(s.world.createFixture(m.wall, fd));
+  }
+  if (step == 50) s.world.destroyFixture(m.segment);  // the wall goes, the block stays
+  if (step == 65) {  // a moving kinematic body
+    m.mover = s.world.createBody(bodyDef(BodyType::Kinematic, {110, 60}, {2, 0}));
+    fd.geometry = rattle::Polygon{{{-3, -30}, {3, -30}, {3, 30}, {-3, 30}}};
+    m.wallFixtures.push_back(s.world.createFixture(m.mover, fd));
+  }
+  if (step == 80) s.world.setVelocity(m.mover, {-3, 0});
+  if (step == 95) s.world.destroyBody(m.wall);
+}
+
+TEST(PredictiveChanges, StaticAndKinematicChangesOnALargeMapMatchHybrid) {
+  Scene h(defOf(StepMode::Hybrid)), p(defOf(StepMode::Predictive));
+  ChangingMap mh, mp;
+  buildChangingMap(h);
+  buildChangingMap(p);
+  const double dt = 1.0 / 30;
+  std::vector<size_t> contacts(3, 0);  // with the segment, the block, the kinematic body
+  for (int step = 0; step < 120; ++step) {
+    changeMap(h, mh, step);
+    changeMap(p, mp, step);
+    h.world.step(dt);
+    p.world.step(dt);
+    expectSamePairs(p.world, h.world, step, 1e-9);
+    if (::testing::Test::HasFatalFailure()) return;
+    for (const ContactEvent& e : p.world.contactEvents()) {
+      for (size_t k = 0; k < mp.wallFixtures.size(); ++k) {
+        if (e.fixtureA == mp.wallFixtures[k] || e.fixtureB == mp.wallFixtures[k]) ++contacts[k];
+      }
+    }
+  }
+  // Each changed shape was met: the comparison above is about them.
+  for (size_t k = 0; k < contacts.size(); ++k) EXPECT_GT(contacts[k], 0u) << "shape " << k;
+  std::printf("[ Predictive ] changing map: %zu, %zu and %zu contacts with the segment, the block and the "
+              "kinematic body\n",
+              contacts[0], contacts[1], contacts[2]);
+  std::vector<Disk> alive, aliveH;
+  for (const Disk& d : p.disks)
+    if (p.world.isValid(d.body)) alive.push_back(d);
+  for (const Disk& d : h.disks)
+    if (h.world.isValid(d.body)) aliveH.push_back(d);
+  expectSameState(p.world, h.world, alive, aliveH, 1e-8);
+}
+
+// Four disks, each heading for a static shape that a change between steps moves or puts in its way, or
+// takes out of it, a few steps before it gets there, while another body is made and unmade at every
+// step far from them (a change of structure among dynamic bodies, after which the predictive mode keeps
+// its listing of static fixtures if nothing static changed). Each disk meets its shape, or passes where
+// it was, as the hybrid mode has it and at the analytic time.
+TEST(PredictiveChanges, EveryStaticChangeIsSeenWhileDynamicBodiesComeAndGo) {
+  struct Run {
+    Scene s;
+    BodyId added, doomed, moved, churn;
+    FixtureId removed, movedWall;
+    explicit Run(const WorldDef& d) : s(d) {}
+  };
+  FixtureDef wall;
+  wall.restitution = 1.0;
+  wall.geometry = rattle::Segment{{0, -10}, {0, 10}};
+  // Disk k starts at x = 10 at 60 units a second toward a shape at x = 60 + 20 k, which its edge reaches
+  // at (49.5 + 20 k) / 60 s: steps 24.75, 34.75 and 44.75 of 1/30 s. The changes come at steps 20, 30
+  // and 40. A fourth disk, at y = 25, meets a static body moved into its way at step 8, at x = 30: its
+  // edge gets there at 19.5 / 60 s, step 9.75.
+  auto build = [&](Run& r) {
+    makeClosedBox(r.s.world, 0, 0, 400, 200, 1.0);
+    for (int k = 0; k < 3; ++k) r.s.disks.push_back(addDisk(r.s.world, {{10, 50.0 + 50 * k}, {60, 0}, 0.5, 1.0, 1.0}));
+    r.s.disks.push_back(addDisk(r.s.world, {{10, 25}, {60, 0}, 0.5, 1.0, 1.0}));
+    addRestingCrowd(r.s);  // small cells: each wall is listed only near where it is
+    r.moved = r.s.world.createBody(bodyDef(BodyType::Static, {300, 25}));
+    r.movedWall = r.s.world.createFixture(r.moved, wall);
+    r.added = r.s.world.createBody(bodyDef(BodyType::Static, {60, 50}));  // its wall comes at step 20
+    const BodyId kept = r.s.world.createBody(bodyDef(BodyType::Static, {80, 100}));
+    r.removed = r.s.world.createFixture(kept, wall);  // goes at step 30
+    r.doomed = r.s.world.createBody(bodyDef(BodyType::Static, {100, 150}));
+    r.s.world.createFixture(r.doomed, wall);  // its body goes at step 40
+  };
+  auto change = [&](Run& r, int step) {
+    if (r.s.world.isValid(r.churn)) {
+      r.s.world.destroyBody(r.churn);
+    } else {
+      r.churn = r.s.world.createBody(bodyDef(BodyType::Dynamic, {390, 190}));
+      FixtureDef fd;
+      fd.geometry = rattle::Circle{{0, 0}, 0.5};
+      r.s.world.createFixture(r.churn, fd);
+    }
+    if (step == 8) r.s.world.setPosition(r.moved, {30, 25});
+    if (step == 20) r.s.world.createFixture(r.added, wall);
+    if (step == 30) r.s.world.destroyFixture(r.removed);
+    if (step == 40) r.s.world.destroyBody(r.doomed);
+  };
+  Run h(defOf(StepMode::Hybrid)), p(defOf(StepMode::Predictive));
+  build(h);
+  build(p);
+  const double dt = 1.0 / 30;
+  const int steps = 50;
+  double metMoved = -1;  // when the fourth disk met the moved wall
+  for (int step = 0; step < steps; ++step) {
+    change(h, step);
+    change(p, step);
+    h.s.world.step(dt);
+    p.s.world.step(dt);
+    expectSamePairs(p.s.world, h.s.world, step, 1e-9);
+    if (::testing::Test::HasFatalFailure()) return;
+    for (const ContactEvent& e : p.s.world.contactEvents()) {
+      if (metMoved < 0 && (e.fixtureA == p.movedWall || e.fixtureB == p.movedWall)) metMoved = step * dt + e.time;
+    }
+  }
+  EXPECT_NEAR(metMoved, 19.5 / 60, 1e-12);
+  const double at = steps * dt;
+  EXPECT_NEAR(p.s.world.velocity(p.s.disks[0].body).x, -60, 1e-9);
+  EXPECT_NEAR(p.s.world.position(p.s.disks[0].body).x, 59.5 - 60 * (at - 49.5 / 60), 1e-9);
+  for (int k : {1, 2}) {
+    EXPECT_NEAR(p.s.world.velocity(p.s.disks[k].body).x, 60, 1e-9);
+    EXPECT_NEAR(p.s.world.position(p.s.disks[k].body).x, 10 + 60 * at, 1e-9);
+  }
 }
 
 // Compares two worlds' sensor events of a step: each (sensor, visitor) pair has the same begins and ends

@@ -95,6 +95,10 @@ int32_t headEntry(int32_t slot, bool more) { return slot < 0 ? -1 : 2 * slot + (
 // Cell coordinates are clamped to +-kMaxCoord; the cells there reach to infinity.
 constexpr int32_t kMaxCoord = int32_t{1} << 30;
 
+// The most entries the cell table takes to cover the static fixtures' region (Engine::buildGrid); the
+// bodies' region may take more (a few entries a body). 2^18 entries: 2 MiB of tables.
+constexpr size_t kStaticTableLimit = size_t{1} << 18;
+
 int32_t cellCoord(double x, double origin, double size) {
   const double k = std::floor((x - origin) / size);
   if (k != k) return 0;  // NaN
@@ -171,7 +175,8 @@ class Engine {
   void rebase(double by);
   void computeConstants(double dt);
   void buildGrid();
-  double sceneExtent() const;
+  void listStatics();
+  Box sceneBox() const;
   double meanNeighbours(double size) const;
   double sparseCellSize(double size, double limit) const;
   void reorder(bool fresh = false);

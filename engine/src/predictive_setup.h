@@ -109,6 +109,11 @@ void Engine<W>::attach(uint32_t slot) {
 template <class W>
 void Engine<W>::buildGrid() {
   const size_t nb = w_.bodies.size();
+  // The table's occupied entries are the bodies' cells: emptied here, the table is all empty without a
+  // write to each entry (it may be far larger than the bodies, covering a large map's walls).
+  for (const HotBody& h : s_.hot) {
+    if (h.cell < s_.heads.size()) s_.heads[h.cell] = -1;
+  }
   s_.slotOfBody.assign(nb, PredictiveState::kNone);
   s_.bodyOfSlot.clear();
   s_.hot.clear();
@@ -180,8 +185,11 @@ void Engine<W>::buildGrid() {
   for (uint32_t slot = 0; slot < n; ++slot) sync(slot);
 
   // Cell size: the largest diameter, with a margin for round-off in cell crossings. The table: about
-  // the bodies' region, at most a few entries per body.
+  // the bodies' region, at most a few entries per body, or the static fixtures' region (below).
   double size = 1;
+  double least = 0;  // the smallest cell that holds the bodies (before sparseCellSize)
+  const double lastX0 = s_.x0, lastY0 = s_.y0, lastSize = s_.cellSize;
+  const uint32_t lastFoldX = s_.foldX, lastFoldY = s_.foldY;
   s_.x0 = s_.y0 = 0;
   uint32_t foldX = 4, foldY = 4;
   if (n > 0 && std::isfinite(maxX - minX) && std::isfinite(maxY - minY)) {
@@ -192,10 +200,21 @@ void Engine<W>::buildGrid() {
     if (!(size > 0) || !std::isfinite(size)) size = 1;
     s_.x0 = minX;
     s_.y0 = minY;
-    size = sparseCellSize(size, std::max(sceneExtent(), diameter));
-    const double cap = static_cast<double>(std::max<size_t>(8 * n, 1024));
-    while (foldX < width / size + 3 && foldX < cap) foldX *= 2;
-    while (foldY < height / size + 3 && foldY < cap) foldY *= 2;
+    least = size;
+    const Box scene = sceneBox();
+    double sceneWidth = scene.max.x - scene.min.x, sceneHeight = scene.max.y - scene.min.y;
+    if (!std::isfinite(sceneWidth) || !std::isfinite(sceneHeight)) sceneWidth = sceneHeight = 0;
+    size = sparseCellSize(size, std::max({sceneWidth, sceneHeight, diameter}));
+    // The table covers the bodies' region, with at most a few entries a body; and the static fixtures'
+    // region too, up to kStaticTableLimit entries: on a smaller table the walls of a large map fold onto
+    // entries of cells they are nowhere near, and every prediction there tests them for nothing (the
+    // demo's arena with 100 units a team: 1,024 entries for its 20,000 cells, and most of a prediction's
+    // time went to such walls).
+    const double staticCells = (sceneWidth / size + 3) * (sceneHeight / size + 3);
+    const double cap = std::max(static_cast<double>(std::max<size_t>(8 * n, 1024)),
+                                std::min(staticCells, static_cast<double>(kStaticTableLimit)));
+    while (foldX < std::max(width, sceneWidth) / size + 3 && foldX < cap) foldX *= 2;
+    while (foldY < std::max(height, sceneHeight) / size + 3 && foldY < cap) foldY *= 2;
     while (static_cast<double>(foldX) * foldY > cap) {
       if (foldX >= foldY) {
         foldX /= 2;
@@ -205,6 +224,19 @@ void Engine<W>::buildGrid() {
     }
     foldX = std::max(foldX, 4u);
     foldY = std::max(foldY, 4u);
+  }
+  // The static fixtures listed by cell (below) depend only on them and on the grid: while no static or
+  // kinematic body or fixture changed (World::Impl::staticVersion), a grid as fine and as large as the
+  // one just worked out is kept as it was, with its listing. A game that fires a shot or loses a unit
+  // (a change of structure, which makes the grid again) then does not list a large map's walls again.
+  // The grid's origin is arbitrary (it is unbounded), and a cell as wide as the one chosen, to a part in
+  // a thousand, is as good, if it holds the bodies.
+  const bool keepStatics = s_.staticsListed && s_.staticVersion == w_.staticVersion && foldX == lastFoldX &&
+                           foldY == lastFoldY && lastSize >= least && std::fabs(lastSize - size) <= size / 1024;
+  if (keepStatics) {
+    size = lastSize;
+    s_.x0 = lastX0;
+    s_.y0 = lastY0;
   }
   s_.cellSize = size;
   // A body leaves its cell only once it is this far past the side: without it, a body resting exactly on a
@@ -218,9 +250,8 @@ void Engine<W>::buildGrid() {
   s_.foldX = foldX;
   s_.foldY = foldY;
   const size_t cells = static_cast<size_t>(foldX) * foldY;
-  s_.heads.assign(cells, -1);
-  s_.staticBegin.assign(cells + 1, 0);
-  s_.staticNear.assign((cells + 63) / 64, 0);
+  if (s_.heads.size() != cells) s_.heads.assign(cells, -1);
+  if (!keepStatics) s_.staticNear.assign((cells + 63) / 64, 0);  // read by placeInCell() until listStatics()
   s_.links.assign(n, PredictiveState::CellLink{});
   s_.event.assign(n, PredictiveEvent{});
   resetQueue();
@@ -232,8 +263,20 @@ void Engine<W>::buildGrid() {
   }
   reorder(/*fresh=*/true);
 
+  if (!keepStatics) listStatics();
+  for (uint32_t slot = 0; slot < n; ++slot) setCell(slot);
+  s_.valid = true;
+}
+
+template <class W>
+void Engine<W>::listStatics() {
   // Static fixtures: in every cell whose region, grown by half a cell (the reach of any dynamic body
-  // whose centre is in it), the fixture overlaps.
+  // whose centre is in it), the fixture overlaps. Kinematic bodies' fixtures: in one list.
+  const size_t nb = w_.bodies.size();
+  const size_t cells = s_.heads.size();
+  const double size = s_.cellSize;
+  s_.staticBegin.assign(cells + 1, 0);
+  s_.staticNear.assign((cells + 63) / 64, 0);
   std::vector<std::pair<uint32_t, uint32_t>> entries;  // (cell, fixture)
   s_.kinematicFixtures.clear();
   const double reach = 0.5 * size;
@@ -289,8 +332,8 @@ void Engine<W>::buildGrid() {
   for (size_t c = 0; c < cells; ++c) {
     if (s_.staticBegin[c] != s_.staticBegin[c + 1]) s_.staticNear[c >> 6] |= uint64_t{1} << (c & 63);
   }
-  for (uint32_t slot = 0; slot < n; ++slot) setCell(slot);
-  s_.valid = true;
+  s_.staticVersion = w_.staticVersion;
+  s_.staticsListed = true;
 }
 
 // Sorts by radix, 16 bits at a time from the lowest (LSD), skipping digits all keys share: O(n), where
@@ -315,8 +358,8 @@ void sortKeys(std::vector<uint64_t>& keys) {
 }
 
 template <class W>
-double Engine<W>::sceneExtent() const {
-  // The size of the box around every tracked body's centre and every static and kinematic fixture.
+Box Engine<W>::sceneBox() const {
+  // The box around every tracked body's centre and every static and kinematic fixture.
   Box box{{kInf, kInf}, {-kInf, -kInf}};
   for (const Vec2 c : s_.centres) box = unionOf(box, Box{c, c});
   for (const BodySlot& b : w_.bodies) {
@@ -325,8 +368,7 @@ double Engine<W>::sceneExtent() const {
       if (!w_.fixtures[f].sensor) box = unionOf(box, w_.fixtures[f].localBox.translated(b.position));
     }
   }
-  const double extent = std::max(box.max.x - box.min.x, box.max.y - box.min.y);
-  return std::isfinite(extent) ? extent : 0.0;
+  return box;
 }
 
 template <class W>
@@ -442,13 +484,47 @@ void Engine<W>::reorder(bool fresh) {
   };
   // The table (powers of two on each side) as square tiles, row by row, each along the curve.
   const uint64_t side = std::min(s_.foldX, s_.foldY);
-  for (uint64_t ty = 0; ty < s_.foldY; ty += side) {
-    for (uint64_t tx = 0; tx < s_.foldX; tx += side) {
-      for (uint64_t z = 0; z < side * side; ++z) {
-        const uint64_t x = tx + gather(z), y = ty + gather(z >> 1);
-        for (int32_t k = headSlot(s_.heads[folded(static_cast<int32_t>(x), static_cast<int32_t>(y))]); k >= 0;
-             k = s_.links[k].next) {
-          order.push_back(static_cast<uint32_t>(k));
+  // A table much larger than the bodies (one that covers a large map's walls, buildGrid) is mostly
+  // empty: its occupied entries are found from the bodies and put in the walk's order by sorting (cheaper
+  // than the walk once the table has a few dozen entries a body), and each list is read as the walk would
+  // read it, so the order is the same.
+  const bool sparseTable = size_t{s_.foldX} * s_.foldY > 32 * n + 1024;
+  if (sparseTable) {
+    auto spread = [](uint64_t v) {  // gather()'s inverse: v's bits to the even bits
+      v &= 0x00000000FFFFFFFFull;
+      v = (v | (v << 16)) & 0x0000FFFF0000FFFFull;
+      v = (v | (v << 8)) & 0x00FF00FF00FF00FFull;
+      v = (v | (v << 4)) & 0x0F0F0F0F0F0F0F0Full;
+      v = (v | (v << 2)) & 0x3333333333333333ull;
+      v = (v | (v << 1)) & 0x5555555555555555ull;
+      return v;
+    };
+    std::vector<uint64_t>& keys = s_.occupied;
+    keys.clear();
+    for (uint32_t k = 0; k < n; ++k) {
+      const uint32_t entry = s_.hot[k].cell;
+      if (headSlot(s_.heads[entry]) != static_cast<int32_t>(k)) continue;  // one key an occupied entry
+      uint32_t x, y;
+      unfold(entry, x, y);
+      const uint64_t tile = (y / side) * (s_.foldX / side) + x / side;
+      const uint64_t walked = tile * side * side + (spread(x % side) | (spread(y % side) << 1));
+      keys.push_back((walked << 32) | entry);
+    }
+    std::sort(keys.begin(), keys.end());  // (few: sortKeys() pays 2^16 counters a pass)
+    for (const uint64_t key : keys) {
+      for (int32_t k = headSlot(s_.heads[static_cast<uint32_t>(key)]); k >= 0; k = s_.links[k].next) {
+        order.push_back(static_cast<uint32_t>(k));
+      }
+    }
+  } else {
+    for (uint64_t ty = 0; ty < s_.foldY; ty += side) {
+      for (uint64_t tx = 0; tx < s_.foldX; tx += side) {
+        for (uint64_t z = 0; z < side * side; ++z) {
+          const uint64_t x = tx + gather(z), y = ty + gather(z >> 1);
+          for (int32_t k = headSlot(s_.heads[folded(static_cast<int32_t>(x), static_cast<int32_t>(y))]); k >= 0;
+               k = s_.links[k].next) {
+            order.push_back(static_cast<uint32_t>(k));
+          }
         }
       }
     }
@@ -496,7 +572,11 @@ void Engine<W>::reorder(bool fresh) {
       if (s_.event[k].kind != PredictiveKind::None) enqueue(k);
     }
   }
-  std::fill(s_.heads.begin(), s_.heads.end(), -1);
+  if (sparseTable) {
+    for (uint32_t k = 0; k < n; ++k) s_.heads[s_.hot[k].cell] = -1;  // every occupied entry
+  } else {
+    std::fill(s_.heads.begin(), s_.heads.end(), -1);
+  }
   s_.links.resize(n);
   for (uint32_t k = static_cast<uint32_t>(n); k-- > 0;) link(k);
   s_.popsSinceReorder = 0;

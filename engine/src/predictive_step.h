@@ -143,6 +143,10 @@ struct PredictiveState {
   };
   std::vector<uint32_t> staticList;
   std::vector<uint32_t> kinematicFixtures;  // physical fixtures of kinematic bodies
+  // The listing above (staticBegin, staticList, staticNear, kinematicFixtures) was made for this grid at
+  // World::Impl::staticVersion `staticVersion`: buildGrid keeps it while that has not moved on.
+  bool staticsListed = false;
+  uint64_t staticVersion = 0;
 
   // Tracked bodies (dynamic, with a physical fixture) have a slot; slots are ordered by cell when the
   // grid is built and re-ordered now and then as bodies move. Everything below is indexed by slot.
@@ -270,6 +274,7 @@ struct PredictiveState {
   std::vector<uint32_t> dirty;
   std::vector<uint32_t> woken;
   detail::LargeArray<uint32_t> order;
+  std::vector<uint64_t> occupied;  // Engine::reorder on a sparse table: its occupied entries, by walk order
   std::vector<double> scratchTimes;
 };
 

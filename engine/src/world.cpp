@@ -203,6 +203,7 @@ void World::destroyBody(BodyId id) {
   }
   b.fixtures.clear();
   b.diskShapeKnown = false;
+  w.staticsChanged(b);
   // Island impulses are kept by fixture index, and indices are reused: forget them (island.cpp).
   w.islandNext.clear();
   b.alive = false;
@@ -337,6 +338,7 @@ FixtureId World::createFixture(BodyId bodyId, const FixtureDef& def) {
   body.diskShapeKnown = false;
   w.recomputeMass(body);
   w.structureChanged = true;
+  w.staticsChanged(body);
   w.broadPhase.add(index, w.worldBox(index), body.type != BodyType::Static, f.sensor, f.filter.categoryBits,
                    f.filter.maskBits);
   if (f.sensor) ++w.liveSensors;
@@ -353,6 +355,7 @@ void World::destroyFixture(FixtureId id) {
   w.broadPhase.remove(id.index);
   if (f.sensor) --w.liveSensors;
   w.structureChanged = true;
+  w.staticsChanged(body);
   f.alive = false;
   f.generation = nextGeneration(f.generation);
   f.geometry = Point{};

@@ -223,6 +223,14 @@ struct World::Impl {
   // filter, a static or kinematic body moved) it starts afresh; the dynamic bodies touched (moved, given a
   // velocity, woken, given a mass) are predicted again. Every mutator of World reports here.
   bool structureChanged = true;
+  // Moves on when a fixture is created on or destroyed with a static or kinematic body, and when a
+  // static body moves: the predictive mode keeps its listing of static fixtures by cell (and of kinematic
+  // fixtures) while it stays, so a change of structure among dynamic bodies (a shot fired) does not list
+  // a map's walls again. Filters are not listed.
+  uint64_t staticVersion = 0;
+  void staticsChanged(const detail::BodySlot& b) {
+    if (b.type != BodyType::Dynamic) ++staticVersion;
+  }
   bool restitutionChanged = false;  // World::setRestitution since the last step
   std::vector<uint32_t> touchedBodies;
   void touched(uint32_t body) {
@@ -230,6 +238,8 @@ struct World::Impl {
       touchedBodies.push_back(body);
     } else {
       structureChanged = true;
+      // A kinematic body's motion is not listed (every prediction looks at each kinematic fixture).
+      if (bodies[body].type == BodyType::Static) ++staticVersion;
     }
   }
   void touched(const std::vector<uint32_t>& woken) {
