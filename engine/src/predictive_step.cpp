@@ -8,9 +8,10 @@
 //  - Cell grid. Cells are at least as wide as the largest dynamic body, so two bodies that touch have
 //    their centres in neighbouring cells; a body leaving its cell is an event (the first exit of a line
 //    or a parabola from the cell, a little past its side), after which it is predicted against its new
-//    neighbours. The grid is unbounded and folded onto a table; cells grow where bodies are sparse.
-//    Static fixtures are listed in every cell they come within half a cell of (a long wall in many);
-//    kinematic bodies are few, and every prediction looks at all of them.
+//    neighbours. The grid is unbounded and folded onto a table that covers the bodies' region and the
+//    static fixtures' (up to a limit); cells grow where bodies are sparse. Static fixtures are listed in
+//    every cell they come within half a cell of (a long wall in many); kinematic bodies are few, and
+//    every prediction looks at all of them.
 //  - One scheduled event per body: the earliest of its contacts with its neighbours, its slide end and
 //    its cell crossing, predicted no further than that crossing. A body whose motion changes is predicted
 //    again at once against all its neighbours, so every pair's next contact is held by one of its two
@@ -46,7 +47,9 @@
 //    filter changed). The World API reports every change (World::Impl::touched), so a step costs nothing
 //    for bodies nobody touched: a dynamic body that was changed is relocated and predicted again (its
 //    counter is bumped so that predictions against its old path go stale); anything structural rebuilds
-//    the grid and the queue.
+//    the grid and the queue, but keeps the grid's cells and its listing of static fixtures while no
+//    static or kinematic fixture came or went and no static body moved (World::Impl::staticVersion): a
+//    game firing shots on a large map does not list its walls again.
 //
 // Sensors: when the world has any, every change of a body's motion is recorded (PathLog), and the sensor
 // events are found from those paths when the step's events are done (sensor_paths.cpp).
