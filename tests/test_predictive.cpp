@@ -1,9 +1,9 @@
 // Predictive mode tests: the same answers as the hybrid mode where the physics is exact (one collision,
 // Newton's cradle, a short run of a gas, mixed shapes with sensors, changes made between steps, static and
 // kinematic shapes changed on a large map), conservation and no overlaps over a long run, frames that are
-// only times to look at, a ball bouncing under gravity at the analytic times and coming to rest, a pile,
-// sparse far-apart clusters with fast bodies, the event budget, determinism, and a 10^5-disk gas at
-// packing fraction 0.5.
+// only times to look at, a ball bouncing under gravity at the analytic times and coming to rest, a ball
+// thrown up against a ceiling, a pile, sparse far-apart clusters with fast bodies, the event budget,
+// determinism, and a 10^5-disk gas at packing fraction 0.5.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -283,6 +283,34 @@ TEST(PredictiveGravity, BallBouncesAtAnalyticTimesAndComesToRest) {
   EXPECT_TRUE(p.world.isAsleep(p.disks[0].body));
   EXPECT_NEAR(p.world.position(p.disks[0].body).y, r, 1e-9);
   EXPECT_EQ(p.world.stats().sleeping, 1);
+}
+
+TEST(PredictiveGravity, BallThrownUpMeetsACeilingBelowItsPeak) {
+  // Thrown up at 10 under g = 10, the ball's centre would peak at y = 5 and be back at 0 at t = 2; a
+  // ceiling at y = 4.5 stops it when its centre reaches 4, at 10 t - 5 t^2 = 4: t = 1 - sqrt(0.2), at a
+  // speed of 10 sqrt(0.2). Between two instants at which the ball is low (a prediction's start and its
+  // horizon) the path rises above both: a test of whether the ball can reach the ceiling must take the
+  // peak into account, not only the ends.
+  World world(defOf(StepMode::Predictive, {0, -10}));
+  const BodyId ceiling = world.createBody(bodyDef(BodyType::Static));
+  FixtureDef fd;
+  fd.restitution = 1.0;
+  fd.geometry = rattle::Segment{{-5, 4.5}, {5, 4.5}};
+  const FixtureId wall = world.createFixture(ceiling, fd);
+  const Disk ball = addDisk(world, {{0, 0}, {0, 10}, 0.5, 1.0, 1.0});
+  const double dt = 1.0 / 60;
+  double met = -1;
+  for (int step = 0; step < 60; ++step) {
+    world.step(dt);
+    for (const ContactEvent& e : world.contactEvents()) {
+      if (met < 0 && (e.fixtureA == wall || e.fixtureB == wall)) met = step * dt + e.time;
+    }
+  }
+  EXPECT_NEAR(met, 1 - std::sqrt(0.2), 1e-12);
+  // Back down from the ceiling at 10 sqrt(0.2), under g, from t = 1 - sqrt(0.2) to t = 1.
+  const double since = 1 - met;
+  EXPECT_NEAR(world.velocity(ball.body).y, -10 * std::sqrt(0.2) - 10 * since, 1e-9);
+  EXPECT_NEAR(world.position(ball.body).y, 4 - 10 * std::sqrt(0.2) * since - 5 * since * since, 1e-9);
 }
 
 TEST(PredictiveGravity, PileInABoxSettlesWithoutSinking) {

@@ -82,6 +82,34 @@ double searchBound(double horizon, double best, double now) {
   return std::min(horizon - now, (best - now) * (1 + 1e-9) + 8 * kEps * (std::fabs(best) + std::fabs(now)) + 1e-300);
 }
 
+// The box a fixture sweeps over a time h along its body's path, from position p with velocity v and
+// acceleration a (`local`: the fixture's box about its body): the boxes at both ends and at the turning
+// point of each coordinate, if there is one in between.
+Box sweptBox(const Box& local, Vec2 p, Vec2 v, Vec2 a, double h) {
+  Box box = unionOf(local.translated(p), local.translated(p + v * h + a * (0.5 * h * h)));
+  auto turn = [&](double pk, double vk, double ak, double& low, double& high, double lk, double hk) {
+    if (ak == 0) return;
+    const double s = -vk / ak;
+    if (!(s > 0 && s < h)) return;
+    const double at = pk + vk * s + ak * (0.5 * s * s);
+    low = std::min(low, at + lk);
+    high = std::max(high, at + hk);
+  };
+  turn(p.x, v.x, a.x, box.min.x, box.max.x, local.min.x, local.max.x);
+  turn(p.y, v.y, a.y, box.min.y, box.max.y, local.min.y, local.max.y);
+  return box;
+}
+
+// Whether two boxes are apart by more than the round-off of their coordinates (relative 1e-9, far above
+// it): shapes inside them cannot touch, so a time of impact between them would find nothing.
+bool clearlyApart(const Box& a, const Box& b) {
+  const double scale = std::max({std::fabs(a.min.x), std::fabs(a.max.x), std::fabs(a.min.y), std::fabs(a.max.y),
+                                 std::fabs(b.min.x), std::fabs(b.max.x), std::fabs(b.min.y), std::fabs(b.max.y)});
+  const double margin = 1e-9 * (1 + scale);
+  return a.max.x + margin < b.min.x || b.max.x + margin < a.min.x || a.max.y + margin < b.min.y ||
+         b.max.y + margin < a.min.y;
+}
+
 // Neighbours of one body held on the stack; more (a crowd in a few cells) go to a vector. At least the
 // nine cells' heads (Engine::gatherNeighbours).
 constexpr size_t kNeighbourBuffer = 128;
