@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <tuple>
 
 #include "closest_point.h"
@@ -267,6 +268,13 @@ class Engine {
     h.flags = static_cast<uint8_t>((h.flags & ~HotBody::kStaticNear) | (near ? HotBody::kStaticNear : 0));
   }
   size_t cellOf(uint32_t slot) const { return s_.hot[slot].cell; }
+  // Every occupied entry of the table is some tracked body's cell: emptying those empties the table
+  // without a write to each entry (it may be far larger than the bodies, covering a large map's walls).
+  void emptyOccupiedEntries() {
+    for (const HotBody& h : s_.hot) {
+      if (h.cell < s_.heads.size()) s_.heads[h.cell] = -1;
+    }
+  }
   // Asks for the lines of the table that gatherNeighbours() will read for the body (its record is in
   // cache): the three rows of three entries around its cell.
   void prefetchNeighbourhood(uint32_t slot) const {

@@ -252,8 +252,15 @@ void Engine<W>::finishPrediction(Prediction& q) {
   // fixture, so most are that far.
   const uint32_t i = q.p.slot;
   const double now = q.p.now, horizon = q.horizon;
-  auto ownBox = [&](uint32_t f) {
-    return sweptBox(w_.fixtures[f].localBox, q.p.position, q.p.velocity, q.p.acceleration, horizon - now);
+  // The body's swept box (all its physical fixtures' boxes in one), worked out once, when first needed.
+  std::optional<Box> swept;
+  auto ownBox = [&] {
+    if (!swept) {
+      Box local{{kInf, kInf}, {-kInf, -kInf}};
+      forEachPhysical(i, [&](uint32_t f) { local = unionOf(local, w_.fixtures[f].localBox); });
+      swept = sweptBox(local, q.p.position, q.p.velocity, q.p.acceleration, horizon - now);
+    }
+    return *swept;
   };
   if (q.moving && (q.p.hot->flags & HotBody::kStaticNear)) {
     const size_t cell = cellOf(i);
@@ -261,7 +268,7 @@ void Engine<W>::finishPrediction(Prediction& q) {
       const uint32_t g = s_.staticList[k];
       forEachPhysical(i, [&](uint32_t f) {
         if (!w_.canCollide(f, g) || (q.hasDismissals && isDismissed(i, f, g))) return;
-        if (clearlyApart(ownBox(f), w_.worldBox(g))) return;
+        if (clearlyApart(ownBox(), w_.worldBox(g))) return;
         predictPair(f, g, now, horizon, q.best);
       });
     }
@@ -273,7 +280,7 @@ void Engine<W>::finishPrediction(Prediction& q) {
                                 kinematic.acceleration, horizon - now);
     forEachPhysical(i, [&](uint32_t f) {
       if (!w_.canCollide(f, g) || (q.hasDismissals && isDismissed(i, f, g))) return;
-      if (clearlyApart(ownBox(f), theirs)) return;
+      if (clearlyApart(ownBox(), theirs)) return;
       predictPair(f, g, now, horizon, q.best);
     });
   }

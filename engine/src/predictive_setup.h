@@ -109,11 +109,7 @@ void Engine<W>::attach(uint32_t slot) {
 template <class W>
 void Engine<W>::buildGrid() {
   const size_t nb = w_.bodies.size();
-  // The table's occupied entries are the bodies' cells: emptied here, the table is all empty without a
-  // write to each entry (it may be far larger than the bodies, covering a large map's walls).
-  for (const HotBody& h : s_.hot) {
-    if (h.cell < s_.heads.size()) s_.heads[h.cell] = -1;
-  }
+  emptyOccupiedEntries();  // the table is all empty (kept if its size stays)
   s_.slotOfBody.assign(nb, PredictiveState::kNone);
   s_.bodyOfSlot.clear();
   s_.hot.clear();
@@ -251,7 +247,7 @@ void Engine<W>::buildGrid() {
   s_.foldY = foldY;
   const size_t cells = static_cast<size_t>(foldX) * foldY;
   if (s_.heads.size() != cells) s_.heads.assign(cells, -1);
-  if (!keepStatics) s_.staticNear.assign((cells + 63) / 64, 0);  // read by placeInCell() until listStatics()
+  if (!keepStatics) listStatics();  // before the bodies are placed: setCell() reads it
   s_.links.assign(n, PredictiveState::CellLink{});
   s_.event.assign(n, PredictiveEvent{});
   resetQueue();
@@ -262,9 +258,6 @@ void Engine<W>::buildGrid() {
     link(slot);
   }
   reorder(/*fresh=*/true);
-
-  if (!keepStatics) listStatics();
-  for (uint32_t slot = 0; slot < n; ++slot) setCell(slot);
   s_.valid = true;
 }
 
@@ -573,7 +566,7 @@ void Engine<W>::reorder(bool fresh) {
     }
   }
   if (sparseTable) {
-    for (uint32_t k = 0; k < n; ++k) s_.heads[s_.hot[k].cell] = -1;  // every occupied entry
+    emptyOccupiedEntries();
   } else {
     std::fill(s_.heads.begin(), s_.heads.end(), -1);
   }
