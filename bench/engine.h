@@ -85,5 +85,6 @@ std::unique_ptr<Engine> makeBisectEngine(const Scene& scene, BisectDepths depths
 std::unique_ptr<Engine> makeBox2dEngine(const Scene& scene, bool bullets);
 std::unique_ptr<Engine> makeChipmunkEngine(const Scene& scene);
 std::unique_ptr<Engine> makeEdmdEngine(const Scene& scene);
+std::unique_ptr<Engine> makeEdmdLeanEngine(const Scene& scene);
 
 }  // namespace rattle_bench

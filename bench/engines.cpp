@@ -33,6 +33,9 @@ const std::vector<EngineInfo>& engineList() {
       {"chipmunk", kHaveChipmunk, "Chipmunk 7, default settings (10 iterations)"},
       {"edmd", true, "a baseline for predictive: the textbook event-driven gas (one event per disk, cell "
                      "crossings, a 4-ary heap; engine_edmd.cpp); gas, cradle, bullets only"},
+      {"edmd-lean", true, "a second baseline for predictive: the same method written for speed alone (one cache "
+                          "line per disk, a calendar queue, records asked for ahead; no contacts reported; "
+                          "engine_edmd_lean.cpp); gas, cradle, bullets only"},
   };
   return list;
 }
@@ -53,9 +56,10 @@ std::unique_ptr<Engine> makeEngine(const std::string& name, const Scene& scene, 
   if (name == "box2d-bullet") return makeBox2dEngine(scene, true);
   if (name == "chipmunk") return makeChipmunkEngine(scene);
   if (name == "edmd") return makeEdmdEngine(scene);
+  if (name == "edmd-lean") return makeEdmdLeanEngine(scene);
   throw std::invalid_argument("--engine " + name +
                               ": unknown (discrete, hybrid, predictive, bisect, box2d, box2d-bullet, chipmunk, "
-                              "edmd)");
+                              "edmd, edmd-lean)");
 }
 
 }  // namespace rattle_bench

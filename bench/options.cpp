@@ -94,7 +94,7 @@ Options parseOptions(const std::vector<std::string>& args) {
       o.engine = take();
       bool known = false;
       for (const EngineInfo& e : engineList()) known = known || e.name == value;
-      if (!known) throw bad("unknown engine (discrete, hybrid, predictive, bisect, box2d, box2d-bullet, chipmunk, edmd)");
+      if (!known) throw bad("unknown engine (discrete, hybrid, predictive, bisect, box2d, box2d-bullet, chipmunk, edmd, edmd-lean)");
     } else if (name == "--n") {
       unsigned long long n;
       if (!parseUnsigned(take(), 100'000'000ull, n) || n < 1) throw bad("must be a whole number from 1 to 10^8");
