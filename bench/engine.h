@@ -86,5 +86,8 @@ std::unique_ptr<Engine> makeBox2dEngine(const Scene& scene, bool bullets);
 std::unique_ptr<Engine> makeChipmunkEngine(const Scene& scene);
 std::unique_ptr<Engine> makeEdmdEngine(const Scene& scene);
 std::unique_ptr<Engine> makeEdmdLeanEngine(const Scene& scene);
+/// Whether the scene is what the event-driven baselines run: elastic disks that meet, in a box of four
+/// walls on the sides of its bounds, without gravity or sensors (engine_edmd.cpp).
+bool isElasticBox(const Scene& scene);
 
 }  // namespace rattle_bench

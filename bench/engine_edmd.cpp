@@ -98,13 +98,7 @@ class EdmdEngine final : public Engine {
 
 EdmdEngine::EdmdEngine(const Scene& scene) : box_(scene.bounds) {
   const rattle::Box& b = scene.bounds;
-  auto onSide = [&](const Wall& w) {
-    const bool vertical = w.a.x == w.b.x && (w.a.x == b.min.x || w.a.x == b.max.x);
-    const bool horizontal = w.a.y == w.b.y && (w.a.y == b.min.y || w.a.y == b.max.y);
-    return vertical || horizontal;
-  };
-  if (!scene.sensors.empty() || !(scene.gravity == Vec2{}) || scene.restitution != 1 || !scene.disksCollide ||
-      scene.walls.size() != 4 || !std::all_of(scene.walls.begin(), scene.walls.end(), onSide)) {
+  if (!isElasticBox(scene)) {
     throw EngineCannotRun("--engine edmd runs only elastic disks in a closed box without gravity or sensors "
                           "(scenes gas, cradle, bullets), not scene " + scene.name);
   }
@@ -326,6 +320,17 @@ void EdmdEngine::state(std::vector<Vec2>& positions, std::vector<Vec2>& velociti
 }
 
 }  // namespace
+
+bool isElasticBox(const Scene& scene) {
+  const rattle::Box& b = scene.bounds;
+  auto onSide = [&](const Wall& w) {
+    const bool vertical = w.a.x == w.b.x && (w.a.x == b.min.x || w.a.x == b.max.x);
+    const bool horizontal = w.a.y == w.b.y && (w.a.y == b.min.y || w.a.y == b.max.y);
+    return vertical || horizontal;
+  };
+  return scene.sensors.empty() && scene.gravity == Vec2{} && scene.restitution == 1 && scene.disksCollide &&
+         scene.walls.size() == 4 && std::all_of(scene.walls.begin(), scene.walls.end(), onSide);
+}
 
 std::unique_ptr<Engine> makeEdmdEngine(const Scene& scene) { return std::make_unique<EdmdEngine>(scene); }
 

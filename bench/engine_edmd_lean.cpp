@@ -116,17 +116,10 @@ class EdmdLeanEngine final : public Engine {
 
 EdmdLeanEngine::EdmdLeanEngine(const Scene& scene) : box_(scene.bounds) {
   const rattle::Box& b = scene.bounds;
-  auto onSide = [&](const Wall& w) {
-    const bool vertical = w.a.x == w.b.x && (w.a.x == b.min.x || w.a.x == b.max.x);
-    const bool horizontal = w.a.y == w.b.y && (w.a.y == b.min.y || w.a.y == b.max.y);
-    return vertical || horizontal;
-  };
   const bool equal = !scene.disks.empty() && std::all_of(scene.disks.begin(), scene.disks.end(), [&](const DiskStart& d) {
     return d.radius == scene.disks[0].radius && d.density == scene.disks[0].density;
   });
-  if (!scene.sensors.empty() || !(scene.gravity == Vec2{}) || scene.restitution != 1 || !scene.disksCollide ||
-      scene.walls.size() != 4 || !std::all_of(scene.walls.begin(), scene.walls.end(), onSide) || !equal ||
-      !(scene.disks[0].radius > 0)) {
+  if (!isElasticBox(scene) || !equal || !(scene.disks[0].radius > 0)) {
     throw EngineCannotRun("--engine edmd-lean runs only equal elastic disks in a closed box without gravity or "
                           "sensors (scenes gas, cradle, bullets), not scene " + scene.name);
   }
@@ -232,28 +225,28 @@ void EdmdLeanEngine::predict(uint32_t i, double now) {
   // First the pairs that approach and can meet before the horizon (|r + u t|^2 - reach^2 >= c + 2 (r.u) t,
   // so none before c / (-2 r.u)), without branches; then their times of impact, the smaller root of
   // |r + u t| = reach in its cancellation-free form c / (-b + sqrt(b^2 - u^2 c)).
+  struct Pair {
+    double ux, uy, b, c;  // relative velocity; r.u and |r|^2 - reach^2 for the relative position r
+  };
+  auto pair = [&](uint32_t j) {
+    const Disk& o = disks_[j];
+    const double dt = now - o.time;
+    const double rx = x - (o.x + o.vx * dt), ry = y - (o.y + o.vy * dt);
+    const double ux = vx - o.vx, uy = vy - o.vy;
+    return Pair{ux, uy, rx * ux + ry * uy, rx * rx + ry * ry - reachSquared_};
+  };
   const double horizon = best;
   uint32_t kept[36];
   size_t keptCount = 0;
   for (size_t k = 0; k < count; ++k) {
-    const Disk& o = disks_[found[k]];
-    const double dt = now - o.time;
-    const double rx = x - (o.x + o.vx * dt), ry = y - (o.y + o.vy * dt);
-    const double ux = vx - o.vx, uy = vy - o.vy;
-    const double b = rx * ux + ry * uy;
-    const double c = rx * rx + ry * ry - reachSquared_;
+    const Pair m = pair(found[k]);
     kept[keptCount] = found[k];
-    keptCount += (b < 0) & !(c > -2 * b * horizon);
+    keptCount += (m.b < 0) & !(m.c > -2 * m.b * horizon);
   }
   double bestPair = horizon;
   uint32_t bestPartner = kEmpty;
   for (size_t k = 0; k < keptCount; ++k) {
-    const Disk& o = disks_[kept[k]];
-    const double dt = now - o.time;
-    const double rx = x - (o.x + o.vx * dt), ry = y - (o.y + o.vy * dt);
-    const double ux = vx - o.vx, uy = vy - o.vy;
-    const double b = rx * ux + ry * uy;
-    const double c = rx * rx + ry * ry - reachSquared_;
+    const auto [ux, uy, b, c] = pair(kept[k]);
     const double disc = b * b - (ux * ux + uy * uy) * c;
     if (!(disc > 0)) continue;
     const double t = c <= 0 ? 0.0 : c / (-b + std::sqrt(disc));  // touching or overlapping and approaching: now
