@@ -100,10 +100,10 @@ class EdmdLeanEngine final : public Engine {
   double cellWidth_ = 1, cellHeight_ = 1;
   double radius_ = 0, reachSquared_ = 0;
   rattle::Box box_;
-  std::vector<Link> links_;       // by disk: its neighbours in its bucket's list
-  std::vector<int64_t> where_;    // by disk: its bucket, kInHeap or kNotQueued
-  std::vector<int32_t> head_;     // by bucket (mod the bucket count)
-  std::vector<uint32_t> heap_;    // disks
+  std::vector<Link> links_;     // by disk: its neighbours in its bucket's list
+  std::vector<int64_t> where_;  // by disk: its bucket, kInHeap or kNotQueued
+  std::vector<int32_t> head_;   // by bucket (mod the bucket count)
+  std::vector<uint32_t> heap_;  // disks
   std::vector<uint32_t> heapPosition_;
   uint64_t mask_ = 0;
   double base_ = 0, width_ = 1;
@@ -116,12 +116,15 @@ class EdmdLeanEngine final : public Engine {
 
 EdmdLeanEngine::EdmdLeanEngine(const Scene& scene) : box_(scene.bounds) {
   const rattle::Box& b = scene.bounds;
-  const bool equal = !scene.disks.empty() && std::all_of(scene.disks.begin(), scene.disks.end(), [&](const DiskStart& d) {
-    return d.radius == scene.disks[0].radius && d.density == scene.disks[0].density;
-  });
+  const bool equal =
+      !scene.disks.empty() && std::all_of(scene.disks.begin(), scene.disks.end(), [&](const DiskStart& d) {
+        return d.radius == scene.disks[0].radius && d.density == scene.disks[0].density;
+      });
   if (!isElasticBox(scene) || !equal || !(scene.disks[0].radius > 0)) {
-    throw EngineCannotRun("--engine edmd-lean runs only equal elastic disks in a closed box without gravity or "
-                          "sensors (scenes gas, cradle, bullets), not scene " + scene.name);
+    throw EngineCannotRun(
+        "--engine edmd-lean runs only equal elastic disks in a closed box without gravity or "
+        "sensors (scenes gas, cradle, bullets), not scene " +
+        scene.name);
   }
   radius_ = scene.disks[0].radius;
   reachSquared_ = (2 * radius_) * (2 * radius_);
@@ -192,8 +195,8 @@ void EdmdLeanEngine::predict(uint32_t i, double now) {
       partner = p;
     }
   };
-  auto axis = [&](double p, double v, uint32_t c, uint32_t count, double low, double high, double width,
-                  uint32_t wall, uint32_t lowSide) {
+  auto axis = [&](double p, double v, uint32_t c, uint32_t count, double low, double high, double width, uint32_t wall,
+                  uint32_t lowSide) {
     if (v > 0) {
       if (c + 1 == count) {
         keep(std::max(0.0, (high - radius_ - p) / v), wall);
