@@ -91,7 +91,7 @@ class EdmdLeanEngine final : public Engine {
   void enqueue(uint32_t i);
   void dequeue(uint32_t i);
   void prefetchAhead();
-  uint32_t top(double end);
+  uint32_t top(int64_t last);
   void layCalendar(double now);
 
   std::vector<Disk> disks_;
@@ -374,9 +374,8 @@ void EdmdLeanEngine::prefetchAhead() {
   }
 }
 
-uint32_t EdmdLeanEngine::top(double end) {
-  // The earliest event's disk, or kEmpty when none is due by `end`.
-  const int64_t last = bucketOf(end);
+uint32_t EdmdLeanEngine::top(int64_t last) {
+  // The earliest event's disk, or kEmpty when none is left in the buckets up to `last` (the step end's).
   while (heap_.empty()) {
     if (queued_ == 0 || current_ >= last) return kEmpty;
     ++current_;
@@ -434,8 +433,9 @@ void EdmdLeanEngine::layCalendar(double now) {
 void EdmdLeanEngine::step(double dt) {
   const double end = now_ + dt;
   layCalendar(now_);  // the rate of events changes as a gas settles: the buckets are cut again each step
+  const int64_t last = bucketOf(end);
   for (;;) {
-    const uint32_t i = top(end);
+    const uint32_t i = top(last);
     if (i == kEmpty) break;
     Disk& d = disks_[i];
     const double t = d.eventTime;
