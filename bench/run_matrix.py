@@ -32,7 +32,9 @@ The matrix (what `make bench` runs; --quick shrinks every scene for a smoke test
     same method written for speed alone, bench/engine_edmd_lean.cpp; up to 10^5 disks) on the one-look runs;
     then the hybrid at 10^6 disks and the predictive mode at 10^5 with one look TARGET_REPEATS - 1 more times
     each, in turn (series hybrid-repeat and predictive-one-look-repeat): their targets are judged by the
-    median of the runs.
+    median of the runs. Each predictive repeat is followed at once by a run of `edmd-lean` on the same world
+    (series edmd-lean-one-look-repeat), so that each of the TARGET_REPEATS runs has a baseline measured
+    beside it, and the report quotes the median of the paired ratios.
 Seeds are fixed (1), so the scenes are the same on every run.
 """
 import argparse
@@ -145,9 +147,14 @@ def scaling(quick):
     if not quick:
         hybrid = next(args for tag, args in runs if tag == "hybrid" and args["--n"] == 1000000)
         look = next(args for tag, args in runs if tag == "predictive-one-look" and args["--n"] == 100000)
+        lean = next(args for tag, args in runs if tag == "edmd-lean-one-look" and args["--n"] == 100000)
         for _ in range(TARGET_REPEATS - 1):
             runs.append(("hybrid-repeat", dict(hybrid)))
             runs.append(("predictive-one-look-repeat", dict(look)))
+            # Its baseline right after it: one run's rate moves with the machine by more than the two differ
+            # (1.08e6 to 1.29e6 collisions/s for predictive within one matrix at 96fe8b6; 5.8e5 to 8.7e5 on a
+            # slower machine on 2026-11-26), so the ratio is taken pair by pair.
+            runs.append(("edmd-lean-one-look-repeat", dict(lean)))
     for _, args in runs:
         args["--no-reference"] = None
         args["--measure-every"] = "1000000"
