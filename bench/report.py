@@ -437,7 +437,9 @@ def targets(rows, scaling_rows, repeat_rows=()):
             if r["series"] in ("predictive-one-look", "predictive-one-look-repeat"):
                 waiting = r
             elif r["series"] in ("edmd-lean-one-look", "edmd-lean-one-look-repeat") and waiting is not None:
-                ratios.append(num(waiting, "collisions_per_s") / num(r, "collisions_per_s"))
+                lean_rate = num(r, "collisions_per_s")
+                if lean_rate > 0:  # (nan, or no collisions timed: no ratio)
+                    ratios.append(num(waiting, "collisions_per_s") / lean_rate)
                 waiting = None
         return sorted(x for x in ratios if math.isfinite(x))
 
