@@ -13,6 +13,7 @@
 #include <tuple>
 
 #include "closest_point.h"
+#include "path_box.h"
 #include "plain_collision.h"
 #include "plain_disk_impact.h"
 #include "rattle/time_of_impact.h"
@@ -84,21 +85,11 @@ double searchBound(double horizon, double best, double now) {
 }
 
 // The box a fixture sweeps over a time h along its body's path, from position p with velocity v and
-// acceleration a (`local`: the fixture's box about its body): the boxes at both ends and at the turning
-// point of each coordinate, if there is one in between.
+// acceleration a (`local`: the fixture's box about its body): the path's box (its ends and turning
+// points) grown by the fixture's box.
 Box sweptBox(const Box& local, Vec2 p, Vec2 v, Vec2 a, double h) {
-  Box box = unionOf(local.translated(p), local.translated(p + v * h + a * (0.5 * h * h)));
-  auto turn = [&](double pk, double vk, double ak, double& low, double& high, double lk, double hk) {
-    if (ak == 0) return;
-    const double s = -vk / ak;
-    if (!(s > 0 && s < h)) return;
-    const double at = pk + vk * s + ak * (0.5 * s * s);
-    low = std::min(low, at + lk);
-    high = std::max(high, at + hk);
-  };
-  turn(p.x, v.x, a.x, box.min.x, box.max.x, local.min.x, local.max.x);
-  turn(p.y, v.y, a.y, box.min.y, box.max.y, local.min.y, local.max.y);
-  return box;
+  const Box path = detail::pathBox(p, v, a, h);
+  return Box{path.min + local.min, path.max + local.max};
 }
 
 // Whether two boxes are apart by more than the round-off of their coordinates (relative 1e-9, far above
