@@ -187,11 +187,18 @@ uint32_t Engine<W>::top() {
     for (const auto& e : ahead(1)) {
       __builtin_prefetch(&s_.cold[e.slot]);
       prefetchNeighbourhood(e.slot);
-      const uint32_t partner = s_.event[e.slot].partner;  // (a stale entry's: a wasted prefetch)
+      // (A stale entry's: wasted prefetches.)
+      const PredictiveEvent& event = s_.event[e.slot];
+      const uint32_t partner = event.partner;
       if (partner != PredictiveState::kNone) {
+        // A collision reads the partner's records and writes its event and its place in the queue.
         __builtin_prefetch(&s_.hot[partner]);
         __builtin_prefetch(&s_.cold[partner]);
+        __builtin_prefetch(&s_.queue[partner]);
+        __builtin_prefetch(&s_.event[partner], 1);
       }
+      // A crossing moves the body from one cell's list to another's.
+      if (event.kind == PredictiveKind::Cross) __builtin_prefetch(&s_.links[e.slot]);
     }
     for (const auto& e : bucket) __builtin_prefetch(&s_.queue[e.slot]);
     for (const auto& e : bucket) {
