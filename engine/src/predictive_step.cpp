@@ -30,7 +30,7 @@
 //    gravity, no sensor, nobody asleep): there a collision of two disks is resolve() done on the compact
 //    records (plain_collision.h, the same arithmetic, so the same bits), and the BodySlot catches up
 //    (attach()) before anything else reads it and at the step's end. A gas then never touches its
-//    240-byte BodySlots between the step's start and end.
+//    192-byte BodySlots between the step's start and end.
 //    There, too, a moving body is predicted by predictPlain(): pairPlain()'s tests with what they carry
 //    from pair to pair in registers, in two passes (a branch-free one that keeps the neighbours that
 //    approach and can meet in time, and one that seeks their times of impact, plain_disk_impact.h), the

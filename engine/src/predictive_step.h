@@ -134,7 +134,7 @@ struct PredictiveState {
   // stay in cache, and the neighbours' records can all be fetched at once (Engine::forEachNeighbour).
   // The first slot in the cell, times two, plus one if more follow it; or -1 for an empty cell. Cells
   // hold less than one body on average in a dense gas: most lists end at their head, and the bit says
-  // so without a look at `links`. (Slots are < 2^30: a BodySlot alone is 240 bytes.)
+  // so without a look at `links`. (Slots are < 2^30: a BodySlot alone is 192 bytes.)
   detail::LargeArray<int32_t> heads;
   detail::LargeArray<uint32_t> staticBegin;  // static fixtures near the cell: staticList[staticBegin[c], staticBegin[c + 1])
   std::vector<uint64_t> staticNear;   // a bit by cell: staticBegin[c] != staticBegin[c + 1] (a table 32 times smaller)
