@@ -196,7 +196,7 @@ TEST(PredictivePlain, SplitTimeOfImpactSameBitsAsCircleCircle) {
     const Vec2 r = centre - Vec2{};
     const double reach = ra + rb;
     double t = -1;
-    const bool hit = rattle::detail::plainTimeToReach(dot(r, r) - reach * reach, dot(r, v), v, reach, maxTime, guard, t);
+    const bool hit = rattle::detail::plainTimeToReach(r, dot(r, r) - reach * reach, dot(r, v), v, reach, maxTime, guard, t);
     ASSERT_EQ(hit, expected.has_value()) << "pair " << k;
     if (!hit) continue;
     ++found;

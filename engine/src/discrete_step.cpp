@@ -90,10 +90,41 @@ void World::Impl::stepDiscrete(double dt) {
   broadPhase.findPairs([&](uint32_t fa, uint32_t fb) {
     if (canCollide(fa, fb)) pairs.push_back({std::min(fa, fb), std::max(fa, fb)});
   });
-  std::sort(pairs.begin(), pairs.end(), byIds);
+  // Pairs of two dynamic bodies first, then those with a kinematic body, those with a static body last:
+  // a push between two dynamic bodies may move one into a wall, and the wall's push, coming after it,
+  // has the last word (a body is never left pushed into a static body by another's push). Within each,
+  // fixture order.
+  auto rank = [&](const Pair& p) {
+    const BodyType ta = bodyOf(p.a).type, tb = bodyOf(p.b).type;
+    if (ta == BodyType::Static || tb == BodyType::Static) return 2;
+    return (ta == BodyType::Kinematic || tb == BodyType::Kinematic) ? 1 : 0;
+  };
+  std::sort(pairs.begin(), pairs.end(), [&](const Pair& x, const Pair& y) {
+    const int rx = rank(x), ry = rank(y);
+    return rx != ry ? rx < ry : byIds(x, y);
+  });
   stats.candidatePairs = static_cast<int>(pairs.size());
 
-  // 3. Push apart and reflect, in fixture order.
+  // Where each dynamic body's own motion took it, before any push: a push that carries its centre
+  // across a static fixture's surface from there is taken back (step 3b).
+  struct Moved {
+    uint32_t body;
+    Vec2 position;
+    bool pushedByKinematic;
+  };
+  std::vector<uint32_t> walls;  // scratch of step 3b
+  std::vector<Moved> pushed;  // bodies pushed by another dynamic or a kinematic body, in the order first pushed
+  std::vector<int>& pushedSlot = jamSlot;  // body -> index into `pushed`; -1 outside it (reset below)
+  if (pushedSlot.size() < bodies.size()) pushedSlot.resize(bodies.size(), -1);
+  auto notePush = [&](uint32_t body, Vec2 before, bool byKinematic) {
+    if (pushedSlot[body] < 0) {
+      pushedSlot[body] = static_cast<int>(pushed.size());
+      pushed.push_back({body, before, false});
+    }
+    pushed[pushedSlot[body]].pushedByKinematic |= byKinematic;
+  };
+
+  // 3. Push apart and reflect, in that order.
   for (const Pair& p : pairs) {
     // The dynamic circle is `own`; `other` may be anything.
     const bool aDynamic = bodyOf(p.a).type == BodyType::Dynamic;
@@ -113,8 +144,28 @@ void World::Impl::stepDiscrete(double dt) {
     const double inverseB = (partner.type == BodyType::Dynamic && !partner.asleep) ? partner.inverseMass : 0.0;
     const double inverseSum = inverseA + inverseB;
     if (!(inverseSum > 0)) continue;
+    if (partner.type != BodyType::Static) {
+      notePush(fixtures[own].body, body.position, partner.type == BodyType::Kinematic);
+      if (inverseB > 0) notePush(fixtures[other].body, partner.position, false);
+    } else if (pushedSlot[fixtures[own].body] >= 0 && pushed[pushedSlot[fixtures[own].body]].pushedByKinematic) {
+      // Pushed by a kinematic body into a static one: a squeeze. The wall holds; the kinematic body
+      // overlaps it (README, "Squeezes").
+      ++stats.squeezes;
+      pushed[pushedSlot[fixtures[own].body]].pushedByKinematic = false;
+    }
     body.position += pen->normal * (pen->depth * inverseA / inverseSum);
     partner.position -= pen->normal * (pen->depth * inverseB / inverseSum);
+    if (partner.type == BodyType::Static) {
+      // A polyline or polygon can overlap the circle at more than one feature (a corner of a box): push it
+      // out of each in turn, a few times at most (position only; the impulse below is the pair's one).
+      for (int k = 0; k < 3; ++k) {
+        const auto more =
+            penetration(body.position + detail::circleCentre(fixtures[own].geometry),
+                        detail::circleRadius(fixtures[own].geometry), fixtures[other].geometry, partner.position);
+        if (!more) break;
+        body.position += more->normal * more->depth;
+      }
+    }
     const double vn = dot(body.velocity - partner.velocity, pen->normal);
     // Only an approach is a collision; an overlap that is already separating, or approaching no faster
     // than round-off of the speeds involved, is just pushed apart.
@@ -149,6 +200,62 @@ void World::Impl::stepDiscrete(double dt) {
     event.normal = ownIsLower ? -pen->normal : pen->normal;  // pen->normal points from other toward own
     contactEvents.push_back(event);
   }
+
+  // 3b. A push may have carried a body's centre across a static fixture's surface (a thin wall, a
+  // polygon's edge), where the wall's own push would only drive it further out on the wrong side. Such a
+  // body goes back to where its centre first crossed, on the side it came from, and stops moving into
+  // the surface.
+  for (const Moved& m : pushed) {
+    pushedSlot[m.body] = -1;
+    BodySlot& b = bodies[m.body];
+    const Vec2 travel = b.position - m.position;
+    if (travel == Vec2{}) continue;
+    uint32_t own = 0;
+    bool physical = false;
+    for (uint32_t f : b.fixtures) {
+      if (!fixtures[f].sensor) {
+        own = f;
+        physical = true;
+        break;
+      }
+    }
+    if (!physical) continue;
+    const double radius = detail::circleRadius(fixtures[own].geometry);
+    const Vec2 centre = detail::circleCentre(fixtures[own].geometry);
+    const Vec2 from = m.position + centre;
+    Box path{{std::min(from.x, from.x + travel.x), std::min(from.y, from.y + travel.y)},
+             {std::max(from.x, from.x + travel.x), std::max(from.y, from.y + travel.y)}};
+    std::optional<RayCastHit> first;
+    uint32_t firstFixture = 0;
+    walls.clear();
+    broadPhase.query(path, [&](uint32_t g) {
+      if (bodyOf(g).type != BodyType::Static || !canCollide(own, g)) return;
+      walls.push_back(g);
+      const auto hit = rayCast(fixtures[g].geometry, bodyOf(g).position, from, travel);
+      if (!hit || !(hit->fraction > 0)) return;  // none, or the centre started on it or inside it
+      if (!first || hit->fraction < first->fraction || (hit->fraction == first->fraction && g < firstFixture)) {
+        first = hit;
+        firstFixture = g;
+      }
+    });
+    if (!first) continue;
+    b.position = first->point + first->normal * radius - centre;
+    const double vn = dot(b.velocity, first->normal);
+    if (vn < 0) b.velocity -= first->normal * vn;
+    // Put back on its side, it may overlap another wall there (a corner): out of those too.
+    std::sort(walls.begin(), walls.end());
+    for (int k = 0; k < 3; ++k) {
+      bool moved = false;
+      for (uint32_t g : walls) {
+        const auto pen = penetration(b.position + centre, radius, fixtures[g].geometry, bodyOf(g).position);
+        if (!pen) continue;
+        b.position += pen->normal * pen->depth;
+        moved = true;
+      }
+      if (!moved) break;
+    }
+  }
+  pushed.clear();
 
   // 4. Sensors: what overlaps where the bodies ended, after the pushes (a push can move a body into a
   // sensor or out of one), against what overlapped before.

@@ -67,6 +67,7 @@ void World::Impl::predict(uint32_t own, uint32_t other, double now, double dt) {
   const BodySlot& a = bodyOf(own);
   const BodySlot& b = bodyOf(other);
   if (heldByIsland(a, b)) return;  // the island's solve holds this contact (island.cpp)
+  if (!squeezes.empty() && squeezeExempt(own, other)) return;  // squeeze.cpp
   ++stats.timeOfImpactTests;
 
   int resolved = kNoFeature;
@@ -625,6 +626,11 @@ void World::Impl::stepHybrid(double dt) {
       if (vn < -16 * std::numeric_limits<double>::epsilon() * speed && speed > restTolerance &&
           stats.eventsProcessed < def.maxEventsPerStep) {
         if (settleJamAt(c, dt)) continue;
+        if (squeezeAt(c)) {
+          ++stats.eventsProcessed;
+          repredict(fixtures[c.a].body, c.time, dt);
+          continue;
+        }
         absorb(c, vn);
         ++stats.eventsProcessed;  // bounded by the budget like any other change of motion
         for (uint32_t body : {fixtures[c.a].body, fixtures[c.b].body}) {
@@ -640,6 +646,12 @@ void World::Impl::stepHybrid(double dt) {
     }
     // A body caught in a collapse or a jam collides ever faster without coming to rest (jam.cpp).
     if (settleJamAt(c, dt)) continue;
+    // Or between bodies that do not yield (squeeze.cpp).
+    if (squeezeAt(c)) {
+      ++stats.eventsProcessed;
+      repredict(fixtures[c.a].body, c.time, dt);
+      continue;
+    }
     const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
     if (joinsIsland(c)) {
       // It would bounce off slower than restingSpeed from a body that moves: the two rest on each

@@ -168,7 +168,17 @@ template <class W>
 class Engine {
  public:
   Engine(W& w, PredictiveState& s) : w_(w), s_(s) {}
-  void step(double dt);
+  /// False, having changed nothing the caller sees, when a body is too fast for the grid this step
+  /// (kFollowCells): the caller steps the world otherwise.
+  bool step(double dt);
+  /// A body that would cross more cells than this in one step is beyond what cell-crossing events can
+  /// follow at a bounded cost (each crossing is an event): such a step is handed to the hybrid step,
+  /// which sweeps the whole path at once, and the grid is made again after it.
+  static constexpr double kFollowCells = 1024;
+  /// Every event taken from the queue (collisions, cell crossings, horizons, slide ends, stale
+  /// predictions) counts toward this many times WorldDef::maxEventsPerStep; past it the step ends as at
+  /// the event budget, so a step always returns.
+  static constexpr int64_t kQueueEventsPerEvent = 16;
 
  private:
   W& w_;

@@ -280,6 +280,7 @@ void Engine<W>::finishPrediction(Prediction& q) {
                                 kinematic.acceleration, horizon - now);
     forEachPhysical(i, [&](uint32_t f) {
       if (!w_.canCollide(f, g) || (q.hasDismissals && isDismissed(i, f, g))) return;
+      if (!w_.squeezes.empty() && w_.squeezeExempt(f, g)) return;
       if (clearlyApart(ownBox(), theirs)) return;
       predictPair(f, g, now, horizon, q.best);
     });
@@ -483,7 +484,7 @@ void Engine<W>::predictPlainAmong(uint32_t i, double now, const uint32_t* neighb
       }
     }
     double t;
-    if (!detail::plainTimeToReach(c, rv, v, reach, within, justResolved, t)) continue;
+    if (!detail::plainTimeToReach(r, c, rv, v, reach, within, justResolved, t)) continue;
     const double time = std::min(now + t, horizon);
     if (time > bestTime) continue;
     if (time == bestTime && partner != PredictiveState::kNone) {

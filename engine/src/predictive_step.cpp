@@ -154,7 +154,7 @@ void Engine<W>::collidePlain(uint32_t i, uint32_t j, const PredictiveEvent& c, d
 }
 
 template <class W>
-void Engine<W>::step(double dt) {
+bool Engine<W>::step(double dt) {
   stepLength_ = dt;
   w_.contactEvents.clear();
   w_.sensorEvents.clear();
@@ -198,6 +198,13 @@ void Engine<W>::step(double dt) {
   }
   if (rebuild) buildGrid();
   computeConstants(dt);
+  if (speedScale_ * dt > kFollowCells * s_.cellSize) {
+    // Undo what this step showed the caller (the pending sensor events go back), and start afresh after.
+    w_.sensorEvents.swap(w_.pendingSensorEvents);
+    s_.valid = false;
+    s_.normalized = false;
+    return false;
+  }
   if (!rebuild && w_.restitutionChanged) {
     for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) {
       s_.cold[slot].restitution = w_.fixtures[s_.hot[slot].fixture].restitution;
@@ -247,12 +254,19 @@ void Engine<W>::step(double dt) {
   // locality won: 4n pops was 4% slower on the 1e5-disk gas).
   const uint64_t reorderEvery = 16 * static_cast<uint64_t>(s_.hot.size()) + 1024;
   double budgetTime = dt;
+  const int64_t queueBudget = kQueueEventsPerEvent * int64_t{w_.def.maxEventsPerStep};
+  int64_t queueEvents = 0;
   for (;;) {
     if (++s_.popsSinceReorder > reorderEvery) reorder();
     const uint32_t i = top();
     if (i == PredictiveState::kNone) break;
     const PredictiveEvent c = s_.event[i];
     if (!(c.time <= dt)) break;
+    if (++queueEvents > queueBudget) {
+      w_.stats.eventBudgetReached = true;
+      budgetTime = c.time;
+      break;
+    }
     // A heap grown large (events denser than the calendar was cut for): cut it again from here.
     if (++s_.popsSinceRetune > s_.hot.size() && s_.heap.size() > 4096) retune(c.time);
     const uint32_t j = c.kind == PredictiveKind::Contact ? c.partner : PredictiveState::kNone;
@@ -396,6 +410,12 @@ void Engine<W>::step(double dt) {
       fillPairs(i);
       if (j != PredictiveState::kNone) fillPairs(j);
     }
+    if (w_.squeezeAt(contact)) {
+      ++w_.stats.eventsProcessed;
+      sync(i);
+      predictBody(i, c.time);
+      continue;
+    }
     s_.woken.clear();
     w_.resolve(contact, s_.woken, /*zenoGuard=*/true);
     ++w_.stats.eventsProcessed;
@@ -479,13 +499,18 @@ void Engine<W>::step(double dt) {
   s_.endExtent = extent;
   // Cut short, the bodies lost the rest of the step: every prediction is off; start afresh.
   if (w_.stats.eventBudgetReached) s_.valid = false;
+  return true;
 }
 
 }  // namespace
 
 void World::Impl::stepPredictive(double dt) {
   if (!predictive) predictive = std::make_unique<detail::PredictiveState>();
-  Engine<World::Impl>(*this, *predictive).step(dt);
+  if (Engine<World::Impl>(*this, *predictive).step(dt)) return;
+  // Too fast for the grid: the hybrid step has the same physics and sweeps each path whole. Its stepped
+  // islands are its own; the predictive mode's next step treats every body as free again.
+  stepHybrid(dt);
+  for (detail::BodySlot& b : bodies) b.stepped = false;
 }
 
 }  // namespace rattle

@@ -8,6 +8,7 @@
 
 #include <cmath>
 
+#include "plain_disk_impact.h"
 #include "polynomial.h"
 
 namespace rattle {
@@ -15,17 +16,6 @@ namespace rattle {
 using detail::Polynomial;
 
 namespace {
-
-// b^2 - a*c as Kahan's compensated 2x2 determinant: with w = a*c rounded, e = w - a*c is exact (one
-// fma), so b^2 - a*c = (b^2 - w) + (w - a*c) loses nothing to cancellation. Error <= 1.5 ulp for exact
-// inputs (Jeannerod, Louvet, Muller, Math. Comp. 82, 2013). std::fma is correctly rounded by IEEE 754,
-// so this is the same on every build, with or without hardware FMA.
-double discriminant(double b, double a, double c) {
-  const double w = a * c;
-  const double e = std::fma(-a, c, w);
-  const double f = std::fma(b, b, -w);
-  return f + e;
-}
 
 bool accelerates(const Motion& m) { return m.acceleration.x != 0 || m.acceleration.y != 0; }
 
@@ -78,14 +68,16 @@ std::optional<double> firstImpactOfGap(const Polynomial& f, double maxTime, bool
     if (b < 0 && !justResolved) return 0.0;
     return std::nullopt;
   }
-  if (b >= 0) return std::nullopt;
+  // Two points just resolved against each other have parted along one line (as plainTimeToReach).
+  if (b >= 0 || (reach == 0 && justResolved)) return std::nullopt;
   const double A = dot(v, v);
-  const double disc = discriminant(b, A, c);
+  const double disc = detail::reachDiscriminant(r, v, b, A, c, reach);
   // disc = 0 is a tangent touch, a double root: not an event. So is a pass whose deepest overlap,
   // -disc / A = min |r + v t|^2 - reach^2, is within round-off of zero (1e-12 reach^2, a depth of
   // 5e-13 reach): it is what a body sliding along a surface by an ulp meets at the surface's corner,
-  // and resolving it would kick the body sideways by speed x sqrt(2 depth / reach).
-  if (!(disc > 1e-12 * A * reach * reach)) return std::nullopt;
+  // and resolving it would kick the body sideways by speed x sqrt(2 depth / reach). Two points (reach
+  // 0) meet only at a double root, when their paths are on one line exactly (head-on): that is an event.
+  if (!(disc > 1e-12 * A * reach * reach) && !(reach == 0 && disc == 0)) return std::nullopt;
   // The smaller root (-b - sqrt(disc)) / A cancels when c -> 0; its conjugate form has a sum of two
   // positive terms below: t = c / (-b + sqrt(disc)).
   const double t = c / (-b + std::sqrt(disc));
@@ -96,8 +88,14 @@ std::optional<double> firstImpactOfGap(const Polynomial& f, double maxTime, bool
 Impact pointImpact(Vec2 center, const Motion& m, Vec2 target, double targetRadius, double t, int feature) {
   Vec2 r = center + travel(m, t) - target;
   double len = length(r);
-  // Coincident centres happen only for two points; push back along the motion then.
-  Vec2 n = len > 0 ? r * (1.0 / len) : (length(m.velocity) > 0 ? -m.velocity * (1.0 / length(m.velocity)) : Vec2{1, 0});
+  // Coincident centres happen only for two points; push back along the motion then. So when round-off
+  // put two points a hair past each other at their meeting (a normal along the motion, which is never
+  // the normal of an approach).
+  const Vec2 velocityThen = m.velocity + m.acceleration * t;
+  const bool backwards =
+      len > 0 && dot(r, velocityThen) >= 0 && targetRadius == 0 && len <= 0x1p-40 * length(center - target);
+  Vec2 n = len > 0 && !backwards ? r * (1.0 / len)
+                                 : (length(m.velocity) > 0 ? -m.velocity * (1.0 / length(m.velocity)) : Vec2{1, 0});
   return Impact{t, target + n * targetRadius, n, feature};
 }
 

@@ -22,6 +22,15 @@ void checkFinite(Vec2 v, const char* field) {
   require(isFinite(v), [&] { return std::string(field) + " = " + str(v) + ": must be finite"; });
 }
 
+// The speed must be finite and so must its square, which every time of impact works with: a speed
+// below 2^511 (about 1.3e154) units per second. Gravity likewise.
+void checkVelocity(Vec2 v, const char* field) {
+  checkFinite(v, field);
+  require(std::isfinite(dot(v, v)), [&] {
+    return std::string(field) + " = " + str(v) + ": its length squared overflows (its length must be below 1.3e154)";
+  });
+}
+
 void checkRestitution(double e, const char* field) {
   require(std::isfinite(e) && e >= 0 && e <= 1,
           [&] { return std::string(field) + " = " + str(e) + ": must be in [0, 1]"; });
@@ -112,19 +121,24 @@ World::World(const WorldDef& def) : impl_(std::make_unique<Impl>()) {
   require(def.maxEventsPerStep > 0, [&] {
     return std::string("WorldDef.maxEventsPerStep = " + std::to_string(def.maxEventsPerStep) + ": must be > 0");
   });
-  checkFinite(def.gravity, "WorldDef.gravity");
+  checkVelocity(def.gravity, "WorldDef.gravity");
   require(std::isfinite(def.restingSpeed) && def.restingSpeed >= 0,
           [&] { return "WorldDef.restingSpeed = " + str(def.restingSpeed) + ": must be finite and >= 0"; });
   require(std::isfinite(def.collapseTime) && def.collapseTime >= 0,
           [&] { return "WorldDef.collapseTime = " + str(def.collapseTime) + ": must be finite and >= 0"; });
-  impl_->def = def;
+  impl().def = def;
 }
 
 World::~World() = default;
 World::World(World&&) noexcept = default;
 World& World::operator=(World&&) noexcept = default;
 
-const WorldDef& World::definition() const { return impl_->def; }
+World::Impl& World::impl() const {
+  if (!impl_) throw Error("World: used after it was moved from (a moved-from World holds nothing)");
+  return *impl_;
+}
+
+const WorldDef& World::definition() const { return impl().def; }
 
 namespace {
 
@@ -153,11 +167,11 @@ BodyId World::createBody(const BodyDef& def) {
     return std::string("BodyDef.type = " + std::to_string(static_cast<int>(def.type)) + ": not a BodyType");
   });
   checkFinite(def.position, "BodyDef.position");
-  checkFinite(def.velocity, "BodyDef.velocity");
+  checkVelocity(def.velocity, "BodyDef.velocity");
   require(def.type != BodyType::Static || def.velocity == Vec2{},
           [&] { return std::string("BodyDef.velocity = " + str(def.velocity) + ": a static body cannot move"); });
 
-  Impl& w = *impl_;
+  Impl& w = impl();
   uint32_t index;
   if (!w.freeBodies.empty()) {
     index = w.freeBodies.back();
@@ -185,7 +199,7 @@ BodyId World::createBody(const BodyDef& def) {
 }
 
 void World::destroyBody(BodyId id) {
-  Impl& w = *impl_;
+  Impl& w = impl();
   BodySlot& b = lookUp(w.bodies, id);
   // What it held up falls.
   std::vector<uint32_t> woken;
@@ -214,74 +228,84 @@ void World::destroyBody(BodyId id) {
 }
 
 bool World::isValid(BodyId id) const {
-  return !id.isNull() && id.index < impl_->bodies.size() && impl_->bodies[id.index].alive &&
-         impl_->bodies[id.index].generation == id.generation;
+  return !id.isNull() && id.index < impl().bodies.size() && impl().bodies[id.index].alive &&
+         impl().bodies[id.index].generation == id.generation;
 }
 
-BodyType World::type(BodyId id) const { return lookUp(impl_->bodies, id).type; }
-Vec2 World::position(BodyId id) const { return lookUp(impl_->bodies, id).position; }
-Vec2 World::velocity(BodyId id) const { return lookUp(impl_->bodies, id).velocity; }
-double World::mass(BodyId id) const { return lookUp(impl_->bodies, id).mass; }
-bool World::isAsleep(BodyId id) const { return lookUp(impl_->bodies, id).asleep; }
+BodyType World::type(BodyId id) const { return lookUp(impl().bodies, id).type; }
+Vec2 World::position(BodyId id) const { return lookUp(impl().bodies, id).position; }
+Vec2 World::velocity(BodyId id) const { return lookUp(impl().bodies, id).velocity; }
+double World::mass(BodyId id) const { return lookUp(impl().bodies, id).mass; }
+bool World::isAsleep(BodyId id) const { return lookUp(impl().bodies, id).asleep; }
 
 void World::wake(BodyId id) {
-  lookUp(impl_->bodies, id);
+  lookUp(impl().bodies, id);
   std::vector<uint32_t> woken;
-  impl_->wakeUp(id.index, 0.0, woken);
-  impl_->touched(woken);
+  impl().wakeUp(id.index, 0.0, woken);
+  impl().touched(woken);
 }
 
 uint64_t World::userData(BodyId id) const {
-  lookUp(impl_->bodies, id);  // checks the handle
-  return impl_->userData[id.index];
+  lookUp(impl().bodies, id);  // checks the handle
+  return impl().userData[id.index];
 }
-int World::bodyCount() const { return impl_->liveBodies; }
+int World::bodyCount() const { return impl().liveBodies; }
 
 void World::setPosition(BodyId id, Vec2 position) {
-  BodySlot& b = lookUp(impl_->bodies, id);
+  BodySlot& b = lookUp(impl().bodies, id);
   checkFinite(position, "position");
   for (uint32_t f : b.fixtures) {
-    const Box& local = impl_->fixtures[f].localBox;
+    const Box& local = impl().fixtures[f].localBox;
     require(isFinite(local.min + position) && isFinite(local.max + position), [&] {
       return "position = " + str(position) + ": the body's fixtures would reach past the largest double";
     });
   }
   std::vector<uint32_t> woken;
-  impl_->wakeUp(id.index, 0.0, woken);
-  for (uint32_t d : impl_->dependents[id.index]) impl_->wakeUp(d, 0.0, woken);
-  impl_->dependents[id.index].clear();
+  impl().wakeUp(id.index, 0.0, woken);
+  for (uint32_t d : impl().dependents[id.index]) impl().wakeUp(d, 0.0, woken);
+  impl().dependents[id.index].clear();
   b.clearSupport();
   b.position = position;
   // Static proxies are not refreshed each step, so move their boxes now.
-  for (uint32_t f : b.fixtures) impl_->broadPhase.setBox(f, impl_->worldBox(f));
-  impl_->touched(id.index);
-  impl_->touched(woken);
+  for (uint32_t f : b.fixtures) impl().broadPhase.setBox(f, impl().worldBox(f));
+  impl().touched(id.index);
+  impl().touched(woken);
 }
 
 void World::setVelocity(BodyId id, Vec2 velocity) {
-  BodySlot& b = lookUp(impl_->bodies, id);
-  checkFinite(velocity, "velocity");
+  BodySlot& b = lookUp(impl().bodies, id);
+  checkVelocity(velocity, "velocity");
   require(b.type != BodyType::Static || velocity == Vec2{},
           [&] { return std::string("velocity = " + str(velocity) + ": a static body cannot move"); });
   std::vector<uint32_t> woken;
-  impl_->wakeUp(id.index, 0.0, woken);
-  if (b.support.generation != 0) impl_->stopSliding(b);
+  impl().wakeUp(id.index, 0.0, woken);
+  if (b.support.generation != 0) impl().stopSliding(b);
   b.velocity = velocity;
-  impl_->touched(id.index);
-  impl_->touched(woken);
+  impl().touched(id.index);
+  impl().touched(woken);
 }
 
 std::vector<FixtureId> World::fixtures(BodyId id) const {
-  const BodySlot& b = lookUp(impl_->bodies, id);
+  const BodySlot& b = lookUp(impl().bodies, id);
   std::vector<FixtureId> out;
-  for (uint32_t f : b.fixtures) out.push_back({f, impl_->fixtures[f].generation});
+  for (uint32_t f : b.fixtures) out.push_back({f, impl().fixtures[f].generation});
   return out;
 }
 
 FixtureId World::createFixture(BodyId bodyId, const FixtureDef& def) {
-  Impl& w = *impl_;
+  Impl& w = impl();
   BodySlot& body = lookUp(w.bodies, bodyId);
   if (auto error = validationError(def.geometry)) throw Error("FixtureDef.geometry: " + *error);
+  if (const auto* circle = std::get_if<Circle>(&def.geometry)) {
+    // Times of impact resolve a radius down to a few ulps of the coordinates (and of the distances a
+    // step covers); kMinRelativeRadius leaves a hundredfold margin above that.
+    const Vec2 at = body.position + circle->center;
+    const double smallest = kMinRelativeRadius * std::max({1.0, std::fabs(at.x), std::fabs(at.y)});
+    require(circle->radius == 0 || circle->radius >= smallest, [&] {
+      return "FixtureDef.geometry: Circle.radius = " + str(circle->radius) + ": below the smallest radius that " +
+             "collides at " + str(at) + ", 1e-12 x max(1, |x|, |y|) = " + str(smallest) + " (0 makes a point)";
+    });
+  }
   if (body.type == BodyType::Dynamic) {
     const auto centre = centreOf(def.geometry);
     require(centre.has_value(), [&] {
@@ -346,7 +370,7 @@ FixtureId World::createFixture(BodyId bodyId, const FixtureDef& def) {
 }
 
 void World::destroyFixture(FixtureId id) {
-  Impl& w = *impl_;
+  Impl& w = impl();
   FixtureSlot& f = lookUp(w.fixtures, id);
   BodySlot& body = w.bodies[f.body];
   w.endOverlapsOf(id.index, [](uint32_t) { return false; });
@@ -365,22 +389,22 @@ void World::destroyFixture(FixtureId id) {
 }
 
 bool World::isValid(FixtureId id) const {
-  return !id.isNull() && id.index < impl_->fixtures.size() && impl_->fixtures[id.index].alive &&
-         impl_->fixtures[id.index].generation == id.generation;
+  return !id.isNull() && id.index < impl().fixtures.size() && impl().fixtures[id.index].alive &&
+         impl().fixtures[id.index].generation == id.generation;
 }
 
 BodyId World::body(FixtureId id) const {
-  const FixtureSlot& f = lookUp(impl_->fixtures, id);
-  return BodyId{f.body, impl_->bodies[f.body].generation};
+  const FixtureSlot& f = lookUp(impl().fixtures, id);
+  return BodyId{f.body, impl().bodies[f.body].generation};
 }
-const Geometry& World::geometry(FixtureId id) const { return lookUp(impl_->fixtures, id).geometry; }
-double World::density(FixtureId id) const { return lookUp(impl_->fixtures, id).density; }
-double World::restitution(FixtureId id) const { return lookUp(impl_->fixtures, id).restitution; }
-bool World::isSensor(FixtureId id) const { return lookUp(impl_->fixtures, id).sensor; }
-Filter World::filter(FixtureId id) const { return lookUp(impl_->fixtures, id).filter; }
+const Geometry& World::geometry(FixtureId id) const { return lookUp(impl().fixtures, id).geometry; }
+double World::density(FixtureId id) const { return lookUp(impl().fixtures, id).density; }
+double World::restitution(FixtureId id) const { return lookUp(impl().fixtures, id).restitution; }
+bool World::isSensor(FixtureId id) const { return lookUp(impl().fixtures, id).sensor; }
+Filter World::filter(FixtureId id) const { return lookUp(impl().fixtures, id).filter; }
 
 void World::setDensity(FixtureId id, double density) {
-  Impl& w = *impl_;
+  Impl& w = impl();
   FixtureSlot& f = lookUp(w.fixtures, id);
   BodySlot& body = w.bodies[f.body];
   if (body.type == BodyType::Dynamic) {
@@ -402,63 +426,68 @@ void World::setDensity(FixtureId id, double density) {
 }
 
 void World::setRestitution(FixtureId id, double restitution) {
-  FixtureSlot& f = lookUp(impl_->fixtures, id);
+  FixtureSlot& f = lookUp(impl().fixtures, id);
   checkRestitution(restitution, "restitution");
   f.restitution = restitution;
-  impl_->restitutionChanged = true;
+  impl().restitutionChanged = true;
 }
 
 void World::setFilter(FixtureId id, const Filter& filter) {
-  FixtureSlot& fixture = lookUp(impl_->fixtures, id);
+  FixtureSlot& fixture = lookUp(impl().fixtures, id);
   fixture.filter = filter;
-  impl_->bodies[fixture.body].diskShapeKnown = false;
-  impl_->broadPhase.setFilter(id.index, filter.categoryBits, filter.maskBits);
-  impl_->structureChanged = true;
+  impl().bodies[fixture.body].diskShapeKnown = false;
+  impl().broadPhase.setFilter(id.index, filter.categoryBits, filter.maskBits);
+  impl().structureChanged = true;
   // Overlaps the new filter forbids end now; new ones begin when the next step finds them.
-  impl_->endOverlapsOf(id.index, [&](uint32_t other) { return impl_->canSense(id.index, other); });
+  impl().endOverlapsOf(id.index, [&](uint32_t other) { return impl().canSense(id.index, other); });
 }
 
 std::vector<FixtureId> World::sensorOverlaps(FixtureId id) const {
-  lookUp(impl_->fixtures, id);
+  const FixtureSlot& sensor = lookUp(impl().fixtures, id);
+  require(sensor.sensor, [&] {
+    return "sensorOverlaps: FixtureId {index " + std::to_string(id.index) + ", generation " +
+           std::to_string(id.generation) + "} is not a sensor (FixtureDef.sensor = false)";
+  });
   std::vector<uint32_t> found;
-  for (const auto& [key, stamp] : impl_->sensorOverlaps) {
+  for (const auto& [key, stamp] : impl().sensorOverlaps) {
     if (static_cast<uint32_t>(key >> 32) == id.index) found.push_back(static_cast<uint32_t>(key));
   }
   std::sort(found.begin(), found.end());
   std::vector<FixtureId> out;
-  for (uint32_t f : found) out.push_back({f, impl_->fixtures[f].generation});
+  for (uint32_t f : found) out.push_back({f, impl().fixtures[f].generation});
   return out;
 }
 
 void World::step(double dt) {
   require(std::isfinite(dt) && dt >= 0,
           [&] { return std::string("step: dt = " + str(dt) + ": must be finite and >= 0"); });
-  switch (impl_->def.mode) {
+  impl().refreshSqueezes();
+  switch (impl().def.mode) {
     case StepMode::Hybrid:
-      impl_->stepHybrid(dt);
+      impl().stepHybrid(dt);
       break;
     case StepMode::Discrete:
-      impl_->stepDiscrete(dt);
+      impl().stepDiscrete(dt);
       break;
     case StepMode::Predictive:
-      impl_->stepPredictive(dt);
+      impl().stepPredictive(dt);
       break;
   }
-  impl_->structureChanged = false;
-  impl_->restitutionChanged = false;
-  impl_->touchedBodies.clear();
+  impl().structureChanged = false;
+  impl().restitutionChanged = false;
+  impl().touchedBodies.clear();
 }
 
 void World::advanceTo(double t) {
-  require(std::isfinite(t) && t >= impl_->time,
-          [&] { return "advanceTo: t = " + str(t) + ": must be finite and >= time() = " + str(impl_->time); });
-  step(t - impl_->time);
+  require(std::isfinite(t) && t >= impl().time,
+          [&] { return "advanceTo: t = " + str(t) + ": must be finite and >= time() = " + str(impl().time); });
+  step(t - impl().time);
 }
 
-double World::time() const { return impl_->time; }
-std::span<const ContactEvent> World::contactEvents() const { return impl_->contactEvents; }
-std::span<const SensorEvent> World::sensorEvents() const { return impl_->sensorEvents; }
-const StepStats& World::stats() const { return impl_->stats; }
+double World::time() const { return impl().time; }
+std::span<const ContactEvent> World::contactEvents() const { return impl().contactEvents; }
+std::span<const SensorEvent> World::sensorEvents() const { return impl().sensorEvents; }
+const StepStats& World::stats() const { return impl().stats; }
 
 uint64_t World::stateHash() const {
   // FNV-1a over the exact bytes, in slot order: independent of pointers and of any container's order.
@@ -474,9 +503,9 @@ uint64_t World::stateHash() const {
     std::memcpy(&bits, &d, sizeof bits);
     mix(bits);
   };
-  mixDouble(impl_->time);
-  for (uint32_t i = 0; i < impl_->bodies.size(); ++i) {
-    const BodySlot& b = impl_->bodies[i];
+  mixDouble(impl().time);
+  for (uint32_t i = 0; i < impl().bodies.size(); ++i) {
+    const BodySlot& b = impl().bodies[i];
     if (!b.alive) continue;
     mix(i);
     mix(b.generation);

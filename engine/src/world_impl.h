@@ -397,6 +397,23 @@ struct World::Impl {
   /// The end of a hybrid step (`end`: where the bodies stop): stepped bodies at rest sleep, bottom up.
   void endIslands(double end);
 
+  // squeeze.cpp: a dynamic body caught between bodies that do not yield.
+  static constexpr int kSqueezeCollisions = 64;
+  struct Squeeze {
+    uint64_t key;  // islandKey of the dynamic body's fixture and the kinematic fixture passing over it
+    uint32_t generationA, generationB;  // of the lower and the higher fixture index
+  };
+  std::vector<Squeeze> squeezes;  // exempt pairs, in the order they were squeezed
+  std::vector<uint32_t> squeezeCounted;  // bodies whose stepCollisions squeezeAt raised from 0 this step
+  /// Whether the pair of fixtures is exempt from collisions because of a squeeze.
+  bool squeezeExempt(uint32_t fa, uint32_t fb) const;
+  /// At a step's start: forgets the squeezes whose pairs no longer overlap (or are gone), and starts the
+  /// bodies' counts again.
+  void refreshSqueezes();
+  /// Counts the contact's collision for its dynamic body; when it is a squeeze, stops the body along
+  /// the contact's normal, exempts the pair and returns true (the caller predicts the body again).
+  bool squeezeAt(const detail::PredictedContact& c);
+
   // jam.cpp: a cluster of touching bodies resolved at once when one of them collides too often.
   static constexpr int kJamCollisions = 64;
   std::vector<int> jamSlot;  // scratch of settleJam, all -1 between calls

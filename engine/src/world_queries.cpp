@@ -99,8 +99,8 @@ std::optional<RayHit> World::rayCastFirst(Vec2 origin, Vec2 translation, const Q
   checkRay(origin, translation, "rayCastFirst");
   std::optional<RayHit> best;
   // Fixtures come in index order, so keeping only strictly nearer hits leaves the lowest index on a tie.
-  forEachRayHit(*impl_, origin, translation, filter, [&](uint32_t i, const RayCastHit& hit) {
-    if (!best || hit.fraction < best->fraction) best = rayHitOf(*impl_, i, hit);
+  forEachRayHit(impl(), origin, translation, filter, [&](uint32_t i, const RayCastHit& hit) {
+    if (!best || hit.fraction < best->fraction) best = rayHitOf(impl(), i, hit);
   });
   return best;
 }
@@ -108,8 +108,8 @@ std::optional<RayHit> World::rayCastFirst(Vec2 origin, Vec2 translation, const Q
 std::vector<RayHit> World::rayCastAll(Vec2 origin, Vec2 translation, const QueryFilter& filter) const {
   checkRay(origin, translation, "rayCastAll");
   std::vector<RayHit> hits;
-  forEachRayHit(*impl_, origin, translation, filter,
-                [&](uint32_t i, const RayCastHit& hit) { hits.push_back(rayHitOf(*impl_, i, hit)); });
+  forEachRayHit(impl(), origin, translation, filter,
+                [&](uint32_t i, const RayCastHit& hit) { hits.push_back(rayHitOf(impl(), i, hit)); });
   std::sort(hits.begin(), hits.end(), [](const RayHit& x, const RayHit& y) {
     if (x.fraction != y.fraction) return x.fraction < y.fraction;
     return x.fixture.index < y.fixture.index;
@@ -124,7 +124,7 @@ std::vector<FixtureId> World::overlapBox(const Box& box, const QueryFilter& filt
     return "overlapBox: box.min = " + str(box.min) + ", box.max = " + str(box.max) +
            ": min must be <= max in x and in y";
   });
-  return collectOverlaps(*impl_, box, filter,
+  return collectOverlaps(impl(), box, filter,
                          [&](const Geometry& g, Vec2 position) { return overlapsBox(g, position, box); });
 }
 
@@ -134,14 +134,14 @@ std::vector<FixtureId> World::overlapCircle(Vec2 center, double radius, const Qu
           [&] { return "overlapCircle: radius = " + str(radius) + ": must be finite and >= 0"; });
   const Geometry circle = Circle{center, radius};
   const Vec2 r{radius, radius};
-  return collectOverlaps(*impl_, Box{center - r, center + r}, filter,
+  return collectOverlaps(impl(), Box{center - r, center + r}, filter,
                          [&](const Geometry& g, Vec2 position) { return overlaps(circle, Vec2{}, g, position); });
 }
 
 std::vector<FixtureId> World::overlapPoint(Vec2 point, const QueryFilter& filter) const {
   checkFinite(point, "overlapPoint", "point");
   const Geometry p = Point{point};
-  return collectOverlaps(*impl_, Box{point, point}, filter,
+  return collectOverlaps(impl(), Box{point, point}, filter,
                          [&](const Geometry& g, Vec2 position) { return overlaps(p, Vec2{}, g, position); });
 }
 

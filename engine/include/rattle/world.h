@@ -16,6 +16,8 @@ class World {
   /// Throws rattle::Error when the definition is invalid.
   explicit World(const WorldDef& def = {});
   ~World();
+  /// A moved-from World holds nothing: every call on it but destruction and assignment throws
+  /// rattle::Error.
   World(World&&) noexcept;
   World& operator=(World&&) noexcept;
   World(const World&) = delete;
@@ -42,7 +44,11 @@ class World {
   int bodyCount() const;
 
   // Fixtures.
+  /// A circle's radius must be 0 (a point) or at least kMinRelativeRadius x max(1, |x|, |y|) of where its
+  /// centre is when it is created: smaller circles could not be told from a point by the times of
+  /// impact. Circles that small still collide head-on while their coordinates stay within that range.
   FixtureId createFixture(BodyId body, const FixtureDef& def);
+  static constexpr double kMinRelativeRadius = 1e-12;
   void destroyFixture(FixtureId fixture);
   bool isValid(FixtureId fixture) const;
   BodyId body(FixtureId fixture) const;
@@ -94,6 +100,9 @@ class World {
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
+  /// impl_, or rattle::Error when this World was moved from.
+  /// (Like impl_ itself, it does not make the Impl const: const accessors share the Impl's lookups.)
+  Impl& impl() const;
 };
 
 }  // namespace rattle

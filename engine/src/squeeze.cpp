@@ -1,0 +1,67 @@
+// Squeezes: a dynamic body caught between bodies that do not yield.
+//
+// A kinematic body closing on a dynamic one against a static body (a piston, a gate shutting on a unit),
+// or two kinematic bodies closing on it, leave it less and less room: exact events then bounce it between
+// the two ever faster (the gap closes at a finite rate, the bounces come at a rate that grows without
+// bound), and a step would spend its whole event budget there. Nothing can hold both constraints, so one
+// gives: once the body has collided more than kSqueezeCollisions times in a step with things that do not
+// yield, its next contact with a kinematic body is a squeeze. The body stops along that contact's normal
+// (keeping its motion along the surface), and that kinematic fixture passes over it, the pair exempt
+// from collisions until their geometries no longer overlap. Its contacts with static bodies stay, so it
+// is never pushed through one. StepStats::squeezes counts them.
+#include <algorithm>
+
+#include "world_impl.h"
+
+namespace rattle {
+
+using detail::BodySlot;
+
+bool World::Impl::squeezeExempt(uint32_t fa, uint32_t fb) const {
+  const uint64_t key = islandKey(fa, fb);
+  for (const Squeeze& s : squeezes) {
+    if (s.key == key) return true;
+  }
+  return false;
+}
+
+void World::Impl::refreshSqueezes() {
+  // The counts start again each step (the predictive mode's step after a plain one does not reset them).
+  for (uint32_t body : squeezeCounted) bodies[body].stepCollisions = 0;
+  squeezeCounted.clear();
+  if (squeezes.empty()) return;
+  std::erase_if(squeezes, [&](const Squeeze& s) {
+    const uint32_t fa = static_cast<uint32_t>(s.key >> 32), fb = static_cast<uint32_t>(s.key);
+    const detail::FixtureSlot& a = fixtures[fa];
+    const detail::FixtureSlot& b = fixtures[fb];
+    if (!a.alive || !b.alive || a.generation != s.generationA || b.generation != s.generationB) return true;
+    if (overlaps(a.geometry, bodies[a.body].position, b.geometry, bodies[b.body].position)) return false;
+    // Parted: the pair collides again, and the predictive mode must predict it again.
+    touched(a.body);
+    touched(b.body);
+    return true;
+  });
+}
+
+bool World::Impl::squeezeAt(const detail::PredictedContact& c) {
+  const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
+  BodySlot& a = bodies[ia];
+  const BodySlot& b = bodies[ib];
+  // `a` is the dynamic body of a contact (PredictedContact); only a contact with what does not yield
+  // counts, and only a kinematic body can give way.
+  if (a.type != BodyType::Dynamic || b.type == BodyType::Dynamic) return false;
+  const int count = a.countStepCollision();
+  if (count == 1) squeezeCounted.push_back(ia);
+  if (count <= kSqueezeCollisions || b.type != BodyType::Kinematic) return false;
+  advance(a, c.time);
+  a.velocity -= c.normal * dot(a.velocity, c.normal);
+  ++a.collisionCount;
+  a.last = detail::LastContact{};
+  a.stepLocalsSet = true;
+  squeezes.push_back({islandKey(c.a, c.b), fixtures[std::min(c.a, c.b)].generation,
+                      fixtures[std::max(c.a, c.b)].generation});
+  ++stats.squeezes;
+  return true;
+}
+
+}  // namespace rattle
