@@ -19,6 +19,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
@@ -130,8 +132,31 @@ int runWindow(Game& game, const Options& o, replay::Recorder* recorder) {
   // OSMesa would share its dispatch table and crash.
   SDL_SetHint(SDL_HINT_RENDER_DRIVER, "software");
   SDL_SetHint(SDL_HINT_FRAMEBUFFER_ACCELERATION, "0");
+  // Without a display SDL falls back to a driver that draws nowhere (offscreen), and the game would run
+  // unseen and exit 0. SDL_VIDEODRIVER set by hand (kmsdrm on a console, say) is taken as meant.
+  const char* chosenDriver = std::getenv("SDL_VIDEODRIVER");
+  const bool driverChosen = chosenDriver && *chosenDriver;
+  auto isSet = [](const char* name) {
+    const char* v = std::getenv(name);
+    return v && *v;
+  };
+  if (!driverChosen && !isSet("DISPLAY") && !isSet("WAYLAND_DISPLAY")) {
+    std::fprintf(stderr,
+                 "rattle-demo: cannot open a window: no display (DISPLAY and WAYLAND_DISPLAY are both unset); "
+                 "run it on a desktop, under xvfb-run, or without --window for PNG frames\n");
+    return 1;
+  }
   if (SDL_Init(SDL_INIT_VIDEO) != 0) {
-    std::fprintf(stderr, "rattle-demo: cannot open a window: %s (no display? run under X, or xvfb-run)\n", SDL_GetError());
+    std::fprintf(stderr, "rattle-demo: cannot open a window: SDL's video init failed: %s (DISPLAY=%s, WAYLAND_DISPLAY=%s)\n",
+                 SDL_GetError(), isSet("DISPLAY") ? std::getenv("DISPLAY") : "(unset)",
+                 isSet("WAYLAND_DISPLAY") ? std::getenv("WAYLAND_DISPLAY") : "(unset)");
+    return 1;
+  }
+  if (const char* driver = SDL_GetCurrentVideoDriver();
+      !driverChosen && driver && (std::strcmp(driver, "offscreen") == 0 || std::strcmp(driver, "dummy") == 0)) {
+    std::fprintf(stderr, "rattle-demo: cannot open a window: SDL found no display it can use (its video driver is '%s'; DISPLAY=%s, WAYLAND_DISPLAY=%s)\n",
+                 driver, isSet("DISPLAY") ? std::getenv("DISPLAY") : "(unset)", isSet("WAYLAND_DISPLAY") ? std::getenv("WAYLAND_DISPLAY") : "(unset)");
+    SDL_Quit();
     return 1;
   }
   Sdl sdl;

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <set>
+#include <sys/wait.h>
 
 #include "render/png.h"
 
@@ -48,6 +49,29 @@ TEST(DemoWindow, ScriptedInputUnderXvfbShowsTheGame) {
   std::set<uint32_t> colours;
   for (size_t i = 0; i + 3 < rgba.size(); i += 4) colours.insert(uint32_t(rgba[i]) | uint32_t(rgba[i + 1]) << 8 | uint32_t(rgba[i + 2]) << 16);
   EXPECT_GT(colours.size(), 20u) << "the window's picture is (nearly) blank";
+}
+
+// Without a display SDL would fall back to a driver that shows nothing, and the game would run unseen.
+TEST(DemoWindow, NoDisplayIsAnErrorNamingIt) {
+  const std::string log = testing::TempDir() + "/rattle_demo_no_display.log";
+  const std::string args = std::string(" --window --map ") + RATTLE_SOURCE_DIR + "/assets/maps/small.json --units 2 --size 160x96 --ticks 30";
+  auto run = [&](const std::string& environment, std::string& output) {
+    const std::string command = "env -u DISPLAY -u WAYLAND_DISPLAY -u SDL_VIDEODRIVER " + environment + " " + RATTLE_DEMO_BINARY + args +
+                                " > " + log + " 2>&1";
+    const int raw = std::system(command.c_str());
+    std::ifstream in(log);
+    output.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  };
+  std::string output;
+  EXPECT_EQ(run("", output), 1) << output;
+  EXPECT_NE(output.find("cannot open a window: no display (DISPLAY and WAYLAND_DISPLAY are both unset)"), std::string::npos) << output;
+  EXPECT_EQ(output.find("Ran 30 ticks"), std::string::npos) << output;
+  // A display that is named but not there: SDL's own fallback must not pass for a window either.
+  EXPECT_EQ(run("DISPLAY=:4093", output), 1) << output;
+  EXPECT_NE(output.find("cannot open a window"), std::string::npos) << output;
+  EXPECT_NE(output.find("DISPLAY=:4093"), std::string::npos) << output;
+  EXPECT_EQ(output.find("Ran 30 ticks"), std::string::npos) << output;
 }
 
 }  // namespace
