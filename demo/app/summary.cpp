@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "app/run.h"
+#include "map/printable.h"
 
 namespace rts {
 namespace {
@@ -55,14 +56,14 @@ void printSummary(const Game& game, const Options& o, int framesWritten, double 
   std::string rooms;
   for (size_t r = 0; r < game.rooms().size(); ++r) {
     const int h = game.rooms()[r].holder;
-    rooms += (r ? ", " : "") + game.map().rooms[r].name + " " + (h < 0 ? "empty" : h == 2 ? "contested" : h == 0 ? "blue" : "red");
+    rooms += (r ? ", " : "") + printable(game.map().rooms[r].name) + " " + (h < 0 ? "empty" : h == 2 ? "contested" : h == 0 ? "blue" : "red");
   }
   std::printf(
       "Ran %u ticks (%.1f s of game time) on %s (%g x %g) with %d units per team, seed %llu, %s mode. "
       "Units left: blue %d, red %d. Shots fired: %ld (%ld hit units, %ld hit walls, %ld ran out of range). "
       "Doorway crossings: %ld. Rooms: %s. Engine step: median %.3f ms, 95th percentile %.3f ms, worst %.3f ms "
       "over %zu steps%s.",
-      game.tickCount(), game.tickCount() * Game::kTickSeconds, game.map().name.empty() ? "the map" : game.map().name.c_str(),
+      game.tickCount(), game.tickCount() * Game::kTickSeconds, game.map().name.empty() ? "the map" : printable(game.map().name).c_str(),
       game.map().width, game.map().height, o.units, static_cast<unsigned long long>(o.seed), modeName(o.mode),
       game.alive(0), game.alive(1), s.shotsFired, s.unitHits, s.wallHits, std::max(0l, outOfRange), s.crossings,
       rooms.empty() ? "none" : rooms.c_str(), median, p95, worst, s.stepSeconds.size(),

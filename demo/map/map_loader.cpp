@@ -7,10 +7,13 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
 #include <utility>
+
+#include "map/printable.h"
 
 namespace rts {
 namespace {
@@ -37,7 +40,7 @@ constexpr size_t kMaxGates = 32;        // the game keeps gate states in a 32-bi
 
 std::string inQuotes(const std::string& s) {
   std::string out = "\"";
-  for (char c : s.substr(0, 64)) out += (static_cast<unsigned char>(c) < 32 || c == '"') ? '?' : c;
+  for (char c : printable(s.substr(0, 64))) out += c == '"' ? '?' : c;
   if (s.size() > 64) out += "...";
   return out + "\"";
 }
@@ -115,7 +118,7 @@ class Properties {
       }
       std::string name = boundedString(at, "property name", p["name"]);
       for (const auto& [n, v] : entries_) {
-        if (n == name) fail(at.str() + ": property '" + name + "' is given twice");
+        if (n == name) fail(at.str() + ": property '" + printable(name) + "' is given twice");
       }
       entries_.emplace_back(name, p["value"]);
     }
@@ -155,7 +158,7 @@ class Properties {
   void rejectUnused(const std::string& kind, const std::string& known) const {
     for (size_t i = 0; i < entries_.size(); ++i) {
       if (!used_.count(i)) {
-        fail(at_.str() + ": property '" + entries_[i].first + "' is not used by kind '" + kind + "'" +
+        fail(at_.str() + ": property '" + printable(entries_[i].first) + "' is not used by kind '" + kind + "'" +
              (known.empty() ? std::string(" (it takes no properties)") : " (it takes: " + known + ")"));
       }
     }
@@ -196,12 +199,14 @@ const char* shapeName(ShapeKind k) {
   return "?";
 }
 
-// One Tiled object's geometry in world units: its position and its points relative to it.
+// One Tiled object's geometry in world units: its position and its points relative to it. The values
+// as the file wrote them (pixels) are kept for messages: a map author looks for -152, not -19.
 struct Shape {
   ShapeKind kind = ShapeKind::Rectangle;
   Vec2 origin;
   double width = 0, height = 0;
   std::vector<Vec2> points;  // polyline / polygon, relative to origin
+  double xPx = 0, yPx = 0, widthPx = 0, heightPx = 0;
 };
 
 bool boolField(const Place& at, const json& object, const char* field) {
@@ -241,9 +246,13 @@ std::vector<Vec2> pointList(const Place& at, const json& list, const char* field
 
 Shape readShape(const Place& at, const json& object, double ppu) {
   Shape s;
-  s.origin = {numberField(at, object, "x", true) / ppu, numberField(at, object, "y", true) / ppu};
-  s.width = numberField(at, object, "width", false) / ppu;
-  s.height = numberField(at, object, "height", false) / ppu;
+  s.xPx = numberField(at, object, "x", true);
+  s.yPx = numberField(at, object, "y", true);
+  s.widthPx = numberField(at, object, "width", false);
+  s.heightPx = numberField(at, object, "height", false);
+  s.origin = {s.xPx / ppu, s.yPx / ppu};
+  s.width = s.widthPx / ppu;
+  s.height = s.heightPx / ppu;
   double rotation = numberField(at, object, "rotation", false);
   if (rotation != 0) {
     fail(at.str() + ": rotation = " + formatNumber(rotation) +
@@ -315,7 +324,7 @@ void requirePolyline(const Place& at, const std::vector<Vec2>& pts) {
 std::vector<Vec2> convexArea(const Place& at, const Shape& s, const std::string& kind) {
   if (s.kind == ShapeKind::Rectangle) {
     if (!(s.width > 0) || !(s.height > 0)) {
-      fail(at.str() + ": width = " + formatNumber(s.width) + ", height = " + formatNumber(s.height) +
+      fail(at.str() + ": width = " + formatNumber(s.widthPx) + ", height = " + formatNumber(s.heightPx) +
            ": a rectangle needs both > 0");
     }
     return {{0, 0}, {s.width, 0}, {s.width, s.height}, {0, s.height}};
@@ -333,14 +342,17 @@ std::vector<Vec2> convexArea(const Place& at, const Shape& s, const std::string&
 
 rattle::Circle circleOf(const Place& at, const Shape& s) {
   if (!(s.width > 0) || s.width != s.height) {
-    fail(at.str() + ": ellipse width = " + formatNumber(s.width) + ", height = " + formatNumber(s.height) +
+    fail(at.str() + ": ellipse width = " + formatNumber(s.widthPx) + ", height = " + formatNumber(s.heightPx) +
          ": only circles (width == height > 0) are supported");
   }
   return rattle::Circle{{s.width / 2, s.height / 2}, s.width / 2};
 }
 
-void checkGeometry(const Place& at, const rattle::Geometry& g) {
-  if (auto why = rattle::validationError(g)) fail(at.str() + ": " + *why);
+// The engine's own check, last: it sees world units, so its numbers are not the file's.
+void checkGeometry(const Place& at, const rattle::Geometry& g, double ppu) {
+  if (auto why = rattle::validationError(g)) {
+    fail(at.str() + ": " + *why + " (in world units: the file's pixels divided by pixels_per_unit " + formatNumber(ppu) + ")");
+  }
 }
 
 // The kind: property 'kind', or Tiled's class field ("class" since 1.9, "type" before).
@@ -357,6 +369,7 @@ std::string kindOf(const Place& at, const json& object, Properties& props) {
 
 struct Loader {
   Map map;
+  double widthPx = 0, heightPx = 0;  // the map's size as the file gives it, for messages
   std::set<int> ids;
   size_t objectCount = 0;
 
@@ -393,7 +406,7 @@ struct Loader {
         wrongShape(at, s, kind, kind == "wall" ? "a polyline, convex polygon, rectangle or circle"
                                                : "a convex polygon, rectangle or circle");
       }
-      checkGeometry(at, w.shape);
+      checkGeometry(at, w.shape, ppu);
       props.rejectUnused(kind, "");
       map.walls.push_back(std::move(w));
     } else if (kind == "spawn") {
@@ -401,8 +414,10 @@ struct Loader {
       int team = props.team("team");
       props.rejectUnused(kind, "team");
       if (s.origin.x < 0 || s.origin.y < 0 || s.origin.x > map.width || s.origin.y > map.height) {
-        fail(at.str() + ": x, y = " + formatNumber(s.origin.x * ppu) + ", " + formatNumber(s.origin.y * ppu) +
-             ": a spawn point must lie inside the map");
+        fail(at.str() + ": x, y = " + formatNumber(s.xPx) + ", " + formatNumber(s.yPx) +
+             (layerOffset == Vec2{0, 0} ? std::string() : " (its layers are offset too)") +
+             ": a spawn point must lie inside the map (" + formatNumber(widthPx) + " x " +
+             formatNumber(heightPx) + " pixels)");
       }
       map.spawns.push_back({at.objectId, team, s.origin});
     } else if (kind == "doorway") {
@@ -421,7 +436,7 @@ struct Loader {
       if (!sensor) fail(at.str() + ": property 'sensor' = false: a room is always a sensor");
       props.rejectUnused(kind, "sensor");
       for (Vec2& p : poly) p += s.origin;
-      checkGeometry(at, rattle::Polygon{poly});
+      checkGeometry(at, rattle::Polygon{poly}, ppu);
       map.rooms.push_back({at.objectId, name(), std::move(poly)});
     } else if (kind == "gate") {
       MapGate g;
@@ -429,14 +444,17 @@ struct Loader {
       g.name = name();
       g.origin = s.origin;
       g.polygon = convexArea(at, s, kind);
-      checkGeometry(at, rattle::Polygon{g.polygon});
+      checkGeometry(at, rattle::Polygon{g.polygon}, ppu);
       if (!props.has("open_dx") && !props.has("open_dy")) {
         fail(at.str() + ": property 'open_dx' (or 'open_dy') is missing: how far the gate slides to open, in pixels");
       }
-      g.openOffset = {props.number("open_dx", 0) / ppu, props.number("open_dy", 0) / ppu};
+      const double openDx = props.number("open_dx", 0), openDy = props.number("open_dy", 0);
+      g.openOffset = {openDx / ppu, openDy / ppu};
       if (g.openOffset == Vec2{0, 0}) fail(at.str() + ": properties 'open_dx', 'open_dy' are both 0: the gate cannot open");
       if (rattle::length(g.openOffset) > map.width + map.height) {
-        fail(at.str() + ": properties 'open_dx', 'open_dy': the gate would slide off the map");
+        fail(at.str() + ": properties 'open_dx', 'open_dy' = " + formatNumber(openDx) + ", " + formatNumber(openDy) +
+             ": the gate would slide off the map (further than its width and height together, " +
+             formatNumber(widthPx + heightPx) + " pixels)");
       }
       g.period = props.number("period", 8);
       if (g.period < 0 || g.period > 1e6) {
@@ -505,10 +523,7 @@ std::string tidied(std::string what) {
     }
   }
   if (what.size() > kMaxMessage) what = what.substr(0, kMaxMessage) + "...";
-  for (char& c : what) {
-    if (static_cast<unsigned char>(c) < 32 || c == 127) c = '?';
-  }
-  return what;
+  return printable(what);
 }
 
 // "line L, column C" of the byte numbered `byte` (counting from 1, as nlohmann does).
@@ -633,15 +648,19 @@ Map parseMap(std::string_view text, const std::string& sourceName) {
   }
   L.map.name = props.string("name");
   props.rejectUnused("map", "pixels_per_unit, name");
-  L.map.width = double(widthTiles) * tileWidth / L.map.pixelsPerUnit;
-  L.map.height = double(heightTiles) * tileHeight / L.map.pixelsPerUnit;
-  if (L.map.width > 1e5 || L.map.height > 1e5) {
-    fail(sourceName + ": the map is " + formatNumber(L.map.width) + " x " + formatNumber(L.map.height) +
-         " world units: at most 100000 each way");
-  }
+  L.widthPx = double(widthTiles) * tileWidth;
+  L.heightPx = double(heightTiles) * tileHeight;
+  L.map.width = L.widthPx / L.map.pixelsPerUnit;
+  L.map.height = L.heightPx / L.map.pixelsPerUnit;
+  // The limits are in world units, which the file never states: show how they follow from its fields.
+  auto size = [&] {
+    return formatNumber(L.map.width) + " x " + formatNumber(L.map.height) + " world units (" + std::to_string(widthTiles) + " x " +
+           std::to_string(heightTiles) + " tiles of " + std::to_string(tileWidth) + " x " + std::to_string(tileHeight) +
+           " pixels, pixels_per_unit " + formatNumber(L.map.pixelsPerUnit) + ")";
+  };
+  if (L.map.width > 1e5 || L.map.height > 1e5) fail(sourceName + ": the map is " + size() + ": at most 100000 each way");
   if (L.map.width * L.map.height > kMaxMapArea) {
-    fail(sourceName + ": the map is " + formatNumber(L.map.width) + " x " + formatNumber(L.map.height) +
-         " world units: its area may be at most " + formatNumber(kMaxMapArea) +
+    fail(sourceName + ": the map is " + size() + ": its area may be at most " + formatNumber(kMaxMapArea) +
          " square units (the game lays a one-unit grid over it)");
   }
 
@@ -659,6 +678,9 @@ Map parseMap(std::string_view text, const std::string& sourceName) {
 }
 
 std::string readMapFile(const std::string& path) {
+  // A directory opens as a stream whose end is at the largest offset there is: say what it is instead.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw MapError(path + ": is a directory, not a map file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw MapError(path + ": cannot open the map file");
   in.seekg(0, std::ios::end);

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "map/map_loader.h"
+#include "map/printable.h"
 
 namespace {
 
@@ -185,7 +186,7 @@ TEST(DemoMaps, WrongShapeForKind) {
 
 TEST(DemoMaps, EllipseMustBeACircle) {
   expectError(mapWith(object(3, "wall", R"("x": 8, "y": 8, "width": 8, "height": 4, "ellipse": true)")),
-              {"object 3", "ellipse width = 1", "height = 0.5"});
+              {"object 3", "ellipse width = 8, height = 4: only circles"});
 }
 
 TEST(DemoMaps, RotatedObject) {
@@ -206,7 +207,48 @@ TEST(DemoMaps, DuplicateIds) {
 
 TEST(DemoMaps, SpawnOutsideTheMap) {
   expectError(mapWith(object(3, "spawn", R"("x": 800, "y": 8, "point": true)", R"({"name": "team", "type": "int", "value": 0})")),
-              {"object 3", "inside the map"});
+              {"object 3", "x, y = 800, 8: a spawn point must lie inside the map (64 x 32 pixels)"});
+}
+
+// The file is in pixels (8 a world unit in these maps); its errors quote what the file says.
+TEST(DemoMaps, ErrorsQuoteTheFilesPixelsNotWorldUnits) {
+  expectError(mapWith(object(3, "building", R"("x": 8, "y": 8, "width": -152, "height": 32)")),
+              {"object 3", "width = -152, height = 32: a rectangle needs both > 0"});
+  expectError(mapWith(object(4, "room", R"("x": 8, "y": 8, "width": 24, "height": 0)")),
+              {"object 4", "width = 24, height = 0: a rectangle needs both > 0"});
+  expectError(mapWith(object(5, "wall", R"("x": 8, "y": 8, "width": 20, "height": 12, "ellipse": true)")),
+              {"object 5", "ellipse width = 20, height = 12"});
+  expectError(mapWith(object(6, "gate", R"("x": 8, "y": 8, "width": 8, "height": 4)",
+                             R"({"name": "open_dx", "type": "float", "value": 100}, {"name": "open_dy", "type": "float", "value": -8})")),
+              {"object 6", "'open_dx', 'open_dy' = 100, -8: the gate would slide off the map", "96 pixels"});
+}
+
+TEST(DemoMaps, NamesFromTheFileLoseTheirControlBytesInMessages) {
+  expectError(mapWith(object(3, "spawn", R"("x": 8, "y": 8, "point": true)",
+                             R"({"name": "team", "type": "int", "value": 0}, {"name": "te\u001b]0;x\u0007ma", "type": "int", "value": 0})")),
+              {"object 3", "property 'te?]0;x?ma' is not used by kind 'spawn'"});
+  expectError(mapWith(object(4, "wall", R"("x": 8, "y": 8, "width": 8, "height": 8)",
+                             R"({"name": "a\u009bb", "value": 1}, {"name": "a\u009bb", "value": 2})")),
+              {"object 4", "property 'a?b' is given twice"});
+}
+
+TEST(DemoMaps, PrintableReplacesWhatATerminalWouldActOn) {
+  EXPECT_EQ(rts::printable("plain text, 'quotes' and \"more\""), "plain text, 'quotes' and \"more\"");
+  EXPECT_EQ(rts::printable("a\x1b[2Jb\x1b]0;title\x07" "c"), "a?[2Jb?]0;title?c");
+  EXPECT_EQ(rts::printable("line\r\nnext\ttab\x7f"), "line??next?tab?");
+  EXPECT_EQ(rts::printable(std::string("nul\0byte", 8)), "nul?byte");
+  // UTF-8 stays, except the C1 controls (U+0080 to U+009F) and the bidirectional overrides.
+  EXPECT_EQ(rts::printable("caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x8e\xae"), "caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x8e\xae");
+  EXPECT_EQ(rts::printable("\xc2\x9b" "31m \xc2\x85 \xc2\xa0"), "?31m ? \xc2\xa0");
+  EXPECT_EQ(rts::printable("abc\xe2\x80\xae" "def \xe2\x81\xa6" "x"), "abc?def ?x");
+  // Bytes that are not UTF-8: one '?' each (a lone 0x9b is CSI to an 8-bit terminal).
+  EXPECT_EQ(rts::printable("\x9b" "31m"), "?31m");
+  EXPECT_EQ(rts::printable("\xff\xfe"), "??");
+  EXPECT_EQ(rts::printable("\xc0\xaf"), "??");          // an overlong '/'
+  EXPECT_EQ(rts::printable("\xed\xa0\x80"), "???");     // a surrogate
+  EXPECT_EQ(rts::printable("\xf4\x90\x80\x80"), "????");  // past U+10FFFF
+  EXPECT_EQ(rts::printable("cut \xe2\x82"), "cut ??");  // a sequence cut short
+  EXPECT_EQ(rts::printable(""), "");
 }
 
 TEST(DemoMaps, NotAMapAtAll) {

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <sys/wait.h>
@@ -71,6 +72,38 @@ TEST(DemoProgram, ABadMapIsOneLineNamingTheObject) {
   r = run("--no-render --map /nonexistent.json");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.output.find("cannot open"), std::string::npos) << r.output;
+}
+
+TEST(DemoProgram, ADirectoryGivenAsTheMapIsNamedAsOne) {
+  const std::string dir = testing::TempDir() + "/rattle_demo_map_dir";
+  std::filesystem::create_directories(dir);
+  Outcome r = run("--no-render --map " + dir);
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find(dir + ": is a directory, not a map file"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("bytes"), std::string::npos) << r.output;
+}
+
+// The summary names the map and its rooms, which come from the file: no escape sequence gets through.
+TEST(DemoProgram, TheSummaryShowsNamesFromTheMapWithoutControlBytes) {
+  std::ifstream in(std::string(RATTLE_SOURCE_DIR) + "/assets/maps/small.json");
+  std::string map((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto replace = [&](const std::string& from, const std::string& to) {
+    const size_t at = map.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    map.replace(at, from.size(), to);
+  };
+  replace(R"("value": "small")", R"("value": "small\u001b]0;owned\u0007\u001b[2J")");
+  replace(R"("name": "west")", R"("name": "west\r\u009b31m")");
+  const std::string path = testing::TempDir() + "/rattle_demo_evil_names.json";
+  std::ofstream(path) << map;
+  Outcome r = run("--no-render --quiet --ticks 3 --units 2 --map " + path);
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("on small?]0;owned??[2J ("), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("Rooms: west??31m "), std::string::npos) << r.output;
+  for (char c : r.output) {
+    const unsigned char b = static_cast<unsigned char>(c);
+    EXPECT_FALSE((b < 0x20 && c != '\n') || b == 0x7f || b == 0x9b) << "byte " << int(b) << " in: " << r.output;
+  }
 }
 
 TEST(DemoProgram, AShortHeadlessRunEndsWithTheSummary) {

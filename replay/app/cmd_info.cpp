@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "app/cli.h"
+#include "map/printable.h"
 #include "tool/verify.h"
 
 namespace rts::replay::cli {
@@ -68,14 +69,14 @@ int runInfo(const std::vector<std::string>& args) {
     }
   }
   std::printf("replay    %s (%llu bytes, format version %u)\n", file.c_str(), static_cast<unsigned long long>(ec ? 0 : bytes), r.version);
-  std::printf("map       %s (%zu bytes embedded, FNV-1a %s)\n", r.mapName.c_str(), r.mapJson.size(), hex64(r.mapHash).c_str());
+  std::printf("map       %s (%zu bytes embedded, FNV-1a %s)\n", printable(r.mapName).c_str(), r.mapJson.size(), hex64(r.mapHash).c_str());
   std::printf("game      %u units per team, %s step mode, weapons %s, %u gates, %u doorways, %u rooms\n", c.unitsPerTeam, modeName(c.stepMode),
               c.weapons ? "on" : "off", c.gateCount, c.doorwayCount, c.roomCount);
   if (c.opponentTeams & 3) {
     std::printf("played by the scripted opponent for %s (seed %llu); recorded by %s\n", played(c.opponentTeams).c_str(),
-                static_cast<unsigned long long>(c.seed), c.recordedBy.c_str());
+                static_cast<unsigned long long>(c.seed), printable(c.recordedBy).c_str());
   } else {
-    std::printf("played by commands from a script or a person only; recorded by %s\n", c.recordedBy.c_str());
+    std::printf("played by commands from a script or a person only; recorded by %s\n", printable(c.recordedBy).c_str());
   }
   std::printf("ticks     %u (%.1f s of game time at 30 ticks a second)\n", r.tickCount(), r.tickCount() / 30.0);
   std::printf("commands  %zu (%zu move, %zu stop, %zu gate)\n", r.commandCount(), moves, stops, gates);
@@ -89,7 +90,8 @@ int runInfo(const std::vector<std::string>& args) {
   std::printf("hashes    tick 0 %s, tick %u %s\n", hex64(r.initialStateHash).c_str(), r.tickCount(),
               hex64(r.ticks.empty() ? r.initialStateHash : r.ticks.back().stateHash).c_str());
   std::printf("build\n");
-  for (const BuildFact& f : r.build) std::printf("  %-16s %s\n", f.key.c_str(), f.value.c_str());
+  // Every string from the file goes through printable(): a replay is untrusted, and its names reach a terminal.
+  for (const BuildFact& f : r.build) std::printf("  %-16s %s\n", printable(f.key).c_str(), printable(f.value).c_str());
   if (listCommands) {
     std::printf("commands (as a command script: TICK TYPE TEAM ...)\n");
     for (const TickRecord& t : r.ticks) {

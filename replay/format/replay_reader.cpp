@@ -2,6 +2,7 @@
 #include "format/replay_reader.h"
 
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <new>
 
@@ -10,6 +11,7 @@
 #include "format/command_codec.h"
 #include "format/limits.h"
 #include "format/snapshot_codec.h"
+#include "map/printable.h"
 
 namespace rts::replay {
 namespace {
@@ -150,7 +152,7 @@ class Parser {
       const size_t keyAt = in.offset();
       f.key = in.str("BILD fact " + std::to_string(i) + " key", kMaxFactKeyBytes);
       if (f.key.empty()) in.failAt(keyAt, "BILD fact " + std::to_string(i) + " key", "empty");
-      f.value = in.str("BILD fact " + std::to_string(i) + " (" + f.key + ") value", kMaxFactValueBytes);
+      f.value = in.str("BILD fact " + std::to_string(i) + " (" + printable(f.key) + ") value", kMaxFactValueBytes);
       r_.build.push_back(std::move(f));
     }
     in.expectEnd("BILD");
@@ -292,6 +294,12 @@ ReadResult readReplay(const uint8_t* data, size_t size) noexcept {
 ReadResult readReplayFile(const std::string& path) noexcept {
   ReadResult result;
   try {
+    // A directory opens as a stream whose end is at the largest offset there is: say what it is instead.
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) {
+      result.error = {0, "file", path + ": is a directory, not a replay file"};
+      return result;
+    }
     std::ifstream in(path, std::ios::binary);
     if (!in) {
       result.error = {0, "file", path + ": cannot open"};

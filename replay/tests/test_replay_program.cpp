@@ -4,6 +4,7 @@
 
 #include <cstdlib>
 
+#include "format/checksum.h"
 #include "replay_test_support.h"
 
 namespace {
@@ -29,6 +30,19 @@ Outcome run(const std::string& binary, const std::string& arguments) {
 Outcome replayTool(const std::string& arguments) { return run(RATTLE_REPLAY_BINARY, arguments); }
 
 bool has(const Outcome& o, const std::string& text) { return o.output.find(text) != std::string::npos; }
+
+// Where the first byte is that a terminal could act on: a C0 control other than the newline, DEL, the
+// lone byte 0x9b (CSI in an 8-bit terminal), a C1 control in UTF-8 (C2 80 to C2 9F) or the right-to-left
+// override U+202E (E2 80 AE). npos when there is none.
+size_t firstControlByte(const std::string& s) {
+  for (size_t i = 0; i < s.size(); ++i) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    if ((c < 0x20 && c != '\n') || c == 0x7f || c == 0x9b) return i;
+    if (c == 0xc2 && i + 1 < s.size() && static_cast<unsigned char>(s[i + 1]) <= 0x9f) return i;
+    if (s.compare(i, 3, "\xe2\x80\xae") == 0) return i;
+  }
+  return std::string::npos;
+}
 
 TEST(ReplayProgram, HelpOnEverySubcommand) {
   Outcome o = replayTool("--help");
@@ -81,6 +95,61 @@ TEST(ReplayProgram, MalformedFilesAreStatus2WithTheOffsetAndField) {
   Outcome o = replayTool("verify /nonexistent.replay");
   EXPECT_EQ(o.status, 2);
   EXPECT_TRUE(has(o, "/nonexistent.replay: cannot open")) << o.output;
+}
+
+// A replay is untrusted: its strings (map name, recordedBy, build facts) must not carry escape sequences
+// to the terminal of whoever runs info or verify on it.
+TEST(ReplayProgram, StringsFromTheFileReachTheTerminalWithoutControlBytes) {
+  // An OSC that sets the window title, a CSI that clears the screen, an 8-bit CSI alone and as UTF-8 (C2 9B),
+  // a carriage return, a tab, DEL, a right-to-left override.
+  const std::string evil = "\x1b]0;owned\x07\x1b[2J\x9b" "31m\xc2\x9b" "1m\r\t\x7f\xe2\x80\xae";
+  Replay r = parsed(smallReplay(10, 5));
+  r.mapName = "small.json" + evil;
+  r.config.recordedBy = "rattle-demo" + evil;
+  ASSERT_FALSE(r.build.empty());
+  r.build[0].value += evil;  // differs from this build: verify lists it
+  r.build.push_back({"evil" + evil, "value" + evil});
+  const std::string file = scratch("evil.replay");
+  writeFile(file, encodeReplay(r));
+
+  Outcome o = replayTool("info " + file);
+  EXPECT_EQ(o.status, 0) << o.output;
+  EXPECT_EQ(firstControlByte(o.output), std::string::npos) << o.output;
+  // The strings are shown, their control bytes replaced, not dropped.
+  EXPECT_TRUE(has(o, "small.json?]0;owned??[2J?31m?1m????")) << o.output;
+  EXPECT_TRUE(has(o, "recorded by rattle-demo?]0;owned?")) << o.output;
+  EXPECT_TRUE(has(o, "evil?]0;owned?")) << o.output;
+
+  o = replayTool("verify --quiet " + file);
+  EXPECT_EQ(o.status, 0) << o.output;  // the game itself is untouched
+  EXPECT_TRUE(has(o, "recorded by a different build")) << o.output;
+  EXPECT_TRUE(has(o, "evil?]0;owned?")) << o.output;
+  EXPECT_EQ(firstControlByte(o.output), std::string::npos) << o.output;
+
+  // The map name also labels the errors of a bad embedded map.
+  r.mapJson = "{\"type\": \"map\"}";
+  r.mapHash = fnv1a64(r.mapJson);
+  writeFile(file, encodeReplay(r));
+  o = replayTool("verify --quiet " + file);
+  EXPECT_EQ(o.status, 2) << o.output;
+  EXPECT_TRUE(has(o, "the replay's map (small.json?]0;owned?")) << o.output;
+  EXPECT_EQ(firstControlByte(o.output), std::string::npos) << o.output;
+}
+
+TEST(ReplayProgram, ADirectoryIsNamedAsOne) {
+  const std::string dir = scratch("dir");
+  std::filesystem::create_directories(dir);
+  for (const char* sub : {"info", "verify", "render --frames /tmp/never"}) {
+    Outcome o = replayTool(std::string(sub) + " " + dir);
+    EXPECT_EQ(o.status, 2) << sub << ": " << o.output;
+    EXPECT_TRUE(has(o, dir + ": is a directory, not a replay file")) << o.output;
+    EXPECT_FALSE(has(o, "bytes")) << o.output;
+  }
+  Outcome o = replayTool("record --map " + dir + " --seed 1 --ticks 3 " + scratch("never.replay"));
+  EXPECT_EQ(o.status, 1) << o.output;
+  EXPECT_TRUE(has(o, dir + ": is a directory, not a map file")) << o.output;
+  EXPECT_FALSE(std::filesystem::exists(scratch("never.replay")));
+  EXPECT_FALSE(std::filesystem::exists(scratch("never.replay.part")));
 }
 
 TEST(ReplayProgram, VerifyPassesAnAssetAndFailsATamperedCopyNamingTheTick) {

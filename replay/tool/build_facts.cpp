@@ -4,6 +4,7 @@
 #include <map>
 
 #include "build_info.h"
+#include "map/printable.h"
 
 namespace rts::replay {
 namespace {
@@ -110,7 +111,9 @@ std::vector<std::string> buildDifferences(const std::vector<BuildFact>& recorded
   for (const auto& [key, values] : all) {
     const auto [was, now] = values;
     if (was && now && *was == *now) continue;
-    out.push_back(key + ": recorded " + (was ? "\"" + *was + "\"" : "(not recorded)") + ", this build " + (now ? "\"" + *now + "\"" : "(unknown)"));
+    // The recorded side comes from the file: printable, since verify prints these lines.
+    out.push_back(printable(key) + ": recorded " + (was ? "\"" + printable(*was) + "\"" : "(not recorded)") + ", this build " +
+                  (now ? "\"" + printable(*now) + "\"" : "(unknown)"));
   }
   return out;
 }

@@ -2,6 +2,7 @@
 
 #include "format/snapshot_codec.h"
 #include "map/map_loader.h"
+#include "map/printable.h"
 #include "tool/snapshot.h"
 
 namespace rts::replay {
@@ -9,7 +10,7 @@ namespace rts::replay {
 std::unique_ptr<Game> buildGame(const Replay& r) {
   Map map;
   try {
-    map = parseMap(r.mapJson, "the replay's map (" + (r.mapName.empty() ? std::string("unnamed") : r.mapName) + ")");
+    map = parseMap(r.mapJson, "the replay's map (" + (r.mapName.empty() ? std::string("unnamed") : printable(r.mapName)) + ")");
   } catch (const MapError& e) {
     throw ReplaySetupError(std::string("bad embedded map: ") + e.what());
   }

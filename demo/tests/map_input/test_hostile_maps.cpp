@@ -112,8 +112,8 @@ TEST(HostileMaps, EnormousStrings) {
 
 TEST(HostileMaps, HugeCounts) {
   expectError(mapWith(R"({"name": "pixels_per_unit", "value": 1})", "", 100'000, 4),
-              {"800000 x 32 world units: at most 100000 each way"});
-  expectError(mapWith("", "", 10'000, 10'000), {"10000 x 10000 world units: its area may be at most 1048576"});
+              {"800000 x 32 world units (100000 x 4 tiles of 8 x 8 pixels, pixels_per_unit 1): at most 100000 each way"});
+  expectError(mapWith("", "", 10'000, 10'000), {"10000 x 10000 world units (10000 x 10000 tiles of 8 x 8 pixels, pixels_per_unit 8): its area may be at most 1048576"});
   expectError(mapWith("", "", 2'000'000'000, 4), {"width = 2000000000: expected a whole number from 1 to 100000"});
   std::string points = "{\"x\": 0, \"y\": 0}";
   for (int i = 1; i <= 10'000; ++i) points += ", {\"x\": " + std::to_string(i % 2) + ", \"y\": " + std::to_string(i) + "}";
@@ -142,7 +142,7 @@ TEST(HostileMaps, NonFiniteAndOutOfRangeNumbers) {
   expectError(mapWith("", R"({"id": 3, "class": "wall", "x": 1e300, "y": 0, "width": 8, "height": 8})"),
               {"object 3", "x = 1.0000000000000001e+300: outside +-1e6 pixels"});
   expectError(mapWith(R"({"name": "pixels_per_unit", "value": "Infinity"})"), {"property 'pixels_per_unit'", "expected a number"});
-  expectError(mapWith(R"({"name": "pixels_per_unit", "value": 1e-300})"), {"world units: at most 100000 each way"});
+  expectError(mapWith(R"({"name": "pixels_per_unit", "value": 1e-300})"), {"world units (8 x 4 tiles of 8 x 8 pixels, pixels_per_unit 1e-300): at most 100000 each way"});
   expectError(mapWith("", R"({"id": 3, "class": "gate", "x": 0, "y": 0, "width": 8, "height": 8,
                             "properties": [{"name": "open_dx", "value": 8}, {"name": "period", "value": -1e308}]})"),
               {"object 3", "property 'period' = -1e+308: expected seconds in [0, 1e6]"});
