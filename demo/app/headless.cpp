@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <string_view>
 
 #include "app/run.h"
 #include "game/opponent.h"
@@ -13,6 +14,42 @@
 #include "tool/recorder.h"
 
 namespace rts {
+namespace {
+
+// frame_ and six or more digits and .png: exactly the names frame() below writes, nothing a person named.
+bool isFrameName(const std::string& name) {
+  constexpr std::string_view prefix = "frame_", suffix = ".png";
+  if (name.size() < prefix.size() + 6 + suffix.size() || name.compare(0, prefix.size(), prefix) != 0 ||
+      name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0) {
+    return false;
+  }
+  const std::string digits = name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+  return std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+// A shorter or sparser run into the same directory would leave an earlier game's frames between this
+// one's, and a glob over the directory (frame_*.png into ffmpeg) would mix the two games.
+bool removeEarlierFrames(const std::string& dir) {
+  std::error_code ec;
+  size_t removed = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+    if (!entry.is_regular_file(ec) || !isFrameName(entry.path().filename().string())) continue;
+    if (!std::filesystem::remove(entry.path(), ec)) {
+      std::fprintf(stderr, "rattle-demo: --frames %s: cannot remove the earlier frame %s (%s)\n", dir.c_str(),
+                   entry.path().filename().string().c_str(), ec.message().c_str());
+      return false;
+    }
+    ++removed;
+  }
+  if (ec) {
+    std::fprintf(stderr, "rattle-demo: --frames %s: cannot list the directory (%s)\n", dir.c_str(), ec.message().c_str());
+    return false;
+  }
+  if (removed) std::fprintf(stderr, "rattle-demo: removed %zu frame_NNNNNN.png files of an earlier run from %s\n", removed, dir.c_str());
+  return true;
+}
+
+}  // namespace
 
 int runHeadless(Game& game, const Options& o, replay::Recorder* recorder) {
   std::unique_ptr<OffscreenRenderer> renderer;
@@ -23,6 +60,7 @@ int runHeadless(Game& game, const Options& o, replay::Recorder* recorder) {
       std::fprintf(stderr, "rattle-demo: --frames %s: cannot create the directory (%s)\n", o.framesDir.c_str(), ec.message().c_str());
       return 1;
     }
+    if (!removeEarlierFrames(o.framesDir)) return 1;
     renderer = std::make_unique<OffscreenRenderer>(o.width, o.height, o.supersample);
   }
   ScriptedOpponent opponent(o.seed);

@@ -1,10 +1,12 @@
 // The program's command line: --help, bad options and bad maps give one clear line and a non-zero exit.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 #include <sys/wait.h>
 
 namespace {
@@ -104,6 +106,26 @@ TEST(DemoProgram, TheSummaryShowsNamesFromTheMapWithoutControlBytes) {
     const unsigned char b = static_cast<unsigned char>(c);
     EXPECT_FALSE((b < 0x20 && c != '\n') || b == 0x7f || b == 0x9b) << "byte " << int(b) << " in: " << r.output;
   }
+}
+
+// An earlier, longer game's frames in the same directory would be globbed into one video with this one's.
+TEST(DemoProgram, FramesOfAnEarlierRunAreRemovedAndNothingElse) {
+  const std::string dir = testing::TempDir() + "/rattle_demo_stale_frames";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::vector<std::string> stale = {"frame_000590.png", "frame_1000000.png"};
+  const std::vector<std::string> kept = {"frame_1.png", "frame_notes.png", "frame_000030.png.txt", "notes.txt"};
+  for (const std::string& name : stale) std::ofstream(dir + "/" + name) << "an earlier game";
+  for (const std::string& name : kept) std::ofstream(dir + "/" + name) << "the user's";
+  Outcome r = run("--map " + std::string(RATTLE_SOURCE_DIR) + "/assets/maps/small.json --units 2 --ticks 20 --every 10 --size 160x96 --frames " +
+                  dir + " --quiet");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("removed 2 frame_NNNNNN.png files of an earlier run from " + dir), std::string::npos) << r.output;
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"frame_000000.png", "frame_000010.png", "frame_000020.png", "frame_000030.png.txt",
+                                             "frame_1.png", "frame_notes.png", "notes.txt"}));
 }
 
 TEST(DemoProgram, AShortHeadlessRunEndsWithTheSummary) {
