@@ -1,6 +1,7 @@
 # rattle: the two commands a person needs are `make demo` and `make test`.
 # Each installs the Debian packages listed in scripts/packages.txt when missing, configures and builds
-# into build/ (Release, -O2, -ffp-contract=off; executables in build/bin/), then runs.
+# into build/ (Release, -O2, -ffp-contract=off; executables in build/bin/), then runs. `make demo`
+# builds only rattle-demo (and the libraries it links); `make test` builds everything the tests need.
 # `make bench` also installs scripts/packages-bench.txt (Box2D, Chipmunk, gnuplot), builds
 # build/bin/rattle-bench and runs the benchmark's standard matrix (bench/README.md).
 
@@ -15,12 +16,13 @@ FUZZ_SECONDS ?= 60
 # Extra arguments for bench/run_matrix.py, e.g. BENCH_FLAGS=--quick for a small matrix.
 BENCH_FLAGS ?=
 
-.PHONY: all deps configure build demo test test-sanitize test-determinism fuzz bench replays update-goldens clean help
+.PHONY: all deps configure build demo test test-sanitize test-determinism fuzz bench bench-build replays update-goldens clean help
 
 all: build
 
 help:
-	@echo "make demo           build and run the RTS demo for 600 ticks (frames in out/demo/)"
+	@echo "make demo           build rattle-demo only and run the RTS demo for 600 ticks (frames in out/demo/,"
+	@echo "                    replacing the frame_NNNNNN.png files of an earlier run there)"
 	@echo "make test           build and run every test"
 	@echo "make test-sanitize  the same tests built with ASan+UBSan in $(SANITIZE_DIR)/"
 	@echo "make test-determinism  build rattle-trace with g++ -O0/-O2/-O3, ASan+UBSan and clang++ -O2 and"
@@ -29,6 +31,8 @@ help:
 	@echo "                    FUZZ_SECONDS (default 60) seconds; fails on any finding (fuzz/README.md)"
 	@echo "make bench          build rattle-bench, run the standard matrix against Box2D and Chipmunk,"
 	@echo "                    write bench/RESULTS.md, bench/results.csv, bench/scaling.csv, bench/figures/"
+	@echo "make bench-build    build $(BUILD_DIR)/bin/rattle-bench only (installs Box2D and Chipmunk when missing);"
+	@echo "                    runs nothing"
 	@echo "make replays        record assets/replays/*.replay again (scripts/record-replays.sh)"
 	@echo "make update-goldens render the golden frames of assets/golden/frames.txt again (on purpose only)"
 	@echo "make clean          remove build trees and out/"
@@ -37,14 +41,21 @@ deps:
 	@bash scripts/install-deps.sh
 
 configure: deps
+	@echo "configuring $(BUILD_DIR)/ (CMake, Release)"
 	@cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS) > /dev/null
 
 build: configure
+	@echo "building everything in $(BUILD_DIR)/ (the libraries, the programs and the tests)"
 	@cmake --build $(BUILD_DIR) -j $(JOBS)
 
-# The RTS arena for 600 ticks (20 s of game time), a PNG frame every 10 ticks in out/demo/.
-demo: build
+# The RTS arena for 600 ticks (20 s of game time), a PNG frame every 10 ticks in out/demo/. Only the
+# rattle-demo target: the test suite takes most of a full build, and `make test` builds it.
+# rattle-demo itself removes the frame_NNNNNN.png files an earlier run left in out/demo/.
+demo: configure
+	@echo "building rattle-demo in $(BUILD_DIR)/ (the tests are built by make test)"
+	@cmake --build $(BUILD_DIR) --target rattle-demo -j $(JOBS)
 	@mkdir -p out/demo
+	@echo "running the demo: 600 ticks, a frame every 10 into out/demo/ (earlier frame_NNNNNN.png files there are removed)"
 	$(BUILD_DIR)/bin/rattle-demo --ticks 600 --every 10 --frames out/demo
 
 test: build
@@ -72,10 +83,15 @@ fuzz: deps
 	@cmake --build $(FUZZ_DIR) --target rattle_fuzzers -j $(JOBS)
 	@bash fuzz/run.sh --build $(FUZZ_DIR) --seconds $(FUZZ_SECONDS)
 
-bench: deps
+# rattle-bench alone (RATTLE_BUILD_BENCH is off in a plain configure), to run one scene by hand.
+bench-build: deps
 	@bash scripts/install-deps.sh scripts/packages-bench.txt
+	@echo "configuring $(BUILD_DIR)/ with RATTLE_BUILD_BENCH=ON"
 	@cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release -DRATTLE_BUILD_BENCH=ON $(CMAKE_FLAGS) > /dev/null
+	@echo "building rattle-bench in $(BUILD_DIR)/"
 	@cmake --build $(BUILD_DIR) --target rattle-bench -j $(JOBS)
+
+bench: bench-build
 	python3 bench/run_matrix.py --bench $(BUILD_DIR)/bin/rattle-bench $(BENCH_FLAGS)
 
 # The recorded replays the tests verify and render (replay/README.md). After `make replays`, run
