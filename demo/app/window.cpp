@@ -21,6 +21,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -50,6 +51,9 @@ SDL_Keycode keyNamed(const std::string& name) {
 
 // Reads an input script; returns an error naming the line, or "".
 std::string readScript(const std::string& path, Uint32 windowId, std::vector<ScriptedEvent>& out) {
+  // A directory opens and reads as empty: it would pass for a script with no events.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) return path + ": is a directory, not an input script";
   std::ifstream in(path);
   if (!in) return path + ": cannot open the input script";
   std::string line;

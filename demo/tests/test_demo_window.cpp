@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sys/wait.h>
@@ -49,6 +50,22 @@ TEST(DemoWindow, ScriptedInputUnderXvfbShowsTheGame) {
   std::set<uint32_t> colours;
   for (size_t i = 0; i + 3 < rgba.size(); i += 4) colours.insert(uint32_t(rgba[i]) | uint32_t(rgba[i + 1]) << 8 | uint32_t(rgba[i + 2]) << 16);
   EXPECT_GT(colours.size(), 20u) << "the window's picture is (nearly) blank";
+}
+
+TEST(DemoWindow, AnInputScriptThatIsADirectoryIsRefused) {
+  if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0) {
+    FAIL() << "xvfb-run is missing: scripts/install-deps.sh installs it (package xvfb)";
+  }
+  const std::string dir = testing::TempDir() + "/rattle_demo_input_dir", log = testing::TempDir() + "/rattle_demo_input_dir.log";
+  std::filesystem::create_directories(dir);
+  const std::string command = std::string("xvfb-run -a -s '-screen 0 800x600x24' ") + RATTLE_DEMO_BINARY + " --window --map " +
+                              RATTLE_SOURCE_DIR + "/assets/maps/small.json --units 2 --size 160x96 --ticks 30 --input " + dir + " > " + log +
+                              " 2>&1";
+  const int raw = std::system(command.c_str());
+  std::ifstream in(log);
+  const std::string output((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, 1) << output;
+  EXPECT_NE(output.find(dir + ": is a directory, not an input script"), std::string::npos) << output;
 }
 
 // Without a display SDL would fall back to a driver that shows nothing, and the game would run unseen.

@@ -150,6 +150,21 @@ TEST(ReplayProgram, ADirectoryIsNamedAsOne) {
   EXPECT_TRUE(has(o, dir + ": is a directory, not a map file")) << o.output;
   EXPECT_FALSE(std::filesystem::exists(scratch("never.replay")));
   EXPECT_FALSE(std::filesystem::exists(scratch("never.replay.part")));
+  // A directory read as a command script would be an empty one; as the output, the game would be played
+  // to its end before the finished file could not be renamed onto it.
+  const std::string map = " --map " + sourcePath("assets/maps/small.json") + " --seed 1 --ticks 3 --quiet ";
+  o = replayTool("record --script " + dir + map + scratch("never.replay"));
+  EXPECT_EQ(o.status, 1) << o.output;
+  EXPECT_TRUE(has(o, dir + ": is a directory, not a command script")) << o.output;
+  o = replayTool("record" + map + dir);
+  EXPECT_EQ(o.status, 1) << o.output;
+  EXPECT_TRUE(has(o, dir + ": is a directory; the replay needs a file name")) << o.output;
+  EXPECT_FALSE(has(o, "recorded")) << o.output;
+  o = run(RATTLE_DEMO_BINARY, "--no-render --record " + dir + map);
+  EXPECT_EQ(o.status, 1) << o.output;
+  EXPECT_TRUE(has(o, dir + ": is a directory; the replay needs a file name")) << o.output;
+  EXPECT_FALSE(has(o, "Ran 3 ticks")) << o.output;
+  EXPECT_FALSE(std::filesystem::exists(dir + ".part"));
 }
 
 TEST(ReplayProgram, VerifyPassesAnAssetAndFailsATamperedCopyNamingTheTick) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -98,6 +99,9 @@ CommandScript CommandScript::parse(const std::string& text, const std::string& n
 }
 
 CommandScript CommandScript::load(const std::string& path) {
+  // A directory opens and reads as empty: it would pass for a script with no commands.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw std::runtime_error(path + ": is a directory, not a command script");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(path + ": cannot open the command script");
   std::string text;

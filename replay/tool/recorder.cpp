@@ -12,6 +12,9 @@ namespace rts::replay {
 
 Recorder::Recorder(const std::string& path, const RecordingInfo& info, const Game& game) : path_(path), partPath_(path + ".part") {
   if (game.tickCount() != 0) throw std::logic_error("Recorder: start recording before the first tick");
+  // Found out now rather than when the game ends, where the rename of the finished file would fail.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw std::runtime_error(path + ": is a directory; the replay needs a file name");
   out_.open(partPath_, std::ios::binary | std::ios::trunc);
   if (!out_) throw std::runtime_error(partPath_ + ": cannot create the replay file");
   ReplayConfig config = configOf(game);
