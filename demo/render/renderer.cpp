@@ -32,7 +32,7 @@ const Colour kBuildingEdge{0.62f, 0.52f, 0.42f, 1};
 const Colour kGateFill{0.85f, 0.62f, 0.20f, 1};
 const Colour kGateEdge{1.0f, 0.85f, 0.45f, 1};
 const Colour kDoorway{1.0f, 0.88f, 0.35f, 0.9f};
-const Colour kShot{1.0f, 0.95f, 0.6f, 1};
+const Colour kShot{1.0f, 1.0f, 0.9f, 1};
 
 struct Vertex {
   float x, y;
@@ -147,24 +147,31 @@ void drawScene(const Scene& scene, int width, int height) {
     if (r.holder >= 0) b.polygon(r.polygon, holderColour(r.holder).withAlpha(0.16f));
   }
   b.draw();
-  // Faint sight ranges: the union of each team's disks, tinted once (overlapping disks would add up).
+  // Sight ranges: the outline of each team's union of disks, a thin line, drawn once. Filled disks,
+  // even a union tinted once, lay a veil over every fight, where the ranges overlap most.
+  const double onePixel = double(height) / 720.0;  // a pixel of a 720-line frame, in framebuffer pixels
+  const double sightLine = 1.5 * onePixel / view.scale;
   for (int team = 0; team < 2; ++team) {
     bool any = false;
     for (const SceneSight& s : scene.sight) any |= s.team == team;
     if (!any) continue;
+    // Mark the inside of every disk less the line's width; then draw the whole disks where nothing is
+    // marked, marking what is drawn: what is left is the union's boundary, each pixel blended once.
     glEnable(GL_STENCIL_TEST);
     glClear(GL_STENCIL_BUFFER_BIT);
     glStencilFunc(GL_ALWAYS, 1, 1);
     glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
     glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     for (const SceneSight& s : scene.sight) {
-      if (s.team == team) b.disk(s.center, s.radius, {0, 0, 0, 0});
+      if (s.team == team && s.radius > sightLine) b.disk(s.center, s.radius - sightLine, {0, 0, 0, 0});
     }
     b.draw();
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    glStencilFunc(GL_EQUAL, 1, 1);
-    glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
-    b.rectScreen({0, 0}, {double(width), double(height)}, kTeam[team].withAlpha(0.10f));
+    glStencilFunc(GL_EQUAL, 0, 1);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_INCR);
+    for (const SceneSight& s : scene.sight) {
+      if (s.team == team) b.disk(s.center, s.radius, kTeam[team].withAlpha(0.45f));
+    }
     b.draw();
     glDisable(GL_STENCIL_TEST);
   }
@@ -200,11 +207,17 @@ void drawScene(const Scene& scene, int width, int height) {
     b.polygon(g, kGateFill);
     b.outline(g, true, 0.2, kGateEdge);
   }
-  // Projectiles (with short trails) and impacts, under the fog like the ground they fly over.
+  // Projectiles: a bright head in a halo of the team's colour, and a tapering trail of the last two
+  // ticks of flight. Drawn at the game's size (a trooper's is 0.3 units across, 2 pixels at 1280x720
+  // on the arena) a shot is lost in a fight; a player reads them as tracers, so they are drawn several
+  // times larger. Under the fog like the ground they fly over.
   for (const SceneShot& s : scene.shots) {
-    const Vec2 tail = s.position - s.velocity * 0.05;
-    b.line(tail, s.position, s.radius * 1.6, kTeam[s.team & 1].withAlpha(0), kShot.withAlpha(0.9f));
-    b.disk(s.position, s.radius * 1.3, kShot);
+    const Colour team = kTeam[s.team & 1];
+    const Colour hot{std::min(1.0f, team.r + 0.4f), std::min(1.0f, team.g + 0.4f), std::min(1.0f, team.b + 0.4f), 1};
+    b.line(s.position - s.velocity * 0.07, s.position, s.radius * 3.5, team.withAlpha(0), hot.withAlpha(0.95f));
+    b.ring(s.position, 0, s.radius * 6.0, team.withAlpha(0.9f), team.withAlpha(0));
+    b.line(s.position - s.velocity * 0.035, s.position, s.radius * 1.4, kShot.withAlpha(0), kShot);
+    b.disk(s.position, s.radius * 2.5, kShot);
   }
   for (const SceneImpact& i : scene.impacts) {
     const float a = float(1 - i.age);
@@ -236,14 +249,14 @@ void drawScene(const Scene& scene, int width, int height) {
     glDisable(GL_STENCIL_TEST);
   }
 
-  // Units on top, each dimmed by the rule (not the fog's outline): enemies the team does not see.
+  // Units on top, undimmed: the scene holds only the units the fog team sees (scene_builder.cpp), and a
+  // unit seen by the rule (sensor and a clear line) may stand just outside the fog's ray-cast outline.
   for (const SceneUnit& u : scene.units) {
-    Colour c = kTeam[u.team & 1];
-    if (!u.visible) c = c.scaled(0.45f).withAlpha(0.55f);
+    const Colour c = kTeam[u.team & 1];
     if (u.selected) b.ring(u.position, u.radius + 0.15, u.radius + 0.45, {1, 1, 1, 0.9f}, {1, 1, 1, 0.9f});
-    b.disk(u.position, u.radius, c.scaled(0.45f).withAlpha(c.a));
+    b.disk(u.position, u.radius, c.scaled(0.45f));
     b.disk(u.position, u.radius * 0.72, c);
-    if (u.health < 1 && u.visible) b.disk(u.position, u.radius * 0.3, Colour{0.1f, 0.1f, 0.1f, float(1 - u.health)});
+    if (u.health < 1) b.disk(u.position, u.radius * 0.3, Colour{0.1f, 0.1f, 0.1f, float(1 - u.health)});
   }
   if (scene.hasSelectionBox) {
     const Vec2 a = view.toScreen(scene.selectionA), c = view.toScreen(scene.selectionB);

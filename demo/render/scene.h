@@ -35,14 +35,13 @@ struct SceneUnit {
   Vec2 position;
   double radius = 0.5;
   int team = 0;
-  bool visible = true;  ///< false: the fog team cannot see it; drawn dimmed
   bool selected = false;
   double health = 1;  ///< 0..1
 };
 
 struct SceneShot {
   Vec2 position, velocity;
-  double radius = 0.15;
+  double radius = 0.15;  ///< the projectile's disk in the game; drawn larger, so a player sees it
   int team = 0;
 };
 
@@ -64,9 +63,9 @@ struct Scene {
   std::vector<SceneWall> walls;
   std::vector<SceneDoorway> doorways;
   std::vector<std::vector<Vec2>> gates;
-  std::vector<SceneSight> sight;  ///< faint sight ranges; empty when they are hidden
+  std::vector<SceneSight> sight;  ///< sight ranges, drawn as each team's outline; empty when hidden
   /// Fog of war: when `fog` is set, everything outside these fans (each a centre, then its outline) is
-  /// dimmed. One fan per unit of the fog team.
+  /// dimmed. One fan per unit of the fog team. Units the fog team does not see are not in `units`.
   bool fog = false;
   std::vector<std::vector<Vec2>> fogFans;
   std::vector<SceneUnit> units;

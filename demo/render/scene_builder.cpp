@@ -88,17 +88,17 @@ Scene buildScene(const Game& game, const SceneOptions& options) {
     }
   }
   for (const Unit& u : game.units()) {
-    if (!u.alive) continue;
+    // An enemy the fog team does not see is not drawn at all: a dimmed one would give its place away.
+    if (!u.alive || (!visible.empty() && !visible[u.id])) continue;
     const UnitType& type = kUnitTypes[u.type];
     SceneUnit su;
     su.position = u.position;
     su.radius = type.radius;
     su.team = u.team;
-    su.visible = visible.empty() || visible[u.id];
     su.selected = u.id < options.selected.size() && options.selected[u.id];
     su.health = double(u.hitPoints) / double(type.hitPoints);
     s.units.push_back(su);
-    if (options.showSight && su.visible) s.sight.push_back({u.position, type.sight, u.team});
+    if (options.showSight) s.sight.push_back({u.position, type.sight, u.team});
   }
   for (const Shot& sh : game.shots()) s.shots.push_back({sh.position, sh.velocity, kUnitTypes[0].shotRadius, sh.team});
   for (const Impact& i : game.impacts()) {

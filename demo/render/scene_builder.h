@@ -11,7 +11,7 @@ namespace rts {
 
 struct SceneOptions {
   int fogTeam = 0;               ///< whose view: 0 or 1; -1 shows everything (no fog)
-  bool showSight = true;         ///< faint sight ranges
+  bool showSight = true;         ///< sight ranges (each team's outline)
   int fogRays = 48;              ///< rays per unit for the fog outline (0: plain disks, ignore walls)
   std::vector<uint8_t> selected;  ///< by unit id (the window's selection); may be empty
   bool hasSelectionBox = false;

@@ -1,6 +1,9 @@
 // The renderer: the same game state gives the same bytes, and a frame is a picture, not a blank.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <memory>
 #include <set>
 
@@ -9,6 +12,7 @@
 #include "map/map_loader.h"
 #include "render/offscreen.h"
 #include "render/png.h"
+#include "render/renderer.h"
 #include "render/scene_builder.h"
 
 namespace {
@@ -80,6 +84,69 @@ TEST(DemoRender, UnitsAreDrawnInTheirTeamColours) {
   const uint8_t* red = at(game.units()[1].position);
   EXPECT_GT(blue[2], blue[0] + 60);
   EXPECT_GT(red[0], red[2] + 60);
+}
+
+// small.json, one unit a team: blue spawns at (8, 12) in the west room, red at (32, 12) in the open, 24
+// units away, farther than any unit sees. Drawn at 16 pixels a world unit.
+TEST(DemoRender, FogHidesTheEnemiesItCovers) {
+  rts::GameConfig config;
+  config.unitsPerTeam = 1;
+  config.weapons = false;
+  const rts::Game game(rts::loadMap(assetPath("small.json")), config);
+  const rts::Unit& red = game.units()[1];
+  ASSERT_EQ(red.team, 1);
+  ASSERT_FALSE(game.visibleTo(0)[red.id]) << "the scene no longer hides red from blue";
+  const int w = 640, h = 384;
+  ASSERT_EQ(rts::fitView(game.map().width, game.map().height, w, h).scale, 16.0);
+  rts::OffscreenRenderer renderer(w, h, 2);
+  rts::SceneOptions options;
+  options.showSight = false;
+  options.showTimes = false;
+  auto pixel = [&](const std::vector<uint8_t>& px, int x, int y) {
+    const size_t i = (size_t(y) * w + size_t(x)) * 4;
+    return std::array<int, 3>{px[i], px[i + 1], px[i + 2]};
+  };
+  const int cx = int(red.position.x * 16), cy = int(red.position.y * 16);
+  const int reach = int(std::ceil(rts::kUnitTypes[red.type].radius * 16)) + 1;
+  // Every pixel where red stands looks like the open ground two units east of it, where nothing is.
+  auto differingFromGround = [&](const std::vector<uint8_t>& px) {
+    int differing = 0;
+    for (int y = cy - reach; y <= cy + reach; ++y) {
+      for (int x = cx - reach; x <= cx + reach; ++x) differing += pixel(px, x, y) != pixel(px, x + 32, y);
+    }
+    return differing;
+  };
+  options.fogTeam = 0;
+  EXPECT_EQ(differingFromGround(renderer.render(rts::buildScene(game, options))), 0) << "red shows through blue's fog";
+  // Red's own view and no fog at all show it: the check above can fail.
+  options.fogTeam = 1;
+  EXPECT_GT(differingFromGround(renderer.render(rts::buildScene(game, options))), 100);
+  options.fogTeam = -1;
+  EXPECT_GT(differingFromGround(renderer.render(rts::buildScene(game, options))), 100);
+}
+
+// A trooper's shot on the arena at 1280x720 (6.67 pixels a world unit) is a streak a player sees: it
+// changes at least 80 pixels of the ground clearly (by more than 60 of 255 in some channel), and its
+// head is near white.
+TEST(DemoRender, AShotIsClearlyVisibleAt1280x720) {
+  rts::Scene scene;
+  scene.worldWidth = 192;
+  scene.worldHeight = 108;
+  const int w = 1280, h = 720;
+  rts::OffscreenRenderer renderer(w, h, 2);
+  const std::vector<uint8_t> ground = renderer.render(scene);
+  const rts::UnitType& trooper = rts::kUnitTypes[0];
+  scene.shots.push_back({{96, 54}, {trooper.shotSpeed, 0}, trooper.shotRadius, 0});
+  const std::vector<uint8_t>& shot = renderer.render(scene);
+  int changed = 0, brightest = 0;
+  for (size_t i = 0; i + 3 < shot.size(); i += 4) {
+    int most = 0;
+    for (int c = 0; c < 3; ++c) most = std::max(most, std::abs(int(shot[i + c]) - int(ground[i + c])));
+    changed += most > 60;
+    brightest = std::max(brightest, std::min({int(shot[i]), int(shot[i + 1]), int(shot[i + 2])}));
+  }
+  EXPECT_GE(changed, 80);
+  EXPECT_GE(brightest, 220);
 }
 
 TEST(DemoRender, PngRoundTrip) {
