@@ -14,17 +14,38 @@ uint64_t mix(uint64_t h, uint64_t v) {
 }
 uint64_t bitsOf(double d) { return std::bit_cast<uint64_t>(d); }
 
+// A cell is walkable for a unit when its centre is this far from every wall: the unit's radius, and
+// more than half a cell, so that no wall line (walls may be thin) can pass between two walkable
+// neighbours.
+double clearance(const UnitType& type) { return std::max(0.6, type.radius); }
+
+// The clearances the configured unit types need, one navigation layer each, in order of first use.
+std::vector<double> clearances(const GameConfig& config) {
+  if (config.unitTypes.empty()) throw GameError("unit types: none given; expected at least one");
+  std::vector<double> out;
+  for (uint8_t t : config.unitTypes) {
+    if (t >= kUnitTypes.size()) {
+      throw GameError("unit types: " + std::to_string(t) + ": expected 0 to " + std::to_string(kUnitTypes.size() - 1));
+    }
+    if (std::find(out.begin(), out.end(), clearance(kUnitTypes[t])) == out.end()) out.push_back(clearance(kUnitTypes[t]));
+  }
+  return out;
+}
+
 }  // namespace
 
 Game::Game(Map map, const GameConfig& config)
     : map_(std::move(map)),
       config_(config),
       physics_(map_, config.stepMode),
-      // A cell is walkable when its centre is this far from every wall: more than half a cell, so that
-      // no wall line (walls may be thin) can pass between two walkable neighbours.
-      navigation_(map_, physics_, std::max(0.6, kUnitTypes[0].radius)) {
+      navigation_(map_, physics_, clearances(config_)) {
   if (config_.unitsPerTeam < 0 || config_.unitsPerTeam > 1'000'000) {
     throw GameError("units per team = " + std::to_string(config_.unitsPerTeam) + ": expected 0 to 1000000");
+  }
+  const std::vector<double> layers = clearances(config_);
+  for (size_t t = 0; t < kUnitTypes.size(); ++t) {
+    const auto at = std::find(layers.begin(), layers.end(), clearance(kUnitTypes[t]));
+    navigationLayer_[t] = at == layers.end() ? 0 : int(at - layers.begin());  // 0 for a type no unit has
   }
   doorways_.resize(map_.doorways.size());
   rooms_.resize(map_.rooms.size());
@@ -47,15 +68,24 @@ bool Game::apply(const Command& c) {
         // Keep targets on the map: a click outside it means "as far as you can go that way".
         Vec2 target{std::clamp(c.target.x, 0.0, map_.width), std::clamp(c.target.y, 0.0, map_.height)};
         int count = 0;
-        for (uint32_t id : c.units) count += id < units_.size() && units_[id].alive && units_[id].team == c.team;
-        if (count == 0) break;
-        // A group stops when it is about as close as a packed crowd of its size can get.
-        const double radius = kUnitTypes[0].radius;
-        const double arrival = radius * (1.5 + 1.1 * std::sqrt(double(count)));
-        // One flow field for the whole group.
-        std::shared_ptr<const FlowField> field = navigation_.field(target, gatesOpen(), tick_);
+        double radius = 0;
         for (uint32_t id : c.units) {
-          if (id < units_.size() && units_[id].alive && units_[id].team == c.team) orderMove(units_[id], target, arrival, field);
+          if (id < units_.size() && units_[id].alive && units_[id].team == c.team) {
+            ++count;
+            radius = std::max(radius, kUnitTypes[units_[id].type].radius);
+          }
+        }
+        if (count == 0) break;
+        // A group stops when it is about as close as a packed crowd of its size (of its largest units)
+        // can get.
+        const double arrival = radius * (1.5 + 1.1 * std::sqrt(double(count)));
+        // One flow field for the whole group, or one for each clearance its unit types need.
+        std::vector<std::shared_ptr<const FlowField>> fields(size_t(navigation_.layers()));
+        for (uint32_t id : c.units) {
+          if (id >= units_.size() || !units_[id].alive || units_[id].team != c.team) continue;
+          const int layer = navigationLayer_[units_[id].type];
+          if (!fields[size_t(layer)]) fields[size_t(layer)] = navigation_.field(target, gatesOpen(), tick_, layer);
+          orderMove(units_[id], target, arrival, fields[size_t(layer)]);
         }
         applied = true;
         break;

@@ -39,6 +39,9 @@ struct GameConfig {
   int unitsPerTeam = 100;
   rattle::StepMode stepMode = rattle::StepMode::Hybrid;
   bool weapons = true;  ///< false: nobody fires (tests of movement, peaceful scenes)
+  /// Indices into kUnitTypes, dealt in turn to each team's units in the order they are placed (nearest
+  /// a spawn point first): {0} makes every unit a trooper, {0, 0, 1} every third unit a heavy.
+  std::vector<uint8_t> unitTypes{0};
 };
 
 struct Order {
@@ -83,6 +86,7 @@ struct Unit {
 struct Shot {
   uint32_t id = 0;
   uint8_t team = 0;
+  uint8_t type = 0;  ///< the shooter's unit type: its shot's size
   bool alive = true;
   uint32_t shooter = 0;
   rattle::BodyId body;
@@ -208,6 +212,7 @@ class Game {
   GameConfig config_;
   Physics physics_;
   Navigation navigation_;
+  std::array<int, kUnitTypes.size()> navigationLayer_{};  // by unit type: its clearance's layer
   uint32_t tick_ = 0;
   std::vector<Unit> units_;
   std::vector<Shot> shots_;  // live shots, in id order

@@ -23,47 +23,51 @@ bool insideConvex(const std::vector<Vec2>& poly, Vec2 p) {
 
 }  // namespace
 
-Navigation::Navigation(const Map& map, const Physics& physics, double clearance) {
+Navigation::Navigation(const Map& map, const Physics& physics, const std::vector<double>& clearances) {
   nx_ = std::max(1, int(std::ceil(map.width)));
   ny_ = std::max(1, int(std::ceil(map.height)));
   const size_t cells = size_t(nx_) * size_t(ny_);
-  blocked_.assign(cells, 0);
-  gateClosed_.assign(cells, 0);
-  gateOpen_.assign(cells, 0);
-  for (size_t c = 0; c < cells; ++c) {
-    const Vec2 p = centre(int(c));
-    blocked_[c] = !physics.freeOfStaticWalls(p, clearance);
-    for (size_t g = 0; g < map.gates.size() && g < 32; ++g) {
-      if (physics.gateBlocks(g, false, p, clearance)) gateClosed_[c] |= 1u << g;
-      if (physics.gateBlocks(g, true, p, clearance)) gateOpen_[c] |= 1u << g;
-    }
-  }
   for (const MapRoom& r : map.rooms) rooms_.push_back(r.polygon);
+  for (double clearance : clearances) {
+    Layer l;
+    l.blocked.assign(cells, 0);
+    l.gateClosed.assign(cells, 0);
+    l.gateOpen.assign(cells, 0);
+    for (size_t c = 0; c < cells; ++c) {
+      const Vec2 p = centre(int(c));
+      l.blocked[c] = !physics.freeOfStaticWalls(p, clearance);
+      for (size_t g = 0; g < map.gates.size() && g < 32; ++g) {
+        if (physics.gateBlocks(g, false, p, clearance)) l.gateClosed[c] |= 1u << g;
+        if (physics.gateBlocks(g, true, p, clearance)) l.gateOpen[c] |= 1u << g;
+      }
+    }
 
-  // Only what can be walked to from a spawn point is the playing area (gates open or shut); the rest
-  // (outside the outer wall, inside closed buildings) is blocked, so a target out there is moved to
-  // the nearest place a unit can really reach.
-  std::vector<uint8_t> reached(cells, 0);
-  std::vector<int> stack;
-  for (const MapSpawn& s : map.spawns) {
-    const int c = cellAt(s.position);
-    if (!blocked_[size_t(c)] && !reached[size_t(c)]) {
-      reached[size_t(c)] = 1;
-      stack.push_back(c);
+    // Only what can be walked to from a spawn point is the playing area (gates open or shut); the rest
+    // (outside the outer wall, inside closed buildings) is blocked, so a target out there is moved to
+    // the nearest place a unit can really reach.
+    std::vector<uint8_t> reached(cells, 0);
+    std::vector<int> stack;
+    for (const MapSpawn& s : map.spawns) {
+      const int c = cellAt(s.position);
+      if (!l.blocked[size_t(c)] && !reached[size_t(c)]) {
+        reached[size_t(c)] = 1;
+        stack.push_back(c);
+      }
     }
-  }
-  while (!stack.empty()) {
-    const int c = stack.back();
-    stack.pop_back();
-    const int x = c % nx_, y = c / nx_;
-    const int next[4] = {x > 0 ? c - 1 : -1, x + 1 < nx_ ? c + 1 : -1, y > 0 ? c - nx_ : -1, y + 1 < ny_ ? c + nx_ : -1};
-    for (int n : next) {
-      if (n < 0 || reached[size_t(n)] || blocked_[size_t(n)]) continue;
-      reached[size_t(n)] = 1;
-      stack.push_back(n);
+    while (!stack.empty()) {
+      const int c = stack.back();
+      stack.pop_back();
+      const int x = c % nx_, y = c / nx_;
+      const int next[4] = {x > 0 ? c - 1 : -1, x + 1 < nx_ ? c + 1 : -1, y > 0 ? c - nx_ : -1, y + 1 < ny_ ? c + nx_ : -1};
+      for (int n : next) {
+        if (n < 0 || reached[size_t(n)] || l.blocked[size_t(n)]) continue;
+        reached[size_t(n)] = 1;
+        stack.push_back(n);
+      }
     }
+    for (size_t c = 0; c < cells; ++c) l.blocked[c] |= !reached[c];
+    layers_.push_back(std::move(l));
   }
-  for (size_t c = 0; c < cells; ++c) blocked_[c] |= !reached[c];
 }
 
 int Navigation::cellAt(Vec2 p) const {
@@ -74,9 +78,10 @@ int Navigation::cellAt(Vec2 p) const {
 
 Vec2 Navigation::centre(int cell) const { return {double(cell % nx_) + 0.5, double(cell / nx_) + 0.5}; }
 
-bool Navigation::walkable(int cell, uint32_t gatesOpen) const {
+bool Navigation::walkable(int cell, uint32_t gatesOpen, int layer) const {
   const size_t c = size_t(cell);
-  return !blocked_[c] && !(gateClosed_[c] & ~gatesOpen) && !(gateOpen_[c] & gatesOpen);
+  const Layer& l = layers_[size_t(layer)];
+  return !l.blocked[c] && !(l.gateClosed[c] & ~gatesOpen) && !(l.gateOpen[c] & gatesOpen);
 }
 
 int Navigation::roomAt(Vec2 p) const {
@@ -86,16 +91,16 @@ int Navigation::roomAt(Vec2 p) const {
   return -1;
 }
 
-std::shared_ptr<const FlowField> Navigation::field(Vec2 target, uint32_t gatesOpen, uint32_t tick) {
+std::shared_ptr<const FlowField> Navigation::field(Vec2 target, uint32_t gatesOpen, uint32_t tick, int layer) {
   int cell = cellAt(target);
   // A target inside a wall: start from the nearest walkable cell (in rings, lowest index first).
-  if (!walkable(cell, gatesOpen)) {
+  if (!walkable(cell, gatesOpen, layer)) {
     const int tx = cell % nx_, ty = cell / nx_;
     int best = -1;
     for (int r = 1; r < std::max(nx_, ny_) && best < 0; ++r) {
       for (int y = std::max(0, ty - r); y <= std::min(ny_ - 1, ty + r) && best < 0; ++y) {
         for (int x = std::max(0, tx - r); x <= std::min(nx_ - 1, tx + r); ++x) {
-          if (walkable(y * nx_ + x, gatesOpen)) {
+          if (walkable(y * nx_ + x, gatesOpen, layer)) {
             best = y * nx_ + x;
             break;
           }
@@ -105,12 +110,12 @@ std::shared_ptr<const FlowField> Navigation::field(Vec2 target, uint32_t gatesOp
     if (best >= 0) cell = best;
   }
   for (Cached& c : cache_) {
-    if (c.field->targetCell == cell && c.field->gatesOpen == gatesOpen) {
+    if (c.field->targetCell == cell && c.field->gatesOpen == gatesOpen && c.field->layer == layer) {
       c.lastUsed = tick;
       return c.field;
     }
   }
-  std::shared_ptr<const FlowField> made = build(cell, gatesOpen);
+  std::shared_ptr<const FlowField> made = build(cell, gatesOpen, layer);
   if (cache_.size() >= kCacheSize) {
     // Evict the least recently used (the first such, so the choice is reproducible).
     size_t oldest = 0;
@@ -123,10 +128,11 @@ std::shared_ptr<const FlowField> Navigation::field(Vec2 target, uint32_t gatesOp
   return made;
 }
 
-std::shared_ptr<const FlowField> Navigation::build(int targetCell, uint32_t gatesOpen) const {
+std::shared_ptr<const FlowField> Navigation::build(int targetCell, uint32_t gatesOpen, int layer) const {
   auto f = std::make_shared<FlowField>();
   f->targetCell = targetCell;
   f->gatesOpen = gatesOpen;
+  f->layer = layer;
   f->distance.assign(size_t(nx_) * size_t(ny_), kInf);
   // Dijkstra with straight steps of 1 and diagonal steps of sqrt(2), never cutting a blocked corner.
   // Distances are floats built from the same additions in the same order every time.
@@ -146,8 +152,8 @@ std::shared_ptr<const FlowField> Navigation::build(int targetCell, uint32_t gate
         const int X = x + dx, Y = y + dy;
         if (X < 0 || Y < 0 || X >= nx_ || Y >= ny_) continue;
         const int n = Y * nx_ + X;
-        if (!walkable(n, gatesOpen)) continue;
-        if (dx && dy && (!walkable(y * nx_ + X, gatesOpen) || !walkable(Y * nx_ + x, gatesOpen))) continue;
+        if (!walkable(n, gatesOpen, layer)) continue;
+        if (dx && dy && (!walkable(y * nx_ + X, gatesOpen, layer) || !walkable(Y * nx_ + x, gatesOpen, layer))) continue;
         const float nd = d + (dx && dy ? diagonal : 1.0f);
         if (nd < f->distance[size_t(n)]) {
           f->distance[size_t(n)] = nd;

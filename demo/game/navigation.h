@@ -20,16 +20,20 @@ namespace rts {
 struct FlowField {
   int targetCell = 0;
   uint32_t gatesOpen = 0;           ///< bit g: gate g was open when the field was made
+  int layer = 0;                    ///< the clearance it was made for (Navigation's constructor)
   std::vector<float> distance;      ///< per cell; infinity where the target cannot be reached
 };
 
 class Navigation {
  public:
-  /// Marks which cells a unit of radius `clearance` can stand in (asking the physics about walls).
-  Navigation(const Map& map, const Physics& physics, double clearance);
+  /// Marks which cells a unit needing each of `clearances` (a layer each; a unit of radius r needs about
+  /// r) can stand in, asking the physics about walls. A wider unit cannot take the gaps a narrow one
+  /// can, so its fields are made on its own layer.
+  Navigation(const Map& map, const Physics& physics, const std::vector<double>& clearances);
 
-  /// The field toward `target` with the given gates open (bit g for gate g); cached.
-  std::shared_ptr<const FlowField> field(Vec2 target, uint32_t gatesOpen, uint32_t tick);
+  /// The field toward `target` with the given gates open (bit g for gate g), for units of the given
+  /// layer; cached.
+  std::shared_ptr<const FlowField> field(Vec2 target, uint32_t gatesOpen, uint32_t tick, int layer = 0);
   /// The walking distance from p to the field's target, or infinity.
   double distance(const FlowField& field, Vec2 p) const;
   /// Which way to walk from p: a unit vector downhill, or {0, 0} when no way is known from here.
@@ -41,17 +45,21 @@ class Navigation {
   int columns() const { return nx_; }
   int rows() const { return ny_; }
   double cellSize() const { return 1.0; }
-  bool walkable(int cell, uint32_t gatesOpen) const;
+  int layers() const { return int(layers_.size()); }
+  bool walkable(int cell, uint32_t gatesOpen, int layer = 0) const;
 
  private:
   int cellAt(Vec2 p) const;
   Vec2 centre(int cell) const;
-  std::shared_ptr<const FlowField> build(int targetCell, uint32_t gatesOpen) const;
+  std::shared_ptr<const FlowField> build(int targetCell, uint32_t gatesOpen, int layer) const;
 
   int nx_ = 0, ny_ = 0;
-  std::vector<uint8_t> blocked_;     // by a wall or building
-  std::vector<uint32_t> gateClosed_;  // bit g: blocked while gate g is closed
-  std::vector<uint32_t> gateOpen_;    // bit g: blocked while gate g is open (where it slides to)
+  struct Layer {
+    std::vector<uint8_t> blocked;      // by a wall or building
+    std::vector<uint32_t> gateClosed;  // bit g: blocked while gate g is closed
+    std::vector<uint32_t> gateOpen;    // bit g: blocked while gate g is open (where it slides to)
+  };
+  std::vector<Layer> layers_;
   std::vector<std::vector<Vec2>> rooms_;
   struct Cached {
     std::shared_ptr<const FlowField> field;

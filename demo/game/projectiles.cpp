@@ -66,6 +66,7 @@ void Game::fire(Unit& shooter, const Unit& target) {
   Shot s;
   s.id = nextShotId_++;
   s.team = shooter.team;
+  s.type = shooter.type;
   s.shooter = shooter.id;
   s.position = shooter.position + dir * muzzle;
   s.velocity = dir * type.shotSpeed;

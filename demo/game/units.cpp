@@ -26,21 +26,50 @@ Vec2 normalizedOr(Vec2 v, Vec2 fallback) {
 }  // namespace
 
 // Units fill the free places nearest to their team's spawn points: a best-first flood over a grid of
-// candidate places (the spacing of a packed crowd), reaching only places a unit could walk to, nearest
-// to the spawn point first. Spawn points of both teams take turns, so large armies meet halfway.
+// candidate places (the spacing of a packed crowd of the smallest type), reaching only places a unit
+// could walk to, nearest to the spawn point first. Each team's units take places in id order, each
+// with its own type's size: a place is taken only when that unit, at its radius, is clear of the walls
+// and of every unit placed before it. Spawn points of both teams take turns, so large armies meet
+// halfway.
 void Game::placeUnits() {
-  const UnitType& type = kUnitTypes[0];
-  const double spacing = 2 * type.radius + 0.1;
+  const std::vector<uint8_t>& deal = config_.unitTypes;
+  auto typeOf = [&](size_t n) -> const UnitType& { return kUnitTypes[deal[n % deal.size()]]; };
+  double smallest = std::numeric_limits<double>::infinity(), largest = 0;
+  for (uint8_t t : deal) {
+    smallest = std::min(smallest, kUnitTypes[t].radius);
+    largest = std::max(largest, kUnitTypes[t].radius);
+  }
+  constexpr double kApart = 0.1;  // left between units placed side by side
+  const double spacing = 2 * smallest + kApart;
   const int nx = std::max(1, int(map_.width / spacing)), ny = std::max(1, int(map_.height / spacing));
   const size_t cells = size_t(nx) * size_t(ny);
   if (cells > 50'000'000) throw GameError("the map is too large to place units on");
   auto center = [&](int64_t c) { return Vec2{(double(c % nx) + 0.5) * spacing, (double(c / nx) + 0.5) * spacing}; };
   enum : uint8_t { kUnknown, kFree, kBlocked };
   std::vector<uint8_t> state(cells, kUnknown);
-  std::vector<uint8_t> taken(cells, 0);
+  // The radius of the unit placed in each cell, 0 for none.
+  std::vector<double> taken(cells, 0);
   auto isFree = [&](int64_t c) {
-    if (state[size_t(c)] == kUnknown) state[size_t(c)] = physics_.freeOfWalls(center(c), type.radius + 0.05) ? kFree : kBlocked;
+    if (state[size_t(c)] == kUnknown) state[size_t(c)] = physics_.freeOfWalls(center(c), smallest + 0.05) ? kFree : kBlocked;
     return state[size_t(c)] == kFree;
+  };
+  // Whether a unit of this type fits at cell c: a larger one must also clear the walls at its own
+  // radius, and keep kApart from the units already placed (on a grid of one size, neighbours always
+  // do: the tolerance keeps round-off in the cell centres from refusing them).
+  const int reach = int(std::ceil((smallest + largest + kApart) / spacing));
+  auto fits = [&](int64_t c, const UnitType& type) {
+    if (taken[size_t(c)] > 0) return false;
+    if (type.radius > smallest && !physics_.freeOfWalls(center(c), type.radius + 0.05)) return false;
+    const int x = int(c % nx), y = int(c / nx);
+    for (int Y = std::max(0, y - reach); Y <= std::min(ny - 1, y + reach); ++Y) {
+      for (int X = std::max(0, x - reach); X <= std::min(nx - 1, x + reach); ++X) {
+        const int64_t o = int64_t(Y) * nx + X;
+        if (taken[size_t(o)] <= 0) continue;
+        const double apart = type.radius + taken[size_t(o)] + kApart - 1e-9;
+        if (lengthSquared(center(o) - center(c)) < apart * apart) return false;
+      }
+    }
+    return true;
   };
 
   struct Flood {
@@ -69,7 +98,9 @@ void Game::placeUnits() {
   while (progress && (places[0].size() < want || places[1].size() < want)) {
     progress = false;
     for (Flood& f : floods) {
-      if (places[size_t(f.team)].size() >= want) continue;
+      std::vector<Vec2>& mine = places[size_t(f.team)];
+      if (mine.size() >= want) continue;
+      const UnitType& type = typeOf(mine.size());
       while (!f.frontier.empty()) {
         auto [d2, c] = f.frontier.top();
         f.frontier.pop();
@@ -82,9 +113,9 @@ void Game::placeUnits() {
             f.frontier.push({lengthSquared(center(n) - f.origin), n});
           }
         }
-        if (!taken[size_t(c)]) {
-          taken[size_t(c)] = 1;
-          places[size_t(f.team)].push_back(center(c));
+        if (fits(c, type)) {
+          taken[size_t(c)] = type.radius;
+          mine.push_back(center(c));
           progress = true;
           break;
         }
@@ -99,11 +130,12 @@ void Game::placeUnits() {
   }
   // Ids alternate between the teams, so "the first n units" is fair to both.
   for (size_t i = 0; i < want; ++i) {
+    const UnitType& type = typeOf(i);
     for (int team = 0; team < 2; ++team) {
       Unit u;
       u.id = uint32_t(units_.size());
       u.team = uint8_t(team);
-      u.type = 0;
+      u.type = deal[i % deal.size()];
       u.hitPoints = type.hitPoints;
       const int reload = int(std::lround(type.reload * kTicksPerSecond));
       u.reloadTicks = int(u.id % uint32_t(reload));  // staggered, so volleys do not all land on one tick
@@ -169,8 +201,13 @@ Vec2 Game::alongTouches(Unit& u, Vec2 desired) {
 }
 
 void Game::fillUnitGrid() {
+  // Sized by the types this game deals, not the whole table: the cell size decides the order in which
+  // keepApart meets its neighbours, and so the last bits of every velocity.
   double reach = 0;
-  for (const UnitType& t : kUnitTypes) reach = std::max(reach, 2 * t.radius + 2 * t.speed * kTickSeconds);
+  for (uint8_t type : config_.unitTypes) {
+    const UnitType& t = kUnitTypes[type];
+    reach = std::max(reach, 2 * t.radius + 2 * t.speed * kTickSeconds);
+  }
   UnitGrid& g = grid_;
   g.cell = reach + 0.05;
   g.nx = std::max(1, int(std::ceil(map_.width / g.cell)));
@@ -320,7 +357,7 @@ void Game::steer() {
           } else {
             o.stuckTicks = 0;
             o.bestDistance = std::numeric_limits<double>::infinity();
-            if (o.field->gatesOpen != gatesOpen()) o.field = navigation_.field(o.target, gatesOpen(), tick_);
+            if (o.field->gatesOpen != gatesOpen()) o.field = navigation_.field(o.target, gatesOpen(), tick_, o.field->layer);
           }
         }
       }

@@ -100,7 +100,7 @@ Scene buildScene(const Game& game, const SceneOptions& options) {
     s.units.push_back(su);
     if (options.showSight) s.sight.push_back({u.position, type.sight, u.team});
   }
-  for (const Shot& sh : game.shots()) s.shots.push_back({sh.position, sh.velocity, kUnitTypes[0].shotRadius, sh.team});
+  for (const Shot& sh : game.shots()) s.shots.push_back({sh.position, sh.velocity, kUnitTypes[sh.type].shotRadius, sh.team});
   for (const Impact& i : game.impacts()) {
     s.impacts.push_back({i.point, std::min(1.0, double(game.tickCount() - i.tick) / 12.0), i.wall});
   }

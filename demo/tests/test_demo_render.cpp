@@ -6,6 +6,7 @@
 #include <cmath>
 #include <memory>
 #include <set>
+#include <variant>
 
 #include "game/game.h"
 #include "game/opponent.h"
@@ -147,6 +148,32 @@ TEST(DemoRender, AShotIsClearlyVisibleAt1280x720) {
   }
   EXPECT_GE(changed, 80);
   EXPECT_GE(brightest, 220);
+}
+
+// A heavy's shot is a heavy's size (kUnitTypes[1].shotRadius, twice a trooper's), in the game and in
+// the frame. small.json, one heavy a team; blue walks through the doorway until it fires.
+TEST(DemoRender, ShotsHaveTheirShootersSize) {
+  rts::GameConfig config;
+  config.unitsPerTeam = 1;
+  config.unitTypes = {1};
+  rts::Game game(rts::loadMap(assetPath("small.json")), config);
+  rts::Command c;
+  c.team = 0;
+  c.type = rts::CommandType::Move;
+  c.units = {0};
+  c.target = {26, 10};
+  ASSERT_TRUE(game.apply(c));
+  for (int t = 0; t < 600 && game.shots().empty(); ++t) game.tick();
+  ASSERT_FALSE(game.shots().empty()) << "nobody fired";
+  const double radius = rts::kUnitTypes[1].shotRadius;
+  ASSERT_NE(radius, rts::kUnitTypes[0].shotRadius);
+  const rattle::World& world = game.physics().world();
+  const auto fixtures = world.fixtures(game.shots()[0].body);
+  ASSERT_EQ(fixtures.size(), 1u);
+  EXPECT_EQ(std::get<rattle::Circle>(world.geometry(fixtures[0])).radius, radius);
+  const rts::Scene scene = rts::buildScene(game, rts::SceneOptions{});
+  ASSERT_EQ(scene.shots.size(), game.shots().size());
+  EXPECT_EQ(scene.shots[0].radius, radius);
 }
 
 TEST(DemoRender, PngRoundTrip) {

@@ -339,6 +339,65 @@ TEST(DemoRules, ACrowdThroughADoorwayQueuesInsteadOfShoving) {
   EXPECT_LT(reports, 2 * 1500) << "units were driven into one another";
 }
 
+// A second, larger unit type (kUnitTypes[1], radius 0.9 to a trooper's 0.5) dealt to every second
+// unit: each unit stands clear of every other at the two radii, and clear of the walls at its own.
+TEST(DemoRules, ALargerUnitTypeIsPlacedWithoutOverlap) {
+  GameConfig c = config(60, false);
+  c.unitTypes = {0, 1};
+  Game g(rts::loadMap(assetPath("arena.json")), c);
+  const std::vector<rts::Unit>& units = g.units();
+  ASSERT_EQ(units.size(), 120u);
+  int large = 0;
+  for (const rts::Unit& u : units) {
+    const double r = rts::kUnitTypes[u.type].radius;
+    large += r > rts::kUnitTypes[0].radius;
+    EXPECT_TRUE(g.physics().freeOfWalls(u.position, r)) << "unit " << u.id << " stands in a wall";
+    for (const rts::Unit& o : units) {
+      if (o.id <= u.id) continue;
+      const double apart = rattle::length(o.position - u.position), touching = r + rts::kUnitTypes[o.type].radius;
+      EXPECT_GE(apart, touching) << "units " << u.id << " and " << o.id << " overlap";
+    }
+  }
+  EXPECT_EQ(large, 60);
+}
+
+// A 30 x 20 box split at x = 15 but for a gap 1.6 wide (y = 9 to 10.6): a trooper (1.0 across) walks
+// through, a heavy (1.8 across) cannot, and its navigation knows it.
+TEST(DemoRules, NavigationKeepsEachUnitTypesOwnClearance) {
+  Map map;
+  map.width = 30;
+  map.height = 20;
+  map.walls.push_back({1, {0, 0}, rattle::Polyline{{{0, 0}, {30, 0}, {30, 20}, {0, 20}, {0, 0}}}, false});
+  map.walls.push_back({2, {15, 0}, rattle::Polyline{{{0, 0}, {0, 9}}}, false});
+  map.walls.push_back({3, {15, 10.6}, rattle::Polyline{{{0, 0}, {0, 9.4}}}, false});
+  map.spawns.push_back({4, 0, {5, 10}});
+  map.spawns.push_back({5, 1, {25, 10}});
+  GameConfig c = config(2, false);
+  c.unitTypes = {0, 1};
+  Game g(map, c);
+  const uint32_t trooper = 0, heavy = 2;  // ids alternate between the teams
+  ASSERT_EQ(g.units()[trooper].type, 0);
+  ASSERT_EQ(g.units()[heavy].type, 1);
+  ASSERT_EQ(g.units()[heavy].team, 0);
+  ASSERT_TRUE(g.apply(move(0, {trooper, heavy}, {25, 4})));
+  EXPECT_TRUE(g.units()[trooper].order.active);
+  EXPECT_FALSE(g.units()[heavy].order.active) << "the heavy was sent through a gap narrower than it";
+  runUntilArrived(g, trooper);
+  EXPECT_GT(g.units()[trooper].position.x, 20) << "the trooper did not get through the gap";
+  EXPECT_LT(g.units()[heavy].position.x, 15);
+  // On its own side the heavy has somewhere to go.
+  ASSERT_TRUE(g.apply(move(0, {heavy}, {5, 3})));
+  EXPECT_TRUE(g.units()[heavy].order.active);
+}
+
+TEST(DemoRules, UnitTypesOutsideTheTableAreAClearError) {
+  GameConfig c = config(2);
+  c.unitTypes = {0, uint8_t(rts::kUnitTypes.size())};
+  EXPECT_THROW(Game(rts::loadMap(assetPath("small.json")), c), rts::GameError);
+  c.unitTypes.clear();
+  EXPECT_THROW(Game(rts::loadMap(assetPath("small.json")), c), rts::GameError);
+}
+
 TEST(DemoRules, TooManyUnitsForTheMapIsAClearError) {
   try {
     Game g(rts::loadMap(assetPath("small.json")), config(5000));
