@@ -27,7 +27,7 @@ const char* kUsage =
     "  --supersample N draw N x N samples per pixel for smooth edges, 1 to 4 (default 2; 1 in the window)\n"
     "  --no-render     draw nothing: the game and the engine only (for timing)\n"
     "  --fog TEAM      whose fog of war the frames show: 0 (blue, default), 1 (red) or none\n"
-    "  --no-sight      do not draw the faint sight ranges\n"
+    "  --no-sight      do not draw the sight range outlines\n"
     "  --no-times      leave the measured step time out of the HUD, so the same input gives the same\n"
     "                  frames byte for byte\n"
     "  --mode M        engine step mode: hybrid (default), discrete (step-and-check: watch projectiles go\n"

@@ -83,6 +83,8 @@ struct WorldDef {
   /// Collisions resolved in one step at most. When the next one would exceed it, at time t_b inside the
   /// step, every body stays where it is at t_b for the rest of the step (the step then simulates only t_b
   /// seconds of motion, so nothing passes through anything), and StepStats::eventBudgetReached says so.
+  /// The predictive mode also stops there when it has taken 16 times this many events of any kind (cell
+  /// crossings, stale predictions) from its queue, so that every step returns.
   int maxEventsPerStep = 1'000'000;
 };
 
