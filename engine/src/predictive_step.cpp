@@ -154,7 +154,7 @@ void Engine<W>::collidePlain(uint32_t i, uint32_t j, const PredictiveEvent& c, d
 }
 
 template <class W>
-bool Engine<W>::step(double dt) {
+double Engine<W>::step(double dt) {
   stepLength_ = dt;
   w_.contactEvents.clear();
   w_.sensorEvents.clear();
@@ -203,7 +203,7 @@ bool Engine<W>::step(double dt) {
     w_.sensorEvents.swap(w_.pendingSensorEvents);
     s_.valid = false;
     s_.normalized = false;
-    return false;
+    return 0;
   }
   if (!rebuild && w_.restitutionChanged) {
     for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) {
@@ -254,6 +254,8 @@ bool Engine<W>::step(double dt) {
   // locality won: 4n pops was 4% slower on the 1e5-disk gas).
   const uint64_t reorderEvery = 16 * static_cast<uint64_t>(s_.hot.size()) + 1024;
   double budgetTime = dt;
+  bool pile = false;  // handed over at budgetTime (kPileCollisions)
+  const bool pilesForm = w_.def.restingSpeed > 0 && !(w_.def.gravity == Vec2{});
   const int64_t queueBudget = kQueueEventsPerEvent * int64_t{w_.def.maxEventsPerStep};
   int64_t queueEvents = 0;
   for (;;) {
@@ -410,6 +412,12 @@ bool Engine<W>::step(double dt) {
       fillPairs(i);
       if (j != PredictiveState::kNone) fillPairs(j);
     }
+    if (pilesForm && (w_.bodies[ia].stepCollisions > kPileCollisions ||
+                      (j != PredictiveState::kNone && w_.bodies[s_.bodyOfSlot[j]].stepCollisions > kPileCollisions))) {
+      pile = true;
+      budgetTime = c.time;
+      break;
+    }
     if (w_.squeezeAt(contact)) {
       ++w_.stats.eventsProcessed;
       sync(i);
@@ -454,7 +462,7 @@ bool Engine<W>::step(double dt) {
 
   // 3. Sensor events, from the paths the bodies took. Then every body to the end of the step (out of
   // budget: to the instant the budget ran out, as the hybrid step does); the clocks start again from there.
-  const double end = w_.stats.eventBudgetReached ? budgetTime : dt;
+  const double end = w_.stats.eventBudgetReached || pile ? budgetTime : dt;
   if (w_.pathLog.active) {
     w_.sensePaths(w_.pathLog, end);
     w_.pathLog.active = false;
@@ -494,23 +502,60 @@ bool Engine<W>::step(double dt) {
     }
     for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) sync(slot);
   }
-  w_.time += dt;
   s_.lastStep = end;
   s_.endExtent = extent;
+  if (pile) {
+    // The caller goes on from `end`; the grid is made again when the predictive mode takes over again.
+    w_.time += end;
+    s_.valid = false;
+    return end;
+  }
+  w_.time += dt;
   // Cut short, the bodies lost the rest of the step: every prediction is off; start afresh.
   if (w_.stats.eventBudgetReached) s_.valid = false;
-  return true;
+  return dt;
 }
 
 }  // namespace
 
 void World::Impl::stepPredictive(double dt) {
   if (!predictive) predictive = std::make_unique<detail::PredictiveState>();
-  if (Engine<World::Impl>(*this, *predictive).step(dt)) return;
-  // Too fast for the grid: the hybrid step has the same physics and sweeps each path whole. Its stepped
-  // islands are its own; the predictive mode's next step treats every body as free again.
-  stepHybrid(dt);
-  for (detail::BodySlot& b : bodies) b.stepped = false;
+  detail::PredictiveState& s = *predictive;
+  // A pile handed over (kPileCollisions) stays with the hybrid step while its islands hold anybody.
+  if (!s.pileHeld) {
+    const double done = Engine<World::Impl>(*this, s).step(dt);
+    if (done == dt) return;
+    if (done > 0) {
+      // The rest of the step from `done` on, as a hybrid step of its own whose events and stats join
+      // this step's; the world's clock ends at exactly time + dt, as after any step.
+      const double startTime = time - done;
+      std::vector<ContactEvent> contacts = std::move(contactEvents);
+      std::vector<SensorEvent> sensed = std::move(sensorEvents);
+      const StepStats first = stats;
+      stepHybrid(dt - done);
+      for (ContactEvent& e : contactEvents) e.time += done;
+      for (SensorEvent& e : sensorEvents) e.time += done;
+      contacts.insert(contacts.end(), contactEvents.begin(), contactEvents.end());
+      sensed.insert(sensed.end(), sensorEvents.begin(), sensorEvents.end());
+      contactEvents = std::move(contacts);
+      sensorEvents = std::move(sensed);
+      stats.candidatePairs += first.candidatePairs;
+      stats.timeOfImpactTests += first.timeOfImpactTests;
+      stats.eventsProcessed += first.eventsProcessed;
+      stats.staleEvents += first.staleEvents;
+      stats.requeries += first.requeries;
+      stats.squeezes += first.squeezes;
+      time = startTime + dt;
+      s.pileHeld = true;
+    } else {
+      // Too fast for the grid: the hybrid step has the same physics and sweeps each path whole.
+      stepHybrid(dt);
+    }
+  } else {
+    stepHybrid(dt);
+  }
+  // Back to events once nobody is held in an island (the grid is made afresh then: s.valid is false).
+  s.pileHeld = std::any_of(bodies.begin(), bodies.end(), [](const detail::BodySlot& b) { return b.alive && b.stepped; });
 }
 
 }  // namespace rattle

@@ -111,6 +111,9 @@ struct PredictiveState {
   static constexpr uint32_t kNone = 0xFFFFFFFFu;
 
   bool valid = false;   // false: rebuild everything at the start of the next step
+  // A pile under gravity was handed to the hybrid step (Engine::kPileCollisions) and its stepped islands
+  // still hold bodies: steps go to the hybrid step until they hold none.
+  bool pileHeld = false;
   double lastStep = 0;  // how far the last step moved the bodies' clocks (event times are rebased by it)
 
   // Per-step constants.
