@@ -38,7 +38,8 @@ BodyId disk(World& w, Vec2 position, Vec2 velocity, double radius, double restit
 }
 
 Polygon boxPolygon(double halfWidth, double halfHeight) {
-  return Polygon{{{-halfWidth, -halfHeight}, {halfWidth, -halfHeight}, {halfWidth, halfHeight}, {-halfWidth, halfHeight}}};
+  return Polygon{
+      {{-halfWidth, -halfHeight}, {halfWidth, -halfHeight}, {halfWidth, halfHeight}, {-halfWidth, halfHeight}}};
 }
 
 // ---- Squeezes ---------------------------------------------------------------------------------------
@@ -183,7 +184,8 @@ TEST(Piles, APileSettlesInEveryModeWithoutReachingTheEventBudget) {
     std::vector<BodyId> disks;
     for (int row = 0; row < 20; ++row) {
       for (int col = 0; col < 10; ++col) {
-        disks.push_back(disk(w, {1 + col * 1.05 + 0.02 * (row % 3), 3 + row * 1.2}, {0.1 * (col % 3 - 1), 0}, 0.5, 0.5));
+        disks.push_back(
+            disk(w, {1 + col * 1.05 + 0.02 * (row % 3), 3 + row * 1.2}, {0.1 * (col % 3 - 1), 0}, 0.5, 0.5));
       }
     }
     double worstOverlap = 0;
@@ -208,6 +210,47 @@ TEST(Piles, APileSettlesInEveryModeWithoutReachingTheEventBudget) {
     }
     // The discrete mode's overlaps in a pile are not bounded (README, "Three ways to advance a world":
     // one push per pair per step, no contact solve); the checks above hold it to the container.
+  }
+}
+
+// ---- Degenerate starts ------------------------------------------------------------------------------
+
+// 10^5 disks created at one point made a hybrid step take 10 s in the sweep (every pair of boxes
+// overlaps: 5e9 of them), a predictive step 42 s and a discrete one more than 120 s (10^6 threw
+// std::bad_alloc). The sweep now stops at its pair-test budget (256 a fixture plus maxEventsPerStep),
+// and such a step resolves nothing and says it reached its budget.
+TEST(DegenerateStart, BodiesCreatedOnOnePointCostABoundedStep) {
+  for (StepMode mode : kAllModes) {
+    SCOPED_TRACE(nameOf(mode));
+    World w(defOf(mode));
+    std::vector<BodyId> bodies;
+    for (int i = 0; i < 20000; ++i) bodies.push_back(disk(w, {3, 4}, {0.5, 0}, 0.5));
+    w.step(1.0 / 60);
+    EXPECT_TRUE(w.stats().eventBudgetReached);
+    // The discrete mode has moved every body a step before it sweeps; it then skips the responses.
+    const double x = mode == StepMode::Discrete ? 3 + 0.5 * (1.0 / 60) : 3;
+    for (BodyId b : {bodies.front(), bodies.back()}) {
+      EXPECT_EQ(w.position(b).x, x);
+      EXPECT_EQ(w.position(b).y, 4);
+    }
+    EXPECT_NEAR(w.time(), 1.0 / 60, 1e-15);
+  }
+}
+
+// The budget leaves ordinary dense worlds alone: 10,000 disks in a touching square lattice with walls.
+TEST(DegenerateStart, ADenseLatticeIsNotDegenerate) {
+  for (StepMode mode : kAllModes) {
+    SCOPED_TRACE(nameOf(mode));
+    World w(defOf(mode));
+    const BodyId box = w.createBody({.type = BodyType::Static});
+    w.createFixture(box, {.geometry = Polyline{{{-1, -1}, {101, -1}, {101, 101}, {-1, 101}, {-1, -1}}}});
+    for (int i = 0; i < 100; ++i) {
+      for (int j = 0; j < 100; ++j) disk(w, {0.5 + i, 0.5 + j}, {0.1 * ((i + j) % 3 - 1), 0}, 0.5);
+    }
+    for (int k = 0; k < 3; ++k) {
+      w.step(1.0 / 60);
+      EXPECT_FALSE(w.stats().eventBudgetReached) << "step " << k;
+    }
   }
 }
 
@@ -327,13 +370,13 @@ TEST(ApiMisuse, AMovedFromWorldThrows) {
   const BodyId d = disk(a, {0, 0}, {1, 0}, 0.5);
   World b(std::move(a));
   EXPECT_TRUE(b.isValid(d));
-  EXPECT_THROW(a.step(1.0 / 60), Error);                // NOLINT(bugprone-use-after-move): the point
-  EXPECT_THROW(a.createBody({}), Error);                // NOLINT(bugprone-use-after-move)
-  EXPECT_THROW((void)a.isValid(d), Error);              // NOLINT(bugprone-use-after-move)
-  EXPECT_THROW((void)a.bodyCount(), Error);             // NOLINT(bugprone-use-after-move)
-  EXPECT_THROW((void)a.stateHash(), Error);             // NOLINT(bugprone-use-after-move)
-  EXPECT_THROW((void)a.overlapPoint({0, 0}), Error);    // NOLINT(bugprone-use-after-move)
-  EXPECT_THROW((void)a.contactEvents(), Error);         // NOLINT(bugprone-use-after-move)
+  EXPECT_THROW(a.step(1.0 / 60), Error);              // NOLINT(bugprone-use-after-move): the point
+  EXPECT_THROW(a.createBody({}), Error);              // NOLINT(bugprone-use-after-move)
+  EXPECT_THROW((void)a.isValid(d), Error);            // NOLINT(bugprone-use-after-move)
+  EXPECT_THROW((void)a.bodyCount(), Error);           // NOLINT(bugprone-use-after-move)
+  EXPECT_THROW((void)a.stateHash(), Error);           // NOLINT(bugprone-use-after-move)
+  EXPECT_THROW((void)a.overlapPoint({0, 0}), Error);  // NOLINT(bugprone-use-after-move)
+  EXPECT_THROW((void)a.contactEvents(), Error);       // NOLINT(bugprone-use-after-move)
   // Assigning a world to it makes it usable again.
   a = World();
   EXPECT_EQ(a.bodyCount(), 0);

@@ -282,7 +282,8 @@ void BroadPhase::sweepReaches() {
   // The fill moved each start to the next fixture's: move them back.
   for (size_t f = proxies_.size(); f > 0; --f) partnerStart_[f] = partnerStart_[f - 1];
   partnerStart_[0] = 0;
-  cacheValid_ = true;
+  // A sweep stopped at its budget kept only some of the pairs.
+  cacheValid_ = !overflowed_;
 }
 
 void BroadPhase::splitIntoBands() {

@@ -94,6 +94,12 @@ class BroadPhase {
   void setMargin(double fraction) { marginFraction_ = fraction; }
   /// Whether the last findPairs took its pairs from the cache (no sort, no sweep).
   bool lastFromCache() const { return lastFromCache_; }
+  /// At most this many pairs of boxes overlapping in x are tested by one sweep (plus one band row's).
+  /// Bodies piled on one point make every pair such a pair: a sweep past the budget stops, reports
+  /// only what it found, and says so (overflowed()), so a degenerate world costs a bounded step.
+  void setPairTestBudget(size_t tests) { pairTestBudget_ = tests; }
+  /// The last findPairs stopped at the pair-test budget: its pairs are incomplete.
+  bool overflowed() const { return overflowed_; }
   static constexpr uint32_t kNoTag = 0xFFFFFFFFu;
 
   /// Sorts and calls report(a, b) (or report(a, b, tagA, tagB), with what setTag last set) for every
@@ -310,6 +316,8 @@ class BroadPhase {
   bool lastFromCache_ = false;
   double marginFraction_ = kDefaultMargin;
   bool changed_ = false;  // noteChange since the last findPairs
+  size_t pairTestBudget_ = SIZE_MAX;
+  bool overflowed_ = false;
   double typicalHeight_ = 0;  // of the moving boxes, as the last sweep sampled it (lowest quarter)
 
   // The sensor sweep: both kinds in x order, swept in bands cut for the sensors.
@@ -344,6 +352,7 @@ void BroadPhase::findPairs(Report&& report, Ahead&& ahead) {
   // only from a step that follows an unchanged one.
   const bool changed = changed_;
   changed_ = false;
+  overflowed_ = false;
   if (!pairCache_ || changed) {
     // Every step sorts and sweeps this step's boxes, and reports in the sweep's order.
     lastFromCache_ = false;
@@ -428,12 +437,22 @@ void BroadPhase::sweepBands(Pair&& pair) {
   };
   // A pair is found in the higher of its two home bands: there both are listed, the one as its own, the
   // other as its own or as a spill from below. Two spills are never swept against each other.
+  // The budget (setPairTestBudget) is looked at once per box, outside the inner loops.
+  size_t tests = 0;
+  auto overBudget = [&] {
+    if (tests <= pairTestBudget_) return false;
+    overflowed_ = true;
+    return true;
+  };
   for (uint32_t band = 0; band < bandCount_; ++band) {
     const BandEntry* own = own_.data() + bandStart_[band];
     const size_t n = bandStart_[band + 1] - bandStart_[band];
     for (size_t i = 0; i < n; ++i) {
       const BandEntry& pi = own[i];
-      for (size_t j = i + 1; j < n && own[j].box.min.x <= pi.box.max.x; ++j) test(pi, own[j]);
+      size_t j = i + 1;
+      for (; j < n && own[j].box.min.x <= pi.box.max.x; ++j) test(pi, own[j]);
+      tests += j - i - 1;
+      if (overBudget()) return;
     }
     // The band's own against its spills: two sorted lists swept against each other; whichever next box
     // starts further left scans the other list for the boxes that start before it ends.
@@ -443,21 +462,29 @@ void BroadPhase::sweepBands(Pair&& pair) {
     while (i < n && j < m) {
       if (own[i].box.min.x <= spill[j].box.min.x) {
         const double reach = own[i].box.max.x;
-        for (size_t k = j; k < m && spill[k].box.min.x <= reach; ++k) test(own[i], spill[k]);
+        size_t k = j;
+        for (; k < m && spill[k].box.min.x <= reach; ++k) test(own[i], spill[k]);
+        tests += k - j;
         ++i;
       } else {
         const double reach = spill[j].box.max.x;
-        for (size_t k = i; k < n && own[k].box.min.x <= reach; ++k) test(own[k], spill[j]);
+        size_t k = i;
+        for (; k < n && own[k].box.min.x <= reach; ++k) test(own[k], spill[j]);
+        tests += k - i;
         ++j;
       }
+      if (overBudget()) return;
     }
     // The band's own against the tall boxes from further below, each found by binary search.
     for (const BandEntry& t : tall_[band]) {
       const BandEntry* it = std::lower_bound(own, own + n, t.box.min.x - wholeReach_[band],
                                              [](const BandEntry& e, double x) { return e.box.min.x < x; });
+      const BandEntry* from = it;
       for (; it != own + n && it->box.min.x <= t.box.max.x; ++it) {
         if (!(it->box.max.x < t.box.min.x)) test(*it, t);
       }
+      tests += static_cast<size_t>(it - from);
+      if (overBudget()) return;
     }
   }
 }

@@ -87,9 +87,24 @@ void World::Impl::stepDiscrete(double dt) {
   auto byIds = [](const Pair& x, const Pair& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; };
   std::vector<Pair> pairs;
   broadPhase.setPairCache(false);  // its responses follow the sweep's order
+  broadPhase.setPairTestBudget(pairTestBudget());
+  // Memory for the pairs, too, is bounded: overlapping boxes come a few to a body unless bodies pile up.
+  const size_t pairLimit = 16 * fixtures.size() + static_cast<size_t>(def.maxEventsPerStep);
+  bool tooMany = false;
   broadPhase.findPairs([&](uint32_t fa, uint32_t fb) {
-    if (canCollide(fa, fb)) pairs.push_back({std::min(fa, fb), std::max(fa, fb)});
+    if (!canCollide(fa, fb)) return;
+    if (pairs.size() == pairLimit) {
+      tooMany = true;
+      return;
+    }
+    pairs.push_back({std::min(fa, fb), std::max(fa, fb)});
   });
+  if (broadPhase.overflowed() || tooMany) {
+    // A degenerate world (bodies piled on one point): the pairs are incomplete, and pushing millions of
+    // them apart one by one would cost as much as testing them all. None is, and the step says so.
+    stats.eventBudgetReached = true;
+    pairs.clear();
+  }
   // Pairs of two dynamic bodies first, then those with a kinematic body, those with a static body last:
   // a push between two dynamic bodies may move one into a wall, and the wall's push, coming after it,
   // has the last word (a body is never left pushed into a static body by another's push). Within each,

@@ -519,6 +519,7 @@ void World::Impl::stepHybrid(double dt) {
       __builtin_prefetch(&pairsOfBody[plainB], 1);
     }
   };
+  broadPhase.setPairTestBudget(pairTestBudget());
   broadPhase.findPairs([&](uint32_t fa, uint32_t fb, uint32_t plainA, uint32_t plainB) {
     if (plainA != detail::BroadPhase::kNoTag && plainB != detail::BroadPhase::kNoTag) {
       predictPlainPair(fa, fb, plainA, plainB, dt);
@@ -542,6 +543,19 @@ void World::Impl::stepHybrid(double dt) {
       }
     }
   }, reportAhead);
+  if (broadPhase.overflowed()) {
+    // A degenerate world (bodies piled on one point): its pairs are incomplete, so no body may move.
+    // As at the event budget at time 0: everything stays where it is for this step.
+    stats.eventBudgetReached = true;
+    queue.clear();
+    pathLog.active = false;
+    for (uint32_t i = 0; i < bodyCount; ++i) {
+      BodySlot& b = bodies[i];
+      if (b.alive && b.type == BodyType::Dynamic && b.asleep) ++stats.sleeping;
+    }
+    time += dt;
+    return;
+  }
   // Stepped islands (island.cpp): gravity and the solve, then the predictions that wait for them.
   std::vector<uint32_t>& freed = islandFreed;
   startIslands(dt, freed);

@@ -186,6 +186,9 @@ class Engine {
   /// predictions) counts toward this many times WorldDef::maxEventsPerStep; past it the step ends as at
   /// the event budget, so a step always returns.
   static constexpr int64_t kQueueEventsPerEvent = 16;
+  /// A fresh grid with a cell holding more bodies than this (bodies created piled on one point) is a
+  /// degenerate start: the step goes to the hybrid step, whose sweep stops at its pair-test budget.
+  static constexpr uint32_t kCrowdedCell = 1024;
 
  private:
   W& w_;
@@ -208,6 +211,7 @@ class Engine {
   double stepLength_ = 1;  // this step's dt
 
   // Setup.
+  bool crowdedCell() const;
   void normalize(double dt);
   void rebase(double by);
   void computeConstants(double dt);

@@ -154,6 +154,17 @@ void Engine<W>::collidePlain(uint32_t i, uint32_t j, const PredictiveEvent& c, d
 }
 
 template <class W>
+bool Engine<W>::crowdedCell() const {
+  // Cells are as wide as the largest body, so a cell holds a handful of bodies that do not overlap; only
+  // bodies piled on each other put thousands in one (each of them then tests all the others).
+  std::vector<uint32_t> count(s_.heads.size(), 0);
+  for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) {
+    if (++count[s_.hot[slot].cell] > kCrowdedCell) return true;
+  }
+  return false;
+}
+
+template <class W>
 double Engine<W>::step(double dt) {
   stepLength_ = dt;
   w_.contactEvents.clear();
@@ -198,7 +209,7 @@ double Engine<W>::step(double dt) {
   }
   if (rebuild) buildGrid();
   computeConstants(dt);
-  if (speedScale_ * dt > kFollowCells * s_.cellSize) {
+  if (speedScale_ * dt > kFollowCells * s_.cellSize || (rebuild && crowdedCell())) {
     // Undo what this step showed the caller (the pending sensor events go back), and start afresh after.
     w_.sensorEvents.swap(w_.pendingSensorEvents);
     s_.valid = false;

@@ -58,8 +58,8 @@ bool World::Impl::squeezeAt(const detail::PredictedContact& c) {
   ++a.collisionCount;
   a.last = detail::LastContact{};
   a.stepLocalsSet = true;
-  squeezes.push_back({islandKey(c.a, c.b), fixtures[std::min(c.a, c.b)].generation,
-                      fixtures[std::max(c.a, c.b)].generation});
+  squeezes.push_back(
+      {islandKey(c.a, c.b), fixtures[std::min(c.a, c.b)].generation, fixtures[std::max(c.a, c.b)].generation});
   ++stats.squeezes;
   return true;
 }
