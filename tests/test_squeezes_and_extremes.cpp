@@ -274,6 +274,28 @@ TEST(ExtremeValues, VelocitiesWhoseSquareOverflowsAreRefusedWithTheFieldNamed) {
   EXPECT_NO_THROW(w.setVelocity(d, {1e150, 1e149}));
 }
 
+// The fuzzer's finding: a disk at y = 1.797e308 was accepted and its step formed NaN band indices in
+// the broad phase (UBSan). Coordinates are held within +-1e150.
+TEST(ExtremeValues, CoordinatesOutsideTheDocumentedRangeAreRefused) {
+  World w;
+  EXPECT_THROW(w.createBody({.type = BodyType::Dynamic, .position = {0, 1.797e308}}), Error);
+  EXPECT_THROW(w.createBody({.type = BodyType::Static, .position = {-2e150, 0}}), Error);
+  EXPECT_EQ(w.bodyCount(), 0);
+  const BodyId d = disk(w, {0, 0}, {0, 0}, 0.5);
+  try {
+    w.setPosition(d, {1e200, 0});
+    ADD_FAILURE() << "accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("position = "), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(w.position(d).x, 0);
+  // At the edge: the body fits, a fixture that would reach past it does not.
+  w.setPosition(d, {1e150 - 1e140, 0});
+  const BodyId edge = w.createBody({.type = BodyType::Static, .position = {1e150, 0}});
+  EXPECT_THROW(w.createFixture(edge, {.geometry = Segment{{0, 0}, {1e140, 0}}}), Error);
+  EXPECT_NO_THROW(w.createFixture(edge, {.geometry = Segment{{-1e140, 0}, {0, 0}}}));
+}
+
 // One disk in a closed 10 x 10 box at speeds up to the documented limit: it never leaves (the steps end
 // at the event budget when bouncing across the box a million times a step is too many).
 TEST(ExtremeValues, AFastBodyNeverLeavesAWalledBox) {

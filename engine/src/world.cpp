@@ -31,6 +31,11 @@ void checkVelocity(Vec2 v, const char* field) {
   });
 }
 
+// Within the documented range of coordinates (World::kMaxCoordinate): differences and products of
+// coordinates, which the broad phase and the times of impact form, then stay finite.
+bool inRange(Vec2 v) { return std::fabs(v.x) <= World::kMaxCoordinate && std::fabs(v.y) <= World::kMaxCoordinate; }
+bool inRange(const Box& b) { return inRange(b.min) && inRange(b.max); }
+
 void checkRestitution(double e, const char* field) {
   require(std::isfinite(e) && e >= 0 && e <= 1,
           [&] { return std::string(field) + " = " + str(e) + ": must be in [0, 1]"; });
@@ -167,6 +172,8 @@ BodyId World::createBody(const BodyDef& def) {
     return std::string("BodyDef.type = " + std::to_string(static_cast<int>(def.type)) + ": not a BodyType");
   });
   checkFinite(def.position, "BodyDef.position");
+  require(inRange(def.position),
+          [&] { return "BodyDef.position = " + str(def.position) + ": outside +-1e150 (World::kMaxCoordinate)"; });
   checkVelocity(def.velocity, "BodyDef.velocity");
   require(def.type != BodyType::Static || def.velocity == Vec2{},
           [&] { return std::string("BodyDef.velocity = " + str(def.velocity) + ": a static body cannot move"); });
@@ -256,10 +263,12 @@ void World::setPosition(BodyId id, Vec2 position) {
   checkFinite(position, "position");
   for (uint32_t f : b.fixtures) {
     const Box& local = impl().fixtures[f].localBox;
-    require(isFinite(local.min + position) && isFinite(local.max + position), [&] {
-      return "position = " + str(position) + ": the body's fixtures would reach past the largest double";
+    require(inRange(local.translated(position)), [&] {
+      return "position = " + str(position) + ": the body's fixtures would reach outside +-1e150 (World::kMaxCoordinate)";
     });
   }
+  require(inRange(position),
+          [&] { return "position = " + str(position) + ": outside +-1e150 (World::kMaxCoordinate)"; });
   std::vector<uint32_t> woken;
   impl().wakeUp(id.index, 0.0, woken);
   for (uint32_t d : impl().dependents[id.index]) impl().wakeUp(d, 0.0, woken);
@@ -334,8 +343,9 @@ FixtureId World::createFixture(BodyId bodyId, const FixtureDef& def) {
     });
   }
   const Box localBox = boxOf(def.geometry);
-  require(isFinite(localBox.min + body.position) && isFinite(localBox.max + body.position), [&] {
-    return std::string("FixtureDef.geometry: its box overflows at the body's position " + str(body.position));
+  require(inRange(localBox.translated(body.position)), [&] {
+    return std::string("FixtureDef.geometry: its box reaches outside +-1e150 (World::kMaxCoordinate) at the body's position " +
+                       str(body.position));
   });
 
   uint32_t index;

@@ -23,6 +23,10 @@ class World {
   World(const World&) = delete;
   World& operator=(const World&) = delete;
 
+  /// Positions and fixtures' boxes must lie within +-kMaxCoordinate (creation and setPosition check it),
+  /// so that the differences and products of coordinates the step forms stay finite.
+  static constexpr double kMaxCoordinate = 1e150;
+
   // Bodies. Every function taking a handle throws rattle::Error for a null or stale handle.
   BodyId createBody(const BodyDef& def);
   /// Destroys the body and its fixtures. Ids of destroyed bodies are reused (latest freed first).
