@@ -17,6 +17,7 @@ FUZZ_SECONDS ?= 60
 BENCH_FLAGS ?=
 
 .PHONY: all deps configure build demo test test-sanitize test-determinism fuzz bench bench-build replays update-goldens clean help
+.PHONY: soak soak-short
 
 all: build
 
@@ -29,6 +30,9 @@ help:
 	@echo "                    check that every build prints the same per-tick state hashes"
 	@echo "make fuzz           build the libFuzzer targets with clang++ in $(FUZZ_DIR)/ and run each for"
 	@echo "                    FUZZ_SECONDS (default 60) seconds; fails on any finding (fuzz/README.md)"
+	@echo "make soak           rattle-soak: every mode on the pile, crowd, piston and gas scenes for 3 simulated"
+	@echo "                    minutes each, judged against issue 27's targets (about 30-40 min; tools/soak/)"
+	@echo "make soak-short     the same for 20 simulated seconds, N = 300 (under 3 min)"
 	@echo "make bench          build rattle-bench, run the standard matrix against Box2D and Chipmunk,"
 	@echo "                    write bench/RESULTS.md, bench/results.csv, bench/scaling.csv, bench/figures/"
 	@echo "make bench-build    build $(BUILD_DIR)/bin/rattle-bench only (installs Box2D and Chipmunk when missing);"
@@ -82,6 +86,15 @@ fuzz: deps
 	  -DRATTLE_BUILD_TESTS=OFF -DRATTLE_BUILD_EXAMPLES=OFF $(CMAKE_FLAGS) > /dev/null
 	@cmake --build $(FUZZ_DIR) --target rattle_fuzzers -j $(JOBS)
 	@bash fuzz/run.sh --build $(FUZZ_DIR) --seconds $(FUZZ_SECONDS)
+
+# rattle-soak (tools/soak/README.md): exits 1 while any of issue 27's targets is not met.
+soak: configure
+	@cmake --build $(BUILD_DIR) --target rattle-soak -j $(JOBS)
+	$(BUILD_DIR)/bin/rattle-soak
+
+soak-short: configure
+	@cmake --build $(BUILD_DIR) --target rattle-soak -j $(JOBS)
+	$(BUILD_DIR)/bin/rattle-soak --seconds 20 --n 300 --max-seconds 12
 
 # rattle-bench alone (RATTLE_BUILD_BENCH is off in a plain configure), to run one scene by hand.
 bench-build: deps
