@@ -1,6 +1,6 @@
 # Writes the hand-written seed programs of fuzz/corpus/world_api/ (byte format: fuzz/world_api.cpp).
+# usage: python3 fuzz/world_api_seeds.py fuzz/corpus/world_api
 import os, sys
-out = sys.argv[1]
 def real(v, lo, hi):
     q = round((v - lo) / (hi - lo) * (0xF8 * 256 - 1))
     q = max(0, min(0xF8 * 256 - 1, q))
@@ -25,9 +25,14 @@ def container(kind, c, hx, hy, n, r, speed, e):
     for i in range(n): b += bytes([(i * 37) % 256, 128 + (i * 53) % 128])
     return b
 def query(kind, args=b""): return bytes([14, kind, 1]) + args
+EXTREMES = [0.0, -0.0, 1e-300, -1e-12, 1e300, -1e300, "inf", "-inf", "nan", 1e9, -1e9, "denorm_min", "max", -1.0, 1.5, 1e-12]
+def extreme(v): return bytes([0xF8, EXTREMES.index(v)])
+def set_velocity(bodyindex, vx, vy): return bytes([8, bodyindex]) + vx + vy
+def point_fixture(bodyindex, at=(0, 0)): return bytes([3, bodyindex, typebyte(0, False)]) + vec(*at, -5, 5) + bytes([0]) + real(0, 0, 1) + bytes([0])
 HYB, DIS, PRE = 0, 1, 2
 def head(mode, gravity): return bytes([mode + 3 * gravity])
-seeds = {
+def main(out):
+  seeds = {
   # A gas in a Polyline box, restitution 1: energy and escape checks at their strictest.
   "hybrid-gas-in-polyline-box": head(HYB, 0) + container(0, (0, 0), 4, 4, 16, 0.3, 20, 1.0) + step(60) * 10 + query(1, vec(-10, 0, -100, 100) + vec(20, 0, -200, 200)) + step(30) * 5,
   # A pile poured into a ring of polygons under gravity.
@@ -42,6 +47,9 @@ seeds = {
   "hybrid-sensor-and-destroy": head(HYB, 0) + body(0, (0, 0)) + fixture(0, 1, circle(2), sensor=True) + disk((-5, 0), (20, 0), 0.3) + disk((5, 0.5), (-20, 0), 0.3) + step(60) * 3 + query(5, bytes([0])) + bytes([5, 1]) + step(60) * 3 + query(3, vec(0, 0, -100, 100) + real(3, 0, 20)) + step(60) * 3,
   "predictive-sensor-and-filter": head(PRE, 0) + body(0, (0, 0)) + fixture(0, 4, rect((-1, -1), 2, 2), sensor=True) + disk((-5, 0), (10, 0), 0.3) + step(60) * 5 + bytes([11, 2, 200, 1, 0, 1]) + step(60) * 5,
 }
-for name, data in seeds.items():
+  for name, data in seeds.items():
     open(os.path.join(out, name), "wb").write(data)
     print(name, len(data))
+
+if __name__ == "__main__":
+    main(sys.argv[1])
