@@ -117,7 +117,7 @@ for name in "${names[@]}"; do
     for f in $(find "$findings" -type f -newer "$marker"); do
       echo "fuzz: finding $f ($(stat -c %s "$f") bytes)" >&2
       echo "  reproduce:  $bin $f" >&2
-      echo "  keep it:    cp $f $root/fuzz/regressions/$name/  (then fix the reader; make test checks it)" >&2
+      echo "  keep it:    cp $f $root/fuzz/regressions/$name/  (once fixed; make test checks it; fuzz/README.md)" >&2
       # CI machines are thrown away: small findings are printed whole, to be rebuilt with base64 -d.
       if [[ $(stat -c %s "$f") -le 65536 ]]; then
         echo "  base64:" >&2
