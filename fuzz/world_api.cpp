@@ -18,25 +18,27 @@
 //            setPosition or given other fixtures or filters since) has its centre inside it, to the same
 //            tolerance;
 //   energy   with no moving kinematic body, kinetic energy (plus gravity's potential energy) does not grow
-//            over a step by more than 1e-12 of the energies at play;
+//            over a step by more than 1e-12 of the energies at play (under gravity, plus what
+//            WorldDef::restingSpeed may give each contact of the step, by design);
 //   events   contact and sensor events name live fixtures and bodies, or ones destroyed since the last
 //            step; their times lie in [0, dt], normals are unit, impulses finite and >= 0;
 //   budget   no step reaches WorldDef::maxEventsPerStep (kEventBudget): a class of its own, since piles
 //            in the predictive mode may reach it today; checked when every speed is at most kBudgetSpeed
 //            at the step's start (a disk at 1e9 units/s in a small box needs more events than any budget);
-//   error    a step with a valid dt (finite, >= 0) throws rattle::Error;
+//   error    a step with a valid dt (finite, >= 0) throws rattle::Error, or one with an invalid dt does not;
 //   query    queries return live fixtures, sorted, with ray fractions in [0, 1].
 // A moving kinematic body may crush a disk into a wall, which no engine can prevent: during a step in
 // which one moves, the inside and energy checks are skipped and containers its swept box reaches are
-// forgotten.
+// forgotten. The inside, escape and energy checks apply within kTracked of the origin (see there).
 //
 // For triage only, RATTLE_WORLD_API_OFF lists classes not to check (comma-separated, e.g.
 // "escape,budget"), and RATTLE_WORLD_API_MODES the modes to run (e.g. "hybrid,predictive"; inputs for
-// other modes return at once). Unset, everything is checked in every mode. fuzz/README.md says more.
+// other modes return at once); "extreme" in RATTLE_WORLD_API_OFF makes no extreme values. Unset,
+// everything is checked in every mode. RATTLE_WORLD_API_VERBOSE prints what each input does, for writing
+// reproducers. fuzz/README.md says more.
 #include <rattle/rattle.h>
 
 #include <algorithm>
-#include <cinttypes>
 #include <cmath>
 #include <cstdarg>
 #include <cstdint>

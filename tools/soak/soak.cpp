@@ -9,12 +9,10 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <cinttypes>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <limits>
 #include <mutex>
 #include <numbers>
@@ -22,7 +20,6 @@
 #include <string>
 #include <thread>
 #include <time.h>
-#include <unistd.h>
 #include <vector>
 
 namespace {
