@@ -63,7 +63,16 @@ void World::Impl::addPair(uint32_t fa, uint32_t fb) {
   if (bodies[bb].type == BodyType::Dynamic) pairsOfBody[bb].push_back({fb, fa});
 }
 
-void World::Impl::predict(uint32_t own, uint32_t other, double now, double dt) {
+namespace {
+
+// Polylines and polygons: a contact with one of their features says nothing of the others.
+bool hasSeveralFeatures(const Geometry& g) {
+  return std::holds_alternative<Polyline>(g) || std::holds_alternative<Polygon>(g);
+}
+
+}  // namespace
+
+void World::Impl::predict(uint32_t own, uint32_t other, double now, double dt, int dismissed) {
   const BodySlot& a = bodyOf(own);
   const BodySlot& b = bodyOf(other);
   if (heldByIsland(a, b)) return;  // the island's solve holds this contact (island.cpp)
@@ -85,6 +94,7 @@ void World::Impl::predict(uint32_t own, uint32_t other, double now, double dt) {
     };
     if (a.last.time == now && resolvedHereNow(a) && resolvedHereNow(b)) resolved = a.last.feature;
   }
+  if (dismissed != kNoFeature) resolved = dismissed;
 
   const Vec2 pa = positionAt(a, now);
   const Vec2 pb = positionAt(b, now);
@@ -580,6 +590,7 @@ void World::Impl::stepHybrid(double dt) {
 
   // 4. Events in time order.
   std::vector<uint32_t> woken;
+  int featureRepredictions = 0;
   double budgetTime = dt;
   while (!queue.empty()) {
     std::pop_heap(queue.begin(), queue.end(), detail::later);
@@ -650,6 +661,13 @@ void World::Impl::stepHybrid(double dt) {
         for (uint32_t body : {fixtures[c.a].body, fixtures[c.b].body}) {
           if (bodies[body].type == BodyType::Dynamic) repredict(body, c.time, dt);
         }
+      } else if (hasSeveralFeatures(fixtures[c.b].geometry) && featureRepredictions < def.maxEventsPerStep) {
+        // Dropped: but only this feature's contact. The fixture's other features (the wall beyond a
+        // box's corner, for a disk sliding along its floor) are still ahead of the body, so the pair is
+        // predicted again without this one. Bounded per step like the events, as two features of one
+        // fixture could otherwise take turns at one instant.
+        ++featureRepredictions;
+        predict(c.a, c.b, c.time, dt, c.feature);
       }
       continue;
     }

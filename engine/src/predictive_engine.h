@@ -315,6 +315,11 @@ class Engine {
     s_.hot[slot].flags = static_cast<uint8_t>(s_.hot[slot].flags & ~HotBody::kDismissals);
   }
   bool isDismissed(uint32_t slot, uint32_t own, uint32_t other) const;
+  /// For a pair with a static or kinematic fixture: kNotDismissed, or the one feature of `other` whose
+  /// contact was dismissed (the others are still predicted: the wall beyond a box's corner for a disk
+  /// sliding along its floor), or kWholePair when `other` has one feature or several were dismissed.
+  static constexpr int kNotDismissed = -2, kWholePair = -3;
+  int dismissedFeature(uint32_t slot, uint32_t own, uint32_t other) const;
 
   // Predictions.
   struct Prediction {
@@ -336,7 +341,9 @@ class Engine {
   }
   void crossingStraight(Vec2 centre, Vec2 velocity, const ColdBody& cell, double& h, int& side) const;
   void crossing(const Predicting& p, double& h, int& side) const;
-  void predictPair(uint32_t own, uint32_t other, double now, double horizon, PredictiveEvent& best);
+  /// `dismissed`: a feature of `other` taken as separating (dismissedFeature), or kNoFeature.
+  void predictPair(uint32_t own, uint32_t other, double now, double horizon, PredictiveEvent& best,
+                   int dismissed = kNoFeature);
   void predictCircles(const Predicting& p, uint32_t j, double horizon, PredictiveEvent& best);
   int resolvedFeature(const BodySlot& a, const BodySlot& b, uint32_t own, uint32_t other, double now) const;
   void fillPairs(uint32_t slot);

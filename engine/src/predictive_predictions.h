@@ -46,14 +46,15 @@ int Engine<W>::resolvedFeature(const BodySlot& a, const BodySlot& b, uint32_t ow
 }
 
 template <class W>
-void Engine<W>::predictPair(uint32_t own, uint32_t other, double now, double horizon, PredictiveEvent& best) {
+void Engine<W>::predictPair(uint32_t own, uint32_t other, double now, double horizon, PredictiveEvent& best,
+                            int dismissed) {
   // World::Impl::predict, up to the body's horizon instead of the step's end.
   attachFixture(own);
   attachFixture(other);
   const BodySlot& a = w_.bodyOf(own);
   const BodySlot& b = w_.bodyOf(other);
   ++w_.stats.timeOfImpactTests;
-  const int resolved = resolvedFeature(a, b, own, other, now);
+  const int resolved = dismissed != kNoFeature ? dismissed : resolvedFeature(a, b, own, other, now);
   const Vec2 pa = w_.positionAt(a, now);
   const Vec2 pb = w_.positionAt(b, now);
   const Vec2 vb = w_.velocityAt(b, now);
@@ -267,9 +268,11 @@ void Engine<W>::finishPrediction(Prediction& q) {
     for (uint32_t k = s_.staticBegin[cell]; k < s_.staticBegin[cell + 1]; ++k) {
       const uint32_t g = s_.staticList[k];
       forEachPhysical(i, [&](uint32_t f) {
-        if (!w_.canCollide(f, g) || (q.hasDismissals && isDismissed(i, f, g))) return;
+        if (!w_.canCollide(f, g)) return;
+        const int dismissed = q.hasDismissals ? dismissedFeature(i, f, g) : kNotDismissed;
+        if (dismissed == kWholePair) return;
         if (clearlyApart(ownBox(), w_.worldBox(g))) return;
-        predictPair(f, g, now, horizon, q.best);
+        predictPair(f, g, now, horizon, q.best, dismissed == kNotDismissed ? kNoFeature : dismissed);
       });
     }
   }
@@ -279,10 +282,12 @@ void Engine<W>::finishPrediction(Prediction& q) {
     const Box theirs = sweptBox(w_.fixtures[g].localBox, w_.positionAt(kinematic, now), w_.velocityAt(kinematic, now),
                                 kinematic.acceleration, horizon - now);
     forEachPhysical(i, [&](uint32_t f) {
-      if (!w_.canCollide(f, g) || (q.hasDismissals && isDismissed(i, f, g))) return;
+      if (!w_.canCollide(f, g)) return;
+      const int dismissed = q.hasDismissals ? dismissedFeature(i, f, g) : kNotDismissed;
+      if (dismissed == kWholePair) return;
       if (!w_.squeezes.empty() && w_.squeezeExempt(f, g)) return;
       if (clearlyApart(ownBox(), theirs)) return;
-      predictPair(f, g, now, horizon, q.best);
+      predictPair(f, g, now, horizon, q.best, dismissed == kNotDismissed ? kNoFeature : dismissed);
     });
   }
   if (q.p.hot->flags & HotBody::kSliding) {

@@ -699,6 +699,21 @@ void Engine<W>::gatherNeighbours(uint32_t slot, std::vector<uint32_t>& out) cons
 }
 
 template <class W>
+int Engine<W>::dismissedFeature(uint32_t slot, uint32_t own, uint32_t other) const {
+  const Geometry& g = w_.fixtures[other].geometry;
+  const bool several = std::holds_alternative<Polyline>(g) || std::holds_alternative<Polygon>(g);
+  const uint32_t countOwn = s_.hot[slot].collisionCount;
+  int found = kNotDismissed;
+  for (const detail::Dismissal& d : s_.dismissed[slot]) {
+    if (d.own != own || d.other != other || d.countOwn != countOwn || d.countOther != countOf(other)) continue;
+    // Two features dismissed at once (a corner and its edge) could take turns: the pair is left out.
+    if (!several || found != kNotDismissed) return kWholePair;
+    found = d.feature;
+  }
+  return found;
+}
+
+template <class W>
 bool Engine<W>::isDismissed(uint32_t slot, uint32_t own, uint32_t other) const {
   const uint32_t countOwn = s_.hot[slot].collisionCount;
   for (const detail::Dismissal& d : s_.dismissed[slot]) {

@@ -385,7 +385,7 @@ double Engine<W>::step(double dt) {
                                     return d.countOwn != countA || d.countOther != countOf(d.other);
                                   }),
                    list.end());
-        list.push_back({c.a, c.b, countA, c.countB});
+        list.push_back({c.a, c.b, countA, c.countB, c.feature});
         predictBody(i, c.time);
       }
       continue;

@@ -46,6 +46,7 @@ struct alignas(64) PredictiveEvent {
 struct Dismissal {
   uint32_t own, other;
   uint32_t countOwn, countOther;
+  int32_t feature;  // of `other`: a polyline's or polygon's other features are still predicted
 };
 
 // A tracked body's copy of what predictions read, split in three records kept in spatial order

@@ -321,7 +321,9 @@ struct World::Impl {
   void learnDiskShape(uint32_t body);
   void addPair(uint32_t fa, uint32_t fb);
   void sensorOverlapsSeen(uint32_t fa, uint32_t fb);
-  void predict(uint32_t own, uint32_t other, double now, double dt);
+  /// `dismissed`: a feature of `other` whose contact at `now` was found not to be approaching and
+  /// dropped; it is taken as separating (like a feature just resolved), the other features as usual.
+  void predict(uint32_t own, uint32_t other, double now, double dt, int dismissed = kNoFeature);
   /// Queues the contact `impact` found at `now` (in the frame where `other` rests, which moves on with
   /// the given velocity and acceleration), carrying both bodies' collision counters.
   void queueContact(const Impact& impact, uint32_t own, uint32_t other, uint32_t countOwn, uint32_t countOther,
