@@ -268,7 +268,17 @@ void World::Impl::resolve(const PredictedContact& c, std::vector<uint32_t>& woke
   // speed, with e the larger of the two fixtures' restitutions. j = (separation - vn) / (1/ma + 1/mb);
   // static, kinematic and sleeping bodies have 1/m = 0.
   const double now = time + c.time;
-  const bool rapid = now - a.lastContactTime < def.collapseTime || now - b.lastContactTime < def.collapseTime;
+  // The collapse guard without gravity (collapse_guard.h); under gravity the stepped islands and jams
+  // hold such clusters instead.
+  bool collapsing = false;
+  if (def.gravity.x == 0 && def.gravity.y == 0) {
+    const int limit = detail::collapseCollisions(def.maxEventsPerStep);
+    const bool aCollapsing = a.type == BodyType::Dynamic && a.countStepCollision() > limit;
+    const bool bCollapsing = b.type == BodyType::Dynamic && b.countStepCollision() > limit;
+    collapsing = aCollapsing || bCollapsing;
+  }
+  const bool rapid =
+      collapsing || now - a.lastContactTime < def.collapseTime || now - b.lastContactTime < def.collapseTime;
   const double e = rapid ? 1.0 : std::max(fixtures[c.a].restitution, fixtures[c.b].restitution);
   double separation = -e * vn;
   double j = (separation - vn) / inverseSum;
@@ -646,9 +656,12 @@ void World::Impl::stepHybrid(double dt) {
       // absorbing it (or settling the cluster again) would repeat at this instant without end.
       if (settledTogether(a, b, c.time)) continue;
       // Absorbing is pointless (and would repeat forever) when vn is itself the round-off of the
-      // velocities, or when the two are at rest relative to each other.
+      // velocities, or when the two are at rest relative to each other. The round-off of a relative
+      // velocity is that of the two velocities it is the difference of: two disks moving together at
+      // 10 units/s cannot have their approach absorbed below about 1e-15.
       const double speed = length(relativeVelocity);
-      if (vn < -16 * std::numeric_limits<double>::epsilon() * speed && speed > restTolerance &&
+      const double roundOff = length(velocityAt(a, c.time)) + length(velocityAt(b, c.time));
+      if (vn < -16 * std::numeric_limits<double>::epsilon() * roundOff && speed > restTolerance &&
           stats.eventsProcessed < def.maxEventsPerStep) {
         if (settleJamAt(c, dt)) continue;
         if (squeezeAt(c)) {

@@ -42,7 +42,7 @@ struct PlainOutcome {
 // The contact `c` (c.a the fixture of `a`, c.b of `b`; c.normal from b toward a) at step time c.time,
 // world time worldTime + c.time.
 inline PlainOutcome resolvePlainDisks(PlainDisk a, PlainDisk b, const PredictiveEvent& c, double worldTime,
-                                      double collapseTime, double tolerance) {
+                                      double collapseTime, double tolerance, int collapseCollisions) {
   const double t = c.time;
   for (HotBody* h : {&a.hot, &b.hot}) {  // World::Impl::advance
     h->position = positionAt(*h, Vec2{}, t);
@@ -65,7 +65,12 @@ inline PlainOutcome resolvePlainDisks(PlainDisk a, PlainDisk b, const Predictive
   }
 
   const double now = worldTime + t;
-  const bool rapid = now - a.cold.lastContactTime < collapseTime || now - b.cold.lastContactTime < collapseTime;
+  // resolve()'s collapse guard without gravity (a plain world has none; collapse_guard.h): the counts
+  // of this step's collisions, this one included.
+  const bool aCollapsing = ++a.cold.stepCollisions > static_cast<uint32_t>(collapseCollisions);
+  const bool bCollapsing = ++b.cold.stepCollisions > static_cast<uint32_t>(collapseCollisions);
+  const bool rapid = aCollapsing || bCollapsing || now - a.cold.lastContactTime < collapseTime ||
+                     now - b.cold.lastContactTime < collapseTime;
   const double e = rapid ? 1.0 : std::max(a.cold.restitution, b.cold.restitution);
   const double separation = -e * vn;
   double j = (separation - vn) / inverseSum;

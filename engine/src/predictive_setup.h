@@ -86,6 +86,7 @@ void Engine<W>::sync(uint32_t slot) {
   c.lastFeature = b.last.feature;
   c.inverseMass = b.inverseMass;
   c.lastContactTime = b.lastContactTime;
+  c.stepCollisions = static_cast<uint32_t>(b.stepCollisions);
   if (w_.pathLog.active) w_.pathLog.record(s_.bodyOfSlot[slot], {b.localTime, b.position, b.velocity, b.acceleration});
 }
 
@@ -103,6 +104,7 @@ void Engine<W>::attach(uint32_t slot) {
   b.collisionCount = h.collisionCount;
   b.setLast(detail::LastContact{c.lastLow, c.lastHigh, c.lastFeature, c.lastTime});
   b.lastContactTime = c.lastContactTime;
+  b.stepCollisions = static_cast<int>(c.stepCollisions);
   h.flags = static_cast<uint8_t>(h.flags & ~HotBody::kDetached);
 }
 

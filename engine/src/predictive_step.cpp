@@ -97,6 +97,10 @@ double Engine<W>::endPlain(double end, double& speed) {
     c.lastTime = lastTime;
     b.setLast(detail::LastContact{c.lastLow, c.lastHigh, c.lastFeature, lastTime});
     b.lastContactTime = c.lastContactTime;
+    // The step's collision count starts again with the next step (normalize() does not run between plain
+    // steps).
+    b.stepCollisions = 0;
+    c.stepCollisions = 0;
     h.flags = static_cast<uint8_t>(h.flags & ~HotBody::kDetached);
     extent = std::max({extent, std::fabs(p.x), std::fabs(p.y)});
     speedSquared = std::max(speedSquared, dot(v, v));
@@ -113,7 +117,7 @@ void Engine<W>::collidePlain(uint32_t i, uint32_t j, const PredictiveEvent& c, d
   // catch up in attach(). The contact event as resolve() writes it.
   const detail::PlainOutcome out =
       detail::resolvePlainDisks({s_.hot[i], s_.cold[i]}, {s_.hot[j], s_.cold[j]}, c, w_.time,
-                                w_.def.collapseTime, tolerance);
+                                w_.def.collapseTime, tolerance, detail::collapseCollisions(w_.def.maxEventsPerStep));
   if (out.approachingAfter) {
     // As after resolve(): the guard does not hold for a pair left approaching.
     for (uint32_t k : {i, j}) {
@@ -342,6 +346,7 @@ double Engine<W>::step(double dt) {
     // The hybrid step's check at pop: an approach no faster than round-off, with nothing pressing the two
     // together, is not a collision. It is absorbed when the bodies still move, or else dropped.
     Vec2 relativeVelocity, relativeAcceleration;
+    double velocityScale = 0;  // |v_a| + |v_b|: the round-off of the relative velocity (as the hybrid step)
     {
       const HotBody& ha = s_.hot[i];
       const Vec2 accA = accelerationOf(ha, s_.rare[i]);
@@ -350,10 +355,12 @@ double Engine<W>::step(double dt) {
         const Vec2 accB = accelerationOf(hb, s_.rare[j]);
         relativeVelocity = velocityAt(ha, accA, c.time) - velocityAt(hb, accB, c.time);
         relativeAcceleration = accA - accB;
+        velocityScale = length(velocityAt(ha, accA, c.time)) + length(velocityAt(hb, accB, c.time));
       } else {
         const BodySlot& b = w_.bodyOf(c.b);
         relativeVelocity = velocityAt(ha, accA, c.time) - w_.velocityAt(b, c.time);
         relativeAcceleration = accA - b.acceleration;
+        velocityScale = length(velocityAt(ha, accA, c.time)) + length(w_.velocityAt(b, c.time));
       }
     }
     const detail::PredictedContact contact{
@@ -365,7 +372,7 @@ double Engine<W>::step(double dt) {
     if (!(vn < -tolerance) && !pressing) {
       ++w_.stats.staleEvents;
       const double speed = length(relativeVelocity);
-      if (vn < -16 * kEps * speed && speed > restTol && w_.stats.eventsProcessed < w_.def.maxEventsPerStep) {
+      if (vn < -16 * kEps * velocityScale && speed > restTol && w_.stats.eventsProcessed < w_.def.maxEventsPerStep) {
         attach(i);
         if (j != PredictiveState::kNone) attach(j);
         w_.absorb(contact, vn);
@@ -483,6 +490,7 @@ double Engine<W>::step(double dt) {
     if (b.type == BodyType::Dynamic) {
       w_.advance(b, end);
       if (b.asleep) ++w_.stats.sleeping;
+      b.stepCollisions = 0;  // as in endPlain(): the copies take it in sync()
     } else {
       b.position = b.position + b.velocity * end;
     }

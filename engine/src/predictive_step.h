@@ -13,6 +13,7 @@
 #include <limits>
 #include <vector>
 
+#include "collapse_guard.h"
 #include "large_array.h"
 #include "path_log.h"
 #include "rattle/types.h"
@@ -82,6 +83,7 @@ struct alignas(64) ColdBody {
   uint32_t lastLow = 0, lastHigh = 0;
   int32_t lastFeature = -1;
   int32_t cx = 0, cy = 0;  // its cell
+  uint32_t stepCollisions = 0;  // BodySlot::stepCollisions (the collapse guard without gravity)
   // The rest of what World::Impl::resolve() reads from two BodySlots and two FixtureSlots, for a
   // collision of two plain disks resolved on the copies (plain_collision.h).
   double inverseMass = 0;

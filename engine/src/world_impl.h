@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "broad_phase.h"
+#include "collapse_guard.h"
 #include "fixture_list.h"
 #include "path_log.h"
 #include "rattle/time_of_impact.h"
