@@ -25,6 +25,11 @@ class Engine {
   virtual void collect() {}
   /// Positions and velocities of the scene's disks, in the scene's order.
   virtual void state(std::vector<Vec2>& positions, std::vector<Vec2>& velocities) const = 0;
+  /// Sets every disk's velocity, in the scene's order (the crowd's steering, before each step, outside the
+  /// timing). Only the engines steeredEngine() names implement it; the others throw std::logic_error.
+  virtual void setVelocities(const std::vector<Vec2>& velocities);
+  /// How many of the scene's disks the engine holds asleep; -1 when it does not say (or never sleeps).
+  virtual long long asleep() const { return -1; }
 
   /// Collisions since the start, disk-disk and disk-wall (each engine's own notion: a resolved impact,
   /// or a contact that began touching); -1 when the engine does not count them.
@@ -61,6 +66,10 @@ struct EngineSettings {
   BisectDepths bisect;
 };
 
+/// Whether the named engine takes a velocity for every disk before each step (Engine::setVelocities), as
+/// scenes with steering need: rattle's three modes, Box2D and Chipmunk.
+bool steeredEngine(const std::string& name);
+
 /// Builds the named engine's world from the scene. Throws std::invalid_argument for an unknown name,
 /// EngineUnavailable for one that was not compiled in and EngineCannotRun for a scene it cannot run.
 std::unique_ptr<Engine> makeEngine(const std::string& name, const Scene& scene, const EngineSettings& settings = {});
@@ -69,7 +78,8 @@ struct EngineUnavailable : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// The engine cannot run this scene (edmd outside a closed elastic box).
+/// The engine cannot run this scene (edmd outside a closed elastic box, a steered scene with an engine
+/// that takes no velocities).
 struct EngineCannotRun : std::runtime_error {
   using std::runtime_error::runtime_error;
 };

@@ -5,10 +5,12 @@
 // one circle fixture of the scene's density, no friction, the scene's restitution (Box2D mixes two by the
 // larger, as rattle does) and a restitution threshold of 0 (the fixture field that replaced
 // b2_velocityThreshold in 2.4: every approaching contact bounces, however slow). Walls are two-sided edge
-// shapes, sensor strips polygon sensors, all on one static body. Disks that must not meet share a negative
+// shapes (which collide at their ends too, as a wall with solid ends must), sensor strips polygon sensors, all on one static body. Disks that must not meet share a negative
 // group index. Everything else is Box2D's default: Step(dt, 8 velocity iterations, 3 position iterations),
 // sleeping allowed, continuous collision of dynamic bodies against static ones on; `box2d-bullet` also
 // marks every disk a bullet (continuous collision between dynamic bodies too).
+//
+// The crowd's steering sets each disk's velocity with SetLinearVelocity before a step (outside the timing).
 //
 // Collisions are counted as BeginContact between two physical fixtures (a contact that starts touching;
 // a resting contact counts once), in a listener that runs inside Step (it only increments a counter).
@@ -91,6 +93,17 @@ class Box2dEngine final : public Engine, private b2ContactListener {
     if (maxSpeed_ * dt_ > b2_maxTranslation && notes.empty())
       notes = "Box2D moves a body at most b2_maxTranslation = 2 units per step: speeds above " +
               std::to_string(static_cast<int>(b2_maxTranslation / dt_)) + " units/s are cut";
+  }
+
+  // SetLinearVelocity wakes a sleeping body when the velocity is not zero.
+  void setVelocities(const std::vector<Vec2>& velocities) override {
+    for (size_t i = 0; i < bodies_.size(); ++i) bodies_[i]->SetLinearVelocity(vec(velocities[i]));
+  }
+
+  long long asleep() const override {
+    long long n = 0;
+    for (const b2Body* b : bodies_) n += b->IsAwake() ? 0 : 1;
+    return n;
   }
 
   void state(std::vector<Vec2>& positions, std::vector<Vec2>& velocities) const override {

@@ -3,7 +3,7 @@
 //
 // Set up as fairly as Chipmunk allows for rattle's model: every disk a body of the scene's mass and
 // infinite moment (it never spins), one circle shape, no friction; walls are segment shapes of radius 0
-// and sensor strips polygon sensors on the space's static body. Chipmunk multiplies the two elasticities
+// (whose ends collide, as a wall with solid ends must) and sensor strips polygon sensors on the space's static body. Chipmunk multiplies the two elasticities
 // of a contact, so every shape gets sqrt(restitution) and every contact the scene's restitution. Disks that
 // must not meet share a group. Everything else is Chipmunk's default: 10 iterations, collision slop 0.1,
 // the bounding-box tree as spatial index, no sleeping. Chipmunk has no continuous collision.
@@ -118,6 +118,10 @@ class ChipmunkEngine final : public Engine {
   ChipmunkEngine& operator=(const ChipmunkEngine&) = delete;
 
   void step(double dt) override { cpSpaceStep(space_, dt); }
+
+  void setVelocities(const std::vector<Vec2>& velocities) override {
+    for (size_t i = 0; i < bodies_.size(); ++i) cpBodySetVelocity(bodies_[i], cpv(velocities[i].x, velocities[i].y));
+  }
 
   void state(std::vector<Vec2>& positions, std::vector<Vec2>& velocities) const override {
     positions.resize(bodies_.size());

@@ -45,6 +45,16 @@ class RattleEngine final : public Engine {
       notes = "event budget (WorldDef::maxEventsPerStep) reached in " + std::to_string(budgetSteps_) + " steps";
   }
 
+  void setVelocities(const std::vector<Vec2>& velocities) override {
+    for (size_t i = 0; i < bodies_.size(); ++i) world_.setVelocity(bodies_[i], velocities[i]);
+  }
+
+  long long asleep() const override {
+    long long n = 0;
+    for (const rattle::BodyId b : bodies_) n += world_.isAsleep(b) ? 1 : 0;
+    return n;
+  }
+
   void state(std::vector<Vec2>& positions, std::vector<Vec2>& velocities) const override {
     positions.resize(bodies_.size());
     velocities.resize(bodies_.size());

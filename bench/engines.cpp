@@ -40,6 +40,15 @@ const std::vector<EngineInfo>& engineList() {
   return list;
 }
 
+void Engine::setVelocities(const std::vector<Vec2>&) {
+  throw std::logic_error("rattle-bench: this engine takes no velocities (steeredEngine)");
+}
+
+bool steeredEngine(const std::string& name) {
+  return name == "discrete" || name == "hybrid" || name == "predictive" || name == "box2d" ||
+         name == "box2d-bullet" || name == "chipmunk";
+}
+
 std::unique_ptr<Engine> makeEngine(const std::string& name, const Scene& scene, const EngineSettings& settings) {
   for (const EngineInfo& e : engineList())
     if (e.name == name && !e.available)
@@ -48,6 +57,10 @@ std::unique_ptr<Engine> makeEngine(const std::string& name, const Scene& scene, 
                                                   : std::string("Box2D 2.4, libbox2d-dev")) +
                               ", was not found when rattle-bench was configured; install it with `bash "
                               "scripts/install-deps.sh scripts/packages-bench.txt` and configure again)");
+  if (scene.steering.enabled && !steeredEngine(name))
+    throw EngineCannotRun("--engine " + name + ": not available for " + scene.name +
+                          " (its disks are steered each step: discrete, hybrid, predictive, box2d, box2d-bullet, "
+                          "chipmunk)");
   if (name == "discrete") return makeRattleEngine(scene, RattleMode::Discrete, settings.collapseTime);
   if (name == "hybrid") return makeRattleEngine(scene, RattleMode::Hybrid, settings.collapseTime);
   if (name == "predictive") return makeRattleEngine(scene, RattleMode::Predictive, settings.collapseTime);

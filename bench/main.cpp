@@ -97,36 +97,74 @@ int run(const Options& o) {
 
   Progress progress(!o.quiet, scene.name + "/" + o.engine + " n=" + std::to_string(n) + " dt=" + o.dtText);
   StepTimer timer;
-  std::vector<double> stepSeconds(static_cast<size_t>(steps)), wallSeconds(static_cast<size_t>(steps));
+  std::vector<double> stepSeconds, wallSeconds;
+  stepSeconds.reserve(static_cast<size_t>(steps));
+  wallSeconds.reserve(static_cast<size_t>(steps));
   // Timing: the steps of --warm-up, or the first tenth of them, are warm-up.
-  const size_t warm =
+  size_t warm =
       o.warmUp >= 0 ? static_cast<size_t>(std::round(o.warmUp / o.dt)) : static_cast<size_t>(steps / 10);
-  long long warmCollisions = 0;  // the collisions of the warm-up steps, left out of collisions_per_s
+  std::vector<long long> collisionsAfter;  // the engine's count after each step
+  collisionsAfter.reserve(static_cast<size_t>(steps));
+  // The crowd: steered before every step, and measured after every step (the steering reads the positions
+  // anyway), so that a crossing of the dividing wall is seen step by step.
+  const bool steered = scene.steering.enabled;
+  std::vector<Vec2> steer, before;
+  std::vector<uint8_t> reached(steered ? n : 0, 0), throughWall(steered ? n : 0, 0);
+  const Clock::time_point runStart = Clock::now();
+  bool stoppedAtLimit = false;
+  long long ran = 0;
   for (long long k = 0; k < steps; ++k) {
-    if (static_cast<size_t>(k) == warm) warmCollisions = engine->collisions;
+    if (steered) {
+      steerCrowd(scene, positions, steer);
+      engine->setVelocities(steer);
+      before = positions;
+    }
     timer.start();
     engine->step(o.dt);
     const Interval took = timer.stop();
-    stepSeconds[static_cast<size_t>(k)] = took.cpu;
-    wallSeconds[static_cast<size_t>(k)] = took.wall;
+    stepSeconds.push_back(took.cpu);
+    wallSeconds.push_back(took.wall);
+    ran = k + 1;
     engine->collect();
-    if (k % o.measureEvery == 0 || k == steps - 1) {
+    collisionsAfter.push_back(engine->collisions);
+    const bool stop = o.timeLimit > 0 && k + 1 < steps && secondsSince(runStart) >= o.timeLimit;
+    if (steered || stop || k % o.measureEvery == 0 || k == steps - 1) {
       engine->state(positions, velocities);
       meter.measure(positions, overlaps);
       tunnelled = markTunnelled(scene, positions, outside);
     }
+    if (steered) {
+      for (size_t i = 0; i < n; ++i) {
+        if (inGoalRegion(scene, i, positions[i])) reached[i] = 1;
+        if (crossedWallOutsideDoorways(scene, before[i], positions[i])) throughWall[i] = 1;
+      }
+    }
     progress.update("step", k + 1, steps);
+    if (stop) {
+      stoppedAtLimit = true;
+      break;
+    }
   }
+  if (steered) {
+    tunnelled = 0;
+    for (size_t i = 0; i < n; ++i) tunnelled += (outside[i] || throughWall[i]) ? 1 : 0;
+  }
+  // A run stopped before its warm-up ended is timed after the first tenth of the steps it ran.
+  if (warm >= static_cast<size_t>(ran)) warm = static_cast<size_t>(ran / 10);
+  // The collisions of the warm-up steps, left out of collisions_per_s.
+  const long long warmCollisions = warm > 0 ? collisionsAfter[warm - 1] : 0;
   const long double e1 = totalEnergy(scene, positions, velocities);
 
   Reference ref;
-  if (o.reference) {
+  // A steered scene has no exact reference (each engine's steering reacts to its own positions), and a run
+  // stopped at the time limit none to compare with.
+  if (o.reference && !steered && !stoppedAtLimit) {
     if (o.engine == "predictive" && scene.sensors.empty()) {
       ref.collisions = engine->collisions;  // this run is the reference
       ref.how = "this run";
     } else {
       progress.update("reference run", 0, 1);
-      ref = exactReference(scene, o.dt, steps, o.settings.collapseTime);
+      ref = exactReference(scene, o.dt, ran, o.settings.collapseTime);
     }
   }
   progress.finish();
@@ -143,7 +181,7 @@ int run(const Options& o) {
   const long long timedCollisions = engine->collisions >= 0 ? engine->collisions - warmCollisions : -1;
   const double collisionsPerSecond =
       timedCollisions >= 0 && sum > 0 ? static_cast<double>(timedCollisions) / sum : nan;
-  const double energyDrift = e0 != 0 ? static_cast<double>((e1 - e0) / std::fabs(e0)) : static_cast<double>(e1 - e0);
+  const double energyDrift = steered ? nan : e0 != 0 ? static_cast<double>((e1 - e0) / std::fabs(e0)) : static_cast<double>(e1 - e0);
   double countError = nan;
   if (ref.collisions > 0 && engine->collisions >= 0)
     countError = static_cast<double>(engine->collisions - ref.collisions) / static_cast<double>(ref.collisions);
@@ -161,8 +199,10 @@ int run(const Options& o) {
   row.set("engine", o.engine);
   row.set("n", std::to_string(n));
   row.set("dt", num(o.dt, "%.10g"));
-  row.set("seconds", num(static_cast<double>(steps) * o.dt, "%.10g"));
+  row.set("seconds", num(static_cast<double>(ran) * o.dt, "%.10g"));
   row.set("ms_per_step", num(msPerStep));
+  row.set("p99_ms_per_step", num(1e3 * percentile(timed, 0.99)));
+  row.set("worst_ms_per_step", num(1e3 * percentile(timed, 1.0)));
   row.set("ms_per_simulated_second", num(msPerSimulatedSecond));
   row.set("collisions_per_s", num(collisionsPerSecond));
   row.set("energy_drift", num(energyDrift, "%.3e"));
@@ -174,7 +214,7 @@ int run(const Options& o) {
   row.set("seed", std::to_string(scene.seed));
   row.set("packing", num(scene.packing, "%.4g"));
   row.set("speed", num(scene.speed, "%.6g"));
-  row.set("steps", std::to_string(steps));
+  row.set("steps", std::to_string(ran));
   row.set("warm_up_s", num(static_cast<double>(warm) * o.dt, "%.10g"));
   row.set("collisions", engine->collisions >= 0 ? std::to_string(engine->collisions) : "");
   row.set("timed_collisions", timedCollisions >= 0 ? std::to_string(timedCollisions) : "");
@@ -183,7 +223,20 @@ int run(const Options& o) {
   row.set("reference_sensor_visits", hasSensors && !ref.sensorBegins.empty() ? std::to_string(referenceVisits) : "");
   row.set("wall_ms_per_step", num(1e3 * median(timedWall)));
   row.set("setup_s", num(setupSeconds, "%.3g"));
-  row.set("notes", engine->notes);
+  if (steered) {
+    long long r = 0;
+    for (uint8_t x : reached) r += x;
+    row.set("reached_goal", std::to_string(r));
+  }
+  if (engine->asleep() >= 0) row.set("asleep", std::to_string(engine->asleep()));
+  std::string notes = engine->notes;
+  if (o.timeLimit > 0) {
+    row.set("stopped_at_time_limit", stoppedAtLimit ? "yes" : "no");
+    if (stoppedAtLimit)
+      notes += std::string(notes.empty() ? "" : "; ") + "stopped at the wall-clock limit of " + num(o.timeLimit) +
+               " s after " + std::to_string(ran) + " of " + std::to_string(steps) + " steps";
+  }
+  row.set("notes", notes);
   row.print(o.csv, ref.how);
   return 0;
 }

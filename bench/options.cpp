@@ -89,7 +89,7 @@ Options parseOptions(const std::vector<std::string>& args) {
       o.scene.name = take();
       bool known = value == "arena";
       for (const std::string& s : sceneNames()) known = known || s == value;
-      if (!known) throw bad("unknown scene (gas, pile, bullets, cradle, sensors, arena)");
+      if (!known) throw bad("unknown scene (gas, pile, bullets, cradle, sensors, crowd, arena)");
     } else if (name == "--engine") {
       o.engine = take();
       bool known = false;
@@ -147,6 +147,12 @@ Options parseOptions(const std::vector<std::string>& args) {
         throw bad("must be a number of simulated seconds >= 0");
       o.warmUp = t;
       o.warmUpText = value;
+    } else if (name == "--time-limit") {
+      double t;
+      if (!parseDouble(take(), t) || !std::isfinite(t) || !(t >= 0))
+        throw bad("must be a number of wall-clock seconds >= 0 (0: no limit)");
+      o.timeLimit = t;
+      diskOnly.push_back(name + " " + value);
     } else if (name == "--measure-every") {
       unsigned long long k;
       if (!parseUnsigned(take(), 1'000'000'000ull, k) || k < 1) throw bad("must be a whole number >= 1");
@@ -188,14 +194,15 @@ std::string helpText() {
 
 usage: rattle-bench [--scene S] [--engine E] [--n N] [--dt DT] [--seconds T] [--seed K] [--csv]
                     [--packing P] [--speed V] [--collapse-time TC] [--bisect-depths M,S]
-                    [--no-reference] [--measure-every K] [--quiet]
+                    [--no-reference] [--measure-every K] [--warm-up T] [--time-limit S] [--quiet]
        rattle-bench --help | --version
 
-  --scene S          gas (default), pile, bullets, cradle, sensors (bench/scenes.h says what each is),
-                     arena (the demo's game on assets/maps/arena.json; bench/arena.h)
-  --engine E         one of the engines below (default hybrid); arena: discrete, hybrid, predictive
-  --n N              number of disks (defaults: gas and pile 1000, bullets 100, cradle 60 (a multiple
-                     of 6), sensors 200); arena: units per team (default 100)
+  --scene S          gas (default), pile, bullets, cradle, sensors, crowd (bench/scenes.h says what
+                     each is), arena (the demo's game on assets/maps/arena.json; bench/arena.h)
+  --engine E         one of the engines below (default hybrid); arena: discrete, hybrid, predictive;
+                     crowd: discrete, hybrid, predictive, box2d, box2d-bullet, chipmunk
+  --n N              number of disks (defaults: gas, pile and crowd 1000, bullets 100, cradle 60 (a
+                     multiple of 6), sensors 200); arena: units per team (default 100)
   --dt DT            step in seconds, a number or a fraction (default 1/60); arena: the game's fixed
                      tick, 1/30, is the default and the only step it takes
   --seconds T        simulated seconds (default 2); steps = round(T / DT)
@@ -203,7 +210,7 @@ usage: rattle-bench [--scene S] [--engine E] [--n N] [--dt DT] [--seconds T] [--
   --csv              print a header line and one CSV row instead of named values
   --packing P        gas only: packing fraction (default 0.3)
   --speed V          speed of every disk (defaults: gas 1, pile up to 1, bullets 10..10^4 in turn,
-                     cradle 1..3 per lane, sensors 10..40)
+                     cradle 1..3 per lane, sensors 10..40); crowd: the steering's full speed (default 3)
   --collapse-time TC WorldDef::collapseTime (the TC model against inelastic collapse) for the rattle
                      modes and for the exact reference run, whatever the engine (default 0: off,
                      rattle's default)
@@ -214,6 +221,9 @@ usage: rattle-bench [--scene S] [--engine E] [--n N] [--dt DT] [--seconds T] [--
   --warm-up T        the steps of the first T simulated seconds are not timed (default: the first
                      tenth of the steps); a gas started from a lattice takes about 0.5 s to settle
                      into its steady collision rate
+  --time-limit S     stop after the step under way once S wall-clock seconds have passed since the
+                     first step (default 0: no limit); the row covers the steps run, and
+                     stopped_at_time_limit says yes (a step is never cut short)
   --quiet            no progress line on stderr
 
 engines:
@@ -221,7 +231,8 @@ engines:
          R"(
 The row: times are the CPU time of the thread running step() (other work on the machine does not count;
 wall_ms_per_step gives the wall-clock median too). ms_per_step is the median time of one step() after a
-warm-up (--warm-up; the first tenth of the steps); ms_per_simulated_second the mean step time after warm-up divided
+warm-up (--warm-up; the first tenth of the steps), p99_ms_per_step the 99th percentile (nearest rank) and
+worst_ms_per_step the longest of the same steps; ms_per_simulated_second the mean step time after warm-up divided
 by DT; collisions_per_s the collisions of the timed steps (after warm-up) per second of their step time
 (timed_collisions; collisions counts every step); energy_drift (E_end - E_0) / |E_0| with E
 kinetic plus potential; max_overlap and mean_overlap the depths of disk-disk and disk-wall overlaps
@@ -229,7 +240,15 @@ relative to the smaller radius, measured after the steps outside the timing; tun
 found outside the container; sensor_missed the exact sensor visits the engine did not report;
 collision_count_error (count - exact) / exact. The exact reference is run in the same invocation:
 rattle's predictive mode for the collision count, rattle's hybrid mode at DT <= 1/240 for sensor events
-(the predictive mode reports none yet).
+(the predictive mode reports none yet). asleep: the disks the engine holds asleep at the end (rattle
+and Box2D; empty for engines that do not say or never sleep).
+
+The crowd row: before every step (outside the timing) each disk's velocity is set by the naive steering
+(bench/scenes.h); reached_goal counts the disks whose centre was ever in the goal region (the second
+room); tunnelled counts the disks ever found outside the container or that crossed the dividing wall
+anywhere but through a doorway (through a wall); max_overlap and mean_overlap as above (disks against
+disks and walls). There is no exact reference (the steering makes each engine's run its own), and
+energy_drift is empty (the steering sets the energy).
 
 The arena row: the step times are the game's own measure of World::step (rattle-demo prints its
 median); n is units per team; tunnelled counts projectiles whose centre crossed a wall, a building or
@@ -242,7 +261,7 @@ and reference_shots, reference_shots_out_of_range and reference_crossings the pr
 
 exit codes: 0 done; 1 the run failed; 2 bad command line (or a scene that cannot be built from it);
 3 the engine or scene asked for is not compiled in; 4 the engine cannot run the scene asked for
-(arena runs only with discrete, hybrid and predictive).
+(arena runs only with discrete, hybrid and predictive; crowd not with bisect, edmd or edmd-lean).
 )";
 }
 

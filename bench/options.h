@@ -29,6 +29,9 @@ struct Options {
   double warmUp = -1;
   std::string warmUpText;  ///< as given, for messages
   bool quiet = false;     ///< no progress line on stderr
+  /// Wall-clock seconds after which the run stops at the end of the step under way (0: no limit); the row
+  /// then covers the steps run and says it was stopped (stopped_at_time_limit).
+  double timeLimit = 0;
   EngineSettings settings;
   bool help = false;
   bool version = false;

@@ -75,7 +75,15 @@ def scene_tables(rows):
     seen = []
     for r in rows:
         scene = r["scene"]
-        if scene == "gas":
+        if r.get("table") == "pile-target" or (scene == "pile" and r.get("table") is None and
+                                                 r.get("collapse_time") == ""):
+            key = "pile-target"
+            title = "pile, %s disks for %s s at dt 1/60, every engine's default settings (issue 24's targets)" % (
+                r["n"], r["seconds"])
+        elif scene == "crowd":
+            key = "crowd-%s" % r["n"]
+            title = "crowd, %s disks steered naively through two doorways" % r["n"]
+        elif scene == "gas":
             key = "gas-%s" % r["packing"]
             title = "gas, %s disks, packing %s, speed 1" % (r["n"], r["packing"])
         elif scene == "bullets":
@@ -106,19 +114,50 @@ def row_notes(r):
     return "" if notes.startswith(HEADER_NOTES) else notes.replace("|", "/")
 
 
-def generic_table(rows):
-    has_sensors = any(r.get("sensor_missed", "") != "" for r in rows)
-    head = ["engine", "dt", "ms/step", "ms/sim s", "collisions/s", "energy drift", "max overlap", "mean overlap",
-            "tunnelled"] + (["sensor missed"] if has_sensors else []) + ["count error", "notes"]
+def step_cells(r):
+    """The step times beside the median: the 99th percentile and the worst step (after warm-up)."""
+    return [fmt(num(r, "p99_ms_per_step"), "ms"), fmt(num(r, "worst_ms_per_step"), "ms")]
+
+
+def stopped(r):
+    return r.get("stopped_at_time_limit") == "yes"
+
+
+def crowd_table(rows):
+    """The crowd: step times, Chipmunk's median over each engine's (measured in the same run), and how the
+    crowd fared: through the doorways, overlaps, through walls."""
+    chip = [r for r in rows if r["engine"] == "chipmunk"]
+    base = num(chip[0], "ms_per_step") if chip else float("nan")
+    head = ["engine", "simulated s", "ms/step (median)", "p99 ms", "worst ms", "mean ms", "median / Chipmunk's",
+            "reached goal", "max overlap", "mean overlap", "through a wall", "notes"]
     out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for r in order(rows):
-        cells = [r["engine"], step_name(num(r, "dt")), fmt(num(r, "ms_per_step"), "ms"),
-                 fmt(num(r, "ms_per_simulated_second"), "ms"), fmt(num(r, "collisions_per_s"), "rate"),
+        secs = "%g%s" % (num(r, "seconds"), " (stopped at the time limit)" if stopped(r) else "")
+        cells = [r["engine"], secs, fmt(num(r, "ms_per_step"), "ms")] + step_cells(r) + \
+                [fmt(mean_step(r), "ms"), fmt(num(r, "ms_per_step") / base) + "x",
+                 "%s of %s" % (r.get("reached_goal", ""), r["n"]), fmt(num(r, "max_overlap"), "e"),
+                 fmt(num(r, "mean_overlap"), "e"), r["tunnelled"], row_notes(r)]
+        out.append("| " + " | ".join(cells) + " |")
+    return "\n".join(out)
+
+
+def generic_table(rows):
+    has_sensors = any(r.get("sensor_missed", "") != "" for r in rows)
+    has_asleep = any(r.get("asleep", "") != "" for r in rows)
+    head = ["engine", "dt", "ms/step", "p99 ms", "worst ms", "ms/sim s", "collisions/s", "energy drift", "max overlap", "mean overlap",
+            "tunnelled"] + (["sensor missed"] if has_sensors else []) + (["asleep at the end"] if has_asleep else []) + \
+           ["count error", "notes"]
+    out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for r in order(rows):
+        cells = [r["engine"], step_name(num(r, "dt")), fmt(num(r, "ms_per_step"), "ms")] + step_cells(r) + \
+                [fmt(num(r, "ms_per_simulated_second"), "ms"), fmt(num(r, "collisions_per_s"), "rate"),
                  fmt(num(r, "energy_drift"), "e"), fmt(num(r, "max_overlap"), "e"), fmt(num(r, "mean_overlap"), "e"),
                  r["tunnelled"]]
         if has_sensors:
             missed = r.get("sensor_missed", "")
             cells.append("%s of %s" % (missed, r.get("reference_sensor_visits", "")) if missed != "" else "-")
+        if has_asleep:
+            cells.append("%s of %s" % (r["asleep"], r["n"]) if r.get("asleep", "") != "" else "-")
         cells += [fmt(num(r, "collision_count_error"), "e"), row_notes(r)]
         out.append("| " + " | ".join(cells) + " |")
     return "\n".join(out)
@@ -128,12 +167,12 @@ def arena_table(rows):
     """The demo's game: its own error measures, and step time as a ratio to the discrete mode's in this run."""
     discrete = [r for r in rows if r["engine"] == "discrete"]
     base = num(discrete[0], "ms_per_step") if discrete else float("nan")
-    head = ["engine", "ms/step", "x discrete", "ms/sim s", "contacts/s", "shots tunnelled", "shots out of range",
+    head = ["engine", "ms/step", "p99 ms", "worst ms", "x discrete", "ms/sim s", "contacts/s", "shots tunnelled", "shots out of range",
             "max overlap", "mean overlap", "sensor missed", "contact count error", "notes"]
     out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for r in order(rows):
         ref = r.get("reference_shots_out_of_range", "")
-        cells = [r["engine"], fmt(num(r, "ms_per_step"), "ms"), fmt(num(r, "ms_per_step") / base),
+        cells = [r["engine"], fmt(num(r, "ms_per_step"), "ms")] + step_cells(r) + [fmt(num(r, "ms_per_step") / base),
                  fmt(num(r, "ms_per_simulated_second"), "ms"), fmt(num(r, "collisions_per_s"), "rate"),
                  "%s of %s" % (r["tunnelled"], r.get("shots", "")),
                  "%s of %s" % (r.get("shots_out_of_range", ""), r.get("shots", "")) +
@@ -149,7 +188,8 @@ def arena_table(rows):
 def bullets_table(rows):
     speeds = sorted({num(r, "speed") for r in rows})
     head = ["engine", "dt"] + ["tunnelled @%g" % v for v in speeds] + \
-           ["ms/sim s @%g" % speeds[-1], "energy drift @%g" % speeds[-1], "max overlap @%g" % speeds[-1], "notes"]
+           ["ms/step @%g" % speeds[-1], "p99 ms @%g" % speeds[-1], "worst ms @%g" % speeds[-1],
+            "ms/sim s @%g" % speeds[-1], "energy drift @%g" % speeds[-1], "max overlap @%g" % speeds[-1], "notes"]
     out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     by = {}
     for r in rows:
@@ -161,6 +201,7 @@ def bullets_table(rows):
         notes = sorted({row_notes(runs[v]) for v in runs} - {""})
         cells = [k[0], step_name(float(k[1]))] + \
                 ["%s/%s" % (runs[v]["tunnelled"], runs[v]["n"]) if v in runs else "-" for v in speeds] + \
+                [fmt(num(fast, "ms_per_step"), "ms")] + step_cells(fast) + \
                 [fmt(num(fast, "ms_per_simulated_second"), "ms"), fmt(num(fast, "energy_drift"), "e"),
                  fmt(num(fast, "max_overlap"), "e"), "; ".join(notes).replace("|", "/")]
         out.append("| " + " | ".join(cells) + " |")
@@ -179,7 +220,11 @@ def measures(key):
     if key.startswith("gas"):
         return [("max overlap / radius", absol("max_overlap"), FLOOR),
                 ("|collision count error|", absol("collision_count_error"), FLOOR)]
-    if key == "pile":
+    if key.startswith("crowd"):
+        behind = lambda r: 1 - num(r, "reached_goal") / num(r, "n")
+        return [("max overlap / radius", absol("max_overlap"), FLOOR),
+                ("fraction of disks that did not reach the goal", behind, FRACTION_FLOOR)]
+    if key.startswith("pile"):
         return [("max overlap / radius", absol("max_overlap"), FLOOR),
                 ("fraction of disks tunnelled", frac("tunnelled"), FRACTION_FLOOR)]
     if key == "bullets":
@@ -481,6 +526,100 @@ def targets(rows, scaling_rows, repeat_rows=()):
     return "\n".join(out)
 
 
+def targets_issue24(rows):
+    """Issue 24's targets (crowds and piles in bounded time), judged as ratios within this run. A row stopped
+    at its wall-clock limit did not finish its run: its targets are not met, and its counts cover only the
+    stretch it ran."""
+    out = ["| target | measured (CPU time of the step) | met |", "|---|---|---|"]
+    yes = lambda ok: "yes" if ok else "**no**"
+    pile = [r for r in rows if r.get("table") == "pile-target" or (r.get("table") is None and r["scene"] == "pile"
+                                                                    and r.get("collapse_time") == "")]
+    pick = lambda rs, engine: next((r for r in rs if r["engine"] == engine), None)
+
+    def ran(r):
+        return "ran only %g s: stopped at the wall-clock limit" % num(r, "seconds") if stopped(r) else ""
+
+    def steps(r):
+        return "median %s ms, p99 %s ms, worst %s ms, mean %s ms" % (
+            fmt(num(r, "ms_per_step"), "ms"), fmt(num(r, "p99_ms_per_step"), "ms"),
+            fmt(num(r, "worst_ms_per_step"), "ms"), fmt(mean_step(r), "ms"))
+
+    h, p, b, c = (pick(pile, e) for e in ("hybrid", "predictive", "box2d", "chipmunk"))
+    if h:
+        what = "pile %s, %g s, dt 1/60, restitution 0.5, default settings, hybrid" % (h["n"], num(h, "seconds"))
+        done = not stopped(h)
+        note = (" (%s)" % ran(h)) if not done else ""
+        for other, name, limit in ((c, "Chipmunk", 0.5), (b, "Box2D 2.4", 0.2)):
+            if other:
+                ratio = mean_step(h) / mean_step(other)
+                out.append("| %s: mean step <= %gx %s's | mean step %.3f ms vs %.3f ms: **%.2fx**%s%s | %s |" % (
+                    what, limit, name, mean_step(h), mean_step(other), ratio, note,
+                    (" (%s: %s)" % (name, ran(other))) if stopped(other) else "",
+                    yes(done and not stopped(other) and ratio <= limit)))
+            else:
+                out.append("| %s: mean step <= %gx %s's | no %s row in this run | **no** |" % (what, limit, name, name))
+        w = num(h, "worst_ms_per_step") / num(h, "ms_per_step")
+        out.append("| same pile, hybrid: worst step <= 5x its own median | %s: worst **%.1fx** the median%s | %s |" %
+                   (steps(h), w, note, yes(done and w <= 5)))
+        o = num(h, "max_overlap")
+        out.append("| same pile, hybrid: max overlap <= 1%% of a radius | max overlap %.2e of a radius%s | %s |" %
+                   (o, note, yes(done and o <= 0.01)))
+        t = int(num(h, "tunnelled"))
+        out.append("| same pile, hybrid: nothing below the floor | %d disks outside the box%s | %s |" %
+                   (t, note, yes(done and t == 0)))
+        asleep = h.get("asleep", "")
+        if asleep == "":
+            out.append("| same pile, hybrid: every body asleep by 10 s | the row does not say | cannot tell |")
+        elif int(asleep) == int(h["n"]) and done:
+            out.append("| same pile, hybrid: every body asleep by 10 s | all %s asleep at %g s | yes |" %
+                       (asleep, num(h, "seconds")))
+        else:
+            out.append("| same pile, hybrid: every body asleep by 10 s | %s of %s asleep at the end of the row (%g s);"
+                       " the row does not run to 10 s%s | cannot tell |" % (asleep, h["n"], num(h, "seconds"), note))
+    if p:
+        done = not stopped(p)
+        out.append("| same pile, predictive, default settings: completes | %s%s | %s |" % (
+            ran(p) or "ran all %g s (%s steps)" % (num(p, "seconds"), p["steps"]),
+            "; " + row_notes(p) if row_notes(p) and not stopped(p) else "", yes(done)))
+        if h:
+            ratio = mean_step(p) / mean_step(h)
+            out.append("| same pile, predictive: mean step <= 2x the hybrid's | mean step %.3f ms vs %.3f ms: "
+                       "**%.2fx**%s | %s |" % (mean_step(p), mean_step(h), ratio,
+                                              (" (predictive %s)" % ran(p)) if not done else "",
+                                              yes(done and not stopped(h) and ratio <= 2)))
+    crowd = [r for r in rows if r["scene"] == "crowd"]
+    if crowd:
+        n = max(int(num(r, "n")) for r in crowd)
+        big = [r for r in crowd if int(num(r, "n")) == n]
+        h, c = pick(big, "hybrid"), pick(big, "chipmunk")
+        what = "crowd of %d, naive steering, dt 1/30" % n
+        if h:
+            done = not stopped(h)
+            note = (" (%s)" % ran(h)) if not done else ""
+            if c:
+                ratio = num(h, "ms_per_step") / num(c, "ms_per_step")
+                out.append("| %s, hybrid: median step <= 0.5x Chipmunk's | %s vs Chipmunk's median %s ms: **%.2fx**%s%s"
+                           " | %s |" % (what, steps(h), fmt(num(c, "ms_per_step"), "ms"), ratio, note,
+                                        (" (Chipmunk %s)" % ran(c)) if stopped(c) else "",
+                                        yes(done and not stopped(c) and ratio <= 0.5)))
+            w = num(h, "worst_ms_per_step") / num(h, "ms_per_step")
+            out.append("| same crowd, hybrid: worst step <= 5x the median | ran %g s; worst **%.1fx** the median%s | %s |" %
+                       (num(h, "seconds"), w, note, yes(done and w <= 5)))
+            o = num(h, "max_overlap")
+            out.append("| same crowd, hybrid: max overlap <= 1%% of a radius | max overlap %.2e of a radius%s | %s |" %
+                       (o, note, yes(done and o <= 0.01)))
+            t = int(num(h, "tunnelled"))
+            out.append("| same crowd, hybrid: none through a wall | %d through a wall%s | %s |" %
+                       (t, note, yes(done and t == 0)))
+            if c:
+                rh, rc = int(num(h, "reached_goal")), int(num(c, "reached_goal"))
+                out.append("| same crowd, hybrid: at least as many disks through the doorway as Chipmunk lets through | "
+                           "%d against Chipmunk's %d%s | %s |" % (rh, rc, note, yes(done and not stopped(c) and rh >= rc)))
+        else:
+            out.append("| %s, hybrid | no hybrid row in this run | **no** |" % what)
+    return "\n".join(out)
+
+
 # ---------------------------------------------------------------------------------------------------------
 # The report
 
@@ -557,7 +696,12 @@ def write_report(out_dir, bench, matrix_seconds=None, load=None):
            "and the contact count error compares with the predictive mode's game from the same seed, which is "
            "a game of its own (the hybrid row shows how far two exact games drift apart).",
            "", "## Targets (issue 4), measured side by side in this run", "",
-           targets(rows, scaling_rows, repeat_rows), ""]
+           targets(rows, scaling_rows, repeat_rows), "",
+           "## Targets (issue 24: crowds and piles in bounded time), measured side by side in this run", "",
+           "Ratios of engines measured in this run. A row stopped at its wall-clock limit (bench/run_matrix.py) did "
+           "not finish: its targets are not met, and its counts cover only the stretch it ran, which depends on "
+           "the machine.", "",
+           targets_issue24(rows), ""]
     if repeat_rows:
         md += ["### The speed targets' gas, repeated", "",
                "The gas row of the two speed targets (%s disks, packing 0.3, dt 1/60, %s s), run again with "
@@ -578,7 +722,7 @@ def write_report(out_dir, bench, matrix_seconds=None, load=None):
                    "(see bench/README.md)." %
                    ", ".join(extra), ""]
         table = bullets_table(trs) if key == "bullets" else arena_table(trs) if key.startswith("arena") else \
-            generic_table(trs)
+            crowd_table(trs) if key.startswith("crowd") else generic_table(trs)
         md += [table, "",
                "![%s](figures/%s.png)" % (title, key), ""]
     if scaling_rows:

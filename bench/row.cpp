@@ -15,7 +15,8 @@ namespace {
 
 // The columns, in order. bench/README.md says what each one means, per scene.
 const char* const kColumns[] = {
-    "scene", "engine", "n", "dt", "seconds", "ms_per_step", "ms_per_simulated_second", "collisions_per_s",
+    "scene", "engine", "n", "dt", "seconds", "ms_per_step", "p99_ms_per_step", "worst_ms_per_step",
+    "ms_per_simulated_second", "collisions_per_s",
     "energy_drift", "max_overlap", "mean_overlap", "tunnelled", "sensor_missed", "collision_count_error",
     // Beyond the columns: what the row was run with, and the raw counts.
     "seed", "packing", "speed", "steps", "warm_up_s", "collisions", "timed_collisions", "reference_collisions",
@@ -23,6 +24,9 @@ const char* const kColumns[] = {
     // The arena scene's game counts (empty for the other scenes).
     "shots", "shots_out_of_range", "reference_shots", "reference_shots_out_of_range", "crossings",
     "reference_crossings",
+    // The crowd scene's goal (empty for the other scenes), sleeping bodies at the end (empty when the engine
+    // does not say), and whether --time-limit stopped the run (empty without a limit).
+    "reached_goal", "asleep", "stopped_at_time_limit",
     "notes"};
 
 std::string quoted(const std::string& s) {
@@ -69,6 +73,15 @@ std::string num(double v, const char* format) {
   char buf[64];
   std::snprintf(buf, sizeof buf, format, v);
   return buf;
+}
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return std::nan("");
+  // Nearest rank: the smallest value with at least p of the values at or below it.
+  size_t rank = static_cast<size_t>(std::ceil(p * static_cast<double>(v.size())));
+  rank = std::clamp<size_t>(rank, 1, v.size());
+  std::nth_element(v.begin(), v.begin() + static_cast<long>(rank - 1), v.end());
+  return v[rank - 1];
 }
 
 double median(std::vector<double> v) {

@@ -25,6 +25,10 @@ class Row {
 /// v printed with `format`; empty for NaN (an empty CSV cell).
 std::string num(double v, const char* format = "%.6g");
 
+/// The p-th quantile (0 < p <= 1) by nearest rank: the smallest value with at least p of the values at or
+/// below it (p = 1: the largest); NaN for an empty vector.
+double percentile(std::vector<double> v, double p);
+
 /// The median; NaN for an empty vector.
 double median(std::vector<double> v);
 

@@ -16,6 +16,15 @@ The matrix (what `make bench` runs; --quick shrinks every scene for a smoke test
       bullets 100 bullets for 2 s, once at each speed 10, 100, 1000, 10000
       cradle  600 disks (100 cradles) for 5 s
       sensors 200 disks for 5 s
+  - crowd (disks steered naively through two doorways into a second room, bench/scenes.h) with discrete,
+    hybrid, predictive, box2d and chipmunk at the game's tick (1/30 s): 1,000 and 10,000 disks for 20 s, each
+    run stopped at CROWD_TIME_LIMIT_S of wall-clock time (rattle-bench --time-limit; the row says so in
+    stopped_at_time_limit and its notes) so that an engine that cannot keep up does not hold the matrix up;
+    --quick: 100 disks for 2 s
+  - pile-target: the pile of issue 24's targets, 1,000 disks for 8 s at dt 1/60 with every engine's default
+    settings (no --collapse-time), with hybrid, predictive, box2d and chipmunk, no reference run (the
+    reference is the predictive mode, which this row measures), stopped at PILE_TIME_LIMIT_S; --quick: 100
+    disks for 1 s
   - arena (the demo's game) with discrete, hybrid and predictive only, at the game's tick (1/30 s): 100 and
     1000 units per team for 20 s (the armies meet after about 15 s; before that no projectile flies);
     --quick keeps only the 100 units
@@ -51,6 +60,13 @@ STEPS = ["1/30", "1/60", "1/120", "1/240"]
 # at that tick only (the other engines exit with code 4, "not available for arena").
 ARENA_ENGINES = ["discrete", "hybrid", "predictive"]
 ARENA_STEPS = ["1/30"]
+# The crowd: rattle's modes, and the two peers that take a velocity for every disk each step (bench/engine.h).
+CROWD_ENGINES = ["discrete", "hybrid", "predictive", "box2d", "chipmunk"]
+CROWD_STEPS = ["1/30"]
+CROWD_TIME_LIMIT_S = 60  # wall-clock seconds a crowd run may take before it stops (and says so)
+# The pile of issue 24's targets, with every engine's defaults.
+PILE_TARGET_ENGINES = ["hybrid", "predictive", "box2d", "chipmunk"]
+PILE_TIME_LIMIT_S = 60
 RUN_TIMEOUT_S = 600  # a run that takes longer is recorded as failed, and the matrix goes on
 REPEATS = 5
 TARGET_REPEATS = 5  # runs of each scaling target's world, the scaling run included
@@ -72,11 +88,17 @@ def matrix(quick):
         ("sensors", {"--scene": "sensors", "--n": n(200), "--seconds": "5"}),
     ] + [("bullets", {"--scene": "bullets", "--n": n(100), "--seconds": "2", "--speed": str(v)})
          for v in (10, 100, 1000, 10000)] + \
+        [("crowd", {"--scene": "crowd", "--n": disks, "--seconds": "2" if quick else "20",
+                    "--time-limit": str(CROWD_TIME_LIMIT_S)}) for disks in ((100,) if quick else (1000, 10000))] + \
+        [("pile-target", {"--scene": "pile", "--n": 100 if quick else 1000, "--seconds": "1" if quick else "8",
+                          "--time-limit": str(PILE_TIME_LIMIT_S), "--no-reference": None})] + \
         [("arena", {"--scene": "arena", "--n": units, "--seconds": "20"}) for units in ((100,) if quick else (100, 1000))]
     for table, base in scenes:
         arena = table == "arena"
-        for engine in ARENA_ENGINES if arena else ENGINES:
-            for dt in ARENA_STEPS if arena else STEPS:
+        engines, steps = (ARENA_ENGINES, ARENA_STEPS) if arena else (CROWD_ENGINES, CROWD_STEPS) \
+            if table == "crowd" else (PILE_TARGET_ENGINES, ["1/60"]) if table == "pile-target" else (ENGINES, STEPS)
+        for engine in engines:
+            for dt in steps:
                 args = dict(base)
                 args["--engine"] = engine
                 args["--dt"] = dt
@@ -84,7 +106,7 @@ def matrix(quick):
                     # rattle's modes, and the exact reference every row runs, use the TC model here (the
                     # option changes nothing else); see bench/README.md, "The scenes".
                     args["--collapse-time"] = "1e-3"
-                if quick and not arena:
+                if quick and table not in ("arena", "crowd", "pile-target"):
                     # The arena stays at 100 units for 20 s, about a second a run: shorter, no shot is fired.
                     args["--seconds"] = str(min(float(args["--seconds"]), 0.5))
                 runs.append((table, args))
@@ -219,7 +241,7 @@ def main():
     ap.add_argument("--out", default=here, help="where results.csv and scaling.csv go (default: bench/)")
     ap.add_argument("--quick", action="store_true", help="a small matrix, for trying the pipeline")
     ap.add_argument("--only", default="", help="comma-separated tables to run (gas,pile,bullets,cradle,sensors,"
-                                               "arena,repeats,scaling); default all")
+                                               "crowd,pile-target,arena,repeats,scaling); default all")
     a = ap.parse_args()
     if not os.access(a.bench, os.X_OK):
         sys.exit("run_matrix: %s is not there; build it first (make bench)" % a.bench)
@@ -235,7 +257,7 @@ def main():
     problems = []
     if runs:
         _, p = run_all(a.bench, runs, os.path.join(a.out, "results.csv"),
-                       lambda tag, args: {"collapse_time": args.get("--collapse-time", "")}, "bench")
+                       lambda tag, args: {"collapse_time": args.get("--collapse-time", ""), "table": tag}, "bench")
         problems += p
     if not only or "repeats" in only:
         _, p = run_all(a.bench, repeats(a.quick), os.path.join(a.out, "repeats.csv"),

@@ -12,7 +12,12 @@ RattleScene addToWorld(rattle::World& world, const Scene& scene) {
   const rattle::BodyId groundId = world.createBody(ground);
   for (const Wall& w : scene.walls) {
     rattle::FixtureDef fd;
-    fd.geometry = rattle::Segment{w.a, w.b};
+    // A Segment collides only on its inside; a wall whose ends must collide (a doorway's jamb) is a
+    // two-point Polyline, whose ends collide too.
+    if (w.solidEnds)
+      fd.geometry = rattle::Polyline{{w.a, w.b}};
+    else
+      fd.geometry = rattle::Segment{w.a, w.b};
     fd.restitution = scene.restitution;
     world.createFixture(groundId, fd);
   }

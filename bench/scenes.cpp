@@ -230,10 +230,77 @@ Scene sensors(const SceneParams& p) {
   return s;
 }
 
+Scene crowd(const SceneParams& p) {
+  Scene s;
+  const double r = 0.5, roomPacking = 0.35, doorwayWidth = 4;
+  // Each room a square of side L, the first holding the disks at packing 0.35; at least 16 units, so that
+  // the two doorways (4 wide, at L/4 and 3L/4) stay apart and clear of the corners.
+  const double L = std::max(16.0, std::sqrt(p.n * kPi * r * r / roomPacking));
+  closedBox(s, 0, 0, 2 * L, L);
+  s.restitution = 0;
+  s.speed = orDefault(p.speed, 3.0);
+  requireSpeed("crowd", s.speed);
+  s.packing = p.n * kPi * r * r / (2 * L * L);
+  Steering& st = s.steering;
+  st.enabled = true;
+  st.speed = s.speed;
+  st.wallX = L;
+  st.doorwayY = {0.25 * L, 0.75 * L};
+  st.doorwayHalfWidth = 0.5 * doorwayWidth;
+  st.goal = {1.5 * L, 0.5 * L};
+  const double h = st.doorwayHalfWidth;
+  s.walls.push_back({{L, 0}, {L, st.doorwayY[0] - h}, true});
+  s.walls.push_back({{L, st.doorwayY[0] + h}, {L, st.doorwayY[1] - h}, true});
+  s.walls.push_back({{L, st.doorwayY[1] + h}, {L, L}, true});
+  Random rng(p.seed);
+  const double gap = kGapPerRadius * r;
+  for (Vec2 c : jitteredLattice(rng, p.n, {r + gap, r + gap}, {L - r - gap, L - r - gap}, r, gap, "crowd"))
+    s.disks.push_back({c, {}, r, 1.0});
+  std::vector<Vec2> positions, velocities;
+  for (const DiskStart& d : s.disks) positions.push_back(d.position);
+  steerCrowd(s, positions, velocities);
+  for (size_t i = 0; i < s.disks.size(); ++i) s.disks[i].velocity = velocities[i];
+  return s;
+}
+
 }  // namespace
 
+void steerCrowd(const Scene& scene, const std::vector<Vec2>& positions, std::vector<Vec2>& velocities) {
+  const Steering& st = scene.steering;
+  velocities.resize(positions.size());
+  for (size_t i = 0; i < positions.size(); ++i) {
+    const Vec2 p = positions[i];
+    Vec2 aim = st.goal;
+    if (p.x < st.wallX && !st.doorwayY.empty()) {
+      double best = st.doorwayY[0];
+      for (double y : st.doorwayY)
+        if (std::fabs(p.y - y) < std::fabs(p.y - best)) best = y;
+      aim = {st.wallX + 1, best};
+    }
+    const Vec2 to = aim - p;
+    const double l = rattle::length(to);
+    velocities[i] = l > 0 ? (st.speed / l) * to : Vec2{0, 0};
+  }
+}
+
+bool inGoalRegion(const Scene& scene, size_t disk, Vec2 p) {
+  const rattle::Box& b = scene.bounds;
+  return scene.steering.enabled && p.x >= scene.steering.wallX + scene.disks[disk].radius && p.x <= b.max.x &&
+         p.y >= b.min.y && p.y <= b.max.y;
+}
+
+bool crossedWallOutsideDoorways(const Scene& scene, Vec2 from, Vec2 to) {
+  const Steering& st = scene.steering;
+  if (!st.enabled || (from.x < st.wallX) == (to.x < st.wallX)) return false;
+  const double t = (st.wallX - from.x) / (to.x - from.x);
+  const double y = from.y + t * (to.y - from.y);
+  for (double d : st.doorwayY)
+    if (y >= d - st.doorwayHalfWidth && y <= d + st.doorwayHalfWidth) return false;
+  return true;
+}
+
 const std::vector<std::string>& sceneNames() {
-  static const std::vector<std::string> names = {"gas", "pile", "bullets", "cradle", "sensors"};
+  static const std::vector<std::string> names = {"gas", "pile", "bullets", "cradle", "sensors", "crowd"};
   return names;
 }
 
@@ -259,8 +326,10 @@ Scene buildScene(const SceneParams& p) {
     s = cradle(p);
   else if (p.name == "sensors")
     s = sensors(p);
+  else if (p.name == "crowd")
+    s = crowd(p);
   else
-    throw SceneError("--scene " + p.name + ": unknown (gas, pile, bullets, cradle, sensors)");
+    throw SceneError("--scene " + p.name + ": unknown (gas, pile, bullets, cradle, sensors, crowd)");
   s.name = p.name;
   s.seed = p.seed;
   return s;
@@ -292,6 +361,7 @@ uint64_t sceneHash(const Scene& s) {
   for (const Wall& w : s.walls) {
     mixV(w.a);
     mixV(w.b);
+    if (w.solidEnds) mix(1);  // only then, so that the hashes of the scenes without such walls stay as they were
   }
   for (const SensorStrip& st : s.sensors)
     for (Vec2 v : st.points) mixV(v);
@@ -300,6 +370,13 @@ uint64_t sceneHash(const Scene& s) {
   mixV(s.bounds.min);
   mixV(s.bounds.max);
   mix(s.disksCollide ? 1 : 0);
+  if (s.steering.enabled) {  // likewise
+    mixD(s.steering.speed);
+    mixD(s.steering.wallX);
+    for (double y : s.steering.doorwayY) mixD(y);
+    mixD(s.steering.doorwayHalfWidth);
+    mixV(s.steering.goal);
+  }
   return h;
 }
 

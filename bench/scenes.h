@@ -23,6 +23,14 @@
 //             but not with each other (so every engine should trace the same billiard paths), speeds
 //             uniform in [10, 40] (or --speed), crossing six thin sensor strips (0.05 wide: three
 //             vertical, three horizontal).
+//  - crowd:   n disks (radius 0.5) in the first of two square rooms side by side (packing 0.35 in the first
+//             room, on the jittered lattice), no gravity, restitution 0. The wall between the rooms has two
+//             doorways 4 units wide (at a quarter and three quarters of its height); its pieces are walls
+//             with solid ends (Wall::solidEnds), so a disk cannot slip round a doorway's jamb. Every step,
+//             before the engine steps, each disk's velocity is set at full speed [3] by naive steering
+//             (steerCrowd): straight at the nearer doorway while in the first room, then straight at the
+//             goal, the second room's centre. A disk has reached the goal region once its centre is a radius
+//             past the dividing wall (in the second room, clear of the wall).
 // The `arena` scene is not plain data: it is the demo's game itself (bench/arena.h).
 #pragma once
 
@@ -55,6 +63,22 @@ struct DiskStart {
 struct Wall {
   Vec2 a;
   Vec2 b;
+  /// Whether the ends collide too (a doorway's jamb). rattle's Segment collides only on its inside, so such
+  /// a wall becomes a two-point Polyline there; Box2D's edges and Chipmunk's segments collide at their
+  /// ends anyway.
+  bool solidEnds = false;
+};
+
+/// Naive steering toward a goal through doorways in a vertical dividing wall (the crowd scene). Disks left
+/// of the wall (x < wallX) head at full speed for the point one unit past the middle of the nearest
+/// doorway; the others head for the goal.
+struct Steering {
+  bool enabled = false;
+  double speed = 0;
+  double wallX = 0;
+  std::vector<double> doorwayY;  ///< the doorways' middles, ascending
+  double doorwayHalfWidth = 0;
+  Vec2 goal;
 };
 
 /// A static sensor: a convex polygon, counter-clockwise.
@@ -78,6 +102,8 @@ struct Scene {
   double packing = 0;
   double speed = 0;
   uint64_t seed = 0;
+  /// The crowd's steering, and its goal region; disabled in the other scenes.
+  Steering steering;
 };
 
 struct SceneParams {
@@ -94,7 +120,7 @@ struct SceneParams {
 const std::vector<std::string>& sceneNames();
 
 /// The number of disks a scene has when none is asked for: gas and pile 1000, bullets 100, cradle 60,
-/// sensors 200.
+/// sensors 200, crowd 1000.
 int defaultDiskCount(const std::string& scene);
 
 /// A scene that cannot be built from the parameters given; the message names the parameter and the value.
@@ -105,6 +131,20 @@ struct SceneError : std::invalid_argument {
 /// Builds a scene. Throws SceneError naming the parameter and the value when it cannot be built
 /// (an unknown name, n < 1, a packing the lattice cannot hold, a cradle n that is not a multiple of 6).
 Scene buildScene(const SceneParams& params);
+
+/// The crowd scene's naive steering: each disk's velocity at full speed (scene.steering.speed) toward the
+/// nearer doorway (the lower one on a tie) while in the first room, then toward the goal; a disk exactly on
+/// its aim point gets zero. `velocities` is resized to the positions'.
+void steerCrowd(const Scene& scene, const std::vector<Vec2>& positions, std::vector<Vec2>& velocities);
+
+/// Whether a centre is in the crowd's goal region: at least a radius past the dividing wall, inside the
+/// container.
+bool inGoalRegion(const Scene& scene, size_t disk, Vec2 position);
+
+/// Whether the move of a centre from `from` to `to` crossed the crowd's dividing wall anywhere but through a
+/// doorway (the line x = wallX crossed at a height outside every doorway's span); false in a scene without
+/// steering.
+bool crossedWallOutsideDoorways(const Scene& scene, Vec2 from, Vec2 to);
 
 /// Mass of a disk: density * pi * r^2.
 double massOf(const DiskStart& d);
