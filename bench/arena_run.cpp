@@ -115,6 +115,8 @@ int runArena(const Options& o) {
   row.set("dt", num(tick, "%.10g"));
   row.set("seconds", num(double(ticks) * tick, "%.10g"));
   row.set("ms_per_step", num(1e3 * median(timed)));
+  row.set("p99_ms_per_step", num(1e3 * percentile(timed, 0.99)));
+  row.set("worst_ms_per_step", num(1e3 * percentile(timed, 1.0)));
   row.set("ms_per_simulated_second", num(1e3 * (sum / double(timed.size())) / tick));
   row.set("collisions_per_s", num(total > 0 ? double(run.contacts) / total : nan));
   row.set("max_overlap", num(run.overlaps.max, "%.3e"));

@@ -117,7 +117,7 @@ TEST(BenchScenes, SpeedsAreAsStated) {
 TEST(BenchScenes, OneSeedGivesOneSceneBitForBit) {
   for (const std::string& name : rattle_bench::sceneNames()) {
     SCOPED_TRACE(name);
-    const int n = name == "cradle" ? 60 : 300;
+    const int n = name == "cradle" ? 60 : 300;  // (crowd: 300 disks)
     const uint64_t a = rattle_bench::sceneHash(buildScene(params(name, n, 42)));
     EXPECT_EQ(a, rattle_bench::sceneHash(buildScene(params(name, n, 42))));
     EXPECT_NE(a, rattle_bench::sceneHash(buildScene(params(name, n, 43))));
@@ -143,6 +143,82 @@ TEST(BenchScenes, BadParametersAreRefusedNamingThem) {
   EXPECT_NE(message(params("marbles", 100)).find("--scene marbles"), std::string::npos);
   EXPECT_NE(message(params("gas", 0)).find("--n 0"), std::string::npos);
   EXPECT_NE(message(params("sensors", 10, 1, std::nan(""), -1)).find("--speed -1"), std::string::npos);
+}
+
+// The crowd: two rooms side by side, the wall between them open only at its two doorways, the disks all in
+// the first room; the steering checked against directions worked out here from the scene's own numbers.
+TEST(BenchScenes, CrowdStartsInTheFirstRoomBehindAWallWithTwoDoorways) {
+  for (int n : {1, 100, 1000, 10000}) {
+    SCOPED_TRACE("n " + std::to_string(n));
+    const Scene s = buildScene(params("crowd", n));
+    const rattle_bench::Steering& st = s.steering;
+    ASSERT_TRUE(st.enabled);
+    EXPECT_EQ(st.speed, 3.0);
+    EXPECT_EQ(s.restitution, 0.0);
+    EXPECT_TRUE((s.gravity == Vec2{0, 0}));
+    const double L = st.wallX;
+    EXPECT_TRUE((s.bounds.min == Vec2{0, 0}));
+    EXPECT_TRUE((s.bounds.max == Vec2{2 * L, L}));
+    // The first room holds the disks at packing 0.35 (or is 16 wide, for few disks).
+    EXPECT_NEAR(L, std::max(16.0, std::sqrt(n * std::numbers::pi * 0.25 / 0.35)), 1e-12 * L);
+    for (const auto& d : s.disks) {
+      EXPECT_EQ(d.radius, 0.5);
+      EXPECT_LT(d.position.x + d.radius, L);
+    }
+    if (n <= 1000) expectValidStart(s);
+    // Walk up the dividing wall in small steps: open exactly at the two doorways, 4 wide.
+    std::vector<std::pair<double, double>> gaps;
+    bool open = false;
+    const double h = 1e-3;
+    for (double y = h / 2; y < L; y += h) {
+      bool blocked = false;
+      for (const rattle_bench::Wall& w : s.walls)
+        if (w.a.x == L && w.b.x == L && y >= std::min(w.a.y, w.b.y) && y <= std::max(w.a.y, w.b.y)) {
+          blocked = true;
+          EXPECT_TRUE(w.solidEnds);
+        }
+      if (!blocked && !open) gaps.push_back({y, y});
+      if (!blocked) gaps.back().second = y;
+      open = !blocked;
+    }
+    ASSERT_EQ(gaps.size(), 2u);
+    for (size_t k = 0; k < 2; ++k) {
+      EXPECT_NEAR(gaps[k].second - gaps[k].first, 4.0, 2 * h);
+      EXPECT_NEAR(0.5 * (gaps[k].first + gaps[k].second), (k == 0 ? 0.25 : 0.75) * L, 2 * h);
+      EXPECT_NEAR(st.doorwayY[k], (k == 0 ? 0.25 : 0.75) * L, 1e-12 * L);
+    }
+    // The start's velocities are the steering's.
+    for (const auto& d : s.disks) EXPECT_NEAR(rattle::length(d.velocity), 3.0, 1e-12);
+  }
+}
+
+TEST(BenchScenes, CrowdSteersAtTheNearerDoorwayThenAtTheGoal) {
+  const Scene s = buildScene(params("crowd", 1000, 1, std::nan(""), 2.0));
+  const double L = s.steering.wallX;
+  const std::vector<Vec2> at = {{1, 0.1 * L}, {L - 1, 0.45 * L}, {L - 1, 0.55 * L}, {0.5 * L, 0.9 * L},
+                                {L + 3, 0.25 * L}, {1.9 * L, 0.9 * L}, {1.5 * L, 0.5 * L}};
+  const std::vector<Vec2> aim = {{L + 1, 0.25 * L}, {L + 1, 0.25 * L}, {L + 1, 0.75 * L}, {L + 1, 0.75 * L},
+                                 {1.5 * L, 0.5 * L}, {1.5 * L, 0.5 * L}, {1.5 * L, 0.5 * L}};
+  std::vector<Vec2> v;
+  rattle_bench::steerCrowd(s, at, v);
+  ASSERT_EQ(v.size(), at.size());
+  for (size_t i = 0; i + 1 < at.size(); ++i) {
+    SCOPED_TRACE(i);
+    const Vec2 to = aim[i] - at[i];
+    EXPECT_NEAR(rattle::length(v[i]), 2.0, 1e-12);
+    EXPECT_NEAR(rattle::cross(v[i], to), 0.0, 1e-9 * rattle::length(to));
+    EXPECT_GT(rattle::dot(v[i], to), 0.0);
+  }
+  EXPECT_TRUE((v.back() == Vec2{0, 0})) << "a disk on the goal itself stands still";
+  // The goal region is the second room, a radius past the wall; crossing the wall counts only outside the
+  // doorways.
+  EXPECT_FALSE(rattle_bench::inGoalRegion(s, 0, {L + 0.4, 0.5 * L}));
+  EXPECT_TRUE(rattle_bench::inGoalRegion(s, 0, {L + 0.5, 0.5 * L}));
+  EXPECT_FALSE(rattle_bench::inGoalRegion(s, 0, {2 * L + 0.1, 0.5 * L}));
+  EXPECT_FALSE(rattle_bench::crossedWallOutsideDoorways(s, {L - 0.1, 0.25 * L + 1.9}, {L + 0.1, 0.25 * L + 1.9}));
+  EXPECT_TRUE(rattle_bench::crossedWallOutsideDoorways(s, {L - 0.1, 0.25 * L + 2.1}, {L + 0.1, 0.25 * L + 2.1}));
+  EXPECT_TRUE(rattle_bench::crossedWallOutsideDoorways(s, {L + 0.1, 0.5 * L}, {L - 0.1, 0.5 * L}));
+  EXPECT_FALSE(rattle_bench::crossedWallOutsideDoorways(s, {L - 0.3, 0.5 * L}, {L - 0.1, 0.5 * L}));
 }
 
 }  // namespace
