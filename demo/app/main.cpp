@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
     rts::GameConfig config;
     config.unitsPerTeam = o.units;
     config.stepMode = o.mode;
+    config.steering = o.steering;
     // Read the map's bytes once: a replay embeds exactly the bytes the game was built from.
     const std::string mapJson = rts::readMapFile(o.map);
     rts::Game game(rts::parseMap(mapJson, o.map), config);

@@ -33,6 +33,10 @@ const char* kUsage =
     "  --mode M        engine step mode: hybrid (default), discrete (step-and-check: watch projectiles go\n"
     "                  through walls and count as 'ran out of range'), predictive (event-driven\n"
     "                  throughout; sensor events are found along the paths after each step)\n"
+    "  --steering S    how units are steered: keep-apart (default: units keep apart, queue and wait for\n"
+    "                  gaps; demo/README.md, \"Crowds\") or naive (every unit with an order goes at full speed\n"
+    "                  toward its target and is pushed into whatever is in the way: a crowd the engine has to\n"
+    "                  keep apart). Not with --record: a replay plays the default steering\n"
     "  --window        open a window: left-drag selects blue units, right-click moves them, space pauses,\n"
     "                  v toggles sight ranges, g works the first gate, f changes the fog, Esc quits\n"
     "  --screenshot F  with --window: save the last frame shown as PNG file F when the window closes\n"
@@ -156,6 +160,16 @@ ParseResult parseOptions(int argc, char** argv) {
       } else {
         return fail(std::string("--mode ") + (v ? v : "(missing)") + ": expected hybrid, discrete or predictive");
       }
+    } else if (arg == "--steering") {
+      const char* v = value();
+      std::string_view m = v ? v : "";
+      if (m == "keep-apart") {
+        o.steering = Steering::KeepApart;
+      } else if (m == "naive") {
+        o.steering = Steering::Naive;
+      } else {
+        return fail(std::string("--steering ") + (v ? v : "(missing)") + ": expected keep-apart or naive");
+      }
     } else if (arg == "--window") {
       o.window = true;
     } else if (arg == "--screenshot") {
@@ -185,6 +199,10 @@ ParseResult parseOptions(int argc, char** argv) {
   }
   if (o.window && !o.render) return fail("--window and --no-render cannot go together");
   if (keyframeGiven && o.record.empty()) return fail("--keyframe-every needs --record");
+  if (o.steering != Steering::KeepApart && !o.record.empty()) {
+    return fail("--steering naive cannot go with --record: a replay does not record the steering, and is played "
+                "with the default (keep-apart)");
+  }
   return r;
 }
 

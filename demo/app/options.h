@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <string>
 
+#include "game/steering.h"
+
 namespace rts {
 
 struct Options {
@@ -25,6 +27,7 @@ struct Options {
   bool showSight = true;
   bool showTimes = true;      ///< the measured step time in the HUD (off: reproducible frames)
   rattle::StepMode mode = rattle::StepMode::Hybrid;
+  Steering steering = Steering::KeepApart;  ///< --steering: keep-apart (default) or naive
   std::string screenshot;     ///< window: save the last frame shown
   std::string inputScript;    ///< window: scripted input events (for tests)
   bool quiet = false;

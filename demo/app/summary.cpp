@@ -51,6 +51,7 @@ void printSummary(const Game& game, const Options& o, int framesWritten, double 
   const GameStats& s = game.stats();
   const double median = percentile(s.stepSeconds, 0.5) * 1e3;
   const double p95 = percentile(s.stepSeconds, 0.95) * 1e3;
+  const double p99 = percentile(s.stepSeconds, 0.99) * 1e3;
   const double worst = s.stepSeconds.empty() ? 0 : *std::max_element(s.stepSeconds.begin(), s.stepSeconds.end()) * 1e3;
   const long outOfRange = s.shotsFired - s.unitHits - s.wallHits - long(game.shots().size());
   std::string rooms;
@@ -59,14 +60,15 @@ void printSummary(const Game& game, const Options& o, int framesWritten, double 
     rooms += (r ? ", " : "") + printable(game.map().rooms[r].name) + " " + (h < 0 ? "empty" : h == 2 ? "contested" : h == 0 ? "blue" : "red");
   }
   std::printf(
-      "Ran %u ticks (%.1f s of game time) on %s (%g x %g) with %d units per team, seed %llu, %s mode. "
+      "Ran %u ticks (%.1f s of game time) on %s (%g x %g) with %d units per team, seed %llu, %s mode%s. "
       "Units left: blue %d, red %d. Shots fired: %ld (%ld hit units, %ld hit walls, %ld ran out of range). "
-      "Doorway crossings: %ld. Rooms: %s. Engine step: median %.3f ms, 95th percentile %.3f ms, worst %.3f ms "
-      "over %zu steps%s.",
+      "Doorway crossings: %ld. Rooms: %s. Engine step: median %.3f ms, 95th percentile %.3f ms, 99th percentile "
+      "%.3f ms, worst %.3f ms over %zu steps%s.",
       game.tickCount(), game.tickCount() * Game::kTickSeconds, game.map().name.empty() ? "the map" : printable(game.map().name).c_str(),
       game.map().width, game.map().height, o.units, static_cast<unsigned long long>(o.seed), modeName(o.mode),
+      o.steering == Steering::Naive ? ", naive steering" : "",
       game.alive(0), game.alive(1), s.shotsFired, s.unitHits, s.wallHits, std::max(0l, outOfRange), s.crossings,
-      rooms.empty() ? "none" : rooms.c_str(), median, p95, worst, s.stepSeconds.size(),
+      rooms.empty() ? "none" : rooms.c_str(), median, p95, p99, worst, s.stepSeconds.size(),
       s.eventBudgetSteps ? (", " + std::to_string(s.eventBudgetSteps) + " of them hit the event budget").c_str() : "");
   // The engine's work, which unlike the times does not depend on what else the machine is doing.
   std::printf(" Engine work a step: median %d collisions and %d time-of-impact tests (95th percentile %d and %d).",

@@ -24,6 +24,7 @@
 #include "game/commands.h"
 #include "game/navigation.h"
 #include "game/physics.h"
+#include "game/steering.h"
 #include "game/unit_types.h"
 #include "map/map.h"
 
@@ -42,6 +43,8 @@ struct GameConfig {
   /// Indices into kUnitTypes, dealt in turn to each team's units in the order they are placed (nearest
   /// a spawn point first): {0} makes every unit a trooper, {0, 0, 1} every third unit a heavy.
   std::vector<uint8_t> unitTypes{0};
+  /// How units are steered (steering.h). Replays record none: they are played with the default.
+  Steering steering = Steering::KeepApart;
 };
 
 struct Order {

@@ -368,7 +368,15 @@ void Game::steer() {
         const double slowRadius = o.arrivalRadius + 2;
         const double speed = type.speed * (straight < slowRadius ? std::max(0.3, straight / slowRadius) : 1.0);
         desired = dir * speed;
+        if (config_.steering == Steering::Naive) desired = dir * type.speed;
       }
+    }
+    if (config_.steering == Steering::Naive) {
+      // Full speed toward the target and nothing else (steering.h): no stepping aside, no keeping apart.
+      u.makeWay = {0, 0};
+      if (desired != u.velocity) physics_.setVelocity(u.body, desired);
+      u.velocity = desired;
+      continue;
     }
     if (!o.active && u.makeWay != Vec2{0, 0}) {
       const double l = rattle::length(u.makeWay);

@@ -32,7 +32,7 @@ Outcome run(const std::string& arguments) {
 TEST(DemoProgram, HelpListsTheOptions) {
   Outcome r = run("--help");
   EXPECT_EQ(r.status, 0);
-  for (const char* option : {"--map", "--ticks", "--seed", "--frames", "--every", "--size", "--units", "--no-render", "--window"}) {
+  for (const char* option : {"--map", "--ticks", "--seed", "--frames", "--every", "--size", "--units", "--no-render", "--window", "--steering"}) {
     EXPECT_NE(r.output.find(option), std::string::npos) << option;
   }
 }
@@ -50,6 +50,15 @@ TEST(DemoProgram, BadOptionsNameTheOptionAndTheValue) {
   EXPECT_EQ(r.status, 2);
   r = run("--fog purple");
   EXPECT_EQ(r.status, 2);
+  r = run("--steering shove");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("--steering shove: expected keep-apart or naive"), std::string::npos) << r.output;
+  r = run("--steering");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("--steering (missing)"), std::string::npos) << r.output;
+  r = run("--steering naive --record " + testing::TempDir() + "/rattle_demo_naive.replay");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("--steering naive cannot go with --record"), std::string::npos) << r.output;
   r = run("--frobnicate");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.output.find("unknown option '--frobnicate'"), std::string::npos) << r.output;
@@ -137,6 +146,17 @@ TEST(DemoProgram, AShortHeadlessRunEndsWithTheSummary) {
     EXPECT_NE(r.output.find(part), std::string::npos) << part << " in: " << r.output;
   }
   EXPECT_TRUE(std::ifstream(frames + "/frame_000020.png").good());
+}
+
+TEST(DemoProgram, NaiveSteeringIsNamedInTheSummaryWithTheStepTimes) {
+  Outcome r = run("--map " + std::string(RATTLE_SOURCE_DIR) + "/assets/maps/small.json --units 5 --ticks 20 --no-render "
+                  "--steering naive --quiet");
+  EXPECT_EQ(r.status, 0) << r.output;
+  for (const char* part : {"naive steering", "median", "95th percentile", "99th percentile", "worst"}) {
+    EXPECT_NE(r.output.find(part), std::string::npos) << part << " in: " << r.output;
+  }
+  r = run("--map " + std::string(RATTLE_SOURCE_DIR) + "/assets/maps/small.json --units 5 --ticks 20 --no-render --quiet");
+  EXPECT_EQ(r.output.find("naive steering"), std::string::npos) << r.output;
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <variant>
 
 #include "game/game.h"
@@ -337,6 +338,43 @@ TEST(DemoRules, ACrowdThroughADoorwayQueuesInsteadOfShoving) {
   EXPECT_GE(g.doorways()[0].crossings[0], through);
   // Each collision between two units is reported for both.
   EXPECT_LT(reports, 2 * 1500) << "units were driven into one another";
+}
+
+// The same crowd with --steering naive (GameConfig::steering): every unit goes at full speed toward the
+// corner, so units are driven into one another and the engine resolves many times more collisions between
+// units than with the default; the units still get through, and the engine still keeps them from
+// overlapping (checked from the positions, at the radii of kUnitTypes).
+TEST(DemoRules, NaiveSteeringDrivesTheCrowdIntoItself) {
+  long reports[2] = {0, 0};
+  int through[2] = {0, 0};
+  for (int naive = 0; naive < 2; ++naive) {
+    GameConfig c = config(60, false);
+    if (naive) c.steering = rts::Steering::Naive;
+    Game g(rts::loadMap(assetPath("small.json")), c);
+    std::vector<uint32_t> blue;
+    for (const rts::Unit& u : g.units()) {
+      if (u.team == 0) blue.push_back(u.id);
+    }
+    ASSERT_TRUE(g.apply(move(0, blue, {35, 3})));
+    double deepest = 0;
+    for (int tick = 0; tick < 300; ++tick) {
+      g.tick();
+      for (const rts::UnitContact& ct : g.physics().lastEvents().unitContacts) reports[naive] += !ct.wall;
+      for (size_t i = 0; i < blue.size(); ++i)
+        for (size_t j = i + 1; j < blue.size(); ++j) {
+          const rts::Unit& a = g.units()[blue[i]];
+          const rts::Unit& b = g.units()[blue[j]];
+          const double touching = rts::kUnitTypes[a.type].radius + rts::kUnitTypes[b.type].radius;
+          deepest = std::max(deepest, touching - rattle::length(a.position - b.position));
+        }
+    }
+    for (uint32_t id : blue) through[naive] += g.units()[id].position.x > 21;
+    EXPECT_LT(deepest, 1e-6) << (naive ? "naive" : "keep-apart") << ": units overlap";
+  }
+  std::printf("[ crowd of 60 ] collisions between units reported: keep-apart %ld, naive %ld; through: %d, %d\n",
+              reports[0], reports[1], through[0], through[1]);
+  EXPECT_GE(through[1], 20) << "the naive crowd did not get through the doorway";
+  EXPECT_GT(reports[1], 10 * std::max(reports[0], 1L)) << "keep-apart " << reports[0] << ", naive " << reports[1];
 }
 
 // A second, larger unit type (kUnitTypes[1], radius 0.9 to a trooper's 0.5) dealt to every second
