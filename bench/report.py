@@ -552,7 +552,7 @@ def targets_issue24(rows):
         for other, name, limit in ((c, "Chipmunk", 0.5), (b, "Box2D 2.4", 0.2)):
             if other:
                 ratio = mean_step(h) / mean_step(other)
-                out.append("| %s: mean step <= %gx %s's | mean step %.3f ms vs %.3f ms: **%.2fx**%s%s | %s |" % (
+                out.append("| %s: mean step <= %gx %s's | mean step %.3g ms vs %.3g ms: **%.2fx**%s%s | %s |" % (
                     what, limit, name, mean_step(h), mean_step(other), ratio, note,
                     (" (%s: %s)" % (name, ran(other))) if stopped(other) else "",
                     yes(done and not stopped(other) and ratio <= limit)))
@@ -583,7 +583,7 @@ def targets_issue24(rows):
             "; " + row_notes(p) if row_notes(p) and not stopped(p) else "", yes(done)))
         if h:
             ratio = mean_step(p) / mean_step(h)
-            out.append("| same pile, predictive: mean step <= 2x the hybrid's | mean step %.3f ms vs %.3f ms: "
+            out.append("| same pile, predictive: mean step <= 2x the hybrid's | mean step %.3g ms vs %.3g ms: "
                        "**%.2fx**%s | %s |" % (mean_step(p), mean_step(h), ratio,
                                               (" (predictive %s)" % ran(p)) if not done else "",
                                               yes(done and not stopped(h) and ratio <= 2)))
