@@ -142,6 +142,30 @@ TEST(Squeeze, GateClosingOnAUnitInADoorway) {
   }
 }
 
+// The world_api fuzzer's finding: a body wider than the gap between two static walls, put there, bounced
+// from one to the other at one instant until the step's budget ran out. Past the squeeze count it stops
+// moving into the wall it meets; a step stays cheap and the body stays between the walls.
+TEST(Squeeze, ABodyWedgedBetweenStaticWallsStops) {
+  for (StepMode mode : kExactModes) {
+    SCOPED_TRACE(nameOf(mode));
+    World w(defOf(mode));
+    const BodyId walls = w.createBody({.type = BodyType::Static});
+    w.createFixture(walls, {.geometry = Segment{{-5, -0.9}, {5, -0.9}}});
+    w.createFixture(walls, {.geometry = Segment{{-5, 0.9}, {5, 0.9}}});
+    const BodyId d = disk(w, {0, 0}, {0.5, 40}, 1.0, 0.9);
+    int squeezes = 0;
+    for (int i = 0; i < 30; ++i) {
+      w.step(1.0 / 30);
+      squeezes += w.stats().squeezes;
+      ASSERT_FALSE(w.stats().eventBudgetReached) << "step " << i;
+      ASSERT_LE(w.stats().eventsProcessed, 4 * kSqueezeCollisions) << "step " << i;
+      ASSERT_LT(std::fabs(w.position(d).y), 0.9) << "step " << i;
+    }
+    EXPECT_GE(squeezes, 1);
+    EXPECT_EQ(w.velocity(d).y, 0);
+  }
+}
+
 // ---- A closed container in the discrete mode ----------------------------------------------------------
 
 // The trial's soak, smaller: disks poured into a closed Polyline box under gravity, restitution 0.5. The

@@ -8,7 +8,9 @@
 // yield, its next contact with a kinematic body is a squeeze. The body stops along that contact's normal
 // (keeping its motion along the surface), and that kinematic fixture passes over it, the pair exempt
 // from collisions until their geometries no longer overlap. Its contacts with static bodies stay, so it
-// is never pushed through one. StepStats::squeezes counts them.
+// is never pushed through one. A body wedged between static bodies alone (put in a gap narrower than
+// itself) bounces between them at one instant; past the same count it stops moving into the one it
+// meets. StepStats::squeezes counts both.
 #include <algorithm>
 
 #include "world_impl.h"
@@ -52,7 +54,20 @@ bool World::Impl::squeezeAt(const detail::PredictedContact& c) {
   if (a.type != BodyType::Dynamic || b.type == BodyType::Dynamic) return false;
   const int count = a.countStepCollision();
   if (count == 1) squeezeCounted.push_back(ia);
-  if (count <= kSqueezeCollisions || b.type != BodyType::Kinematic) return false;
+  if (count <= kSqueezeCollisions) return false;
+  if (b.type == BodyType::Static) {
+    // Wedged between static bodies (a body larger than the gap it was put in): it bounces from one to the
+    // other at one instant without end. Only such bounces, at the instant of its last collision, count
+    // here; a fast body crossing a small box does not. It stops moving into this one.
+    if (a.last.time != c.time) return false;
+    advance(a, c.time);
+    const double vn = dot(a.velocity, c.normal);
+    if (vn < 0) a.velocity -= c.normal * vn;
+    ++a.collisionCount;
+    a.setLast(detail::LastContact{std::min(c.a, c.b), std::max(c.a, c.b), c.feature, c.time});
+    ++stats.squeezes;
+    return true;
+  }
   advance(a, c.time);
   a.velocity -= c.normal * dot(a.velocity, c.normal);
   ++a.collisionCount;
