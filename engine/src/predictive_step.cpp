@@ -574,7 +574,8 @@ void World::Impl::stepPredictive(double dt) {
     stepHybrid(dt);
   }
   // Back to events once nobody is held in an island (the grid is made afresh then: s.valid is false).
-  s.pileHeld = std::any_of(bodies.begin(), bodies.end(), [](const detail::BodySlot& b) { return b.alive && b.stepped; });
+  s.pileHeld =
+      std::any_of(bodies.begin(), bodies.end(), [](const detail::BodySlot& b) { return b.alive && b.stepped; });
 }
 
 }  // namespace rattle

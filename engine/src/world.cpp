@@ -264,7 +264,8 @@ void World::setPosition(BodyId id, Vec2 position) {
   for (uint32_t f : b.fixtures) {
     const Box& local = impl().fixtures[f].localBox;
     require(inRange(local.translated(position)), [&] {
-      return "position = " + str(position) + ": the body's fixtures would reach outside +-1e150 (World::kMaxCoordinate)";
+      return "position = " + str(position) +
+             ": the body's fixtures would reach outside +-1e150 (World::kMaxCoordinate)";
     });
   }
   require(inRange(position),
@@ -344,8 +345,8 @@ FixtureId World::createFixture(BodyId bodyId, const FixtureDef& def) {
   }
   const Box localBox = boxOf(def.geometry);
   require(inRange(localBox.translated(body.position)), [&] {
-    return std::string("FixtureDef.geometry: its box reaches outside +-1e150 (World::kMaxCoordinate) at the body's position " +
-                       str(body.position));
+    return "FixtureDef.geometry: its box reaches outside +-1e150 (World::kMaxCoordinate) at the body's position " +
+           str(body.position);
   });
 
   uint32_t index;
