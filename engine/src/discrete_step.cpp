@@ -83,6 +83,7 @@ void World::Impl::stepDiscrete(double dt) {
   // 2. Overlapping pairs where the bodies ended.
   struct Pair {
     uint32_t a, b;
+    uint32_t rank = 0;  // 0: two dynamic bodies; 1: with a kinematic body; 2: with a static body (step 3)
   };
   auto byIds = [](const Pair& x, const Pair& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; };
   std::vector<Pair> pairs;
@@ -97,7 +98,11 @@ void World::Impl::stepDiscrete(double dt) {
       tooMany = true;
       return;
     }
-    pairs.push_back({std::min(fa, fb), std::max(fa, fb)});
+    const BodyType ta = bodyOf(fa).type, tb = bodyOf(fb).type;
+    const uint32_t rank = (ta == BodyType::Static || tb == BodyType::Static)        ? 2
+                          : (ta == BodyType::Kinematic || tb == BodyType::Kinematic) ? 1
+                                                                                     : 0;
+    pairs.push_back({std::min(fa, fb), std::max(fa, fb), rank});
   });
   if (broadPhase.overflowed() || tooMany) {
     // A degenerate world (bodies piled on one point): the pairs are incomplete, and pushing millions of
@@ -109,15 +114,8 @@ void World::Impl::stepDiscrete(double dt) {
   // a push between two dynamic bodies may move one into a wall, and the wall's push, coming after it,
   // has the last word (a body is never left pushed into a static body by another's push). Within each,
   // fixture order.
-  auto rank = [&](const Pair& p) {
-    const BodyType ta = bodyOf(p.a).type, tb = bodyOf(p.b).type;
-    if (ta == BodyType::Static || tb == BodyType::Static) return 2;
-    return (ta == BodyType::Kinematic || tb == BodyType::Kinematic) ? 1 : 0;
-  };
-  std::sort(pairs.begin(), pairs.end(), [&](const Pair& x, const Pair& y) {
-    const int rx = rank(x), ry = rank(y);
-    return rx != ry ? rx < ry : byIds(x, y);
-  });
+  std::sort(pairs.begin(), pairs.end(),
+            [&](const Pair& x, const Pair& y) { return x.rank != y.rank ? x.rank < y.rank : byIds(x, y); });
   stats.candidatePairs = static_cast<int>(pairs.size());
 
   // Where each dynamic body's own motion took it, before any push: a push that carries its centre
@@ -219,7 +217,15 @@ void World::Impl::stepDiscrete(double dt) {
   // 3b. A push may have carried a body's centre across a static fixture's surface (a thin wall, a
   // polygon's edge), where the wall's own push would only drive it further out on the wrong side. Such a
   // body goes back to where its centre first crossed, on the side it came from, and stops moving into
-  // the surface.
+  // the surface. A body whose box met no static fixture's after its own motion, pushed less than its
+  // radius, cannot have crossed one (its centre stayed inside that box): most of a gas is not looked at.
+  std::vector<uint32_t> nearStatic;
+  for (const Pair& p : pairs) {
+    if (p.rank != 2) continue;
+    const uint32_t ba = fixtures[p.a].body, bb = fixtures[p.b].body;
+    nearStatic.push_back(bodies[ba].type == BodyType::Static ? bb : ba);
+  }
+  std::sort(nearStatic.begin(), nearStatic.end());
   for (const Moved& m : pushed) {
     pushedSlot[m.body] = -1;
     BodySlot& b = bodies[m.body];
@@ -236,6 +242,7 @@ void World::Impl::stepDiscrete(double dt) {
     }
     if (!physical) continue;
     const double radius = detail::circleRadius(fixtures[own].geometry);
+    if (length(travel) < radius && !std::binary_search(nearStatic.begin(), nearStatic.end(), m.body)) continue;
     const Vec2 centre = detail::circleCentre(fixtures[own].geometry);
     const Vec2 from = m.position + centre;
     Box path{{std::min(from.x, from.x + travel.x), std::min(from.y, from.y + travel.y)},
