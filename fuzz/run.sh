@@ -15,6 +15,7 @@ per target: executions, corpus size, and whether it found anything.
   --build DIR    the fuzz build directory (default: build-fuzz, or $FUZZ_BUILD_DIR)
   --seconds N    seconds per target (default: 60, or $FUZZ_SECONDS)
   --only NAME    run only the target NAME (e.g. map_reader)
+  FUZZ_SKIP=A,B  (environment) leave out these targets
   --help         this text
 
 Written under DIR: corpus/<name>/ (the working corpus: seeds plus what the fuzzer found interesting;
@@ -51,6 +52,11 @@ if [[ -n "$only" ]]; then
   for n in "${names[@]}"; do [[ "$n" == "$only" ]] && found=1; done
   [[ $found -eq 1 ]] || { echo "fuzz/run.sh: --only $only: no such target (have: ${names[*]})" >&2; exit 2; }
   names=("$only")
+fi
+if [[ -n "${FUZZ_SKIP:-}" ]]; then
+  kept=()
+  for n in "${names[@]}"; do [[ ",$FUZZ_SKIP," == *",$n,"* ]] || kept+=("$n"); done
+  names=("${kept[@]}")
 fi
 
 # Inputs longer than this are not generated; it also keeps the kept regressions that are large on purpose
