@@ -7,6 +7,7 @@
 // document both.
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 #include "closest_point.h"
 #include "world_impl.h"
@@ -126,6 +127,21 @@ void World::Impl::stepDiscrete(double dt) {
     bool pushedByKinematic;
   };
   std::vector<uint32_t> walls;  // scratch of step 3b
+  // Moves body `b`'s circle (centre offset `centre`, radius `radius`) out of the static fixtures `statics`,
+  // position only, a few rounds at most: a box's corner overlaps a circle at two features, and leaving
+  // one may touch the other.
+  auto pushOutOf = [&](BodySlot& b, Vec2 centre, double radius, std::span<const uint32_t> statics) {
+    for (int k = 0; k < 3; ++k) {
+      bool moved = false;
+      for (uint32_t g : statics) {
+        const auto pen = penetration(b.position + centre, radius, fixtures[g].geometry, bodyOf(g).position);
+        if (!pen) continue;
+        b.position += pen->normal * pen->depth;
+        moved = true;
+      }
+      if (!moved) break;
+    }
+  };
   std::vector<Moved> pushed;  // bodies pushed by another dynamic or a kinematic body, in the order first pushed
   std::vector<int>& pushedSlot = jamSlot;  // body -> index into `pushed`; -1 outside it (reset below)
   if (pushedSlot.size() < bodies.size()) pushedSlot.resize(bodies.size(), -1);
@@ -169,15 +185,10 @@ void World::Impl::stepDiscrete(double dt) {
     body.position += pen->normal * (pen->depth * inverseA / inverseSum);
     partner.position -= pen->normal * (pen->depth * inverseB / inverseSum);
     if (partner.type == BodyType::Static) {
-      // A polyline or polygon can overlap the circle at more than one feature (a corner of a box): push it
-      // out of each in turn, a few times at most (position only; the impulse below is the pair's one).
-      for (int k = 0; k < 3; ++k) {
-        const auto more =
-            penetration(body.position + detail::circleCentre(fixtures[own].geometry),
-                        detail::circleRadius(fixtures[own].geometry), fixtures[other].geometry, partner.position);
-        if (!more) break;
-        body.position += more->normal * more->depth;
-      }
+      // A polyline or polygon can overlap the circle at more than one feature (a corner of a box): out of
+      // each in turn (the impulse below is the pair's one).
+      pushOutOf(body, detail::circleCentre(fixtures[own].geometry), detail::circleRadius(fixtures[own].geometry),
+                std::span<const uint32_t>(&other, 1));
     }
     const double vn = dot(body.velocity - partner.velocity, pen->normal);
     // Only an approach is a collision; an overlap that is already separating, or approaching no faster
@@ -266,16 +277,7 @@ void World::Impl::stepDiscrete(double dt) {
     if (vn < 0) b.velocity -= first->normal * vn;
     // Put back on its side, it may overlap another wall there (a corner): out of those too.
     std::sort(walls.begin(), walls.end());
-    for (int k = 0; k < 3; ++k) {
-      bool moved = false;
-      for (uint32_t g : walls) {
-        const auto pen = penetration(b.position + centre, radius, fixtures[g].geometry, bodyOf(g).position);
-        if (!pen) continue;
-        b.position += pen->normal * pen->depth;
-        moved = true;
-      }
-      if (!moved) break;
-    }
+    pushOutOf(b, centre, radius, walls);
   }
   pushed.clear();
 
