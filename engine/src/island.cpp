@@ -61,6 +61,10 @@ namespace {
 constexpr int kPartIterations = 100;
 constexpr int kIslandIterations = 300;
 constexpr int kStartIterations = 1000;
+// The position correction without gravity (separateIsland): its sweeps, and the part of an overlap it
+// takes out in one step.
+constexpr int kSeparateIterations = 64;
+constexpr double kSeparateFactor = 0.5;
 
 // Every point of a placed geometry that can hold a circle centred at p: its closest point on each
 // convex piece (a polyline's segments, a polygon's edges), so a disk in a corner gets both walls.
@@ -250,6 +254,7 @@ World::Impl::IslandSolve World::Impl::solveIsland(const std::vector<uint32_t>& m
         c.inverseA = body.inverseMass;
         c.inverseB = kj >= 0 ? holder.inverseMass : 0.0;
         c.target = gap > 0 ? (h > 0 ? -gap / h : -std::numeric_limits<double>::infinity()) : 0.0;
+        c.gap = gap;
         contacts.push_back(c);
       });
     }
@@ -313,6 +318,7 @@ World::Impl::IslandSolve World::Impl::solveIsland(const std::vector<uint32_t>& m
     }
     if (!changed) break;
   }
+  if (warmStart && def.gravity.x == 0 && def.gravity.y == 0 && h > 0) separateIsland(members, v, h);
   for (size_t k = 0; k < members.size(); ++k) {
     BodySlot& b = bodies[members[k]];
     if (v[k].x == b.velocity.x && v[k].y == b.velocity.y) continue;
@@ -350,6 +356,64 @@ World::Impl::IslandSolve World::Impl::solveIsland(const std::vector<uint32_t>& m
     violation = std::max(violation, c.target - dot(bodies[c.a].velocity - vb, c.normal));
   }
   return {reported, converged || violation <= 1e-4 * (speed + length(def.gravity) * h)};
+}
+
+void World::Impl::separateIsland(const std::vector<uint32_t>& members, const std::vector<Vec2>& v, double h) {
+  // Overlap left by a solve that stopped short of its tolerance would otherwise stay (a touching
+  // contact's target is 0, not a push apart) and grow step by step in a crowd that keeps pressing. It is
+  // taken out by moving positions, not velocities (the split impulse of Catto's Box2D v2.x TOI solver
+  // and of Bullet: a pseudo-velocity solve): kinetic energy is untouched, and without gravity there is
+  // no potential energy to raise. An overlapping contact asks the displacement d to open it by half its
+  // overlap (a stiffer correction rings: Baumgarte's factor, Catto 2005); every other contact asks
+  // that d closes no more than its gap at the step's start and at its end along the solved velocities.
+  // A straight path's distance to a convex piece is convex in time, so such a pair stays apart all
+  // step. Projected Gauss-Seidel on d in the metric of the masses, as the velocity solve; then the
+  // contacts with what cannot move are met exactly, as in the velocity solve.
+  std::vector<IslandContact>& contacts = islandScratch;
+  std::vector<Vec2> d(members.size());
+  std::vector<double> lower(contacts.size()), mu(contacts.size(), 0.0);
+  bool any = false;
+  for (size_t i = 0; i < contacts.size(); ++i) {
+    const IslandContact& c = contacts[i];
+    const Vec2 vb = c.kb >= 0 ? v[c.kb] : c.holderVelocity;
+    const double endGap = c.gap + h * dot(v[c.ka] - vb, c.normal);
+    const double least = std::min(c.gap, endGap);
+    lower[i] = least < 0 ? -kSeparateFactor * least : -least;
+    any = any || least < 0;
+  }
+  if (!any) return;
+  for (int iteration = 0; iteration < kSeparateIterations; ++iteration) {
+    for (size_t i = 0; i < contacts.size(); ++i) {
+      const IslandContact& c = contacts[i];
+      const double inverseSum = c.inverseA + c.inverseB;
+      const double dn = dot(d[c.ka] - (c.kb >= 0 ? d[c.kb] : Vec2{}), c.normal);
+      const double next = std::max(0.0, mu[i] + (lower[i] - dn) / inverseSum);
+      const double change = next - mu[i];
+      if (change == 0) continue;
+      mu[i] = next;
+      d[c.ka] += c.normal * (change * c.inverseA);
+      if (c.kb >= 0) d[c.kb] -= c.normal * (change * c.inverseB);
+    }
+  }
+  for (int sweep = 0; sweep < 16; ++sweep) {
+    bool changed = false;
+    for (size_t i = 0; i < contacts.size(); ++i) {
+      const IslandContact& c = contacts[i];
+      if (c.kb >= 0) continue;
+      const double dn = dot(d[c.ka], c.normal);
+      if (!(dn < lower[i])) continue;
+      d[c.ka] += c.normal * (lower[i] - dn);
+      changed = true;
+    }
+    if (!changed) break;
+  }
+  for (size_t k = 0; k < members.size(); ++k) {
+    if (d[k].x == 0 && d[k].y == 0) continue;
+    BodySlot& b = bodies[members[k]];
+    b.position += d[k];
+    ++b.collisionCount;
+    b.last = detail::LastContact{};
+  }
 }
 
 void World::Impl::startIslands(double dt, std::vector<uint32_t>& freed) {
@@ -394,7 +458,9 @@ void World::Impl::startIslands(double dt, std::vector<uint32_t>& freed) {
 }
 
 void World::Impl::endIslands(double end) {
-  if (stepped.empty()) return;
+  // Without gravity nothing holds a body at rest (no up): it stays stepped while its contacts push, and
+  // is free again at the start of the first step in which none does.
+  if (stepped.empty() || (def.gravity.x == 0 && def.gravity.y == 0)) return;
   const Vec2 up = -def.gravity * (1.0 / length(def.gravity));
   std::vector<int>& slot = jamSlot;
   if (slot.size() < bodies.size()) slot.resize(bodies.size(), -1);

@@ -25,8 +25,10 @@ constexpr size_t kMaxJamBodies = 4096;
 
 bool World::Impl::isJammed(uint32_t bodyIndex) {
   BodySlot& s = bodies[bodyIndex];
-  if (s.type != BodyType::Dynamic || s.asleep) return false;
-  if (!(def.restingSpeed > 0) || (def.gravity.x == 0 && def.gravity.y == 0)) return false;
+  if (s.type != BodyType::Dynamic || s.asleep || s.jamTime == kJamRefused) return false;
+  if (!(def.restingSpeed > 0)) return false;
+  // Without gravity resolve() counts every collision already (the collapse guard, collapse_guard.h).
+  if (def.gravity.x == 0 && def.gravity.y == 0) return s.stepCollisions > kJamCollisions;
   return s.countStepCollision() > kJamCollisions;
 }
 
@@ -34,8 +36,9 @@ bool World::Impl::settleJamAt(const detail::PredictedContact& c, double dt) {
   const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
   const bool jamA = isJammed(ia), jamB = isJammed(ib);
   if (!jamA && !jamB) return false;
-  stats.eventsProcessed += settleJam(jamA ? ia : ib, c.time, dt, def.maxEventsPerStep - stats.eventsProcessed);
-  return true;
+  const int events = settleJam(jamA ? ia : ib, c.time, dt, def.maxEventsPerStep - stats.eventsProcessed);
+  stats.eventsProcessed += events;
+  return events > 0;
 }
 
 bool World::Impl::settledTogether(const BodySlot& a, const BodySlot& b, double now) const {
@@ -47,8 +50,30 @@ bool World::Impl::settledTogether(const BodySlot& a, const BodySlot& b, double n
   return !(other.type == BodyType::Dynamic && !other.asleep) || (other.jam == settled.jam && other.jamTime == now);
 }
 
+void World::Impl::refuseJam(const std::vector<uint32_t>& cluster) {
+  for (uint32_t i : cluster) {
+    bodies[i].jamTime = kJamRefused;
+    bodies[i].stepLocalsSet = true;
+  }
+}
+
+double World::Impl::islandResidual(double h) const {
+  // The worst overlap the last solve's contacts reach within h, beyond kJamResidual of the radius.
+  double worst = -std::numeric_limits<double>::infinity();
+  for (const IslandContact& c : islandScratch) {
+    const Vec2 vb = c.kb >= 0 ? bodies[c.b].velocity : c.holderVelocity;
+    const double end = c.gap + h * dot(bodies[c.a].velocity - vb, c.normal);
+    const double radius = detail::circleRadius(fixtures[c.fa].geometry);
+    worst = std::max(worst, -std::min(end, 0.0) - kJamResidual * radius);
+  }
+  return worst;
+}
+
 int World::Impl::settleJam(uint32_t seed, double now, double dt, int budget) {
-  const double reachBase = def.restingSpeed * def.restingSpeed / length(def.gravity);
+  // Touching: within the gap a contact at restingSpeed closes before it rests, under gravity (v^2 / g),
+  // and without it within what restingSpeed closes in the step.
+  const double g = length(def.gravity);
+  const double reachBase = g > 0 ? def.restingSpeed * def.restingSpeed / g : def.restingSpeed * dt;
   // The cluster: awake dynamic bodies connected by touching pairs, in the order found from the seed (each
   // body's pairs are in a deterministic order).
   std::vector<uint32_t> cluster{seed};
@@ -76,11 +101,27 @@ int World::Impl::settleJam(uint32_t seed, double now, double dt, int budget) {
     }
   }
   for (uint32_t i : cluster) slot[i] = -1;
+  // Without gravity a jam is a cluster that the game keeps pressing together: one with a body it drives
+  // (BodySlot::driven). A gas's clusters and a body alone (a disk rattling between walls) are no jam:
+  // their collisions are exact events, and the collapse guard bounds them.
+  const bool noGravity = def.gravity.x == 0 && def.gravity.y == 0;
+  const bool driven = std::any_of(cluster.begin(), cluster.end(), [&](uint32_t i) { return bodies[i].driven; });
+  if (noGravity && (cluster.size() < 2 || !driven)) {
+    refuseJam(cluster);
+    return 0;
+  }
+  // Kept to undo the jam (below).
+  std::vector<BodySlot> saved;
+  if (noGravity) {
+    for (uint32_t i : cluster) saved.push_back(bodies[i]);
+  }
+  const size_t eventMark = contactEvents.size();
   // They join the islands, and the whole island they are now part of is solved (island.cpp). Its
   // contacts that were collisions are reported, as many as the step's budget has room for (at least the
   // one event the jam counts is left to it: the caller checked the budget had room).
   joinIslands(cluster, now, dt);
   const std::vector<uint32_t> island = islandOf(cluster);
+  for (size_t k = cluster.size(); noGravity && k < island.size(); ++k) saved.push_back(bodies[island[k]]);
   ++jamCounter;
   for (uint32_t i : cluster) {
     BodySlot& b = bodies[i];
@@ -93,10 +134,21 @@ int World::Impl::settleJam(uint32_t seed, double now, double dt, int budget) {
   }
   std::vector<Vec2> before(island.size());
   for (size_t k = 0; k < island.size(); ++k) before[k] = bodies[island[k]].velocity;
-  const int reported =
+  const IslandSolve solve =
       solveIsland(island, now, dt, length(def.gravity) * (dt - now) + def.restingSpeed, ~uint64_t{0}, false, true,
-                  std::max(budget - 1, 0))
-          .reported;
+                  std::max(budget - 1, 0));
+  // Stepped bodies meet each other only through the solves, so what a solve leaves unmet closes for the
+  // rest of the step. Without gravity a jam is held only if that stays within kJamResidual of a radius;
+  // otherwise (a light disk between heavy ones converges slowly, and a long step multiplies what is left)
+  // it is undone and its collisions stay exact events.
+  if (noGravity && !(islandResidual(dt - now) <= 0)) {
+    for (size_t k = 0; k < island.size(); ++k) bodies[island[k]] = saved[k];
+    contactEvents.resize(eventMark);
+    --jamCounter;
+    refuseJam(cluster);
+    return 0;
+  }
+  const int reported = solve.reported;
   for (size_t k = 0; k < island.size(); ++k) {
     const BodySlot& b = bodies[island[k]];
     if (k < cluster.size() || b.velocity.x != before[k].x || b.velocity.y != before[k].y) repredict(island[k], now, dt);

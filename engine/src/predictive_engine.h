@@ -170,13 +170,14 @@ class Engine {
   Engine(W& w, PredictiveState& s) : w_(w), s_(s) {}
   /// How far the step went: the whole step (dt); 0, having changed nothing the caller sees, when a body
   /// is too fast for the grid this step (kFollowCells); or the instant at which a pile under gravity
-  /// took a body past kPileCollisions (the world is then at that instant, and the caller steps the rest
+  /// (or a driven jam) took a body past kPileCollisions (the world is then at that instant, and the caller steps the rest
   /// of dt otherwise).
   double step(double dt);
   /// Under gravity, a body that collides more than this many times in one step is in a pile that exact
   /// events cannot settle (inelastic collapse: McNamara & Young 1992; NUMERICS.md): the rest of the step,
   /// and the steps after it while the pile is held, go to the hybrid step, whose stepped islands hold
-  /// such contacts by a solve (island.cpp, jam.cpp).
+  /// such contacts by a solve (island.cpp, jam.cpp). Without gravity the same holds for a contact of a
+  /// body the game drives (BodySlot::driven): a crowd pressed into itself.
   static constexpr int kPileCollisions = 128;
   /// A body that would cross more cells than this in one step is beyond what cell-crossing events can
   /// follow at a bounded cost (each crossing is an event): such a step is handed to the hybrid step,

@@ -270,7 +270,10 @@ double Engine<W>::step(double dt) {
   const uint64_t reorderEvery = 16 * static_cast<uint64_t>(s_.hot.size()) + 1024;
   double budgetTime = dt;
   bool pile = false;  // handed over at budgetTime (kPileCollisions)
+  // Without gravity, a cluster the game drives into itself is a jam that the hybrid step holds (jam.cpp):
+  // handed over the same way when one of a contact's bodies is driven.
   const bool pilesForm = w_.def.restingSpeed > 0 && !(w_.def.gravity == Vec2{});
+  const bool jamsForm = w_.def.restingSpeed > 0 && w_.def.gravity == Vec2{};
   const int64_t queueBudget = kQueueEventsPerEvent * int64_t{w_.def.maxEventsPerStep};
   int64_t queueEvents = 0;
   for (;;) {
@@ -364,7 +367,7 @@ double Engine<W>::step(double dt) {
       }
     }
     const detail::PredictedContact contact{
-        c.time, detail::EventKind::Contact, c.a, c.b, c.feature, countA, c.countB, c.point, c.normal};
+        c.time, detail::EventKind::Contact, false, c.a, c.b, c.feature, countA, c.countB, c.point, c.normal};
     const double vn = dot(relativeVelocity, c.normal);
     const bool pressing = dot(relativeAcceleration, c.normal) < 0;
     const double restTol = restTolerance * (std::fabs(c.point.x) + std::fabs(c.point.y));
@@ -403,6 +406,12 @@ double Engine<W>::step(double dt) {
       break;
     }
     if (plainWorld_ && j != PredictiveState::kNone) {
+      if (jamsForm && (s_.cold[i].stepCollisions > kPileCollisions || s_.cold[j].stepCollisions > kPileCollisions) &&
+          (w_.bodies[s_.bodyOfSlot[i]].driven || w_.bodies[s_.bodyOfSlot[j]].driven)) {
+        pile = true;
+        budgetTime = c.time;
+        break;
+      }
       // Both bodies' neighbours are gathered first, which asks for their records, so that they arrive
       // while the collision is resolved (it moves no body between cells).
       uint32_t aroundI[kNeighbourBuffer], aroundJ[kNeighbourBuffer];
@@ -430,8 +439,11 @@ double Engine<W>::step(double dt) {
       fillPairs(i);
       if (j != PredictiveState::kNone) fillPairs(j);
     }
-    if (pilesForm && (w_.bodies[ia].stepCollisions > kPileCollisions ||
-                      (j != PredictiveState::kNone && w_.bodies[s_.bodyOfSlot[j]].stepCollisions > kPileCollisions))) {
+    const detail::BodySlot* partner = j != PredictiveState::kNone ? &w_.bodies[s_.bodyOfSlot[j]] : nullptr;
+    const bool collidesOften = w_.bodies[ia].stepCollisions > kPileCollisions ||
+                               (partner != nullptr && partner->stepCollisions > kPileCollisions);
+    const bool driven = w_.bodies[ia].driven || (partner != nullptr && partner->driven);
+    if ((pilesForm || (jamsForm && driven)) && collidesOften) {
       pile = true;
       budgetTime = c.time;
       break;

@@ -150,6 +150,10 @@ void keepEarlier(std::optional<Impact>& best, const std::optional<Impact>& candi
 // exactly on the line has f = s^2 - r^2 with f'(0) = 0 from velocity alone, and is left to the
 // crossing test. The other side matters only under acceleration: a body can pass beyond an end and
 // curve back onto the underside.
+bool isResolved(int feature, int resolvedFeature) {
+  return feature == resolvedFeature || resolvedFeature == kEveryFeature;
+}
+
 std::optional<Impact> segmentImpact(const Circle& a, const Motion& m, Vec2 p0, Vec2 p1, double maxTime, int feature,
                                     bool justResolved) {
   Edge edge = edgeOf(p0, p1);
@@ -167,21 +171,21 @@ std::optional<Impact> segmentImpact(const Circle& a, const Motion& m, Vec2 p0, V
 
 std::optional<Impact> timeOfImpactCircleCircle(const Circle& a, const Motion& motion, const Circle& b, double maxTime,
                                                int resolvedFeature) {
-  auto t = timeToReach(a.center - b.center, motion, a.radius + b.radius, maxTime, resolvedFeature == 0);
+  auto t = timeToReach(a.center - b.center, motion, a.radius + b.radius, maxTime, isResolved(0, resolvedFeature));
   if (!t) return std::nullopt;
   return pointImpact(a.center, motion, b.center, b.radius, *t, 0);
 }
 
 std::optional<Impact> timeOfImpactCirclePoint(const Circle& a, const Motion& motion, const Point& b, double maxTime,
                                               int resolvedFeature) {
-  auto t = timeToReach(a.center - b.position, motion, a.radius, maxTime, resolvedFeature == 0);
+  auto t = timeToReach(a.center - b.position, motion, a.radius, maxTime, isResolved(0, resolvedFeature));
   if (!t) return std::nullopt;
   return pointImpact(a.center, motion, b.position, 0.0, *t, 0);
 }
 
 std::optional<Impact> timeOfImpactCircleSegment(const Circle& a, const Motion& motion, const Segment& b, double maxTime,
                                                 int resolvedFeature) {
-  return segmentImpact(a, motion, b.a, b.b, maxTime, 0, resolvedFeature == 0);
+  return segmentImpact(a, motion, b.a, b.b, maxTime, 0, isResolved(0, resolvedFeature));
 }
 
 std::optional<Impact> timeOfImpactCirclePolyline(const Circle& a, const Motion& motion, const Polyline& b,
@@ -189,11 +193,11 @@ std::optional<Impact> timeOfImpactCirclePolyline(const Circle& a, const Motion& 
   const int n = static_cast<int>(b.points.size());
   std::optional<Impact> best;
   for (int i = 0; i + 1 < n; ++i) {
-    keepEarlier(best, segmentImpact(a, motion, b.points[i], b.points[i + 1], maxTime, i, i == resolvedFeature));
+    keepEarlier(best, segmentImpact(a, motion, b.points[i], b.points[i + 1], maxTime, i, isResolved(i, resolvedFeature)));
   }
   for (int k = 0; k < n; ++k) {
     const int feature = n - 1 + k;
-    if (auto t = timeToReach(a.center - b.points[k], motion, a.radius, maxTime, feature == resolvedFeature))
+    if (auto t = timeToReach(a.center - b.points[k], motion, a.radius, maxTime, isResolved(feature, resolvedFeature)))
       keepEarlier(best, pointImpact(a.center, motion, b.points[k], 0.0, *t, feature));
   }
   return best;
@@ -205,11 +209,11 @@ std::optional<Impact> timeOfImpactCirclePolygon(const Circle& a, const Motion& m
   std::optional<Impact> best;
   for (int i = 0; i < n; ++i) {
     keepEarlier(best, faceImpact(a, motion, edgeOf(b.points[i], b.points[(i + 1) % n]), true, maxTime, i,
-                                 i == resolvedFeature));
+                                 isResolved(i, resolvedFeature)));
   }
   for (int k = 0; k < n; ++k) {
     const int feature = n + k;
-    auto t = timeToReach(a.center - b.points[k], motion, a.radius, maxTime, feature == resolvedFeature);
+    auto t = timeToReach(a.center - b.points[k], motion, a.radius, maxTime, isResolved(feature, resolvedFeature));
     if (!t) continue;
     // A corner is met from outside the polygon: the centre then lies outside one of the corner's two
     // edges. A centre inside the polygon reaching a corner's distance is an overlap from within.

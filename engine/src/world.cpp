@@ -291,6 +291,7 @@ void World::setVelocity(BodyId id, Vec2 velocity) {
   impl().wakeUp(id.index, 0.0, woken);
   if (b.support.generation != 0) impl().stopSliding(b);
   b.velocity = velocity;
+  b.driven = b.type == BodyType::Dynamic;
   impl().touched(id.index);
   impl().touched(woken);
 }
@@ -486,6 +487,8 @@ void World::step(double dt) {
   }
   impl().structureChanged = false;
   impl().restitutionChanged = false;
+  // Every body setVelocity drove is in touchedBodies.
+  for (uint32_t i : impl().touchedBodies) impl().bodies[i].driven = false;
   impl().touchedBodies.clear();
 }
 

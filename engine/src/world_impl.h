@@ -72,6 +72,10 @@ struct alignas(64) BodySlot {
   // World::Impl::diskShapes[this body] holds its one fixture that is not a sensor, a circle centred on
   // it (the hybrid step learns it; World's changes to the body's fixtures or their filters clear it).
   bool diskShapeKnown : 1 = false;
+  // World::setVelocity gave it a velocity since the last step: the game drives it (a unit steered each
+  // tick). Without gravity only a cluster with a driven body is held as a jam (jam.cpp); a gas's
+  // clusters stay exact events. World::step clears it.
+  bool driven : 1 = false;
   LastContact last;  // step-local
   Support support;
   uint32_t generation = 1;
@@ -133,12 +137,17 @@ enum class EventKind : uint8_t { Contact = 0, SlideEnd = 1 };
 struct PredictedContact {
   double time;
   EventKind kind;
+  // Predicted again after the same pair's contact with another feature was dropped at `time` (the
+  // hybrid step's events): a second such drop takes every feature touching then as separating.
+  bool afterDismissal;
   uint32_t a, b;
   int feature;
   uint32_t countA, countB;
   Vec2 point;
   Vec2 normal;
 };
+
+static_assert(sizeof(PredictedContact) == 64, "PredictedContact: one cache line");
 
 // Total order for the event queue: by time, then by fixture ids, then the rest, so no two distinct
 // predictions compare equal and the processing order never depends on the heap's implementation.
@@ -328,7 +337,8 @@ struct World::Impl {
   /// Queues the contact `impact` found at `now` (in the frame where `other` rests, which moves on with
   /// the given velocity and acceleration), carrying both bodies' collision counters.
   void queueContact(const Impact& impact, uint32_t own, uint32_t other, uint32_t countOwn, uint32_t countOther,
-                    Vec2 velocityOfOther, Vec2 accelerationOfOther, double now, double dt);
+                    Vec2 velocityOfOther, Vec2 accelerationOfOther, double now, double dt,
+                    bool afterDismissal = false);
   void predictSlideEnd(uint32_t body, double now, double dt);
   /// The sweep's pair of two plain disks (fixtures fa and fb of bodies ba and bb) at the step's start, as
   /// canCollide, addPair and predict would take it, from their bodies' first lines and DiskShapes.
@@ -353,6 +363,7 @@ struct World::Impl {
     double target;              // least relative normal velocity after (-gap / time left)
     double lambda = 0;
     double approach = 0;  // closing speed before the solve
+    double gap = 0;       // distance minus radius when the solve starts (< 0: overlap)
   };
   static uint64_t islandKey(uint32_t fa, uint32_t fb) {
     return (uint64_t{std::min(fa, fb)} << 32) | std::max(fa, fb);
@@ -360,6 +371,9 @@ struct World::Impl {
   std::vector<uint32_t> stepped;         // this step's stepped bodies at its start
   std::vector<uint32_t> steppedCounts;   // their collision counters after the start's solve
   std::vector<IslandContact> islandScratch, islandScratchStart;
+  /// Without gravity, at a step's start: moves the members (advanced to the step's start, their
+  /// velocities solved) apart where they overlap, without touching a velocity (island.cpp).
+  void separateIsland(const std::vector<uint32_t>& members, const std::vector<Vec2>& v, double h);
   std::vector<std::pair<uint64_t, double>> islandImpulses, islandNext;  // warm start, by islandKey
   /// A pair whose contact an island solve holds: a stepped body and anything but a free body.
   bool heldByIsland(const detail::BodySlot& a, const detail::BodySlot& b) const {
@@ -436,8 +450,17 @@ struct World::Impl {
   /// Counts a collision of `body` in this step; true once it has had more than kJamCollisions.
   bool isJammed(uint32_t body);
   /// Brings the touching cluster of `seed` into the stepped islands at `now` and solves its island;
-  /// returns the contact events it took (at least 1, at most `budget` >= 1).
+  /// returns the contact events it took (at least 1, at most `budget` >= 1), or
+  /// returns 0 when it is refused (below).
   int settleJam(uint32_t seed, double now, double dt, int budget);
+  /// BodySlot::jamTime of a body whose jam was refused this step (no jam is tried for it again).
+  static constexpr double kJamRefused = -2;
+  /// Without gravity, the overlap a jam's solve may leave within the step, in radii.
+  static constexpr double kJamResidual = 0.01;
+  void refuseJam(const std::vector<uint32_t>& cluster);
+  /// How far the last solve's contacts (islandScratch) overlap after h more seconds on the bodies'
+  /// velocities beyond kJamResidual of the radius: <= 0 when none does.
+  double islandResidual(double h) const;
   /// Counts the contact's collision for both bodies; when one of them is jammed, settles its cluster
   /// (counting its events against the step's budget, which must have room for one) and returns true.
   bool settleJamAt(const detail::PredictedContact& c, double dt);

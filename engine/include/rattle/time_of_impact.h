@@ -31,6 +31,8 @@ struct Motion {
 
 /// No feature (see `resolvedFeature` below).
 inline constexpr int kNoFeature = -1;
+/// Every feature of B (see `resolvedFeature` below).
+inline constexpr int kEveryFeature = -2;
 
 /// A predicted first contact.
 struct Impact {
@@ -45,7 +47,8 @@ struct Impact {
 // `resolvedFeature`: a feature of B whose contact with A was resolved at this very instant. It is taken
 // to be separating whatever round-off says about the gap and its rate, so it gives no impact at time 0,
 // only a later one (a bounce under gravity comes back). The world passes it so that round-off cannot
-// make a pair collide again and again at the same instant.
+// make a pair collide again and again at the same instant. kEveryFeature takes every feature so: a body at
+// rest in a corner, touching both walls.
 
 std::optional<Impact> timeOfImpactCircleCircle(const Circle& a, const Motion& motion, const Circle& b, double maxTime,
                                                int resolvedFeature = kNoFeature);
