@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "out_of_memory.h"
+
 namespace rattle::detail {
 
 void BroadPhase::add(uint32_t fixture, const Box& box, bool moving, bool sensor, uint32_t category, uint32_t mask) {
@@ -26,6 +28,18 @@ void BroadPhase::add(uint32_t fixture, const Box& box, bool moving, bool sensor,
       own_.push_back({box, fixture, bandCount_ - 1, category, mask, moving, false, kNoTag});
       order_.push_back(fixture);
     }
+  }
+}
+
+void BroadPhase::reserveFor(uint32_t fixture, bool sensor) {
+  if (proxies_.size() <= fixture) proxies_.resize(fixture + 1);
+  if (reach_.size() < proxies_.size()) reach_.resize(proxies_.size());
+  if (proxies_[fixture].listed) return;
+  if (sensor) {
+    roomForOneMore(sensorOrder_);
+  } else {
+    roomForOneMore(own_);
+    roomForOneMore(order_);
   }
 }
 

@@ -46,6 +46,8 @@ class BroadPhase {
   /// against the fixtures it may sense.
   void add(uint32_t fixture, const Box& box, bool moving, bool sensor = false, uint32_t category = ~0u,
            uint32_t mask = ~0u);
+  /// Makes the room add(fixture, ..., sensor, ...) takes, so that the add that follows cannot fail.
+  void reserveFor(uint32_t fixture, bool sensor);
   void setFilter(uint32_t fixture, uint32_t category, uint32_t mask) {
     proxies_[fixture].category = category;
     proxies_[fixture].mask = mask;

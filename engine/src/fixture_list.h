@@ -51,6 +51,10 @@ class FixtureList {
     if (size_ == capacity_) grow();
     data()[size_++] = index;
   }
+  /// Room for one more index, so that the next push_back cannot fail.
+  void reserveOneMore() {
+    if (size_ == capacity_) grow();
+  }
   // Removes the entry at `at` (an iterator of this list), keeping the order of the rest.
   void erase(const uint32_t* at) {
     uint32_t* d = data();

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "format.h"
+#include "out_of_memory.h"
 #include "predictive_step.h"
 #include "world_impl.h"
 
@@ -168,41 +169,48 @@ FixtureSlot& lookUp(detail::LargeArray<FixtureSlot>& fixtures, FixtureId id) {
 }  // namespace
 
 BodyId World::createBody(const BodyDef& def) {
-  require(def.type == BodyType::Static || def.type == BodyType::Dynamic || def.type == BodyType::Kinematic, [&] {
-    return std::string("BodyDef.type = " + std::to_string(static_cast<int>(def.type)) + ": not a BodyType");
-  });
-  checkFinite(def.position, "BodyDef.position");
-  require(inRange(def.position),
-          [&] { return "BodyDef.position = " + str(def.position) + ": outside +-1e150 (World::kMaxCoordinate)"; });
-  checkVelocity(def.velocity, "BodyDef.velocity");
-  require(def.type != BodyType::Static || def.velocity == Vec2{},
-          [&] { return std::string("BodyDef.velocity = " + str(def.velocity) + ": a static body cannot move"); });
+  return detail::unlessOutOfMemory("createBody", [&]() -> BodyId {
+    require(def.type == BodyType::Static || def.type == BodyType::Dynamic || def.type == BodyType::Kinematic, [&] {
+      return std::string("BodyDef.type = " + std::to_string(static_cast<int>(def.type)) + ": not a BodyType");
+    });
+    checkFinite(def.position, "BodyDef.position");
+    require(inRange(def.position),
+            [&] { return "BodyDef.position = " + str(def.position) + ": outside +-1e150 (World::kMaxCoordinate)"; });
+    checkVelocity(def.velocity, "BodyDef.velocity");
+    require(def.type != BodyType::Static || def.velocity == Vec2{},
+            [&] { return std::string("BodyDef.velocity = " + str(def.velocity) + ": a static body cannot move"); });
 
-  Impl& w = impl();
-  uint32_t index;
-  if (!w.freeBodies.empty()) {
-    index = w.freeBodies.back();
-    w.freeBodies.pop_back();
-  } else {
-    index = static_cast<uint32_t>(w.bodies.size());
-    w.bodies.emplace_back();
-    w.userData.emplace_back();
-    w.dependents.emplace_back();
-  }
-  BodySlot& b = w.bodies[index];
-  const uint32_t generation = b.generation;
-  b = BodySlot{};
-  b.generation = generation;
-  b.alive = true;
-  b.type = def.type;
-  b.position = def.position;
-  b.velocity = def.velocity;
-  w.userData[index] = def.userData;
-  w.dependents[index].clear();
-  w.recomputeMass(b);
-  ++w.liveBodies;
-  w.structureChanged = true;
-  return BodyId{index, generation};
+    Impl& w = impl();
+    if (w.freeBodies.empty()) {
+      detail::roomForOneMore(w.bodies);
+      detail::roomForOneMore(w.userData);
+      detail::roomForOneMore(w.dependents);
+    }
+    uint32_t index;
+    if (!w.freeBodies.empty()) {
+      index = w.freeBodies.back();
+      w.freeBodies.pop_back();
+    } else {
+      index = static_cast<uint32_t>(w.bodies.size());
+      w.bodies.emplace_back();
+      w.userData.emplace_back();
+      w.dependents.emplace_back();
+    }
+    BodySlot& b = w.bodies[index];
+    const uint32_t generation = b.generation;
+    b = BodySlot{};
+    b.generation = generation;
+    b.alive = true;
+    b.type = def.type;
+    b.position = def.position;
+    b.velocity = def.velocity;
+    w.userData[index] = def.userData;
+    w.dependents[index].clear();
+    w.recomputeMass(b);
+    ++w.liveBodies;
+    w.structureChanged = true;
+    return BodyId{index, generation};
+  });
 }
 
 void World::destroyBody(BodyId id) {
@@ -304,81 +312,86 @@ std::vector<FixtureId> World::fixtures(BodyId id) const {
 }
 
 FixtureId World::createFixture(BodyId bodyId, const FixtureDef& def) {
-  Impl& w = impl();
-  BodySlot& body = lookUp(w.bodies, bodyId);
-  if (auto error = validationError(def.geometry)) throw Error("FixtureDef.geometry: " + *error);
-  if (const auto* circle = std::get_if<Circle>(&def.geometry)) {
-    // Times of impact resolve a radius down to a few ulps of the coordinates (and of the distances a
-    // step covers); kMinRelativeRadius leaves a hundredfold margin above that.
-    const Vec2 at = body.position + circle->center;
-    const double smallest = kMinRelativeRadius * std::max({1.0, std::fabs(at.x), std::fabs(at.y)});
-    require(circle->radius == 0 || circle->radius >= smallest, [&] {
-      return "FixtureDef.geometry: Circle.radius = " + str(circle->radius) + ": below the smallest radius that " +
-             "collides at " + str(at) + ", 1e-12 x max(1, |x|, |y|) = " + str(smallest) + " (0 makes a point)";
-    });
-  }
-  if (body.type == BodyType::Dynamic) {
-    const auto centre = centreOf(def.geometry);
-    require(centre.has_value(), [&] {
-      return std::string(std::string("FixtureDef.geometry is a ") + nameOf(typeOf(def.geometry)) +
-                         ": a dynamic body holds only circles and points sharing one centre");
-    });
-    for (uint32_t f : body.fixtures) {
-      const Vec2 other = *centreOf(w.fixtures[f].geometry);
-      require(other == *centre, [&] {
-        return std::string("FixtureDef.geometry centre = " + str(*centre) + ": differs from the centre " + str(other) +
-                           " of the body's other fixtures (a dynamic body's circles share one centre)");
+  return detail::unlessOutOfMemory("createFixture", [&]() -> FixtureId {
+    Impl& w = impl();
+    BodySlot& body = lookUp(w.bodies, bodyId);
+    if (auto error = validationError(def.geometry)) throw Error("FixtureDef.geometry: " + *error);
+    if (const auto* circle = std::get_if<Circle>(&def.geometry)) {
+      // Times of impact resolve a radius down to a few ulps of the coordinates (and of the distances a
+      // step covers); kMinRelativeRadius leaves a hundredfold margin above that.
+      const Vec2 at = body.position + circle->center;
+      const double smallest = kMinRelativeRadius * std::max({1.0, std::fabs(at.x), std::fabs(at.y)});
+      require(circle->radius == 0 || circle->radius >= smallest, [&] {
+        return "FixtureDef.geometry: Circle.radius = " + str(circle->radius) + ": below the smallest radius that " +
+               "collides at " + str(at) + ", 1e-12 x max(1, |x|, |y|) = " + str(smallest) + " (0 makes a point)";
       });
     }
-    require(std::isfinite(def.density) && def.density > 0, [&] {
-      return std::string("FixtureDef.density = " + str(def.density) + ": must be finite and > 0 on a dynamic body");
+    if (body.type == BodyType::Dynamic) {
+      const auto centre = centreOf(def.geometry);
+      require(centre.has_value(), [&] {
+        return std::string(std::string("FixtureDef.geometry is a ") + nameOf(typeOf(def.geometry)) +
+                           ": a dynamic body holds only circles and points sharing one centre");
+      });
+      for (uint32_t f : body.fixtures) {
+        const Vec2 other = *centreOf(w.fixtures[f].geometry);
+        require(other == *centre, [&] {
+          return std::string("FixtureDef.geometry centre = " + str(*centre) + ": differs from the centre " + str(other) +
+                             " of the body's other fixtures (a dynamic body's circles share one centre)");
+        });
+      }
+      require(std::isfinite(def.density) && def.density > 0, [&] {
+        return std::string("FixtureDef.density = " + str(def.density) + ": must be finite and > 0 on a dynamic body");
+      });
+    } else {
+      require(std::isfinite(def.density) && def.density >= 0,
+              [&] { return std::string("FixtureDef.density = " + str(def.density) + ": must be finite and >= 0"); });
+    }
+    checkRestitution(def.restitution, "FixtureDef.restitution");
+    if (body.type == BodyType::Dynamic && !def.sensor) {
+      double mass = body.mass == std::numeric_limits<double>::infinity() ? 0 : body.mass;
+      require(std::isfinite(mass + def.density * areaOf(def.geometry)), [&] {
+        return std::string("FixtureDef.density = " + str(def.density) + ": gives the body an infinite mass");
+      });
+    }
+    const Box localBox = boxOf(def.geometry);
+    require(inRange(localBox.translated(body.position)), [&] {
+      return "FixtureDef.geometry: its box reaches outside +-1e150 (World::kMaxCoordinate) at the body's position " +
+             str(body.position);
     });
-  } else {
-    require(std::isfinite(def.density) && def.density >= 0,
-            [&] { return std::string("FixtureDef.density = " + str(def.density) + ": must be finite and >= 0"); });
-  }
-  checkRestitution(def.restitution, "FixtureDef.restitution");
-  if (body.type == BodyType::Dynamic && !def.sensor) {
-    double mass = body.mass == std::numeric_limits<double>::infinity() ? 0 : body.mass;
-    require(std::isfinite(mass + def.density * areaOf(def.geometry)), [&] {
-      return std::string("FixtureDef.density = " + str(def.density) + ": gives the body an infinite mass");
-    });
-  }
-  const Box localBox = boxOf(def.geometry);
-  require(inRange(localBox.translated(body.position)), [&] {
-    return "FixtureDef.geometry: its box reaches outside +-1e150 (World::kMaxCoordinate) at the body's position " +
-           str(body.position);
-  });
 
-  uint32_t index;
-  if (!w.freeFixtures.empty()) {
-    index = w.freeFixtures.back();
-    w.freeFixtures.pop_back();
-  } else {
-    index = static_cast<uint32_t>(w.fixtures.size());
-    w.fixtures.emplace_back();
-  }
-  FixtureSlot& f = w.fixtures[index];
-  const uint32_t generation = f.generation;
-  f = FixtureSlot{};
-  f.generation = generation;
-  f.alive = true;
-  f.body = bodyId.index;
-  f.geometry = normalized(def.geometry);
-  f.localBox = localBox;
-  f.density = def.density;
-  f.restitution = def.restitution;
-  f.sensor = def.sensor;
-  f.filter = def.filter;
-  body.fixtures.push_back(index);
-  body.diskShapeKnown = false;
-  w.recomputeMass(body);
-  w.structureChanged = true;
-  w.staticsChanged(body);
-  w.broadPhase.add(index, w.worldBox(index), body.type != BodyType::Static, f.sensor, f.filter.categoryBits,
-                   f.filter.maskBits);
-  if (f.sensor) ++w.liveSensors;
-  return FixtureId{index, generation};
+    // Everything that allocates first (the stored geometry, room in the lists it joins), then the changes.
+    Geometry geometry = normalized(def.geometry);
+    const uint32_t index = w.freeFixtures.empty() ? static_cast<uint32_t>(w.fixtures.size()) : w.freeFixtures.back();
+    if (w.freeFixtures.empty()) detail::roomForOneMore(w.fixtures);
+    body.fixtures.reserveOneMore();
+    w.broadPhase.reserveFor(index, def.sensor);
+    if (w.freeFixtures.empty()) {
+      w.fixtures.emplace_back();
+    } else {
+      w.freeFixtures.pop_back();
+    }
+    FixtureSlot& f = w.fixtures[index];
+    const uint32_t generation = f.generation;
+    f = FixtureSlot{};
+    f.generation = generation;
+    f.alive = true;
+    f.body = bodyId.index;
+    f.geometry = std::move(geometry);
+    f.localBox = localBox;
+    f.density = def.density;
+    f.restitution = def.restitution;
+    f.sensor = def.sensor;
+    f.filter = def.filter;
+    body.fixtures.push_back(index);
+    body.diskShapeKnown = false;
+    w.recomputeMass(body);
+    w.structureChanged = true;
+    w.staticsChanged(body);
+    w.broadPhase.add(index, w.worldBox(index), body.type != BodyType::Static, f.sensor, f.filter.categoryBits,
+                     f.filter.maskBits);
+    if (f.sensor) ++w.liveSensors;
+    return FixtureId{index, generation};
+  });
 }
 
 void World::destroyFixture(FixtureId id) {

@@ -11,7 +11,8 @@
 namespace rattle {
 
 /// Thrown for invalid input: a definition, a value passed to a setter, a stale handle. The message names
-/// the field and the value. When it is thrown the world is unchanged.
+/// the field and the value. Also thrown when memory runs out in World::createBody or createFixture. When
+/// it is thrown the world is unchanged.
 class Error : public std::invalid_argument {
  public:
   using std::invalid_argument::invalid_argument;
