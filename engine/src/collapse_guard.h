@@ -6,10 +6,11 @@
 
 namespace rattle::detail {
 
-// Dynamic bodies with restitution below 1 and nothing else to hold them (no gravity, so no stepped
-// islands or jams) can collide infinitely often in finite time: inelastic collapse (McNamara & Young,
-// Phys. Fluids A 4, 496, 1992), a row of four disks at restitution 0.05 already. A body that has taken
-// more than a sixteenth of the step's event budget collides elastically for the rest of the step, as the
+// Dynamic bodies with restitution below 1 and nothing else to hold them (no gravity, nobody driven) can
+// collide infinitely often in finite time: inelastic collapse (McNamara & Young, Phys. Fluids A 4, 496,
+// 1992), a row of four disks at restitution 0.05 already. A body that has taken more than a sixteenth of
+// the step's event budget has its touching cluster held as a jam (jam.cpp); where the jam is refused, it
+// collides elastically for the rest of the step, as the
 // TC model does within WorldDef::collapseTime of a collision (Luding & McNamara, Granular Matter 1, 113,
 // 1998): it never adds energy, and it ends the collapse. Sequences that converge take far fewer: a light
 // disk caught between two heavy ones (1000 times its mass, restitution 0) settles after 35,251

@@ -11,6 +11,7 @@
 #include <cmath>
 
 #include "closest_point.h"
+#include "collapse_guard.h"
 #include "world_impl.h"
 
 namespace rattle {
@@ -27,8 +28,13 @@ bool World::Impl::isJammed(uint32_t bodyIndex) {
   BodySlot& s = bodies[bodyIndex];
   if (s.type != BodyType::Dynamic || s.asleep || s.jamTime == kJamRefused) return false;
   if (!(def.restingSpeed > 0)) return false;
-  // Without gravity resolve() counts every collision already (the collapse guard, collapse_guard.h).
-  if (def.gravity.x == 0 && def.gravity.y == 0) return s.stepCollisions > kJamCollisions;
+  // Without gravity resolve() counts every collision already (the collapse guard, collapse_guard.h). A
+  // body the game drives jams as under gravity; one it does not (a gas) only where the collapse guard
+  // would otherwise make its collisions elastic: it is then in an inelastic collapse (a cluster with low
+  // restitution in a corner), which exact events cannot end within the step's budget.
+  if (def.gravity.x == 0 && def.gravity.y == 0) {
+    return s.stepCollisions > (s.driven ? kJamCollisions : detail::collapseCollisions(def.maxEventsPerStep));
+  }
   return s.countStepCollision() > kJamCollisions;
 }
 
@@ -101,12 +107,10 @@ int World::Impl::settleJam(uint32_t seed, double now, double dt, int budget) {
     }
   }
   for (uint32_t i : cluster) slot[i] = -1;
-  // Without gravity a jam is a cluster that the game keeps pressing together: one with a body it drives
-  // (BodySlot::driven). A gas's clusters and a body alone (a disk rattling between walls) are no jam:
-  // their collisions are exact events, and the collapse guard bounds them.
+  // Without gravity a body alone (a disk rattling between walls) is no jam: its collisions are exact
+  // events, and the collapse guard bounds them.
   const bool noGravity = def.gravity.x == 0 && def.gravity.y == 0;
-  const bool driven = std::any_of(cluster.begin(), cluster.end(), [&](uint32_t i) { return bodies[i].driven; });
-  if (noGravity && (cluster.size() < 2 || !driven)) {
+  if (noGravity && cluster.size() < 2) {
     refuseJam(cluster);
     return 0;
   }

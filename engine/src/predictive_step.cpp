@@ -271,9 +271,11 @@ double Engine<W>::step(double dt) {
   double budgetTime = dt;
   bool pile = false;  // handed over at budgetTime (kPileCollisions)
   // Without gravity, a cluster the game drives into itself is a jam that the hybrid step holds (jam.cpp):
-  // handed over the same way when one of a contact's bodies is driven.
+  // handed over the same way when one of a contact's bodies is driven...
   const bool pilesForm = w_.def.restingSpeed > 0 && !(w_.def.gravity == Vec2{});
   const bool jamsForm = w_.def.restingSpeed > 0 && w_.def.gravity == Vec2{};
+  // ... or in an inelastic collapse, where the collapse guard would make its collisions elastic (jam.cpp).
+  const uint32_t collapseLimit = static_cast<uint32_t>(detail::collapseCollisions(w_.def.maxEventsPerStep));
   const int64_t queueBudget = kQueueEventsPerEvent * int64_t{w_.def.maxEventsPerStep};
   int64_t queueEvents = 0;
   for (;;) {
@@ -406,8 +408,9 @@ double Engine<W>::step(double dt) {
       break;
     }
     if (plainWorld_ && j != PredictiveState::kNone) {
-      if (jamsForm && (s_.cold[i].stepCollisions > kPileCollisions || s_.cold[j].stepCollisions > kPileCollisions) &&
-          (w_.bodies[s_.bodyOfSlot[i]].driven || w_.bodies[s_.bodyOfSlot[j]].driven)) {
+      const uint32_t most = std::max(s_.cold[i].stepCollisions, s_.cold[j].stepCollisions);
+      if (jamsForm && most > kPileCollisions &&
+          (w_.bodies[s_.bodyOfSlot[i]].driven || w_.bodies[s_.bodyOfSlot[j]].driven || most > collapseLimit)) {
         pile = true;
         budgetTime = c.time;
         break;
@@ -440,10 +443,9 @@ double Engine<W>::step(double dt) {
       if (j != PredictiveState::kNone) fillPairs(j);
     }
     const detail::BodySlot* partner = j != PredictiveState::kNone ? &w_.bodies[s_.bodyOfSlot[j]] : nullptr;
-    const bool collidesOften = w_.bodies[ia].stepCollisions > kPileCollisions ||
-                               (partner != nullptr && partner->stepCollisions > kPileCollisions);
+    const int most = std::max(w_.bodies[ia].stepCollisions, partner != nullptr ? partner->stepCollisions : 0);
     const bool driven = w_.bodies[ia].driven || (partner != nullptr && partner->driven);
-    if ((pilesForm || (jamsForm && driven)) && collidesOften) {
+    if ((pilesForm || (jamsForm && (driven || most > static_cast<int>(collapseLimit)))) && most > kPileCollisions) {
       pile = true;
       budgetTime = c.time;
       break;
