@@ -64,13 +64,14 @@ void World::Impl::refuseJam(const std::vector<uint32_t>& cluster) {
 }
 
 double World::Impl::islandResidual(double h) const {
-  // The worst overlap the last solve's contacts reach within h, beyond kJamResidual of the radius.
+  // The worst overlap the last solve's contacts reach within h beyond what they had (a fixture created
+  // overlapping others is not the solve's doing), beyond kJamResidual of the radius.
   double worst = -std::numeric_limits<double>::infinity();
   for (const IslandContact& c : islandScratch) {
     const Vec2 vb = c.kb >= 0 ? bodies[c.b].velocity : c.holderVelocity;
     const double end = c.gap + h * dot(bodies[c.a].velocity - vb, c.normal);
     const double radius = detail::circleRadius(fixtures[c.fa].geometry);
-    worst = std::max(worst, -std::min(end, 0.0) - kJamResidual * radius);
+    worst = std::max(worst, std::min(c.gap, 0.0) - std::min(end, 0.0) - kJamResidual * radius);
   }
   return worst;
 }

@@ -455,11 +455,11 @@ struct World::Impl {
   int settleJam(uint32_t seed, double now, double dt, int budget);
   /// BodySlot::jamTime of a body whose jam was refused this step (no jam is tried for it again).
   static constexpr double kJamRefused = -2;
-  /// Without gravity, the overlap a jam's solve may leave within the step, in radii.
+  /// Without gravity, the overlap a jam's solve may add within the step, in radii.
   static constexpr double kJamResidual = 0.01;
   void refuseJam(const std::vector<uint32_t>& cluster);
-  /// How far the last solve's contacts (islandScratch) overlap after h more seconds on the bodies'
-  /// velocities beyond kJamResidual of the radius: <= 0 when none does.
+  /// How much further than at the solve's start the last solve's contacts (islandScratch) overlap after
+  /// h more seconds on the bodies' velocities, beyond kJamResidual of the radius: <= 0 when none does.
   double islandResidual(double h) const;
   /// Counts the contact's collision for both bodies; when one of them is jammed, settles its cluster
   /// (counting its events against the step's budget, which must have room for one) and returns true.
