@@ -36,6 +36,9 @@
 //    restingSpeed sleeps once everything that holds it (pushes it from below or beside) is static or
 //    asleep: bottom up, so a body sliding off the top of a settled pile does not keep the pile awake. The
 //    solve had cancelled a whole step of gravity on it, so it is held.
+//  - Without gravity (a crowd the game drives into a doorway, jam.cpp), a stepped body never sleeps (no
+//    up): it is free again when no contact pushes it. The sweeps over-relax there, and the overlap a
+//    solve leaves is taken out at the next step's start by moving positions (separateIsland).
 //  - Cost: one solve of all stepped bodies a step (warm-started, so a resting pile converges in a few
 //    sweeps), and a small solve for each join and hit. Accuracy: a solve stops when no impulse changes a
 //    velocity by more than 1e-6 of the speeds at play (or after its sweeps, when no contact closes more

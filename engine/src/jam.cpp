@@ -7,6 +7,12 @@
 // budget. Most such clusters form through slow contacts and join a stepped island one pair at a time
 // (island.cpp); when a body still collides more than kJamCollisions times in one step, its whole touching
 // cluster joins the islands at once and is solved with the island it touches.
+//
+// Without gravity the same happens to a cluster the game keeps driving into itself (a crowd steered into
+// a doorway: BodySlot::driven, after kJamCollisions) and to one nobody drives that collapses (after the
+// collapse guard's count, collapse_guard.h). There a jam is undone when its solve would add more than
+// kJamResidual of a radius of overlap within the step: stepped bodies meet only through the solves, so
+// what a solve leaves unmet would close for the rest of the step.
 #include <algorithm>
 #include <cmath>
 
