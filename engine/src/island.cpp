@@ -102,6 +102,31 @@ void forEachPiece(const Geometry& g, Vec2 position, Vec2 p, Found&& found) {
   }
 }
 
+// One sweep of projected Gauss-Seidel (over-relaxed by omega) over the contacts, on the members'
+// values x (velocities in the solve, displacements in separateIsland): each contact's multiplier stays
+// >= 0 while its relative normal value (a's minus b's, or minus holder(c) when b is held fixed) is pushed
+// up to target(i), in the metric of the masses. Returns the largest change of a relative value.
+template <class Contacts, class Target, class Multiplier, class Holder>
+double projectedSweep(const Contacts& contacts, std::vector<Vec2>& x, double omega, Target&& target,
+                      Multiplier&& multiplier, Holder&& holder) {
+  double worst = 0;
+  for (size_t i = 0; i < contacts.size(); ++i) {
+    const auto& c = contacts[i];
+    const Vec2 xb = c.kb >= 0 ? x[c.kb] : holder(c);
+    const double inverseSum = c.inverseA + c.inverseB;
+    const double value = dot(x[c.ka] - xb, c.normal);
+    double& lambda = multiplier(i);
+    const double next = std::max(0.0, lambda + omega * (target(i) - value) / inverseSum);
+    const double change = next - lambda;
+    if (change == 0) continue;
+    lambda = next;
+    x[c.ka] += c.normal * (change * c.inverseA);
+    if (c.kb >= 0) x[c.kb] -= c.normal * (change * c.inverseB);
+    worst = std::max(worst, std::fabs(change) * inverseSum);
+  }
+  return worst;
+}
+
 }  // namespace
 
 std::vector<uint32_t> World::Impl::islandOf(const std::vector<uint32_t>& seeds, int hops) {
@@ -298,19 +323,10 @@ World::Impl::IslandSolve World::Impl::solveIsland(const std::vector<uint32_t>& m
   bool converged = false;
   const int maxIterations = warmStart ? kStartIterations : whole ? kIslandIterations : kPartIterations;
   for (int iteration = 0; iteration < maxIterations && !converged; ++iteration) {
-    double worst = 0;
-    for (IslandContact& c : contacts) {
-      const Vec2 vb = c.kb >= 0 ? v[c.kb] : c.holderVelocity;
-      const double inverseSum = c.inverseA + c.inverseB;
-      const double vn = dot(v[c.ka] - vb, c.normal);
-      const double next = std::max(0.0, c.lambda + omega * (c.target - vn) / inverseSum);
-      const double change = next - c.lambda;
-      if (change == 0) continue;
-      c.lambda = next;
-      v[c.ka] += c.normal * (change * c.inverseA);
-      if (c.kb >= 0) v[c.kb] -= c.normal * (change * c.inverseB);
-      worst = std::max(worst, std::fabs(change) * inverseSum);
-    }
+    const double worst = projectedSweep(
+        contacts, v, omega, [&](size_t i) { return contacts[i].target; },
+        [&](size_t i) -> double& { return contacts[i].lambda; },
+        [](const IslandContact& c) { return c.holderVelocity; });
     converged = worst <= tolerance;
   }
 
@@ -410,18 +426,11 @@ void World::Impl::separateIsland(const std::vector<uint32_t>& members, const std
     any = any || least < 0;
   }
   if (!any) return;
+  // What cannot move stays where it is: its displacement is zero.
   for (int iteration = 0; iteration < kSeparateIterations; ++iteration) {
-    for (size_t i = 0; i < contacts.size(); ++i) {
-      const IslandContact& c = contacts[i];
-      const double inverseSum = c.inverseA + c.inverseB;
-      const double dn = dot(d[c.ka] - (c.kb >= 0 ? d[c.kb] : Vec2{}), c.normal);
-      const double next = std::max(0.0, mu[i] + (lower[i] - dn) / inverseSum);
-      const double change = next - mu[i];
-      if (change == 0) continue;
-      mu[i] = next;
-      d[c.ka] += c.normal * (change * c.inverseA);
-      if (c.kb >= 0) d[c.kb] -= c.normal * (change * c.inverseB);
-    }
+    projectedSweep(
+        contacts, d, 1.0, [&](size_t i) { return lower[i]; }, [&](size_t i) -> double& { return mu[i]; },
+        [](const IslandContact&) { return Vec2{}; });
   }
   for (int sweep = 0; sweep < 16; ++sweep) {
     bool changed = false;

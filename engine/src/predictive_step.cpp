@@ -276,6 +276,11 @@ double Engine<W>::step(double dt) {
   const bool jamsForm = w_.def.restingSpeed > 0 && w_.def.gravity == Vec2{};
   // ... or in an inelastic collapse, where the collapse guard would make its collisions elastic (jam.cpp).
   const uint32_t collapseLimit = static_cast<uint32_t>(detail::collapseCollisions(w_.def.maxEventsPerStep));
+  // Whether a contact whose bodies collided at most `most` times this step (either of them driven or not)
+  // ends the predictive part of the step.
+  auto handsOver = [&](uint32_t most, bool driven) {
+    return most > kPileCollisions && (pilesForm || (jamsForm && (driven || most > collapseLimit)));
+  };
   const int64_t queueBudget = kQueueEventsPerEvent * int64_t{w_.def.maxEventsPerStep};
   int64_t queueEvents = 0;
   for (;;) {
@@ -408,9 +413,9 @@ double Engine<W>::step(double dt) {
       break;
     }
     if (plainWorld_ && j != PredictiveState::kNone) {
-      const uint32_t most = std::max(s_.cold[i].stepCollisions, s_.cold[j].stepCollisions);
-      if (jamsForm && most > kPileCollisions &&
-          (w_.bodies[s_.bodyOfSlot[i]].driven || w_.bodies[s_.bodyOfSlot[j]].driven || most > collapseLimit)) {
+      // (No gravity here, so no pile: only a jam hands over.)
+      if (jamsForm && handsOver(std::max(s_.cold[i].stepCollisions, s_.cold[j].stepCollisions),
+                                w_.bodies[s_.bodyOfSlot[i]].driven || w_.bodies[s_.bodyOfSlot[j]].driven)) {
         pile = true;
         budgetTime = c.time;
         break;
@@ -445,7 +450,7 @@ double Engine<W>::step(double dt) {
     const detail::BodySlot* partner = j != PredictiveState::kNone ? &w_.bodies[s_.bodyOfSlot[j]] : nullptr;
     const int most = std::max(w_.bodies[ia].stepCollisions, partner != nullptr ? partner->stepCollisions : 0);
     const bool driven = w_.bodies[ia].driven || (partner != nullptr && partner->driven);
-    if ((pilesForm || (jamsForm && (driven || most > static_cast<int>(collapseLimit)))) && most > kPileCollisions) {
+    if (handsOver(static_cast<uint32_t>(std::max(most, 0)), driven)) {
       pile = true;
       budgetTime = c.time;
       break;

@@ -166,6 +166,16 @@ FixtureSlot& lookUp(detail::LargeArray<FixtureSlot>& fixtures, FixtureId id) {
   return fixtures[id.index];
 }
 
+// A free or new slot made live: defaults, but the generation it had (destroying it moved that on).
+template <class Slot>
+Slot& renewed(Slot& slot) {
+  const uint32_t generation = slot.generation;
+  slot = Slot{};
+  slot.generation = generation;
+  slot.alive = true;
+  return slot;
+}
+
 }  // namespace
 
 BodyId World::createBody(const BodyDef& def) {
@@ -196,11 +206,7 @@ BodyId World::createBody(const BodyDef& def) {
       w.userData.emplace_back();
       w.dependents.emplace_back();
     }
-    BodySlot& b = w.bodies[index];
-    const uint32_t generation = b.generation;
-    b = BodySlot{};
-    b.generation = generation;
-    b.alive = true;
+    BodySlot& b = renewed(w.bodies[index]);
     b.type = def.type;
     b.position = def.position;
     b.velocity = def.velocity;
@@ -209,7 +215,7 @@ BodyId World::createBody(const BodyDef& def) {
     w.recomputeMass(b);
     ++w.liveBodies;
     w.structureChanged = true;
-    return BodyId{index, generation};
+    return BodyId{index, b.generation};
   });
 }
 
@@ -335,7 +341,8 @@ FixtureId World::createFixture(BodyId bodyId, const FixtureDef& def) {
       for (uint32_t f : body.fixtures) {
         const Vec2 other = *centreOf(w.fixtures[f].geometry);
         require(other == *centre, [&] {
-          return std::string("FixtureDef.geometry centre = " + str(*centre) + ": differs from the centre " + str(other) +
+          return std::string("FixtureDef.geometry centre = " + str(*centre) + ": differs from the centre " +
+                             str(other) +
                              " of the body's other fixtures (a dynamic body's circles share one centre)");
         });
       }
@@ -370,11 +377,7 @@ FixtureId World::createFixture(BodyId bodyId, const FixtureDef& def) {
     } else {
       w.freeFixtures.pop_back();
     }
-    FixtureSlot& f = w.fixtures[index];
-    const uint32_t generation = f.generation;
-    f = FixtureSlot{};
-    f.generation = generation;
-    f.alive = true;
+    FixtureSlot& f = renewed(w.fixtures[index]);
     f.body = bodyId.index;
     f.geometry = std::move(geometry);
     f.localBox = localBox;
@@ -390,7 +393,7 @@ FixtureId World::createFixture(BodyId bodyId, const FixtureDef& def) {
     w.broadPhase.add(index, w.worldBox(index), body.type != BodyType::Static, f.sensor, f.filter.categoryBits,
                      f.filter.maskBits);
     if (f.sensor) ++w.liveSensors;
-    return FixtureId{index, generation};
+    return FixtureId{index, f.generation};
   });
 }
 
