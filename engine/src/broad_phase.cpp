@@ -43,6 +43,13 @@ void BroadPhase::reserveFor(uint32_t fixture, bool sensor) {
   }
 }
 
+void BroadPhase::forgetStep() {
+  for (uint32_t f : escaped_) proxies_[f].escaped = false;
+  escaped_.clear();
+  forgetGrowth();
+  noteChange();
+}
+
 void BroadPhase::remove(uint32_t fixture) {
   Proxy& p = proxies_[fixture];
   if (!p.present) return;
@@ -234,6 +241,7 @@ void BroadPhase::sortByBand(double margin) {
   // gravity read pairs in sweep order, and the 2,000-disk pour test fails with this order).
   if (pairCache_ && bandCount_ > 1 && crossed > 4 * static_cast<size_t>(bandCount_)) {
     crossedScratch_.clear();
+    crossedScratch_.reserve(crossed);  // own_ is compacted in place below: no push may fail half way
     size_t kept = 0;
     for (size_t i = 0; i < n; ++i) {
       if (own_[i].crossed) {

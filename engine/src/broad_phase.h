@@ -31,6 +31,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <new>
 #include <type_traits>
 #include <vector>
 
@@ -126,6 +127,11 @@ class BroadPhase {
   template <class Report>
   void findSensorPairs(Report&& report);
 
+  /// A step stopped part way (memory ran out): everything kept from the sweeps (the pairs, the growth,
+  /// the escaped list) is void, and the next findPairs sorts and sweeps afresh. The proxies and the
+  /// sorted lists stay whole whatever allocation failed, so nothing here allocates.
+  void forgetStep();
+
   /// Grows a moving proxy's box mid-step (the new box must contain the old one).
   void grow(uint32_t fixture, const Box& grown);
 
@@ -182,8 +188,13 @@ class BroadPhase {
   /// Lists the proxy as escaped when its box has left the reach of the last sweep.
   void noteReach(uint32_t fixture, Proxy& p) {
     if (!cacheValid_ || p.escaped || reach_[fixture].contains(p.box)) return;
+    try {
+      escaped_.push_back(fixture);
+    } catch (const std::bad_alloc&) {
+      noteChange();  // with the kept pairs void, nothing needs the list: it is swept afresh
+      return;
+    }
     p.escaped = true;
-    escaped_.push_back(fixture);
   }
   /// Calls pair(a, b, meets) for every pair of entries whose boxes overlap in x, band by band (the sweep
   /// proper); `meets`: they overlap in y too, one of them moves and their filter bits meet.

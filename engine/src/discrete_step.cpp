@@ -64,9 +64,11 @@ void World::Impl::stepDiscrete(double dt) {
   stats = StepStats{};
   ++stepStamp;
 
-  // 1. Move everything a whole step.
-  for (BodySlot& b : bodies) {
+  // 1. Move everything a whole step (where it was kept first: step_undo.cpp).
+  for (uint32_t i = 0; i < bodies.size(); ++i) {
+    BodySlot& b = bodies[i];
     if (!b.alive || b.type == BodyType::Static || b.asleep) continue;
+    stepStart.motion[i] = {b.position, b.velocity};
     b.localTime = 0;
     if (b.type == BodyType::Dynamic) {
       b.acceleration = def.gravity;

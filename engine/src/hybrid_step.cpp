@@ -200,6 +200,7 @@ void World::Impl::repredict(uint32_t bodyIndex, double now, double dt, bool forc
 
 void World::Impl::advance(BodySlot& b, double t) {
   if (b.type != BodyType::Dynamic) return;  // kinematic paths are evaluated from the step start
+  keep(b);  // every change of a body within a step starts here, or says so (step_undo.cpp)
   b.position = positionAt(b, t);
   b.velocity = velocityAt(b, t);
   b.localTime = t;
@@ -330,6 +331,7 @@ void World::Impl::resolve(const PredictedContact& c, std::vector<uint32_t>& woke
   const detail::LastContact last{std::min(c.a, c.b), std::max(c.a, c.b), c.feature, c.time};
   for (BodySlot* s : {&a, &b}) {
     if (s->type != BodyType::Dynamic) continue;
+    keep(*s);
     ++s->collisionCount;
     s->setLast(last);
     s->lastContactTime = now;
@@ -713,6 +715,7 @@ void World::Impl::stepHybrid(double dt) {
       joinIslands(pair, c.time, dt);
       for (uint32_t body : pair) {
         BodySlot& s = bodies[body];
+        keep(s);
         ++s.collisionCount;
         s.lastContactTime = time + c.time;
       }
@@ -759,13 +762,17 @@ void World::Impl::stepHybrid(double dt) {
     pathLog.active = false;
   }
   endIslands(end);
+  // Nothing from here on allocates: the last pass changes every body without keeping it (step_undo.cpp).
+  stepStart.keeping = false;
   for (uint32_t i = 0; i < bodyCount; ++i) {
     // As in the first pass, the slots are asked for ahead (only their first line is read and written).
     if (i + kStreamAhead < bodyCount) __builtin_prefetch(&bodies[i + kStreamAhead], 1);
     BodySlot& b = bodies[i];
     if (!b.alive || !moves(b)) continue;
     if (b.type == BodyType::Dynamic) {
-      advance(b, end);
+      // advance(b, end), without its keep (above).
+      b.position = positionAt(b, end);
+      b.velocity = velocityAt(b, end);
       if (b.asleep) ++stats.sleeping;
     } else {
       b.position = b.position + b.velocity * end;

@@ -447,6 +447,7 @@ void World::Impl::separateIsland(const std::vector<uint32_t>& members, const std
   for (size_t k = 0; k < members.size(); ++k) {
     if (d[k].x == 0 && d[k].y == 0) continue;
     BodySlot& b = bodies[members[k]];
+    keep(b);
     b.position += d[k];
     ++b.collisionCount;
     b.last = detail::LastContact{};
@@ -455,12 +456,14 @@ void World::Impl::separateIsland(const std::vector<uint32_t>& members, const std
 
 void World::Impl::startIslands(double dt, std::vector<uint32_t>& freed) {
   islandImpulses.swap(islandNext);
+  stepStart.islandsSwapped = true;
   islandNext.clear();
   std::sort(islandImpulses.begin(), islandImpulses.end());
   islandScratchStart.clear();
   freed.clear();
   for (uint32_t i : stepped) {  // gathered by the step's first pass over the bodies
     BodySlot& b = bodies[i];
+    keep(b);
     b.velocity += def.gravity * dt;
     b.steppedHeld = false;
   }

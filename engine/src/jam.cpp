@@ -136,6 +136,7 @@ int World::Impl::settleJam(uint32_t seed, double now, double dt, int budget) {
   ++jamCounter;
   for (uint32_t i : cluster) {
     BodySlot& b = bodies[i];
+    keep(b);
     b.jam = jamCounter;
     b.jamTime = now;
     b.stepCollisions = 0;

@@ -98,6 +98,7 @@ void Engine<W>::attach(uint32_t slot) {
   if (!(h.flags & HotBody::kDetached)) return;
   const ColdBody& c = s_.cold[slot];
   BodySlot& b = w_.bodies[s_.bodyOfSlot[slot]];
+  w_.keep(b);  // the step's first change of the body itself (step_undo.cpp)
   b.position = h.position;
   b.velocity = h.velocity;
   b.localTime = h.localTime;

@@ -504,6 +504,13 @@ double Engine<W>::step(double dt) {
     w_.sensePaths(w_.pathLog, end);
     w_.pathLog.active = false;
   }
+  // The pass below changes every body. Nothing after it allocates, but for a pile handed over to the
+  // hybrid step, whose rest of the step may still fail: then every body is kept first (step_undo.cpp).
+  if (pile) {
+    for (uint32_t body = 0; body < w_.bodies.size(); ++body) w_.keep(body);
+  } else {
+    w_.stepStart.keeping = false;
+  }
   double extent = 0;
   auto toEnd = [&](BodySlot& b) {
     if (b.type == BodyType::Dynamic) {
@@ -557,7 +564,13 @@ double Engine<W>::step(double dt) {
 }  // namespace
 
 void World::Impl::stepPredictive(double dt) {
-  if (!predictive) predictive = std::make_unique<detail::PredictiveState>();
+  if (!predictive) {
+    // The first step, or the first after one that failed (step_undo.cpp): the grid and the queue are
+    // made afresh, and a pile still held by stepped islands stays with the hybrid step (below).
+    predictive = std::make_unique<detail::PredictiveState>();
+    predictive->pileHeld =
+        std::any_of(bodies.begin(), bodies.end(), [](const detail::BodySlot& b) { return b.alive && b.stepped; });
+  }
   detail::PredictiveState& s = *predictive;
   // A pile handed over (kPileCollisions) stays with the hybrid step while its islands hold anybody.
   if (!s.pileHeld) {

@@ -15,6 +15,7 @@
 #include <cmath>
 
 #include "closest_point.h"
+#include "out_of_memory.h"
 #include "polynomial.h"
 #include "world_impl.h"
 
@@ -113,6 +114,7 @@ void World::Impl::sleepIfZeno(uint32_t bodyIndex, double now) {
 
 void World::Impl::putToSleep(uint32_t bodyIndex, const std::vector<uint32_t>& supporters) {
   BodySlot& b = bodies[bodyIndex];
+  keep(b);
   b.asleep = true;
   b.stepped = false;
   b.velocity = {};
@@ -123,33 +125,62 @@ void World::Impl::putToSleep(uint32_t bodyIndex, const std::vector<uint32_t>& su
 }
 
 void World::Impl::wakeUp(uint32_t bodyIndex, double now, std::vector<uint32_t>& woken) {
-  // Iterative, in a fixed order: a tall pile wakes layer by layer without deep recursion.
+  const size_t from = woken.size();
+  collectWake(bodyIndex, woken);
+  applyWake(woken, from, now);
+}
+
+void World::Impl::collectWake(uint32_t bodyIndex, std::vector<uint32_t>& woken) const {
+  if (!bodies[bodyIndex].alive || !bodies[bodyIndex].asleep) return;  // a game's every tick: no allocation
+  // Iterative, in a fixed order: a tall pile wakes layer by layer without deep recursion. A body is
+  // listed once, at its first visit; `seen` (sorted) holds what `woken` holds.
+  std::vector<uint32_t> seen(woken.begin(), woken.end());
+  std::sort(seen.begin(), seen.end());
   std::vector<uint32_t> stack{bodyIndex};
   while (!stack.empty()) {
     const uint32_t i = stack.back();
     stack.pop_back();
-    BodySlot& b = bodies[i];
+    const BodySlot& b = bodies[i];
     if (!b.alive || !b.asleep) continue;
+    const auto at = std::lower_bound(seen.begin(), seen.end(), i);
+    if (at != seen.end() && *at == i) continue;
+    seen.insert(at, i);
+    woken.push_back(i);
+    const std::vector<uint32_t>& held = dependents[i];
+    for (auto it = held.rbegin(); it != held.rend(); ++it) stack.push_back(*it);
+  }
+}
+
+void World::Impl::applyWake(const std::vector<uint32_t>& woken, size_t from, double now) {
+  for (size_t k = from; k < woken.size(); ++k) {
+    const uint32_t i = woken[k];
+    BodySlot& b = bodies[i];
+    keep(b);
     // It rested until now: its fall starts at this instant, not at the start of the step.
     b.asleep = false;
     b.localTime = now;
     b.acceleration = def.gravity;
     ++b.collisionCount;
-    woken.push_back(i);
     std::vector<uint32_t>& held = dependents[i];
-    for (auto it = held.rbegin(); it != held.rend(); ++it) stack.push_back(*it);
+    if (stepStart.active && !held.empty()) {
+      // Kept whole for undoStep (the room made first, so that the move cannot fail half way).
+      detail::roomForOneMore(stepStart.dependents);
+      stepStart.dependents.emplace_back(i, std::move(held));
+    }
     held.clear();
   }
 }
 
 void World::Impl::startSliding(uint32_t bodyIndex, uint32_t fixture, int feature, Vec2 normal) {
   BodySlot& b = bodies[bodyIndex];
+  keep(b);
   b.setSupport(detail::Support{fixture, fixtures[fixture].generation, feature, normal});
   b.velocity -= normal * dot(b.velocity, normal);
   b.acceleration = def.gravity - normal * dot(def.gravity, normal);
 }
 
 void World::Impl::stopSliding(BodySlot& b) {
+  keep(b);
   b.clearSupport();
   if (!b.asleep) b.acceleration = def.gravity;
 }

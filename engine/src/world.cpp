@@ -87,8 +87,16 @@ void World::Impl::sensorOverlapsSeen(uint32_t fa, uint32_t fb) {
 void World::Impl::recordSensorChange(uint32_t fa, uint32_t fb, double time, bool begin, std::vector<SensorEvent>& out) {
   const uint32_t sensor = fixtures[fa].sensor ? fa : fb, visitor = fixtures[fa].sensor ? fb : fa;
   const uint64_t key = detail::overlapKey(sensor, visitor);
+  // Inside a step every change is logged (the room made first), so that undoStep can take it back.
+  auto& log = stepStart.sensorOverlaps;
+  if (stepStart.active) detail::roomForOneMore(log);
   if (begin) {
-    sensorOverlaps[key] = stepStamp;
+    const auto [it, inserted] = sensorOverlaps.try_emplace(key, stepStamp);
+    it->second = stepStamp;
+    if (inserted && stepStart.active) log.push_back({key, {}});
+  } else if (stepStart.active) {
+    auto ended = sensorOverlaps.extract(key);
+    if (!ended.empty()) log.push_back({key, std::move(ended)});
   } else {
     sensorOverlaps.erase(key);
   }
@@ -100,6 +108,13 @@ void World::Impl::recordSensorChange(uint32_t fa, uint32_t fb, double time, bool
   e.visitorBody = {fixtures[visitor].body, bodies[fixtures[visitor].body].generation};
   e.begin = begin;
   out.push_back(e);
+}
+
+void World::Impl::endOverlaps(const std::vector<uint64_t>& ended) {
+  for (uint64_t key : ended) {
+    if (!sensorOverlaps.contains(key)) continue;  // both of an overlap's fixtures were ending
+    recordSensorChange(static_cast<uint32_t>(key >> 32), static_cast<uint32_t>(key), 0.0, false, pendingSensorEvents);
+  }
 }
 
 void World::Impl::recomputeMass(BodySlot& body) {
@@ -222,11 +237,20 @@ BodyId World::createBody(const BodyDef& def) {
 void World::destroyBody(BodyId id) {
   Impl& w = impl();
   BodySlot& b = lookUp(w.bodies, id);
-  // What it held up falls.
-  std::vector<uint32_t> woken;
-  for (uint32_t d : w.dependents[id.index]) w.wakeUp(d, 0.0, woken);
+  detail::unlessOutOfMemory("destroyBody", [&] {
+    // What it held up falls, and its overlaps end: found first, with room for what follows.
+    std::vector<uint32_t> woken;
+    for (uint32_t d : w.dependents[id.index]) w.collectWake(d, woken);
+    std::vector<uint64_t> ended;
+    for (uint32_t f : b.fixtures) w.overlapsToEnd(f, [](uint32_t) { return false; }, ended);
+    detail::roomFor(w.pendingSensorEvents, ended.size());
+    detail::roomFor(w.freeFixtures, b.fixtures.size());
+    detail::roomForOneMore(w.freeBodies);
+    // Nothing below allocates.
+    w.applyWake(woken, 0, 0.0);
+    w.endOverlaps(ended);
+  });
   w.dependents[id.index].clear();
-  for (uint32_t f : b.fixtures) w.endOverlapsOf(f, [](uint32_t) { return false; });
   for (uint32_t f : b.fixtures) {
     w.broadPhase.remove(f);
     FixtureSlot& fs = w.fixtures[f];
@@ -261,9 +285,13 @@ bool World::isAsleep(BodyId id) const { return lookUp(impl().bodies, id).asleep;
 
 void World::wake(BodyId id) {
   lookUp(impl().bodies, id);
-  std::vector<uint32_t> woken;
-  impl().wakeUp(id.index, 0.0, woken);
-  impl().touched(woken);
+  detail::unlessOutOfMemory("wake", [&] {
+    std::vector<uint32_t> woken;
+    impl().collectWake(id.index, woken);
+    impl().roomToTouch(woken.size());
+    impl().applyWake(woken, 0, 0.0);
+    impl().touched(woken);
+  });
 }
 
 uint64_t World::userData(BodyId id) const {
@@ -284,16 +312,22 @@ void World::setPosition(BodyId id, Vec2 position) {
   }
   require(inRange(position),
           [&] { return "position = " + str(position) + ": outside +-1e150 (World::kMaxCoordinate)"; });
-  std::vector<uint32_t> woken;
-  impl().wakeUp(id.index, 0.0, woken);
-  for (uint32_t d : impl().dependents[id.index]) impl().wakeUp(d, 0.0, woken);
-  impl().dependents[id.index].clear();
-  b.clearSupport();
-  b.position = position;
-  // Static proxies are not refreshed each step, so move their boxes now.
-  for (uint32_t f : b.fixtures) impl().broadPhase.setBox(f, impl().worldBox(f));
-  impl().touched(id.index);
-  impl().touched(woken);
+  detail::unlessOutOfMemory("setPosition", [&] {
+    // It wakes, and what rested on it falls: found first, with room for what follows.
+    std::vector<uint32_t> woken;
+    impl().collectWake(id.index, woken);
+    for (uint32_t d : impl().dependents[id.index]) impl().collectWake(d, woken);
+    impl().roomToTouch(1 + woken.size());
+    // Nothing below allocates.
+    impl().applyWake(woken, 0, 0.0);
+    impl().dependents[id.index].clear();
+    b.clearSupport();
+    b.position = position;
+    // Static proxies are not refreshed each step, so move their boxes now.
+    for (uint32_t f : b.fixtures) impl().broadPhase.setBox(f, impl().worldBox(f));
+    impl().touched(id.index);
+    impl().touched(woken);
+  });
 }
 
 void World::setVelocity(BodyId id, Vec2 velocity) {
@@ -301,13 +335,18 @@ void World::setVelocity(BodyId id, Vec2 velocity) {
   checkVelocity(velocity, "velocity");
   require(b.type != BodyType::Static || velocity == Vec2{},
           [&] { return std::string("velocity = " + str(velocity) + ": a static body cannot move"); });
-  std::vector<uint32_t> woken;
-  impl().wakeUp(id.index, 0.0, woken);
-  if (b.support.generation != 0) impl().stopSliding(b);
-  b.velocity = velocity;
-  b.driven = b.type == BodyType::Dynamic;
-  impl().touched(id.index);
-  impl().touched(woken);
+  detail::unlessOutOfMemory("setVelocity", [&] {
+    std::vector<uint32_t> woken;
+    impl().collectWake(id.index, woken);
+    impl().roomToTouch(1 + woken.size());
+    // Nothing below allocates.
+    impl().applyWake(woken, 0, 0.0);
+    if (b.support.generation != 0) impl().stopSliding(b);
+    b.velocity = velocity;
+    b.driven = b.type == BodyType::Dynamic;
+    impl().touched(id.index);
+    impl().touched(woken);
+  });
 }
 
 std::vector<FixtureId> World::fixtures(BodyId id) const {
@@ -401,7 +440,13 @@ void World::destroyFixture(FixtureId id) {
   Impl& w = impl();
   FixtureSlot& f = lookUp(w.fixtures, id);
   BodySlot& body = w.bodies[f.body];
-  w.endOverlapsOf(id.index, [](uint32_t) { return false; });
+  detail::unlessOutOfMemory("destroyFixture", [&] {
+    std::vector<uint64_t> ended;
+    w.overlapsToEnd(id.index, [](uint32_t) { return false; }, ended);
+    detail::roomFor(w.pendingSensorEvents, ended.size());
+    detail::roomForOneMore(w.freeFixtures);
+    w.endOverlaps(ended);  // nothing from here on allocates
+  });
   body.fixtures.erase(std::find(body.fixtures.begin(), body.fixtures.end(), id.index));
   body.diskShapeKnown = false;
   w.broadPhase.remove(id.index);
@@ -442,6 +487,7 @@ void World::setDensity(FixtureId id, double density) {
     require(std::isfinite(density) && density >= 0,
             [&] { return std::string("density = " + str(density) + ": must be finite and >= 0"); });
   }
+  detail::unlessOutOfMemory("setDensity", [&] { w.roomToTouch(1); });
   const double old = f.density;
   f.density = density;
   w.recomputeMass(body);
@@ -462,12 +508,25 @@ void World::setRestitution(FixtureId id, double restitution) {
 
 void World::setFilter(FixtureId id, const Filter& filter) {
   FixtureSlot& fixture = lookUp(impl().fixtures, id);
-  fixture.filter = filter;
-  impl().bodies[fixture.body].diskShapeKnown = false;
-  impl().broadPhase.setFilter(id.index, filter.categoryBits, filter.maskBits);
-  impl().structureChanged = true;
-  // Overlaps the new filter forbids end now; new ones begin when the next step finds them.
-  impl().endOverlapsOf(id.index, [&](uint32_t other) { return impl().canSense(id.index, other); });
+  detail::unlessOutOfMemory("setFilter", [&] {
+    Impl& w = impl();
+    // Overlaps the new filter forbids end now; new ones begin when the next step finds them. Found
+    // with the new filter in place, which goes back if memory runs out before anything else changed.
+    const Filter old = fixture.filter;
+    fixture.filter = filter;
+    std::vector<uint64_t> ended;
+    try {
+      w.overlapsToEnd(id.index, [&](uint32_t other) { return w.canSense(id.index, other); }, ended);
+      detail::roomFor(w.pendingSensorEvents, ended.size());
+    } catch (...) {
+      fixture.filter = old;
+      throw;
+    }
+    w.bodies[fixture.body].diskShapeKnown = false;
+    w.broadPhase.setFilter(id.index, filter.categoryBits, filter.maskBits);
+    w.structureChanged = true;
+    w.endOverlaps(ended);
+  });
 }
 
 std::vector<FixtureId> World::sensorOverlaps(FixtureId id) const {
@@ -489,18 +548,29 @@ std::vector<FixtureId> World::sensorOverlaps(FixtureId id) const {
 void World::step(double dt) {
   require(std::isfinite(dt) && dt >= 0,
           [&] { return std::string("step: dt = " + str(dt) + ": must be finite and >= 0"); });
-  impl().refreshSqueezes();
-  switch (impl().def.mode) {
-    case StepMode::Hybrid:
-      impl().stepHybrid(dt);
-      break;
-    case StepMode::Discrete:
-      impl().stepDiscrete(dt);
-      break;
-    case StepMode::Predictive:
-      impl().stepPredictive(dt);
-      break;
+  Impl& w = impl();
+  try {
+    w.saveStepStart();
+    w.refreshSqueezes();
+    switch (w.def.mode) {
+      case StepMode::Hybrid:
+        w.stepHybrid(dt);
+        break;
+      case StepMode::Discrete:
+        w.stepDiscrete(dt);
+        break;
+      case StepMode::Predictive:
+        w.stepPredictive(dt);
+        break;
+    }
+  } catch (const std::bad_alloc&) {
+    w.undoStep();
+    throw Error("step: out of memory (the world is unchanged)");
+  } catch (const std::length_error&) {
+    w.undoStep();
+    throw Error("step: out of memory (the world is unchanged)");
   }
+  w.endStep();
   impl().structureChanged = false;
   impl().restitutionChanged = false;
   // Every body setVelocity drove is in touchedBodies.

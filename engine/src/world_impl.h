@@ -14,6 +14,7 @@
 #include "broad_phase.h"
 #include "collapse_guard.h"
 #include "fixture_list.h"
+#include "out_of_memory.h"
 #include "path_log.h"
 #include "rattle/time_of_impact.h"
 #include "rattle/world.h"
@@ -76,6 +77,8 @@ struct alignas(64) BodySlot {
   // tick). Without gravity only a cluster with a driven body is held as a jam (jam.cpp); a gas's
   // clusters stay exact events. World::step clears it.
   bool driven : 1 = false;
+  // Its state at the step's start is in World::Impl::StepStart::kept (World::Impl::keep).
+  bool kept : 1 = false;
   LastContact last;  // step-local
   Support support;
   uint32_t generation = 1;
@@ -270,8 +273,13 @@ struct World::Impl {
   bool isOverlapping(uint32_t fa, uint32_t fb) const;
   void recordSensorChange(uint32_t fa, uint32_t fb, double time, bool begin, std::vector<SensorEvent>& out);
   /// Ends every overlap of `fixture` for which `keep(other)` is false, as pending end events.
+  /// The overlaps of `fixture` to end, all but those with a fixture `keep` keeps: appended to `ended`,
+  /// sorted (the map's order must not reach the events). Changes nothing.
   template <class Keep>
-  void endOverlapsOf(uint32_t fixture, Keep&& keep);
+  void overlapsToEnd(uint32_t fixture, Keep&& keep, std::vector<uint64_t>& ended) const;
+  /// Ends the overlaps (those still in the map), their events reported at time 0 of the next step.
+  /// Allocates nothing when pendingSensorEvents has room for them.
+  void endOverlaps(const std::vector<uint64_t>& ended);
   /// Ends at time 0 (into sensorEvents) every overlap the step's sweep did not see (its stamp is not
   /// stepStamp) whose two fixtures no longer overlap where their bodies start the step
   /// (`startOf(body)`): a body moved away between steps. Unseen because neither body moves (a sleeping
@@ -291,7 +299,15 @@ struct World::Impl {
   void putToSleep(uint32_t body, const std::vector<uint32_t>& supporters);
   /// The predictive mode's guard against a Zeno sequence: counts a collision of `body` in this step.
   void sleepIfZeno(uint32_t body, double now);
+  /// Wakes the body and everything resting on it (through `dependents`), appending them to `woken`.
   void wakeUp(uint32_t body, double now, std::vector<uint32_t>& woken);
+  /// wakeUp in two halves, for a call that must make room before it changes anything: the first finds
+  /// whom to wake (appending to `woken`, passing over those it already holds) and changes nothing; the
+  /// second wakes woken[from, end) and does not allocate between steps.
+  void collectWake(uint32_t body, std::vector<uint32_t>& woken) const;
+  void applyWake(const std::vector<uint32_t>& woken, size_t from, double now);
+  /// Room in touchedBodies for `count` more, so that the touched calls that follow cannot fail.
+  void roomToTouch(size_t count) { detail::roomFor(touchedBodies, count); }
   void startSliding(uint32_t body, uint32_t fixture, int feature, Vec2 normal);
   void stopSliding(detail::BodySlot& b);
   bool isFlatFeature(uint32_t fixture, int feature) const;
@@ -464,19 +480,62 @@ struct World::Impl {
   /// Counts the contact's collision for both bodies; when one of them is jammed, settles its cluster
   /// (counting its events against the step's budget, which must have room for one) and returns true.
   bool settleJamAt(const detail::PredictedContact& c, double dt);
+
+  // What a step changes of the world's lasting state, kept from its start (step_undo.cpp): when memory
+  // runs out inside a step it is put back, so that World::step throws rattle::Error with the world
+  // unchanged. Everything else a step changes is scratch, or a cache that undoStep marks void.
+  struct BodyAtStepStart {
+    uint32_t body;
+    Vec2 position, velocity, acceleration;
+    double localTime;  // 0, but where the predictive mode's clocks are rebased at the next step's start
+    detail::Support support;
+    double lastContactTime;
+    bool asleep, stepped, sliding;
+  };
+  struct SensorOverlapChange {
+    uint64_t key;
+    std::unordered_map<uint64_t, uint32_t>::node_type ended;  // the entry an end took out; empty: a begin
+  };
+  struct StepStart {
+    bool active = false;  // inside World::step: the changes below are being logged
+    // The hybrid and predictive steps keep a body when they first change it (keep), until their last
+    // pass, after which nothing fails (`keeping`); the discrete step keeps every moving body's motion as
+    // it moves it (`motion`, by body index).
+    bool keepEach = false;
+    bool keeping = false;
+    std::vector<std::pair<Vec2, Vec2>> motion;
+    double time = 0;
+    StepStats stats;
+    uint32_t jamCounter = 0;
+    bool islandsSwapped = false;  // startIslands made islandNext the warm start
+    std::vector<BodyAtStepStart> bodies;  // those keep kept, in the order kept
+    std::vector<SensorEvent> pendingSensorEvents;
+    std::vector<Squeeze> squeezes;
+    std::vector<SensorOverlapChange> sensorOverlaps;  // in the order they were made
+    std::vector<std::pair<uint32_t, std::vector<uint32_t>>> dependents;  // lists wakeUp emptied, in order
+  };
+  StepStart stepStart;
+  /// Keeps the body's state as the step found it, before the hybrid step first changes it.
+  void keep(detail::BodySlot& b) {
+    if (b.kept || !stepStart.keeping) return;
+    keepBody(static_cast<uint32_t>(&b - &bodies[0]));
+  }
+  void keep(uint32_t body) { keep(bodies[body]); }
+  void keepBody(uint32_t body);
+  static BodyAtStepStart stateOf(uint32_t body, const detail::BodySlot& b);
+  void saveStepStart();
+  void undoStep();
+  void endStep();
 };
 
 template <class Keep>
-void World::Impl::endOverlapsOf(uint32_t fixture, Keep&& keep) {
-  std::vector<uint64_t> ended;
+void World::Impl::overlapsToEnd(uint32_t fixture, Keep&& keep, std::vector<uint64_t>& ended) const {
+  const auto from = static_cast<std::ptrdiff_t>(ended.size());
   for (const auto& [key, stamp] : sensorOverlaps) {
     const uint32_t sensor = static_cast<uint32_t>(key >> 32), visitor = static_cast<uint32_t>(key);
     if ((sensor == fixture && !keep(visitor)) || (visitor == fixture && !keep(sensor))) ended.push_back(key);
   }
-  std::sort(ended.begin(), ended.end());  // the map's order must not reach the events
-  for (uint64_t key : ended) {
-    recordSensorChange(static_cast<uint32_t>(key >> 32), static_cast<uint32_t>(key), 0.0, false, pendingSensorEvents);
-  }
+  std::sort(ended.begin() + from, ended.end());
 }
 
 template <class StartOf>

@@ -11,8 +11,9 @@
 namespace rattle {
 
 /// Thrown for invalid input: a definition, a value passed to a setter, a stale handle. The message names
-/// the field and the value. Also thrown when memory runs out in World::createBody or createFixture. When
-/// it is thrown the world is unchanged.
+/// the field and the value. Also thrown when memory runs out in a call that changes a World (a create,
+/// a destroy, a setter, a step): "step: out of memory (the world is unchanged)". When it is thrown the
+/// world is unchanged.
 class Error : public std::invalid_argument {
  public:
   using std::invalid_argument::invalid_argument;

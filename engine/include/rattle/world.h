@@ -68,7 +68,9 @@ class World {
   void setRestitution(FixtureId fixture, double restitution);
   void setFilter(FixtureId fixture, const Filter& filter);
 
-  /// Advances the world by dt seconds (finite, >= 0).
+  /// Advances the world by dt seconds (finite, >= 0). When memory runs out part way, throws rattle::Error
+  /// with the world as it was before the call: the bodies, the time, who sleeps and the sensors' overlaps
+  /// (and no events: contactEvents() and sensorEvents() are empty until the next step).
   void step(double dt);
   /// Advances the world to time t (>= time()); the same as step(t - time()).
   void advanceTo(double t);
