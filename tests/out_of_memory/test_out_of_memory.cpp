@@ -84,84 +84,6 @@ Seen seen(const World& w) {
   return {w.stateHash(), w.bodyCount(), fixtures};
 }
 
-// Runs one API call, `call`, on a world made by makeWorld and `prepare`, with its k-th allocation failing,
-// for k = 0, 1, ... until it runs through without one: each failure must be a rattle::Error that leaves
-// the world as it was, and the world must still work (the call again, which must now succeed, then a
-// step). Returns the number of allocations the call made.
-template <class Prepare, class Call>
-int failEachAllocation(StepMode mode, Prepare&& prepare, Call&& call) {
-  for (long k = 0; k <= 10000; ++k) {
-    World w = makeWorld(mode);
-    prepare(w);
-    const Seen before = seen(w);
-    gAllocationsLeft.store(k);
-    bool failed = false;
-    try {
-      call(w);
-    } catch (const Error& e) {
-      failed = true;
-      gAllocationsLeft.store(-1);
-      EXPECT_NE(std::string(e.what()).find("out of memory"), std::string::npos) << e.what();
-      EXPECT_TRUE(seen(w) == before) << "allocation " << k << ": the world changed";
-    } catch (const std::bad_alloc&) {
-      gAllocationsLeft.store(-1);
-      ADD_FAILURE() << "allocation " << k << ": std::bad_alloc, not rattle::Error";
-      failed = true;
-    }
-    const bool noneLeftToFail = gAllocationsLeft.load() >= 0;
-    gAllocationsLeft.store(-1);
-    call(w);
-    w.step(1.0 / 60);
-    if (!failed && noneLeftToFail) return static_cast<int>(k);
-  }
-  ADD_FAILURE() << "more than 10000 allocations";
-  return -1;
-}
-
-}  // namespace
-
-// A body, then a circle on it, with the world's arrays at each size from 10 to 50 bodies (so that some
-// calls grow them), and a polyline and a polygon sensor on a static body.
-TEST(OutOfMemory, CreatingBodiesAndFixturesFailsCleanlyAtEveryAllocation) {
-  for (StepMode mode : {StepMode::Hybrid, StepMode::Discrete, StepMode::Predictive}) {
-    int allocations = 0;
-    for (int extra = 0; extra < 40; ++extra) {
-      auto prepare = [extra](World& w) {
-        for (int i = 0; i < extra; ++i) {
-          const BodyId b = w.createBody({.type = BodyType::Dynamic, .position = {0.5 + 0.2 * i, 1}});
-          w.createFixture(b, {.geometry = Circle{{0, 0}, 0.05}});
-        }
-      };
-      allocations += failEachAllocation(mode, prepare, [](World& w) {
-        w.createBody({.type = BodyType::Dynamic, .position = {9, 9}});
-      });
-      BodyId last;
-      allocations += failEachAllocation(
-          mode,
-          [&](World& w) {
-            prepare(w);
-            last = w.createBody({.type = BodyType::Dynamic, .position = {9, 9}});
-          },
-          [&](World& w) { w.createFixture(last, {.geometry = Circle{{0, 0}, 0.05}}); });
-    }
-    // Built before the allocations fail: the definition's own vector is the caller's.
-    const FixtureDef polyline{.geometry = Polyline{{{2, 2}, {3, 2}, {3, 3}, {4, 3}, {4, 4}, {5, 4}}}};
-    const FixtureDef polygon{.geometry = Polygon{{{6, 6}, {7, 6}, {7, 7}}}, .sensor = true};
-    BodyId wall;
-    auto prepareWall = [&](World& w) { wall = w.createBody({.type = BodyType::Static}); };
-    allocations += failEachAllocation(mode, prepareWall, [&](World& w) {
-      w.createFixture(wall, polyline);
-    });
-    allocations += failEachAllocation(mode, prepareWall, [&](World& w) {
-      w.createFixture(wall, polygon);
-    });
-    EXPECT_GT(allocations, 0);  // some call had an allocation to fail
-  }
-}
-
-
-namespace {
-
 // What a call leaves to its caller besides the bodies' motion: who sleeps, the sensors' overlaps and the
 // events.
 struct AfterStep {
@@ -266,7 +188,62 @@ Scene boxWithSensor(StepMode mode, Vec2 gravity, int disks) {
   return s;
 }
 
+
+// Runs one API call, `call`, on a world made by makeWorld and `prepare`, with each of its allocations
+// failing in turn (failEachAllocationOf, above). Returns the number of allocations the call made.
+template <class Prepare, class Call>
+int failEachAllocation(StepMode mode, Prepare&& prepare, Call&& call) {
+  return failEachAllocationOf(
+      [&] {
+        Scene s{makeWorld(mode), {}};
+        prepare(s.world);
+        return s;
+      },
+      call, true, false);
+}
+
 }  // namespace
+
+// A body, then a circle on it, with the world's arrays at each size from 10 to 50 bodies (so that some
+// calls grow them), and a polyline and a polygon sensor on a static body.
+TEST(OutOfMemory, CreatingBodiesAndFixturesFailsCleanlyAtEveryAllocation) {
+  for (StepMode mode : {StepMode::Hybrid, StepMode::Discrete, StepMode::Predictive}) {
+    int allocations = 0;
+    for (int extra = 0; extra < 40; ++extra) {
+      auto prepare = [extra](World& w) {
+        for (int i = 0; i < extra; ++i) {
+          const BodyId b = w.createBody({.type = BodyType::Dynamic, .position = {0.5 + 0.2 * i, 1}});
+          w.createFixture(b, {.geometry = Circle{{0, 0}, 0.05}});
+        }
+      };
+      allocations += failEachAllocation(mode, prepare, [](World& w) {
+        w.createBody({.type = BodyType::Dynamic, .position = {9, 9}});
+      });
+      BodyId last;
+      allocations += failEachAllocation(
+          mode,
+          [&](World& w) {
+            prepare(w);
+            last = w.createBody({.type = BodyType::Dynamic, .position = {9, 9}});
+          },
+          [&](World& w) { w.createFixture(last, {.geometry = Circle{{0, 0}, 0.05}}); });
+    }
+    // Built before the allocations fail: the definition's own vector is the caller's.
+    const FixtureDef polyline{.geometry = Polyline{{{2, 2}, {3, 2}, {3, 3}, {4, 3}, {4, 4}, {5, 4}}}};
+    const FixtureDef polygon{.geometry = Polygon{{{6, 6}, {7, 6}, {7, 7}}}, .sensor = true};
+    BodyId wall;
+    auto prepareWall = [&](World& w) { wall = w.createBody({.type = BodyType::Static}); };
+    allocations += failEachAllocation(mode, prepareWall, [&](World& w) {
+      w.createFixture(wall, polyline);
+    });
+    allocations += failEachAllocation(mode, prepareWall, [&](World& w) {
+      w.createFixture(wall, polygon);
+    });
+    EXPECT_GT(allocations, 0);  // some call had an allocation to fail
+  }
+}
+
+
 
 // A step with each of its allocations failing in turn, in each mode: the first step of a world (every
 // container grows), a later one with sensors busy, a pile under gravity hit by a fast disk (islands,
