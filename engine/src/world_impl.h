@@ -77,7 +77,7 @@ struct alignas(64) BodySlot {
   // tick). Without gravity only a cluster with a driven body is held as a jam (jam.cpp); a gas's
   // clusters stay exact events. World::step clears it.
   bool driven : 1 = false;
-  // Its state at the step's start is in World::Impl::StepStart::kept (World::Impl::keep).
+  // Its state at the step's start is in World::Impl::StepStart::bodies (World::Impl::keep).
   bool kept : 1 = false;
   LastContact last;  // step-local
   Support support;
@@ -515,7 +515,7 @@ struct World::Impl {
     std::vector<std::pair<uint32_t, std::vector<uint32_t>>> dependents;  // lists wakeUp emptied, in order
   };
   StepStart stepStart;
-  /// Keeps the body's state as the step found it, before the hybrid step first changes it.
+  /// Keeps the body's state as the step found it, before the hybrid or predictive step first changes it.
   void keep(detail::BodySlot& b) {
     if (b.kept || !stepStart.keeping) return;
     keepBody(static_cast<uint32_t>(&b - &bodies[0]));
