@@ -201,9 +201,7 @@ void World::Impl::repredict(uint32_t bodyIndex, double now, double dt, bool forc
 void World::Impl::advance(BodySlot& b, double t) {
   if (b.type != BodyType::Dynamic) return;  // kinematic paths are evaluated from the step start
   keep(b);  // every change of a body within a step starts here, or says so (step_undo.cpp)
-  b.position = positionAt(b, t);
-  b.velocity = velocityAt(b, t);
-  b.localTime = t;
+  moveTo(b, t);
 }
 
 void World::Impl::absorb(const PredictedContact& c, double vn) {
@@ -331,7 +329,6 @@ void World::Impl::resolve(const PredictedContact& c, std::vector<uint32_t>& woke
   const detail::LastContact last{std::min(c.a, c.b), std::max(c.a, c.b), c.feature, c.time};
   for (BodySlot* s : {&a, &b}) {
     if (s->type != BodyType::Dynamic) continue;
-    keep(*s);
     ++s->collisionCount;
     s->setLast(last);
     s->lastContactTime = now;
@@ -770,9 +767,7 @@ void World::Impl::stepHybrid(double dt) {
     BodySlot& b = bodies[i];
     if (!b.alive || !moves(b)) continue;
     if (b.type == BodyType::Dynamic) {
-      // advance(b, end), without its keep (above).
-      b.position = positionAt(b, end);
-      b.velocity = velocityAt(b, end);
+      moveTo(b, end);  // advance without its keep (above)
       if (b.asleep) ++stats.sleeping;
     } else {
       b.position = b.position + b.velocity * end;

@@ -361,6 +361,12 @@ struct World::Impl {
   void predictPlainPair(uint32_t fa, uint32_t fb, uint32_t ba, uint32_t bb, double dt);
   void repredict(uint32_t body, double now, double dt, bool forceRequery = false);
   void advance(detail::BodySlot& b, double t);
+  /// advance's motion alone: the body's clock moves to t (for the last pass, which keeps nothing).
+  void moveTo(detail::BodySlot& b, double t) const {
+    b.position = positionAt(b, t);
+    b.velocity = velocityAt(b, t);
+    b.localTime = t;
+  }
   void resolve(const detail::PredictedContact& c, std::vector<uint32_t>& woken, bool zenoGuard = false);
   void absorb(const detail::PredictedContact& c, double vn);
   /// Whether a contact would leave two bodies that both move (awake, not static) bouncing off each other
