@@ -1212,4 +1212,56 @@ TEST(GravityIsland, DiskDroppedOnARestingPileBouncesThenJoinsItWithoutEnergyGain
               firstImpact, impactTime, steps);
 }
 
+TEST(GravityIsland, RowWedgedBetweenWallsByADiskOnItSleeps) {
+  // A row of 10 disks (radius 0.5) exactly as wide as the box (10), and one more above the pocket
+  // between the first two, all dropped from a little height (g = 10, restitution 0.5, steps of 1/60 s).
+  // The upper disk pushes the first disk into the left wall and the second to the right, which pushes
+  // the third, and so on to the right wall: for as long as the pile stands the row's disks push on one
+  // another from beside, each holding its neighbours and held by them. Expected: the whole pile sleeps
+  // within 4 s, its energy never rising, at its analytic positions (the row's centres at (0.5 + i,
+  // 0.5), the upper disk's at (1, 0.5 + sqrt(3) / 2)), overlapping by at most 1e-5 of a radius.
+  // Sideways within 1e-5: each of the row's 11 contacts may close by the solve's tolerance (1e-6 of the
+  // speeds at play, a few units a second while the disks land, over a step), and the row's disks shift
+  // by their sum. Upward within restingSpeed * dt more: a stepped body slower than restingSpeed sleeps
+  // on a speculative contact, up to the gap that speed closes in a step above what holds it. (Bodies
+  // that held one another from beside used to stay awake, their island solved every step.)
+  WorldDef def;
+  def.gravity = {0, -10};
+  World world(def);
+  const double r = 0.5;
+  const BodyId box = world.createBody(bodyDef(BodyType::Static));
+  FixtureDef cd;
+  cd.geometry = rattle::Polyline{{{0, 20}, {0, 0}, {10, 0}, {10, 20}}};
+  world.createFixture(box, cd);
+  const double rowHeight = std::sqrt(3.0) / 2;
+  std::vector<DiskSpec> specs;
+  for (int i = 0; i < 10; ++i) specs.push_back({{0.5 + i, 0.6}, {0, 0}, r, 1.0, 0.5});
+  specs.push_back({{1.0, 0.8 + rowHeight}, {0, 0}, r, 1.0, 0.5});
+  const auto disks = addDisks(world, specs);
+  const double m = disks[0].mass, rs = def.restingSpeed;
+  LD previous = hard_case::totalEnergy(world, disks, def.gravity);
+  bool asleep = false;
+  int steps = 0;
+  for (; steps < 240 && !asleep; ++steps) {
+    world.step(1.0 / 60);
+    int slow = 0;
+    for (const ContactEvent& ev : world.contactEvents()) slow += ev.impulse <= 3 * m * rs * (1 + 1e-9) ? 1 : 0;
+    const LD e = hard_case::totalEnergy(world, disks, def.gravity);
+    EXPECT_LE(e - previous, slow * 0.5L * m * rs * rs + 1e-12L * std::fabs(previous)) << "step " << steps;
+    previous = e;
+    asleep = true;
+    for (const Disk& d : disks) asleep = asleep && world.isAsleep(d.body);
+  }
+  EXPECT_TRUE(asleep) << "not asleep after " << steps << " steps";
+  for (size_t i = 0; i < disks.size(); ++i) {
+    const Vec2 expected = i < 10 ? Vec2{0.5 + static_cast<double>(i), 0.5} : Vec2{1.0, 0.5 + rowHeight};
+    const Vec2 p = world.position(disks[i].body);
+    EXPECT_NEAR(p.x, expected.x, 1e-5) << "disk " << i;
+    EXPECT_GE(p.y, expected.y - 1e-5) << "disk " << i;
+    EXPECT_LE(p.y, expected.y + 1e-5 + rs / 60) << "disk " << i;
+  }
+  EXPECT_LE(hard_case::maxRelativeOverlapGrid(world, disks, nullptr), 1e-5);
+  std::printf("[ row wedged between walls ] asleep after %d steps\n", steps);
+}
+
 }  // namespace
