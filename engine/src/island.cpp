@@ -32,7 +32,7 @@
 //    again for the rest of the step: the stepped bodies within a few candidate pairs of it move, and the
 //    rest keep their paths. That part's edge could push it like a moving wall and add energy the whole
 //    island would not (it would slow the pusher down), or be impossible to meet; then the solve is undone
-//    and tried on a part four times as deep, and last on the whole island (settleAround).
+//    and tried on a part four times as deep, then sixteen, and last on the whole island (settleAround).
 //  - At the start of a step, a stepped body that no contact held is free again (its gravity impulse is
 //    taken back: it falls freely, exactly). At the end of a step, a stepped body slower than
 //    restingSpeed sleeps once everything that holds it (pushes it from below or beside) is static,
@@ -67,6 +67,11 @@ namespace {
 constexpr int kPartIterations = 100;
 constexpr int kIslandIterations = 300;
 constexpr int kStartIterations = 1000;
+// Parts a settleAround tries, the last the whole island: hops, 4 x hops, 16 x hops, all. A jam of
+// thousands or a landing pile solved again whole for each part that failed spent most of its step there
+// (1,228 whole solves in the first 30 ticks of rattle-demo --units 5000 --steering naive, two thirds
+// of the solves' work); the part sixteen times as deep mostly holds.
+constexpr int kSettleAttempts = 4;
 // Without gravity the sweeps over-relax (projected SOR): a jam of thousands that a game presses into a
 // doorway converges slowly under plain Gauss-Seidel, which carries a push about one layer of bodies a
 // sweep. On rattle-soak's crowd of 2,000 (1,000 sweeps at most a step) the worst overlap fell from 4.1%
@@ -246,14 +251,16 @@ int World::Impl::settleAround(const std::vector<uint32_t>& seeds, int hops, doub
   // keeps its paths. That part's edge may push it like a moving wall (a stepped body coming at it) and
   // so add energy that the whole island would not (it would slow the pusher), or ask the impossible of a
   // body caught between two such paths. Then the solve is undone and tried again on a part four times
-  // as deep, and at last on the whole island, which holds no moving walls but kinematic ones.
+  // as deep, and again, and at last on the whole island, which holds no moving walls but kinematic
+  // ones.
   std::vector<uint32_t> members;
   std::vector<Vec2> before;
   std::vector<uint32_t> counts;
   std::vector<detail::LastContact> lasts;
   IslandSolve solve{0, false};
-  for (int attempt = 0; attempt < 3; ++attempt) {
-    members = islandOf(seeds, attempt == 0 ? hops : attempt == 1 ? 4 * hops : -1);
+  for (int attempt = 0, depth = hops; attempt < kSettleAttempts; ++attempt, depth *= 4) {
+    const bool whole = attempt == kSettleAttempts - 1;
+    members = islandOf(seeds, whole ? -1 : depth);
     before.resize(members.size());
     counts.resize(members.size());
     lasts.resize(members.size());
@@ -266,10 +273,10 @@ int World::Impl::settleAround(const std::vector<uint32_t>& seeds, int hops, doub
       kinetic += b.mass * dot(b.velocity, b.velocity);
     }
     const size_t mark = contactEvents.size();
-    solve = solveIsland(members, now, dt, std::numeric_limits<double>::infinity(), reportPair, false, attempt == 2);
+    solve = solveIsland(members, now, dt, std::numeric_limits<double>::infinity(), reportPair, false, whole);
     double after = 0;
     for (uint32_t i : members) after += bodies[i].mass * dot(bodies[i].velocity, bodies[i].velocity);
-    if (attempt == 2 || (solve.met && after <= kinetic * (1 + 1e-12))) break;
+    if (whole || (solve.met && after <= kinetic * (1 + 1e-12))) break;
     // Undone entirely: the predictions made before it are still good.
     for (size_t k = 0; k < members.size(); ++k) {
       BodySlot& b = bodies[members[k]];
