@@ -1264,4 +1264,42 @@ TEST(GravityIsland, RowWedgedBetweenWallsByADiskOnItSleeps) {
   std::printf("[ row wedged between walls ] asleep after %d steps\n", steps);
 }
 
+TEST(GravityIsland, StackSlidingOffASegmentsEndFallsPastIt) {
+  // A disk (radius 0.5) slides at 1 unit/s along a static Segment floor from (0, 0) to (10, 0), with a
+  // second disk resting on it that moves with it (g = 10, steps of 1/60 s): the two press together under
+  // gravity and rest on each other in a stepped island. A Segment's ends do not collide (README,
+  // Geometry), so once the lower disk's centre passes x = 10 nothing holds it and it falls freely, as a
+  // lone disk sliding off the same end does. Expected: at the moment the lower disk's centre passes the
+  // end, 0.3 s later it has fallen at least as far as free fall from rest for 0.3 s less one step (the
+  // island frees a body at the start of the first step that nothing holds it): 0.5 - 10 (0.3 - 1/60)^2
+  // / 2 = 0.099 above the floor's line, at most. Held by the end as by a corner, it would stay at least
+  // sqrt(0.5^2 - 0.3^2) = 0.4 above it.
+  for (const bool stacked : {false, true}) {
+    WorldDef def;
+    def.gravity = {0, -10};
+    World world(def);
+    const BodyId ground = world.createBody(bodyDef(BodyType::Static));
+    FixtureDef fd;
+    fd.geometry = rattle::Segment{{0, 0}, {10, 0}};
+    world.createFixture(ground, fd);
+    std::vector<DiskSpec> specs{{{5, 0.5}, {1, 0}, 0.5, 1.0, 0.5}};
+    if (stacked) specs.push_back({{5, 1.5}, {1, 0}, 0.5, 1.0, 0.5});
+    const auto disks = addDisks(world, specs);
+    double t = 0, passed = -1;
+    while (t < 7) {
+      world.step(1.0 / 60);
+      t += 1.0 / 60;
+      const Vec2 p = world.position(disks[0].body);
+      if (passed < 0 && p.x > 10) passed = t;
+      if (passed >= 0 && t >= passed + 0.3 - 1e-9) break;
+    }
+    ASSERT_GE(passed, 0) << (stacked ? "stacked" : "alone") << ": never reached the end";
+    const double y = world.position(disks[0].body).y;
+    const double fall = 10 * (0.3 - 1.0 / 60) * (0.3 - 1.0 / 60) / 2;
+    EXPECT_LE(y, 0.5 - fall + 1e-9) << (stacked ? "stacked" : "alone") << ": held by the segment's end";
+    std::printf("[ sliding off a segment's end, %s ] 0.3 s past the end: centre %.4f above the floor's line\n",
+                stacked ? "stacked" : "alone", y);
+  }
+}
+
 }  // namespace

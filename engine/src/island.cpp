@@ -101,7 +101,9 @@ void forEachPiece(const Geometry& g, Vec2 position, Vec2 p, Found&& found) {
     const double len = length(r);
     if (len > 0) found(s->center + r * (s->radius / len) + position);
   } else if (const auto* s = std::get_if<Segment>(&g)) {
-    found(detail::closestOnSegment(s->a, s->b, q, true).point + position);
+    // A bare segment's ends are not corners (README, Geometry): they hold nothing.
+    const detail::Closest c = detail::closestOnSegment(s->a, s->b, q, false);
+    if (c.collidable) found(c.point + position);
   } else if (const auto* s = std::get_if<Polyline>(&g)) {
     for (size_t i = 0; i + 1 < s->points.size(); ++i)
       found(detail::closestOnSegment(s->points[i], s->points[i + 1], q, true).point + position);
