@@ -17,9 +17,7 @@
 //    within the step: the relative normal velocity after is >= -gap / dt (a speculative contact,
 //    Catto 2013), and >= 0 for a pair already touching. It is the projection of the velocities onto
 //    those constraints in the metric of the masses, a linear complementarity problem, solved by
-//    projected Gauss-Seidel (Erleben 2007) warm-started from the last step's impulses; under gravity,
-//    every few sweeps the contacts that push are solved as equalities by conjugate gradients
-//    (subspaceSolve), which carry a push across a long chain of bodies far faster than the sweeps.
+//    projected Gauss-Seidel (Erleben 2007) warm-started from the last step's impulses.
 //  - The distance between a moving circle and a fixed convex piece (a circle, a point, a segment) along
 //    a straight path is a convex function of time, so meeting the constraint at the end of the step
 //    keeps the pair apart all step: distance(t) >= distance(0) + t distance'(0) >= radius.
@@ -32,7 +30,8 @@
 //    again for the rest of the step: the stepped bodies within a few candidate pairs of it move, and the
 //    rest keep their paths. That part's edge could push it like a moving wall and add energy the whole
 //    island would not (it would slow the pusher down), or be impossible to meet; then the solve is undone
-//    and tried on a part four times as deep, then sixteen, and last on the whole island (settleAround).
+//    and tried on a part four times as deep (without gravity then sixteen), and last on the whole island
+//    (settleAround).
 //  - At the start of a step, a stepped body that no contact held is free again (its gravity impulse is
 //    taken back: it falls freely, exactly). At the end of a step, a stepped body slower than
 //    restingSpeed sleeps once everything that holds it (pushes it from below or beside) is static,
@@ -67,23 +66,20 @@ namespace {
 constexpr int kPartIterations = 100;
 constexpr int kIslandIterations = 300;
 constexpr int kStartIterations = 1000;
-// Parts a settleAround tries, the last the whole island: hops, 4 x hops, 16 x hops, all. A jam of
-// thousands or a landing pile solved again whole for each part that failed spent most of its step there
-// (1,228 whole solves in the first 30 ticks of rattle-demo --units 5000 --steering naive, two thirds
-// of the solves' work); the part sixteen times as deep mostly holds.
-constexpr int kSettleAttempts = 4;
+// Parts a settleAround tries, the last the whole island: without gravity hops, 4 x hops, 16 x hops, all.
+// A jam of thousands solved again whole for each part that failed spent most of its step there (1,228
+// whole solves in the first 30 ticks of rattle-demo --units 5000 --steering naive, two thirds of the
+// solves' work); the part sixteen times as deep mostly holds there. Under gravity the deeper part made a
+// landing pile slower (rattle-bench's pile of 1,000: 600-713 ms per simulated second against 492), so
+// piles go from 4 x hops to the whole island.
+constexpr int kSettleAttemptsWithoutGravity = 4;
+constexpr int kSettleAttemptsUnderGravity = 3;
 // Without gravity the sweeps over-relax (projected SOR): a jam of thousands that a game presses into a
 // doorway converges slowly under plain Gauss-Seidel, which carries a push about one layer of bodies a
 // sweep. On rattle-soak's crowd of 2,000 (1,000 sweeps at most a step) the worst overlap fell from 4.1%
 // of a radius at 1 to 2.0% at 1.5 and 1.4% at 1.8. Piles under gravity keep 1: their tests hold the
 // solve to 1e-6, and they converge within their sweeps.
 constexpr double kOverRelaxation = 1.8;
-// Under gravity, the subspace minimisation (subspaceSolve) after every kSubspaceEvery sweeps, of at most
-// kSubspaceIterations conjugate-gradient iterations. On rattle-bench's pile of 1,000 (8 s, dt 1/60) the
-// mean step fell by a tenth, the 99th percentile by a quarter and the worst by a seventh; every 4
-// sweeps, every 16, or 16 iterations did no better.
-constexpr int kSubspaceEvery = 8;
-constexpr int kSubspaceIterations = 32;
 // The position correction without gravity (separateIsland): its sweeps, and the part of an overlap it
 // takes out in one step.
 constexpr int kSeparateIterations = 64;
@@ -143,81 +139,6 @@ double projectedSweep(const Contacts& contacts, std::vector<Vec2>& x, double ome
   return worst;
 }
 
-// Subspace minimisation (Silcowitz, Niebe and Erleben 2009, "Interactive rigid body dynamics using a
-// projected Gauss-Seidel subspace minimization method"): conjugate gradients on the contacts that push
-// (lambda > 0), held as equalities, each step kept inside lambda >= 0 (a contact reaching 0 leaves and
-// the gradients restart). Gauss-Seidel carries a push about one body a sweep, so a chain of n bodies
-// (a floor row wedged between walls by the pile on it) needs of the order of n^2 sweeps; conjugate
-// gradients need of the order of n. Returns the iterations it ran.
-template <class Contacts>
-int subspaceSolve(Contacts& contacts, std::vector<Vec2>& v, int maxIterations, double tolerance) {
-  std::vector<size_t> active;
-  for (size_t i = 0; i < contacts.size(); ++i)
-    if (contacts[i].lambda > 0) active.push_back(i);
-  if (active.empty()) return 0;
-  auto relative = [&](const auto& c, const std::vector<Vec2>& x, bool holder) {
-    const Vec2 xb = c.kb >= 0 ? x[c.kb] : holder ? c.holderVelocity : Vec2{};
-    return dot(x[c.ka] - xb, c.normal);
-  };
-  std::vector<double> r(active.size()), p(active.size()), kp(active.size());
-  std::vector<Vec2> dv(v.size());
-  int iterations = 0;
-  double rr = 0;
-  auto restart = [&]() {
-    rr = 0;
-    for (size_t a = 0; a < active.size(); ++a) {
-      const auto& c = contacts[active[a]];
-      r[a] = c.target - relative(c, v, true);
-      p[a] = r[a];
-      rr += r[a] * r[a];
-    }
-  };
-  restart();
-  while (iterations < maxIterations && !active.empty()) {
-    ++iterations;
-    std::fill(dv.begin(), dv.end(), Vec2{});
-    for (size_t a = 0; a < active.size(); ++a) {
-      const auto& c = contacts[active[a]];
-      dv[c.ka] += c.normal * (p[a] * c.inverseA);
-      if (c.kb >= 0) dv[c.kb] -= c.normal * (p[a] * c.inverseB);
-    }
-    double pkp = 0;
-    for (size_t a = 0; a < active.size(); ++a) {
-      kp[a] = relative(contacts[active[a]], dv, false);
-      pkp += p[a] * kp[a];
-    }
-    if (!(pkp > 0)) break;
-    double alpha = rr / pkp;
-    size_t blocking = active.size();
-    for (size_t a = 0; a < active.size(); ++a) {
-      const double lambda = contacts[active[a]].lambda;
-      if (p[a] < 0 && lambda + alpha * p[a] < 0) {
-        alpha = -lambda / p[a];
-        blocking = a;
-      }
-    }
-    for (size_t a = 0; a < active.size(); ++a) contacts[active[a]].lambda += alpha * p[a];
-    for (size_t k = 0; k < v.size(); ++k) v[k] += dv[k] * alpha;
-    if (blocking < active.size()) {
-      contacts[active[blocking]].lambda = 0;
-      active.erase(active.begin() + static_cast<std::ptrdiff_t>(blocking));
-      restart();
-      continue;
-    }
-    double next = 0, largest = 0;
-    for (size_t a = 0; a < active.size(); ++a) {
-      r[a] -= alpha * kp[a];
-      next += r[a] * r[a];
-      largest = std::max(largest, std::fabs(r[a]));
-    }
-    if (largest <= tolerance) break;
-    const double beta = next / rr;
-    rr = next;
-    for (size_t a = 0; a < active.size(); ++a) p[a] = r[a] + beta * p[a];
-  }
-  return iterations;
-}
-
 }  // namespace
 
 std::vector<uint32_t> World::Impl::islandOf(const std::vector<uint32_t>& seeds, int hops) {
@@ -253,15 +174,16 @@ int World::Impl::settleAround(const std::vector<uint32_t>& seeds, int hops, doub
   // keeps its paths. That part's edge may push it like a moving wall (a stepped body coming at it) and
   // so add energy that the whole island would not (it would slow the pusher), or ask the impossible of a
   // body caught between two such paths. Then the solve is undone and tried again on a part four times
-  // as deep, and again, and at last on the whole island, which holds no moving walls but kinematic
-  // ones.
+  // as deep (without gravity, again), and at last on the whole island, which holds no moving walls but
+  // kinematic ones.
   std::vector<uint32_t> members;
   std::vector<Vec2> before;
   std::vector<uint32_t> counts;
   std::vector<detail::LastContact> lasts;
   IslandSolve solve{0, false};
-  for (int attempt = 0, depth = hops; attempt < kSettleAttempts; ++attempt, depth *= 4) {
-    const bool whole = attempt == kSettleAttempts - 1;
+  const int attempts = def.gravity == Vec2{} ? kSettleAttemptsWithoutGravity : kSettleAttemptsUnderGravity;
+  for (int attempt = 0, depth = hops; attempt < attempts; ++attempt, depth *= 4) {
+    const bool whole = attempt == attempts - 1;
     members = islandOf(seeds, whole ? -1 : depth);
     before.resize(members.size());
     counts.resize(members.size());
@@ -414,12 +336,6 @@ World::Impl::IslandSolve World::Impl::solveIsland(const std::vector<uint32_t>& m
   const bool noGravity = def.gravity.x == 0 && def.gravity.y == 0;
   const double omega = noGravity ? kOverRelaxation : 1.0;
   bool converged = false;
-  bool subspace = !noGravity;
-  double kineticIn = 0;
-  if (subspace)
-    for (uint32_t i : members) kineticIn += bodies[i].mass * dot(bodies[i].velocity, bodies[i].velocity);
-  std::vector<Vec2> subspaceBefore;
-  std::vector<double> lambdaBefore(subspace ? contacts.size() : 0);
   const int maxIterations = warmStart ? kStartIterations : whole ? kIslandIterations : kPartIterations;
   for (int iteration = 0; iteration < maxIterations && !converged; ++iteration) {
     const double worst = projectedSweep(
@@ -427,28 +343,6 @@ World::Impl::IslandSolve World::Impl::solveIsland(const std::vector<uint32_t>& m
         [&](size_t i) -> double& { return contacts[i].lambda; },
         [](const IslandContact& c) { return c.holderVelocity; });
     converged = worst <= tolerance;
-    // Under gravity, every kSubspaceEvery sweeps the pushing contacts are solved as equalities by
-    // conjugate gradients (subspaceSolve). Each of its iterations costs about two sweeps but counts as
-    // one: counted as two, a pile of 2,000 (GravityPile) ran out of sweeps while it landed and two
-    // disks overlapped by 1.08% of a radius. Without gravity the over-relaxed sweeps do better on a
-    // driven crowd, whose pushing set changes from sweep to sweep (its overlap doubled).
-    if (subspace && !converged && (iteration + 1) % kSubspaceEvery == 0 && iteration + 1 < maxIterations) {
-      // Where the pushing contacts cannot all be met as equalities (a part of an island between paths
-      // that converge on it), the gradients run off along what the contacts cannot hold and the
-      // impulses grow without bound (velocities of 1e9 were seen). A solve against holders at rest
-      // only takes kinetic energy away (a projection onto constraints that zero meets), so one that
-      // ends with more than the members came with goes back to where it was and sweeps on alone.
-      subspaceBefore = v;
-      for (size_t i = 0; i < contacts.size(); ++i) lambdaBefore[i] = contacts[i].lambda;
-      iteration += subspaceSolve(contacts, v, kSubspaceIterations, tolerance);
-      double after = 0;
-      for (size_t k = 0; k < members.size(); ++k) after += bodies[members[k]].mass * dot(v[k], v[k]);
-      if (!(after <= kineticIn)) {
-        v = subspaceBefore;
-        for (size_t i = 0; i < contacts.size(); ++i) contacts[i].lambda = lambdaBefore[i];
-        subspace = false;
-      }
-    }
   }
 
   // What cannot move (a wall, a floor, a sleeping body) is kept out exactly, not within the tolerance:
