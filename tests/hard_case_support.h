@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <span>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -82,6 +83,15 @@ class ModeTest : public ::testing::TestWithParam<StepMode> {
 };
 
 // ---- Energy under gravity -----------------------------------------------------------------------
+
+/// The energy a step may gain by design: a contact that would bounce off slower than restingSpeed bounces
+/// off at restingSpeed instead (resting.cpp), which can add up to m restingSpeed^2 / 2, and its impulse is
+/// then at most about 3 m restingSpeed. `m` is the disks' mass (equal disks).
+inline LD minimumBounceAllowance(std::span<const rattle::ContactEvent> events, double m, double restingSpeed) {
+  int slow = 0;
+  for (const rattle::ContactEvent& ev : events) slow += ev.impulse <= 3 * m * restingSpeed * (1 + 1e-9) ? 1 : 0;
+  return slow * 0.5L * m * restingSpeed * restingSpeed;
+}
 
 /// Kinetic plus potential energy, sum of m v^2/2 - m g.p, in long double. The potential's zero is at
 /// the origin; pass a `reference` point to move it.

@@ -473,17 +473,16 @@ Result run(const std::string& sceneName, rattle::StepMode mode, const Options& o
       }
     }
     if (discrete) {
-      for (size_t i = 0; i < s.disks.size(); ++i) {
-        const auto* circle = std::get_if<rattle::Circle>(&world.geometry(world.fixtures(s.disks[i]).front()));
-        const double travel = rattle::length(world.velocity(s.disks[i])) * s.dt + 0.5 * g * s.dt * s.dt;
-        if (circle && !(travel < circle->radius)) fastDisk[i] = 1;
-      }
-      for (size_t i = 0; i < s.contained.size(); ++i) {
-        const BodyId b = s.contained[i];
+      // Beyond the discrete mode's containment bound: this step's travel reaches the body's radius.
+      auto beyondBound = [&](BodyId b) {
         const auto* circle = std::get_if<rattle::Circle>(&world.geometry(world.fixtures(b).front()));
         const double travel = rattle::length(world.velocity(b)) * s.dt + 0.5 * g * s.dt * s.dt;
-        if (circle && !(travel < circle->radius)) fast[i] = 1;
-      }
+        return circle && !(travel < circle->radius);
+      };
+      for (size_t i = 0; i < s.disks.size(); ++i)
+        if (beyondBound(s.disks[i])) fastDisk[i] = 1;
+      for (size_t i = 0; i < s.contained.size(); ++i)
+        if (beyondBound(s.contained[i])) fast[i] = 1;
     }
     const Clock::time_point t0 = Clock::now();
     const double cpu0 = threadCpuMs();
