@@ -305,6 +305,7 @@ class Program {
   std::vector<Container> containers_;
   std::vector<BodyId> destroyedBodies_;  // since the last step
   std::vector<FixtureId> destroyedFixtures_;
+  std::vector<FixtureId> described_;  // verbose: fixtures already printed in full
   int created_ = 0;
   int steps_ = 0;
   int refused_ = 0;
@@ -664,8 +665,11 @@ class Program {
         const Vec2 p = world_.position(b), v = world_.velocity(b);
         std::fprintf(stderr, "  body (%u, %u) type %d at (%.17g, %.17g) velocity (%.17g, %.17g), %zu fixtures\n", b.index,
                      b.generation, static_cast<int>(world_.type(b)), p.x, p.y, v.x, v.y, world_.fixtures(b).size());
-        if (steps_ == 1)
-          for (FixtureId f : world_.fixtures(b)) describe(f);
+        for (FixtureId f : world_.fixtures(b)) {
+          if (std::find(described_.begin(), described_.end(), f) != described_.end()) continue;
+          described_.push_back(f);
+          describe(f);
+        }
       }
     }
     try {
@@ -674,6 +678,15 @@ class Program {
       if (valid && (checks & kStepError))
         finding("error", "step(%.17g) threw rattle::Error: %s", dt, e.what());
       return;
+    }
+    if (verbose()) {
+      std::fprintf(stderr, "world_api: after step %d:\n", steps_);
+      for (BodyId b : bodies_) {
+        if (!world_.isValid(b)) continue;
+        const Vec2 p = world_.position(b), v = world_.velocity(b);
+        std::fprintf(stderr, "  body (%u, %u) at (%.17g, %.17g) velocity (%.17g, %.17g)\n", b.index, b.generation, p.x, p.y,
+                     v.x, v.y);
+      }
     }
     if (!valid && (checks & kStepError)) finding("error", "step(%.17g) was accepted; dt must be finite and >= 0", dt);
     if (checks & kFinite) checkFinite();
@@ -691,7 +704,7 @@ class Program {
     destroyedFixtures_.clear();
   }
 
-  // One fixture, as a reproducer needs it (verbose only, first step).
+  // One fixture, as a reproducer needs it (verbose only, the first step it is seen at).
   void describe(FixtureId f) const {
     const rattle::Filter fl = world_.filter(f);
     std::fprintf(stderr, "    fixture (%u, %u) %s density %.17g restitution %.17g%s filter %#x/%#x/%d:", f.index, f.generation,
