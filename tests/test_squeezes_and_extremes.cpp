@@ -392,6 +392,50 @@ TEST(TinyBodies, PointsAndTinyDisksMeetHeadOn) {
   }
 }
 
+// Points (radius 0) under gravity in a closed box, started where the fuzzer found them falling out
+// (fuzz/regressions/world_api/escape-point-sliding-into-corner, escape-hybrid-point-along-a-seam): one
+// lands on a Polyline box's floor and slides into its corner; one slides along the seam between a floor
+// Polygon and a wall Polygon that share a line. A point on a line is on it only to round-off, which used
+// to put it on the wrong side: under the wall, or through the floor after it stopped at the wall.
+TEST(TinyBodies, PointsSlidingIntoACornerStayInTheBox) {
+  for (StepMode mode : kExactModes) {
+    SCOPED_TRACE(nameOf(mode));
+    {
+      World w(defOf(mode, {0, -9.81}));
+      const BodyId box = w.createBody({.type = BodyType::Static, .position = {1e-12, 1e-12}});
+      const double a = 10.500149636933546;
+      w.createFixture(box, {.geometry = Polyline{{{-a, -a}, {a, -a}, {a, a}, {-a, a}, {-a, -a}}}});
+      const BodyId p = w.createBody({.type = BodyType::Dynamic,
+                                     .position = {-10.200149636932546, -10.400149636932547},
+                                     .velocity = {-3.8724463275946235, -5.888607116417532}});
+      w.createFixture(p, {.geometry = Point{}, .restitution = 0.050498527257548789});
+      for (int i = 0; i < 60; ++i) {
+        w.step(0.05);
+        ASSERT_GE(w.position(p).x, -a + 1e-12 - 1e-13) << "step " << i;
+        ASSERT_GE(w.position(p).y, -a + 1e-12 - 1e-13) << "step " << i;
+      }
+    }
+    {
+      World w(defOf(mode, {0, -9.81}));
+      const BodyId walls =
+          w.createBody({.type = BodyType::Static, .position = {0.038590577598561993, -49.697575881676563}});
+      const double h = 1.0200513490950904, l = 8.8549545576259696;
+      w.createFixture(walls, {.geometry = Polygon{{{-l, -h - 0.5}, {l, -h - 0.5}, {l, -h}, {-l, -h}}}});
+      w.createFixture(walls, {.geometry = Polygon{{{-l, -h}, {-l + 0.5, -h}, {-l + 0.5, h}, {-l, h}}}});
+      const BodyId p = w.createBody({.type = BodyType::Dynamic,
+                                     .position = {-7.216363980027408, -50.617627230771653},
+                                     .velocity = {-11.485104486134798, -2.5790664576534188}});
+      w.createFixture(p, {.geometry = Point{}, .restitution = 1e-12});
+      const double wall = 0.038590577598561993 - l + 0.5, floor = -49.697575881676563 - h;
+      for (int i = 0; i < 60; ++i) {
+        w.step(1.0 / 30);
+        ASSERT_GE(w.position(p).x, wall - 1e-13) << "step " << i;
+        ASSERT_GE(w.position(p).y, floor - 1e-13) << "step " << i;
+      }
+    }
+  }
+}
+
 TEST(TinyBodies, RadiiBelowTheDocumentedMinimumAreRefused) {
   World w;
   const BodyId near = w.createBody({.type = BodyType::Dynamic});

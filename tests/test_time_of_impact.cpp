@@ -630,6 +630,55 @@ TEST(TimeOfImpactCirclePolygon, ExcludedEdgeIsIgnored) {
 }
 
 // =========================================================================================================
+// A point (radius 0) on a line: round-off decides nothing
+
+TEST(TimeOfImpactPointOnALine, AlongABottomEdgeIntoTheNextEdgeAtItsEnd) {
+  // A point runs left along the line y = -1 of the square's bottom edge, an ulp below it (where round-off
+  // puts a point sliding on the seam between this square and a floor that shares the line), and meets
+  // the right edge x = 1 at its end: at t = (3 - 1) / 2 = 1, pushed back along +x. Without slack the right
+  // edge's tau is an ulp outside, the corner (reach 0) is missed off the exact line, and the point passed
+  // under the square.
+  const double below = std::nextafter(-1.0, -2.0);
+  expectImpact(rattle::timeOfImpactCirclePolygon({{3.0, below}, 0.0}, Vec2{-2.0, 0.0}, square(), 10.0), 1.0,
+               {1.0, -1.0}, {1.0, 0.0}, 1);
+}
+
+TEST(TimeOfImpactPointOnALine, AnUlpInsideAPolygonFaceAndPressedIntoItIsAContactNow) {
+  // At rest an ulp inside the top face y = 1 (s0 = -ulp), gravity pressing it in: touching and
+  // approaching, so now, with the face's normal. A circle of radius 0 has no overlap to tell it is still
+  // in front, and used to be taken for one deep inside (no impact: it fell through).
+  const double inside = std::nextafter(1.0, 0.0);
+  expectImpact(rattle::timeOfImpactCirclePolygon({{0.25, inside}, 0.0}, rattle::Motion{{0.0, 0.0}, {0.0, -9.81}},
+                                                 square(), 1.0),
+               0.0, {0.25, 1.0}, {0.0, 1.0}, 2, 1e-15);
+}
+
+TEST(TimeOfImpactPointOnALine, LeavingAFloorItWasJustResolvedAgainstComesBack) {
+  // On the floor y = 0 of a polyline, just bounced off it (feature 0 resolved at this instant) at 0.5
+  // upward under gravity 10: back at t = 2 v / g = 0.1, from above.
+  const Polyline floor{{{-5.0, 0.0}, {5.0, 0.0}}};
+  const rattle::Motion up{{1.0, 0.5}, {0.0, -10.0}};
+  expectImpact(rattle::timeOfImpactCirclePolyline({{0.0, 0.0}, 0.0}, up, floor, 1.0, 0), 0.1, {0.1, 0.0},
+               {0.0, 1.0}, 0);
+  // Not just resolved there, the same point has arrived at the line from below: a contact now.
+  expectImpact(rattle::timeOfImpactCirclePolyline({{0.0, 0.0}, 0.0}, up, floor, 1.0), 0.0, {0.0, 0.0},
+               {0.0, -1.0}, 0);
+}
+
+TEST(TimeOfImpactPointOnALine, SlidingAlongAFloorIntoAWallAtTheCorner) {
+  // A box's floor and left wall as one polyline (corner at the origin). A point sliding left exactly
+  // along the floor, pressed into it by gravity, is in contact with the floor now; with the floor's
+  // contact resolved, it meets the wall at its end at t = 2 / 4 = 0.5, pushed back along +x.
+  const Polyline corner{{{0.0, 5.0}, {0.0, 0.0}, {5.0, 0.0}}};
+  const rattle::Motion sliding{{-4.0, 0.0}, {0.0, -9.81}};
+  expectImpact(rattle::timeOfImpactCirclePolyline({{2.0, 0.0}, 0.0}, sliding, corner, 1.0), 0.0, {2.0, 0.0},
+               {0.0, 1.0}, 1);
+  const rattle::Motion along{Vec2{-4.0, 0.0}};
+  expectImpact(rattle::timeOfImpactCirclePolyline({{2.0, 0.0}, 0.0}, along, corner, 1.0, 1), 0.5, {0.0, 0.0},
+               {1.0, 0.0}, 0);
+}
+
+// =========================================================================================================
 // The dispatcher
 
 TEST(TimeOfImpactDispatch, CircleCircleWithPositions) {

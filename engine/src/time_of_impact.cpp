@@ -7,6 +7,7 @@
 #include "rattle/time_of_impact.h"
 
 #include <cmath>
+#include <limits>
 
 #include "plain_disk_impact.h"
 #include "polynomial.h"
@@ -99,6 +100,11 @@ Impact pointImpact(Vec2 center, const Motion& m, Vec2 target, double targetRadiu
   return Impact{t, target + n * targetRadius, n, feature};
 }
 
+// What round-off can put in a distance computed from these coordinates: a few ulps of each.
+double roundOffOf(Vec2 a, Vec2 b, Vec2 c = {}) {
+  return 16 * std::numeric_limits<double>::epsilon() * (length(a) + length(b) + length(c));
+}
+
 struct Edge {
   Vec2 a;
   Vec2 u;  // unit direction from a along the edge
@@ -119,15 +125,24 @@ Edge edgeOf(Vec2 a, Vec2 b) {
 // impact counts only if the contact point then lies on the edge (0 <= tau <= length): an edge's ends are
 // not corners. `front`: the centre starts on this face's side, so the overlap rules apply; otherwise only
 // a crossing from outside counts.
+// `cornered`: the edge's ends are corners of a polyline or polygon. A circle of radius 0 (a point) meets
+// such a corner only on an exact line (timeToReach with reach 0), so a point sliding exactly along one
+// edge into the next, or along the seam of two polygons that share a line, meets the next edge at its end,
+// where round-off puts tau an ulp outside: that ulp is taken as on the edge.
 std::optional<Impact> faceImpact(const Circle& circle, const Motion& m, const Edge& edge, bool front, double maxTime,
-                                 int feature, bool justResolved) {
+                                 int feature, bool justResolved, bool cornered) {
   const Vec2 rel = circle.center - edge.a;
-  const double s0 = dot(edge.n, rel);
+  double s0 = dot(edge.n, rel);
+  // A point (radius 0) has no overlap to tell it is still in front: an ulp behind the line (where
+  // round-off puts a point that came to rest on a floor, in a frame other than the floor's) is on it.
+  if (circle.radius == 0 && s0 < 0 && s0 >= -roundOffOf(circle.center, edge.a)) s0 = 0;
   Polynomial gap;
   gap.degree = 2;
   gap.c = {s0 - circle.radius, dot(edge.n, m.velocity), 0.5 * dot(edge.n, m.acceleration)};
   std::optional<double> t;
-  if (front && s0 > -circle.radius) {
+  // A point exactly on the line touches it (a closed edge): the overlap rules apply, as they do to a
+  // circle whose gap is exactly 0.
+  if (front && (s0 > -circle.radius || (circle.radius == 0 && s0 == 0))) {
     t = firstImpactOfGap(gap, maxTime, justResolved);
   } else {
     // Centre a full radius behind the line (or on the segment's other side): only coming round to the
@@ -137,7 +152,13 @@ std::optional<Impact> faceImpact(const Circle& circle, const Motion& m, const Ed
     if (t && *t == 0 && justResolved) t = detail::firstDownwardCrossing(gap, std::nextafter(0.0, 1.0), maxTime);
   }
   if (!t) return std::nullopt;
-  const double tau = dot(edge.u, rel + travel(m, *t));
+  const Vec2 along = rel + travel(m, *t);
+  double tau = dot(edge.u, along);
+  if (cornered && circle.radius == 0) {
+    const double slack = roundOffOf(circle.center, edge.a, along);
+    if (tau < 0 && tau >= -slack) tau = 0;
+    if (tau > edge.length && tau <= edge.length + slack) tau = edge.length;
+  }
   if (tau < 0 || tau > edge.length) return std::nullopt;
   return Impact{*t, edge.a + edge.u * tau, edge.n, feature};
 }
@@ -155,14 +176,25 @@ bool isResolved(int feature, int resolvedFeature) {
 }
 
 std::optional<Impact> segmentImpact(const Circle& a, const Motion& m, Vec2 p0, Vec2 p1, double maxTime, int feature,
-                                    bool justResolved) {
+                                    bool justResolved, bool cornered) {
   Edge edge = edgeOf(p0, p1);
-  const double s0 = dot(edge.n, a.center - edge.a);
+  double s0 = dot(edge.n, a.center - edge.a);
+  if (a.radius == 0 && std::fabs(s0) <= roundOffOf(a.center, edge.a)) s0 = 0;
   if (s0 < 0) edge.n = -edge.n;
-  std::optional<Impact> best = faceImpact(a, m, edge, s0 != 0, maxTime, feature, justResolved);
+  // A point on the line (within round-off) has no overlap to tell which side it is on; its history does.
+  // Just resolved against this segment, it leaves it: it is on the side it moves to, and the rules find
+  // its return (a bounce under gravity). Otherwise it has just arrived: it is on the side it comes from,
+  // and collides now. Moving along the line, the side is the one its acceleration presses it into.
+  if (s0 == 0 && a.radius == 0) {
+    const double vn = dot(edge.n, m.velocity), an = dot(edge.n, m.acceleration);
+    const double toward = vn != 0 ? (justResolved ? vn : -vn) : -an;
+    if (toward < 0) edge.n = -edge.n;
+    if (toward != 0) return faceImpact(a, m, edge, true, maxTime, feature, justResolved, cornered);
+  }
+  std::optional<Impact> best = faceImpact(a, m, edge, s0 != 0, maxTime, feature, justResolved, cornered);
   if (accelerates(m) || s0 == 0) {
     edge.n = -edge.n;
-    keepEarlier(best, faceImpact(a, m, edge, false, maxTime, feature, justResolved));
+    keepEarlier(best, faceImpact(a, m, edge, false, maxTime, feature, justResolved, cornered));
   }
   return best;
 }
@@ -185,7 +217,7 @@ std::optional<Impact> timeOfImpactCirclePoint(const Circle& a, const Motion& mot
 
 std::optional<Impact> timeOfImpactCircleSegment(const Circle& a, const Motion& motion, const Segment& b, double maxTime,
                                                 int resolvedFeature) {
-  return segmentImpact(a, motion, b.a, b.b, maxTime, 0, isResolved(0, resolvedFeature));
+  return segmentImpact(a, motion, b.a, b.b, maxTime, 0, isResolved(0, resolvedFeature), false);
 }
 
 std::optional<Impact> timeOfImpactCirclePolyline(const Circle& a, const Motion& motion, const Polyline& b,
@@ -193,7 +225,8 @@ std::optional<Impact> timeOfImpactCirclePolyline(const Circle& a, const Motion& 
   const int n = static_cast<int>(b.points.size());
   std::optional<Impact> best;
   for (int i = 0; i + 1 < n; ++i) {
-    keepEarlier(best, segmentImpact(a, motion, b.points[i], b.points[i + 1], maxTime, i, isResolved(i, resolvedFeature)));
+    keepEarlier(best, segmentImpact(a, motion, b.points[i], b.points[i + 1], maxTime, i, isResolved(i, resolvedFeature),
+                                    true));
   }
   for (int k = 0; k < n; ++k) {
     const int feature = n - 1 + k;
@@ -209,7 +242,7 @@ std::optional<Impact> timeOfImpactCirclePolygon(const Circle& a, const Motion& m
   std::optional<Impact> best;
   for (int i = 0; i < n; ++i) {
     keepEarlier(best, faceImpact(a, motion, edgeOf(b.points[i], b.points[(i + 1) % n]), true, maxTime, i,
-                                 isResolved(i, resolvedFeature)));
+                                 isResolved(i, resolvedFeature), true));
   }
   for (int k = 0; k < n; ++k) {
     const int feature = n + k;

@@ -11,6 +11,10 @@
 //     e.g. a pass at exactly the sum of radii) is not an impact;
 //   - touching or overlapping by round-off and approaching: impact now (time 0);
 //   - touching or overlapping and separating (or moving along the surface): no impact.
+// A circle of radius 0 (a point) has no overlap to tell which side of a line it is on, so within the
+// round-off of its coordinates a point is on the line: it touches it from the side it comes from (or,
+// when the contact was just resolved, the side it leaves to), and a polyline's or polygon's edge reaches
+// that far past its corners.
 // Roots use cancellation-free forms: t = c / (-b + sqrt(b^2 - a c)), with the discriminant as a
 // compensated product (Kahan), so contact times stay accurate when the gap is tiny.
 #pragma once
