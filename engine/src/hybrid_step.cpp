@@ -397,18 +397,9 @@ void World::Impl::learnDiskShape(uint32_t bodyIndex) {
   }
 }
 
-void World::Impl::stepHybrid(double dt) {
-  contactEvents.clear();
-  sensorEvents.swap(pendingSensorEvents);
-  pendingSensorEvents.clear();
-  ++stepStamp;
-  stats = StepStats{};
-  queue.clear();
-  if (pairsOfBody.size() < bodies.size()) pairsOfBody.resize(bodies.size());
-  if (stamp.size() < fixtures.size()) stamp.resize(fixtures.size(), 0);
-  if (diskShapes.size() < bodies.size()) diskShapes.resize(bodies.size());
-
-  // 1. Swept boxes. A sleeping body does not move this step: its proxies count as resting.
+// 1. Swept boxes. A sleeping body does not move this step: its proxies count as resting. Returns the
+// fastest speed in the world this step.
+double World::Impl::sweepBoxes(double dt) {
   double speedScale = 0, straightSpeedSquared = 0;
   sliding.clear();
   stepped.clear();
@@ -502,13 +493,14 @@ void World::Impl::stepHybrid(double dt) {
       broadPhase.setTag(f, detail::BroadPhase::kNoTag);
     }
   }
-  speedScale = std::max(speedScale, std::sqrt(straightSpeedSquared));
   startPaths();
+  return std::max(speedScale, std::sqrt(straightSpeedSquared));
 
-  // Approach speeds below this are round-off: 1e-13 of the fastest speed in the world this step.
-  const double approachTolerance = 1e-13 * speedScale;
+}
 
-  // 2 and 3. Candidate pairs and their first predictions.
+// 2 and 3. Candidate pairs and their first predictions; a pair with a stepped body waits for its
+// island's solve (deferred).
+void World::Impl::predictCandidatePairs(double dt) {
   deferred.clear();
   // Without gravity nothing reads the pairs in the order the sweep found them (island solves do), so the
   // broad phase may keep them from step to step.
@@ -565,20 +557,10 @@ void World::Impl::stepHybrid(double dt) {
       }
     }
   }, reportAhead);
-  if (broadPhase.overflowed()) {
-    // A degenerate world (bodies piled on one point): its pairs are incomplete, so no body may move.
-    // As at the event budget at time 0: everything stays where it is for this step.
-    stats.eventBudgetReached = true;
-    queue.clear();
-    pathLog.active = false;
-    for (uint32_t i = 0; i < bodyCount; ++i) {
-      BodySlot& b = bodies[i];
-      if (b.alive && b.type == BodyType::Dynamic && b.asleep) ++stats.sleeping;
-    }
-    time += dt;
-    return;
-  }
-  // Stepped islands (island.cpp): gravity and the solve, then the predictions that wait for them.
+}
+
+// Stepped islands (island.cpp): gravity and the solve, then the predictions that wait for them.
+void World::Impl::startIslandsAndPredict(double dt) {
   std::vector<uint32_t>& freed = islandFreed;
   startIslands(dt, freed);
   for (uint32_t i : stepped) recordPath(i, 0);
@@ -599,8 +581,109 @@ void World::Impl::stepHybrid(double dt) {
   }
   settleUnsolvedIslandPairs(0, dt);
   for (uint32_t i : sliding) predictSlideEnd(i, 0, dt);
+}
 
-  // 4. Events in time order.
+// 4. Events in time order, up to the step's end or the instant the event budget runs out (returned).
+// A predicted contact that no longer approaches (beyond round-off) and that nothing presses: no collision.
+// Its tiny approach is absorbed, or the pair is predicted again without the feature it names.
+void World::Impl::dismissContact(const PredictedContact& c, double dt, double vn, Vec2 relativeVelocity,
+                                 double restTolerance, int& featureRepredictions) {
+  const BodySlot& a = bodyOf(c.a);
+  const BodySlot& b = bodyOf(c.b);
+  ++stats.staleEvents;
+  // A jam just settled these two together: what approach is left is its solve's round-off, and
+  // absorbing it (or settling the cluster again) would repeat at this instant without end.
+  if (settledTogether(a, b, c.time)) return;
+  // Absorbing is pointless (and would repeat forever) when vn is itself the round-off of the
+  // velocities, or when the two are at rest relative to each other. The round-off of a relative
+  // velocity is that of the two velocities it is the difference of: two disks moving together at
+  // 10 units/s cannot have their approach absorbed below about 1e-15.
+  const double speed = length(relativeVelocity);
+  const double roundOff = length(velocityAt(a, c.time)) + length(velocityAt(b, c.time));
+  if (vn < -16 * std::numeric_limits<double>::epsilon() * roundOff && speed > restTolerance &&
+      stats.eventsProcessed < def.maxEventsPerStep) {
+    if (settleJamAt(c, dt)) return;
+    if (squeezeAt(c)) {
+      ++stats.eventsProcessed;
+      repredict(fixtures[c.a].body, c.time, dt);
+      return;
+    }
+    absorb(c, vn);
+    ++stats.eventsProcessed;  // bounded by the budget like any other change of motion
+    for (uint32_t body : {fixtures[c.a].body, fixtures[c.b].body}) {
+      if (bodies[body].type == BodyType::Dynamic) repredict(body, c.time, dt);
+    }
+  } else if (hasSeveralFeatures(fixtures[c.b].geometry) && featureRepredictions < def.maxEventsPerStep) {
+    // Dropped: but only this feature's contact. The fixture's other features (the wall beyond a
+    // box's corner, for a disk sliding along its floor) are still ahead of the body, so the pair is
+    // predicted again without this one. Bounded per step like the events, as two features of one
+    // fixture could otherwise take turns at one instant.
+    ++featureRepredictions;
+    // A second feature dropped at the same instant (a body at rest in a corner, touching both
+    // walls): both are separating, and so is any other touching then; the features beyond (the far
+    // wall a body sliding along the floor runs into) are still predicted. Without this the two took
+    // turns at one instant until the step's budget of repredictions ran out, and other bodies' drops
+    // went unpredicted (a disk passed through a wall: fuzz/regressions/world_api).
+    predict(c.a, c.b, c.time, dt, c.afterDismissal ? kEveryFeature : c.feature);
+  }
+}
+
+// A collision at c.time: a jam, a squeeze, a join to an island, or resolved as a pair (then the parts of
+// their islands that its stepped bodies are in are solved again for the rest of the step).
+void World::Impl::collide(const PredictedContact& c, double dt, std::vector<uint32_t>& woken) {
+  // A body caught in a collapse or a jam collides ever faster without coming to rest (jam.cpp).
+  if (settleJamAt(c, dt)) return;
+  // Or between bodies that do not yield (squeeze.cpp).
+  if (squeezeAt(c)) {
+    ++stats.eventsProcessed;
+    repredict(fixtures[c.a].body, c.time, dt);
+    return;
+  }
+  const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
+  if (joinsIsland(c)) {
+    // It would bounce off slower than restingSpeed from a body that moves: the two rest on each
+    // other from now on, in a stepped island (island.cpp), instead of bouncing ever lower.
+    const std::vector<uint32_t> pair{ia, ib};
+    joinIslands(pair, c.time, dt);
+    for (uint32_t body : pair) {
+      BodySlot& s = bodies[body];
+      keep(s);
+      ++s.collisionCount;
+      s.lastContactTime = time + c.time;
+    }
+    stats.eventsProcessed += std::max(1, settleAround(pair, 2, c.time, dt, World::Impl::islandKey(c.a, c.b)));
+    return;
+  }
+  woken.clear();
+  const bool aAsleep = bodies[ia].asleep, bAsleep = bodies[ib].asleep;
+  resolve(c, woken);
+  ++stats.eventsProcessed;
+  // A body that has just gone to sleep holds its stepped neighbours from now on: the islands' solve
+  // did not see it as fixed, so they keep clear of it for the rest of the step.
+  for (const auto& [body, wasAsleep] : {std::pair{ia, aAsleep}, std::pair{ib, bAsleep}}) {
+    if (wasAsleep || !bodies[body].asleep) continue;
+    for (const auto& p : pairsOfBody[body]) {
+      const uint32_t other = fixtures[p.other].body;
+      if (!bodies[other].stepped) continue;
+      settleAround({other}, 1, c.time, dt);
+    }
+  }
+  // A stepped body hit by a free one moves its island for the rest of the step.
+  for (uint32_t body : {ia, ib}) {
+    if (!bodies[body].stepped) continue;
+    // Its neighbours move with it; beyond them the island keeps its paths.
+    settleAround({body}, 1, c.time, dt);
+  }
+  for (uint32_t w : woken) {
+    if (w != ia && w != ib) repredict(w, c.time, dt, true);
+  }
+  const bool aWoke = std::find(woken.begin(), woken.end(), ia) != woken.end();
+  const bool bWoke = std::find(woken.begin(), woken.end(), ib) != woken.end();
+  if (bodies[ia].type == BodyType::Dynamic) repredict(ia, c.time, dt, aWoke);
+  if (bodies[ib].type == BodyType::Dynamic) repredict(ib, c.time, dt, bWoke);
+}
+
+double World::Impl::processEvents(double dt, double approachTolerance) {
   std::vector<uint32_t> woken;
   int featureRepredictions = 0;
   double budgetTime = dt;
@@ -653,42 +736,7 @@ void World::Impl::stepHybrid(double dt) {
         8 * std::numeric_limits<double>::epsilon() * (std::fabs(c.point.x) + std::fabs(c.point.y)) / dt;
     const double tolerance = approachTolerance + restTolerance;
     if (!(vn < -tolerance) && !pressing) {
-      ++stats.staleEvents;
-      // A jam just settled these two together: what approach is left is its solve's round-off, and
-      // absorbing it (or settling the cluster again) would repeat at this instant without end.
-      if (settledTogether(a, b, c.time)) continue;
-      // Absorbing is pointless (and would repeat forever) when vn is itself the round-off of the
-      // velocities, or when the two are at rest relative to each other. The round-off of a relative
-      // velocity is that of the two velocities it is the difference of: two disks moving together at
-      // 10 units/s cannot have their approach absorbed below about 1e-15.
-      const double speed = length(relativeVelocity);
-      const double roundOff = length(velocityAt(a, c.time)) + length(velocityAt(b, c.time));
-      if (vn < -16 * std::numeric_limits<double>::epsilon() * roundOff && speed > restTolerance &&
-          stats.eventsProcessed < def.maxEventsPerStep) {
-        if (settleJamAt(c, dt)) continue;
-        if (squeezeAt(c)) {
-          ++stats.eventsProcessed;
-          repredict(fixtures[c.a].body, c.time, dt);
-          continue;
-        }
-        absorb(c, vn);
-        ++stats.eventsProcessed;  // bounded by the budget like any other change of motion
-        for (uint32_t body : {fixtures[c.a].body, fixtures[c.b].body}) {
-          if (bodies[body].type == BodyType::Dynamic) repredict(body, c.time, dt);
-        }
-      } else if (hasSeveralFeatures(fixtures[c.b].geometry) && featureRepredictions < def.maxEventsPerStep) {
-        // Dropped: but only this feature's contact. The fixture's other features (the wall beyond a
-        // box's corner, for a disk sliding along its floor) are still ahead of the body, so the pair is
-        // predicted again without this one. Bounded per step like the events, as two features of one
-        // fixture could otherwise take turns at one instant.
-        ++featureRepredictions;
-        // A second feature dropped at the same instant (a body at rest in a corner, touching both
-        // walls): both are separating, and so is any other touching then; the features beyond (the far
-        // wall a body sliding along the floor runs into) are still predicted. Without this the two took
-        // turns at one instant until the step's budget of repredictions ran out, and other bodies' drops
-        // went unpredicted (a disk passed through a wall: fuzz/regressions/world_api).
-        predict(c.a, c.b, c.time, dt, c.afterDismissal ? kEveryFeature : c.feature);
-      }
+      dismissContact(c, dt, vn, relativeVelocity, restTolerance, featureRepredictions);
       continue;
     }
     if (stats.eventsProcessed >= def.maxEventsPerStep) {
@@ -696,59 +744,42 @@ void World::Impl::stepHybrid(double dt) {
       budgetTime = c.time;
       break;
     }
-    // A body caught in a collapse or a jam collides ever faster without coming to rest (jam.cpp).
-    if (settleJamAt(c, dt)) continue;
-    // Or between bodies that do not yield (squeeze.cpp).
-    if (squeezeAt(c)) {
-      ++stats.eventsProcessed;
-      repredict(fixtures[c.a].body, c.time, dt);
-      continue;
-    }
-    const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
-    if (joinsIsland(c)) {
-      // It would bounce off slower than restingSpeed from a body that moves: the two rest on each
-      // other from now on, in a stepped island (island.cpp), instead of bouncing ever lower.
-      const std::vector<uint32_t> pair{ia, ib};
-      joinIslands(pair, c.time, dt);
-      for (uint32_t body : pair) {
-        BodySlot& s = bodies[body];
-        keep(s);
-        ++s.collisionCount;
-        s.lastContactTime = time + c.time;
-      }
-      stats.eventsProcessed += std::max(1, settleAround(pair, 2, c.time, dt, World::Impl::islandKey(c.a, c.b)));
-      continue;
-    }
-    woken.clear();
-    const bool aAsleep = bodies[ia].asleep, bAsleep = bodies[ib].asleep;
-    resolve(c, woken);
-    ++stats.eventsProcessed;
-    // A body that has just gone to sleep holds its stepped neighbours from now on: the islands' solve
-    // did not see it as fixed, so they keep clear of it for the rest of the step.
-    for (const auto& [body, wasAsleep] : {std::pair{ia, aAsleep}, std::pair{ib, bAsleep}}) {
-      if (wasAsleep || !bodies[body].asleep) continue;
-      for (const auto& p : pairsOfBody[body]) {
-        const uint32_t other = fixtures[p.other].body;
-        if (!bodies[other].stepped) continue;
-        settleAround({other}, 1, c.time, dt);
-      }
-    }
-    // A stepped body hit by a free one moves its island for the rest of the step.
-    for (uint32_t body : {ia, ib}) {
-      if (!bodies[body].stepped) continue;
-      // Its neighbours move with it; beyond them the island keeps its paths.
-      settleAround({body}, 1, c.time, dt);
-    }
-    for (uint32_t w : woken) {
-      if (w != ia && w != ib) repredict(w, c.time, dt, true);
-    }
-    const bool aWoke = std::find(woken.begin(), woken.end(), ia) != woken.end();
-    const bool bWoke = std::find(woken.begin(), woken.end(), ib) != woken.end();
-    if (bodies[ia].type == BodyType::Dynamic) repredict(ia, c.time, dt, aWoke);
-    if (bodies[ib].type == BodyType::Dynamic) repredict(ib, c.time, dt, bWoke);
+    collide(c, dt, woken);
   }
+  return budgetTime;
+}
 
+void World::Impl::stepHybrid(double dt) {
+  contactEvents.clear();
+  sensorEvents.swap(pendingSensorEvents);
+  pendingSensorEvents.clear();
+  ++stepStamp;
+  stats = StepStats{};
   queue.clear();
+  if (pairsOfBody.size() < bodies.size()) pairsOfBody.resize(bodies.size());
+  if (stamp.size() < fixtures.size()) stamp.resize(fixtures.size(), 0);
+  if (diskShapes.size() < bodies.size()) diskShapes.resize(bodies.size());
+
+  const double speedScale = sweepBoxes(dt);
+  // Approach speeds below this are round-off: 1e-13 of the fastest speed in the world this step.
+  const double approachTolerance = 1e-13 * speedScale;
+  predictCandidatePairs(dt);
+  if (broadPhase.overflowed()) {
+    // A degenerate world (bodies piled on one point): its pairs are incomplete, so no body may move.
+    // As at the event budget at time 0: everything stays where it is for this step.
+    stats.eventBudgetReached = true;
+    queue.clear();
+    pathLog.active = false;
+    for (const BodySlot& b : bodies) {
+      if (b.alive && b.type == BodyType::Dynamic && b.asleep) ++stats.sleeping;
+    }
+    time += dt;
+    return;
+  }
+  startIslandsAndPredict(dt);
+  const double budgetTime = processEvents(dt, approachTolerance);
+  queue.clear();
+  const uint32_t bodyCount = static_cast<uint32_t>(bodies.size());
 
   // 5. Everyone to the end of the step; out of budget, to the instant the budget ran out, which is a
   // state every resolved event is consistent with (nothing overlaps, nothing has passed through).
