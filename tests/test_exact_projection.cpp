@@ -15,6 +15,7 @@ namespace {
 using rattle::Vec2;
 using rattle::detail::projectExactly;
 using rattle::detail::ProjectionRow;
+using rattle::detail::ProjectionScratch;
 
 struct Residuals {
   double infeasible = 0;     // most a constraint is missed by
@@ -57,6 +58,7 @@ TEST(ExactProjection, RandomIslandsMeetTheOptimalityConditions) {
   std::mt19937_64 random(20261128);
   std::uniform_real_distribution<double> unitInterval(0.0, 1.0);
   int solved = 0;
+  ProjectionScratch scratch;  // one for every trial: what a world does
   for (int trial = 0; trial < 400; ++trial) {
     const size_t members = 2 + random() % 23;
     std::vector<double> inverseMass(members);
@@ -79,7 +81,7 @@ TEST(ExactProjection, RandomIslandsMeetTheOptimalityConditions) {
     }
     std::vector<Vec2> v = v0;
     std::vector<double> lambda;
-    if (!projectExactly(inverseMass, v, rows, lambda, 1e-12)) continue;
+    if (!projectExactly(inverseMass, v, rows, lambda, 1e-12, scratch)) continue;
     ++solved;
     const Residuals r = residuals(inverseMass, v0, v, rows, lambda);
     const double scale = 10 * 1000;  // speeds up to 10, masses up to 1000
@@ -108,7 +110,8 @@ TEST(ExactProjection, HeavyDiskPressingARowIntoAWallStopsTheRow) {
   rows.push_back({0, -1, {1, 0}, 0.0});  // the wall, on the left
   for (size_t k = 0; k < light; ++k) rows.push_back({static_cast<int>(k + 1), static_cast<int>(k), {1, 0}, 0.0});
   std::vector<double> lambda;
-  ASSERT_TRUE(projectExactly(inverseMass, v, rows, lambda, 1e-12));
+  ProjectionScratch scratch;
+  ASSERT_TRUE(projectExactly(inverseMass, v, rows, lambda, 1e-12, scratch));
   for (size_t k = 0; k <= light; ++k) {
     EXPECT_NEAR(v[k].x, 0.0, 1e-12) << k;
     EXPECT_EQ(v[k].y, 0.0) << k;
@@ -122,7 +125,8 @@ TEST(ExactProjection, TwoDisksMeetingHeadOnMoveOnWithTheirCentreOfMass) {
   std::vector<Vec2> v{{3, 1}, {-1, 2}};
   const std::vector<ProjectionRow> rows{{1, 0, {1, 0}, 0.0}};
   std::vector<double> lambda;
-  ASSERT_TRUE(projectExactly(inverseMass, v, rows, lambda, 1e-12));
+  ProjectionScratch scratch;
+  ASSERT_TRUE(projectExactly(inverseMass, v, rows, lambda, 1e-12, scratch));
   EXPECT_NEAR(v[0].x, 5.0 / 3, 1e-14);
   EXPECT_NEAR(v[1].x, 5.0 / 3, 1e-14);
   EXPECT_EQ(v[0].y, 1.0);
@@ -136,7 +140,8 @@ TEST(ExactProjection, ContradictoryConstraintsAreRefusedAndChangeNothing) {
   std::vector<Vec2> v{{0.25, -0.5}};
   const std::vector<ProjectionRow> rows{{0, -1, {1, 0}, 1.0}, {0, -1, {-1, 0}, 1.0}};
   std::vector<double> lambda{7.0};
-  EXPECT_FALSE(projectExactly(inverseMass, v, rows, lambda, 1e-12));
+  ProjectionScratch scratch;
+  EXPECT_FALSE(projectExactly(inverseMass, v, rows, lambda, 1e-12, scratch));
   EXPECT_EQ(v[0].x, 0.25);
   EXPECT_EQ(v[0].y, -0.5);
   ASSERT_EQ(lambda.size(), 1u);

@@ -15,109 +15,144 @@ namespace {
 // Rows at most: the dense normals cost rows x 2 members doubles.
 constexpr size_t kMaxRows = 512;
 
-double dotDense(const std::vector<double>& a, const std::vector<double>& b) {
+double dotDense(const double* a, const double* b, size_t n) {
   double s = 0;
-  for (size_t i = 0; i < a.size(); ++i) s += a[i] * b[i];
+  for (size_t i = 0; i < n; ++i) s += a[i] * b[i];
   return s;
 }
 
-// The active set as N = Q R, its multipliers, and the rows it holds.
-struct ActiveSet {
-  std::vector<std::vector<double>> q;  // orthonormal columns
-  std::vector<std::vector<double>> r;  // r[j] is column j of R (length j + 1)
-  std::vector<size_t> rows;
-  std::vector<double> u;
+// The active set as N = Q R, its multipliers, and the rows it holds, in the scratch's buffers: at most n
+// rows are active (their normals are independent), so Q and R have at most n columns.
+class ActiveSet {
+ public:
+  ActiveSet(size_t n, ProjectionScratch& s) : n_(n), q_(s.q), r_(s.r), rows_(s.activeRows), u_(s.multipliers) {
+    q_.resize(n * n);
+    r_.resize(n * n);
+    rows_.resize(n);
+    u_.resize(n);
+  }
+
+  size_t size() const { return count_; }
+  size_t row(size_t j) const { return rows_[j]; }
+  double& multiplier(size_t j) { return u_[j]; }
 
   // w = Q^T c and z = c - Q w, orthogonalised twice (classical Gram-Schmidt run twice is as good as
-  // modified Gram-Schmidt, Giraud et al. 2005).
-  void split(const std::vector<double>& c, std::vector<double>& w, std::vector<double>& z) const {
-    z = c;
-    w.assign(q.size(), 0.0);
+  // modified Gram-Schmidt, Giraud et al. 2005), against the first `columns` columns of Q.
+  void split(const double* c, double* w, double* z, size_t columns) const {
+    for (size_t i = 0; i < n_; ++i) z[i] = c[i];
+    for (size_t j = 0; j < columns; ++j) w[j] = 0;
     for (int pass = 0; pass < 2; ++pass) {
-      for (size_t j = 0; j < q.size(); ++j) {
-        const double s = dotDense(q[j], z);
+      for (size_t j = 0; j < columns; ++j) {
+        const double* qj = &q_[j * n_];
+        const double s = dotDense(qj, z, n_);
         w[j] += s;
-        for (size_t i = 0; i < z.size(); ++i) z[i] -= s * q[j][i];
+        for (size_t i = 0; i < n_; ++i) z[i] -= s * qj[i];
       }
     }
   }
+  void split(const double* c, double* w, double* z) const { split(c, w, z, count_); }
 
-  // R^-1 w by back substitution.
-  std::vector<double> solveR(const std::vector<double>& w) const {
-    std::vector<double> x(w);
-    for (size_t j = q.size(); j-- > 0;) {
-      x[j] /= r[j][j];
-      for (size_t i = 0; i < j; ++i) x[i] -= r[j][i] * x[j];
-    }
-    return x;
-  }
-
-  void add(size_t row, const std::vector<double>& w, const std::vector<double>& z, double zNorm, double multiplier) {
-    std::vector<double> column(w);
-    column.push_back(zNorm);
-    r.push_back(std::move(column));
-    std::vector<double> unit(z);
-    for (double& x : unit) x /= zNorm;
-    q.push_back(std::move(unit));
-    rows.push_back(row);
-    u.push_back(multiplier);
-  }
-
-  // Drops the k-th active row and factors the rest again (drops are rarer than adds).
-  void drop(size_t k, const std::vector<std::vector<double>>& normals) {
-    rows.erase(rows.begin() + static_cast<std::ptrdiff_t>(k));
-    u.erase(u.begin() + static_cast<std::ptrdiff_t>(k));
-    q.clear();
-    r.clear();
-    std::vector<double> w, z;
-    for (size_t row : rows) {
-      split(normals[row], w, z);
-      const double zNorm = std::sqrt(dotDense(z, z));
-      std::vector<double> column(w);
-      column.push_back(zNorm);
-      r.push_back(std::move(column));
-      for (double& x : z) x /= zNorm;
-      q.push_back(z);
+  // x = R^-1 w by back substitution (R's column j is r_[j * n_ .. j * n_ + j]).
+  void solveR(const double* w, double* x) const {
+    for (size_t j = 0; j < count_; ++j) x[j] = w[j];
+    for (size_t j = count_; j-- > 0;) {
+      x[j] /= r_[j * n_ + j];
+      for (size_t i = 0; i < j; ++i) x[i] -= r_[j * n_ + i] * x[j];
     }
   }
+
+  void add(size_t row, const double* w, const double* z, double zNorm, double multiplier) {
+    setColumn(count_, w, z, zNorm);
+    rows_[count_] = row;
+    u_[count_] = multiplier;
+    ++count_;
+  }
+
+  // Drops the k-th active row and factors the columns after it again (drops are rarer than adds).
+  void drop(size_t k, const std::vector<double>& normals, double* w, double* z) {
+    for (size_t j = k; j + 1 < count_; ++j) {
+      rows_[j] = rows_[j + 1];
+      u_[j] = u_[j + 1];
+    }
+    --count_;
+    for (size_t j = k; j < count_; ++j) {
+      split(&normals[rows_[j] * n_], w, z, j);
+      setColumn(j, w, z, std::sqrt(dotDense(z, z, n_)));
+    }
+  }
+
+ private:
+  void setColumn(size_t j, const double* w, const double* z, double zNorm) {
+    for (size_t i = 0; i < j; ++i) r_[j * n_ + i] = w[i];
+    r_[j * n_ + j] = zNorm;
+    for (size_t i = 0; i < n_; ++i) q_[j * n_ + i] = z[i] / zNorm;
+  }
+
+  size_t n_;
+  size_t count_ = 0;
+  std::vector<double>& q_;  // column j at j * n_
+  std::vector<double>& r_;
+  std::vector<size_t>& rows_;
+  std::vector<double>& u_;
 };
 
 }  // namespace
 
 bool projectExactly(const std::vector<double>& inverseMass, std::vector<Vec2>& v,
-                    const std::vector<ProjectionRow>& rows, std::vector<double>& lambda, double tolerance) {
+                    const std::vector<ProjectionRow>& rows, std::vector<double>& lambda, double tolerance,
+                    ProjectionScratch& scratch) {
   const size_t members = v.size(), n = 2 * members;
-  if (rows.size() > kMaxRows || !(tolerance > 0)) return false;
-  std::vector<double> scale(members);  // sqrt of each inverse mass: v = scale * y
+  if (rows.size() > kMaxRows || !(tolerance > 0) || members == 0) return false;
+  std::vector<double>& scale = scratch.scale;  // sqrt of each inverse mass: v = scale * y
+  scale.resize(members);
   for (size_t k = 0; k < members; ++k) {
     if (!(inverseMass[k] > 0) || !std::isfinite(inverseMass[k])) return false;
     scale[k] = std::sqrt(inverseMass[k]);
   }
-  std::vector<double> y(n);
+  std::vector<double>& y = scratch.y;
+  y.resize(n);
   for (size_t k = 0; k < members; ++k) {
     y[2 * k] = v[k].x / scale[k];
     y[2 * k + 1] = v[k].y / scale[k];
   }
-  const std::vector<double> start = y;
-  std::vector<std::vector<double>> normals(rows.size(), std::vector<double>(n, 0.0));
-  std::vector<double> norm(rows.size());
+  std::vector<double>& start = scratch.start;
+  start = y;
+  std::vector<double>& normals = scratch.normals;  // row i at i * n
+  normals.assign(rows.size() * n, 0.0);
+  std::vector<double>& norm = scratch.norm;
+  norm.resize(rows.size());
   for (size_t i = 0; i < rows.size(); ++i) {
     const ProjectionRow& row = rows[i];
     if (row.ka < 0 || static_cast<size_t>(row.ka) >= members || row.kb >= static_cast<int>(members) || row.kb == row.ka)
       return false;
-    normals[i][2 * row.ka] = row.normal.x * scale[row.ka];
-    normals[i][2 * row.ka + 1] = row.normal.y * scale[row.ka];
+    double* c = &normals[i * n];
+    c[2 * row.ka] = row.normal.x * scale[row.ka];
+    c[2 * row.ka + 1] = row.normal.y * scale[row.ka];
     if (row.kb >= 0) {
-      normals[i][2 * row.kb] = -row.normal.x * scale[row.kb];
-      normals[i][2 * row.kb + 1] = -row.normal.y * scale[row.kb];
+      c[2 * row.kb] = -row.normal.x * scale[row.kb];
+      c[2 * row.kb + 1] = -row.normal.y * scale[row.kb];
     }
-    norm[i] = std::sqrt(dotDense(normals[i], normals[i]));
+    norm[i] = std::sqrt(dotDense(c, c, n));
     if (!(norm[i] > 0) || !std::isfinite(rows[i].target)) return false;
   }
+  // A row's value n . (v_a - v_b) in y from its two members alone.
+  auto value = [&](size_t i) {
+    const ProjectionRow& row = rows[i];
+    const double* c = &normals[i * n];
+    double s = c[2 * row.ka] * y[2 * row.ka] + c[2 * row.ka + 1] * y[2 * row.ka + 1];
+    if (row.kb >= 0) s += c[2 * row.kb] * y[2 * row.kb] + c[2 * row.kb + 1] * y[2 * row.kb + 1];
+    return s;
+  };
 
-  ActiveSet active;
-  std::vector<bool> isActive(rows.size(), false);
-  std::vector<double> w, z;
+  ActiveSet active(n, scratch);
+  std::vector<char>& isActive = scratch.isActive;
+  isActive.assign(rows.size(), 0);
+  std::vector<double>& w = scratch.w;
+  std::vector<double>& z = scratch.z;
+  std::vector<double>& r = scratch.steps;
+  w.resize(n);
+  z.resize(n);
+  r.resize(n);
   const double infinity = std::numeric_limits<double>::infinity();
   // Each add or drop is one pass; in exact arithmetic the method ends after finitely many, and round-off
   // that makes it cycle ends here as a failure (the caller falls back on its sweeps).
@@ -128,28 +163,29 @@ bool projectExactly(const std::vector<double>& inverseMass, std::vector<Vec2>& v
     double worst = -tolerance;
     for (size_t i = 0; i < rows.size(); ++i) {
       if (isActive[i]) continue;
-      const double s = dotDense(normals[i], y) - rows[i].target;
+      const double s = value(i) - rows[i].target;
       if (s < worst) {
         worst = s;
         p = i;
       }
     }
     if (p == rows.size()) break;
+    const double* cp = &normals[p * n];
     double up = 0;  // p's multiplier while it is being added
     for (;;) {
       if (--passes < 0) return false;
-      active.split(normals[p], w, z);
-      const std::vector<double> r = active.solveR(w);
-      const double zNorm = std::sqrt(dotDense(z, z));
+      active.split(cp, w.data(), z.data());
+      active.solveR(w.data(), r.data());
+      const double zNorm = std::sqrt(dotDense(z.data(), z.data(), n));
       // Within round-off of the active normals' span: p's constraint is met by moving multipliers only.
       const bool dependent = !(zNorm > 1e-9 * norm[p]);
-      const double s = dotDense(normals[p], y) - rows[p].target;
-      const double fullStep = dependent ? infinity : -s / dotDense(z, normals[p]);
+      const double s = value(p) - rows[p].target;
+      const double fullStep = dependent ? infinity : -s / dotDense(z.data(), cp, n);
       double partialStep = infinity;
-      size_t blocking = active.rows.size();
-      for (size_t j = 0; j < active.rows.size(); ++j) {
+      size_t blocking = active.size();
+      for (size_t j = 0; j < active.size(); ++j) {
         if (!(r[j] > 0)) continue;
-        const double t = active.u[j] / r[j];
+        const double t = active.multiplier(j) / r[j];
         if (t < partialStep) {
           partialStep = t;
           blocking = j;
@@ -160,22 +196,22 @@ bool projectExactly(const std::vector<double>& inverseMass, std::vector<Vec2>& v
       if (!dependent) {
         for (size_t i = 0; i < n; ++i) y[i] += t * z[i];
       }
-      for (size_t j = 0; j < active.rows.size(); ++j) active.u[j] = std::max(0.0, active.u[j] - t * r[j]);
+      for (size_t j = 0; j < active.size(); ++j) active.multiplier(j) = std::max(0.0, active.multiplier(j) - t * r[j]);
       up += t;
       if (!dependent && fullStep <= partialStep) {
-        active.add(p, w, z, zNorm, up);
-        isActive[p] = true;
+        active.add(p, w.data(), z.data(), zNorm, up);
+        isActive[p] = 1;
         break;
       }
-      isActive[active.rows[blocking]] = false;
-      active.drop(blocking, normals);
+      isActive[active.row(blocking)] = 0;
+      active.drop(blocking, normals, w.data(), z.data());
     }
   }
   // As changes, so that a body no impulse reached keeps its velocity to the bit.
   for (size_t k = 0; k < members; ++k)
     v[k] += Vec2{(y[2 * k] - start[2 * k]) * scale[k], (y[2 * k + 1] - start[2 * k + 1]) * scale[k]};
   lambda.assign(rows.size(), 0.0);
-  for (size_t j = 0; j < active.rows.size(); ++j) lambda[active.rows[j]] = active.u[j];
+  for (size_t j = 0; j < active.size(); ++j) lambda[active.row(j)] = active.multiplier(j);
   return true;
 }
 

@@ -28,6 +28,14 @@ struct ProjectionRow {
   double target = 0;
 };
 
+/// Buffers a projection works in, kept between calls so that once they are large enough it allocates
+/// nothing.
+struct ProjectionScratch {
+  std::vector<double> scale, y, start, normals, norm, w, z, steps, q, r, multipliers;
+  std::vector<size_t> activeRows;
+  std::vector<char> isActive;
+};
+
 /// Members at most for which an island solve tries the exact projection.
 constexpr size_t kExactProjectionMembers = 24;
 
@@ -36,6 +44,7 @@ constexpr size_t kExactProjectionMembers = 24;
 /// constraint is met within `tolerance` (a velocity); on failure (infeasible, or round-off cycling) it
 /// returns false and leaves v and lambda as they were.
 bool projectExactly(const std::vector<double>& inverseMass, std::vector<Vec2>& v,
-                    const std::vector<ProjectionRow>& rows, std::vector<double>& lambda, double tolerance);
+                    const std::vector<ProjectionRow>& rows, std::vector<double>& lambda, double tolerance,
+                    ProjectionScratch& scratch);
 
 }  // namespace rattle::detail

@@ -13,6 +13,7 @@
 
 #include "broad_phase.h"
 #include "collapse_guard.h"
+#include "exact_projection.h"
 #include "fixture_list.h"
 #include "out_of_memory.h"
 #include "path_log.h"
@@ -404,10 +405,15 @@ struct World::Impl {
   /// Without gravity, at a step's start: moves the members (advanced to the step's start, their
   /// velocities solved) apart where they overlap, without touching a velocity (island.cpp).
   void separateIsland(const std::vector<uint32_t>& members, const std::vector<Vec2>& v, double h);
-  /// The exact projection of a few members' velocities (before the sweeps) onto islandScratch's
+  /// The exact projection of a few members' velocities (theirs before the solve) onto islandScratch's
   /// contacts: v and the contacts' impulses, or false when it fails (island.cpp).
-  bool projectIslandExactly(const std::vector<uint32_t>& members, const std::vector<Vec2>& unsolved,
-                            std::vector<Vec2>& v, double tolerance);
+  bool projectIslandExactly(const std::vector<uint32_t>& members, std::vector<Vec2>& v, double tolerance);
+  struct ExactIslandScratch {
+    std::vector<double> inverseMass, impulses;
+    std::vector<detail::ProjectionRow> rows;
+    std::vector<Vec2> velocities;
+    detail::ProjectionScratch projection;
+  } exactIslandScratch;  // projectIslandExactly's, kept so that a warm solve allocates nothing
   std::vector<std::pair<uint64_t, double>> islandImpulses, islandNext;  // warm start, by islandKey
   /// A pair whose contact an island solve holds: a stepped body and anything but a free body.
   bool heldByIsland(const detail::BodySlot& a, const detail::BodySlot& b) const {
