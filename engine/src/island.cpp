@@ -259,10 +259,10 @@ void World::Impl::joinIslands(const std::vector<uint32_t>& joining, double now, 
   }
 }
 
-World::Impl::IslandSolve World::Impl::solveIsland(const std::vector<uint32_t>& members, double now, double dt,
-                                                  double reportAbove, uint64_t reportPair, bool warmStart,
-                                                  bool whole, int maxReports) {
-  const double h = dt - now;
+// The members' contacts with one another and with what holds them (static, kinematic, sleeping and
+// stepped non-member bodies) within reach of the rest of the step, into islandScratch, with their clocks
+// moved to `now`. Returns the fastest speed at play (at least restingSpeed).
+double World::Impl::gatherIslandContacts(const std::vector<uint32_t>& members, double now, double h) {
   std::vector<int>& slot = jamSlot;  // body -> index into members; -1 outside (reset on the way out)
   if (slot.size() < bodies.size()) slot.resize(bodies.size(), -1);
   for (size_t k = 0; k < members.size(); ++k) slot[members[k]] = static_cast<int>(k);
@@ -316,6 +316,77 @@ World::Impl::IslandSolve World::Impl::solveIsland(const std::vector<uint32_t>& m
     }
   }
   for (uint32_t i : members) slot[i] = -1;
+  return speed;
+}
+
+void World::Impl::keepIslandEnergy(const std::vector<uint32_t>& members, std::vector<Vec2>& v, double h) const {
+  // Energy never rises, by construction rather than by convergence. Before the solve each member had
+  // v0 - g h (v0 carries the rest of the step's gravity); after it, it moves along v for the rest of the
+  // step. Projecting never adds kinetic energy, but under gravity it can turn a fall into a rise: a wedge
+  // (a disk on two that part) lifts the disk on top, and along a straight path of a long step that lift
+  // costs nothing (fuzz/regressions/world_api/energy-hybrid-gravity-long-step-lifted). Over-relaxed
+  // sweeps that stop short, or a warm start they stop short of undoing, can do the same. Scaling every
+  // velocity by s in [0, 1] keeps every contact met against holders at rest (every target is <= 0), and
+  // the energy at the step's end is then a s^2 + b s + c above the start: s = 0 never gains, so the
+  // largest s that does not is taken. Against moving holders (a kinematic body) the energy is not the
+  // island's to keep.
+  const std::vector<IslandContact>& contacts = islandScratch;
+  const bool noGravity = def.gravity.x == 0 && def.gravity.y == 0;
+  bool holdersStill = true;
+  for (const IslandContact& c : contacts) holdersStill = holdersStill && (c.kb >= 0 || c.holderVelocity == Vec2{});
+  if (holdersStill) {
+    double a = 0, b = 0, c = 0;
+    for (size_t k = 0; k < members.size(); ++k) {
+      const BodySlot& body = bodies[members[k]];
+      const Vec2 start = noGravity ? body.velocity : body.velocity - def.gravity * h;
+      a += 0.5 * body.mass * dot(v[k], v[k]);
+      b -= h * body.mass * dot(def.gravity, v[k]);
+      c -= 0.5 * body.mass * dot(start, start);
+    }
+    // A body sliding on a floor keeps its energy to round-off, which is not scaled away step after step.
+    if (a + b + c > kEnergyRoundOff * (a + std::fabs(b) - c)) {
+      // The larger root of a s^2 + b s + c (c <= 0 <= a, so it is >= 0 and below 1).
+      const double root = std::sqrt(b * b - 4 * a * c);
+      const double scale = b > 0 ? -2 * c / (b + root) : (root - b) / (2 * a);
+      for (Vec2& velocity : v) velocity = velocity * std::clamp(scale, 0.0, 1.0);
+    }
+  }
+}
+
+// Marks what the solve's contacts held, and reports as collisions those that closed faster than
+// reportAbove (and reportPair's), at most maxReports. Returns how many it reported.
+int World::Impl::reportIslandContacts(double now, double reportAbove, uint64_t reportPair, int maxReports) {
+  const std::vector<IslandContact>& contacts = islandScratch;
+  int reported = 0;
+  for (const IslandContact& c : contacts) {
+    if (!(c.lambda > 0)) continue;
+    bodies[c.a].steppedHeld = true;
+    if (c.kb >= 0) bodies[c.b].steppedHeld = true;
+    if (!(c.approach > reportAbove) && islandKey(c.fa, c.fb) != reportPair) continue;
+    if (reported >= maxReports) continue;
+    ++reported;
+    const bool aIsLower = c.fa < c.fb;
+    const uint32_t fa = aIsLower ? c.fa : c.fb, fb = aIsLower ? c.fb : c.fa;
+    ContactEvent event;
+    event.time = now;
+    event.point = c.point;
+    event.impulse = c.lambda;
+    event.fixtureA = {fa, fixtures[fa].generation};
+    event.fixtureB = {fb, fixtures[fb].generation};
+    event.bodyA = {fixtures[fa].body, bodies[fixtures[fa].body].generation};
+    event.bodyB = {fixtures[fb].body, bodies[fixtures[fb].body].generation};
+    event.normal = aIsLower ? -c.normal : c.normal;
+    contactEvents.push_back(event);
+  }
+  return reported;
+}
+
+World::Impl::IslandSolve World::Impl::solveIsland(const std::vector<uint32_t>& members, double now, double dt,
+                                                  double reportAbove, uint64_t reportPair, bool warmStart,
+                                                  bool whole, int maxReports) {
+  const double h = dt - now;
+  const double speed = gatherIslandContacts(members, now, h);
+  std::vector<IslandContact>& contacts = islandScratch;
 
   std::vector<Vec2> v(members.size());
   for (size_t k = 0; k < members.size(); ++k) v[k] = bodies[members[k]].velocity;
@@ -375,35 +446,7 @@ World::Impl::IslandSolve World::Impl::solveIsland(const std::vector<uint32_t>& m
     }
     if (!changed) break;
   }
-  // Energy never rises, by construction rather than by convergence. Before the solve each member had
-  // v0 - g h (v0 carries the rest of the step's gravity); after it, it moves along v for the rest of the
-  // step. Projecting never adds kinetic energy, but under gravity it can turn a fall into a rise: a wedge
-  // (a disk on two that part) lifts the disk on top, and along a straight path of a long step that lift
-  // costs nothing (fuzz/regressions/world_api/energy-hybrid-gravity-long-step-lifted). Over-relaxed
-  // sweeps that stop short, or a warm start they stop short of undoing, can do the same. Scaling every
-  // velocity by s in [0, 1] keeps every contact met against holders at rest (every target is <= 0), and
-  // the energy at the step's end is then a s^2 + b s + c above the start: s = 0 never gains, so the
-  // largest s that does not is taken. Against moving holders (a kinematic body) the energy is not the
-  // island's to keep.
-  bool holdersStill = true;
-  for (const IslandContact& c : contacts) holdersStill = holdersStill && (c.kb >= 0 || c.holderVelocity == Vec2{});
-  if (holdersStill) {
-    double a = 0, b = 0, c = 0;
-    for (size_t k = 0; k < members.size(); ++k) {
-      const BodySlot& body = bodies[members[k]];
-      const Vec2 start = noGravity ? body.velocity : body.velocity - def.gravity * h;
-      a += 0.5 * body.mass * dot(v[k], v[k]);
-      b -= h * body.mass * dot(def.gravity, v[k]);
-      c -= 0.5 * body.mass * dot(start, start);
-    }
-    // A body sliding on a floor keeps its energy to round-off, which is not scaled away step after step.
-    if (a + b + c > kEnergyRoundOff * (a + std::fabs(b) - c)) {
-      // The larger root of a s^2 + b s + c (c <= 0 <= a, so it is >= 0 and below 1).
-      const double root = std::sqrt(b * b - 4 * a * c);
-      const double scale = b > 0 ? -2 * c / (b + root) : (root - b) / (2 * a);
-      for (Vec2& velocity : v) velocity = velocity * std::clamp(scale, 0.0, 1.0);
-    }
-  }
+  keepIslandEnergy(members, v, h);
   if (warmStart && noGravity && h > 0) separateIsland(members, v, h);
   for (size_t k = 0; k < members.size(); ++k) {
     BodySlot& b = bodies[members[k]];
@@ -413,27 +456,7 @@ World::Impl::IslandSolve World::Impl::solveIsland(const std::vector<uint32_t>& m
     // Whatever it was last resolved against, it may now approach again (see LastContact).
     b.last = detail::LastContact{};
   }
-  int reported = 0;
-  for (const IslandContact& c : contacts) {
-    if (!(c.lambda > 0)) continue;
-    bodies[c.a].steppedHeld = true;
-    if (c.kb >= 0) bodies[c.b].steppedHeld = true;
-    if (!(c.approach > reportAbove) && islandKey(c.fa, c.fb) != reportPair) continue;
-    if (reported >= maxReports) continue;
-    ++reported;
-    const bool aIsLower = c.fa < c.fb;
-    const uint32_t fa = aIsLower ? c.fa : c.fb, fb = aIsLower ? c.fb : c.fa;
-    ContactEvent event;
-    event.time = now;
-    event.point = c.point;
-    event.impulse = c.lambda;
-    event.fixtureA = {fa, fixtures[fa].generation};
-    event.fixtureB = {fb, fixtures[fb].generation};
-    event.bodyA = {fixtures[fa].body, bodies[fixtures[fa].body].generation};
-    event.bodyB = {fixtures[fb].body, bodies[fixtures[fb].body].generation};
-    event.normal = aIsLower ? -c.normal : c.normal;
-    contactEvents.push_back(event);
-  }
+  const int reported = reportIslandContacts(now, reportAbove, reportPair, maxReports);
   // Met when the sweeps converged, or when no contact closes faster than its target by more than 1e-4 of
   // the speeds at play (a large island converges slowly, and that is close enough).
   double violation = 0;

@@ -438,6 +438,10 @@ struct World::Impl {
   IslandSolve solveIsland(const std::vector<uint32_t>& members, double now, double dt, double reportAbove,
                           uint64_t reportPair = ~uint64_t{0}, bool warmStart = false, bool whole = false,
                           int maxReports = std::numeric_limits<int>::max());
+  // solveIsland's parts (island.cpp).
+  double gatherIslandContacts(const std::vector<uint32_t>& members, double now, double h);
+  void keepIslandEnergy(const std::vector<uint32_t>& members, std::vector<Vec2>& v, double h) const;
+  int reportIslandContacts(double now, double reportAbove, uint64_t reportPair, int maxReports);
   /// Moves the seeds' part of their island after their motion changed at `now` (a hit, a join): the
   /// stepped bodies within `hops` pairs of them, or the whole island when that part cannot keep clear of
   /// the rest; predicts again every body whose motion changed. Returns the events it reported.
