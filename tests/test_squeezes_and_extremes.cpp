@@ -436,6 +436,55 @@ TEST(TinyBodies, PointsSlidingIntoACornerStayInTheBox) {
   }
 }
 
+// A density of 1.7e308 on a disk of radius 0.4 gave it a mass of 9e307 and an inverse mass of 1e-308
+// (subnormal): the islands' solve divided by it, and the body's position became NaN
+// (fuzz/regressions/world_api/finite-hybrid-density-max).
+TEST(ExtremeValues, MassesAboveTheDocumentedMaximumAreRefused) {
+  World w;
+  const BodyId b = w.createBody({.type = BodyType::Dynamic});
+  for (double density : {1.7e308, 1e151}) {
+    SCOPED_TRACE(density);
+    try {
+      w.createFixture(b, {.geometry = Circle{{0, 0}, 0.5}, .density = density});
+      ADD_FAILURE() << "accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("FixtureDef.density = "), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_TRUE(w.fixtures(b).empty());
+  const FixtureId f = w.createFixture(b, {.geometry = Circle{{0, 0}, 0.5}});
+  const double mass = w.mass(b);
+  for (double density : {1.7e308, 1e151}) {
+    SCOPED_TRACE(density);
+    try {
+      w.setDensity(f, density);
+      ADD_FAILURE() << "accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("density = "), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(w.density(f), 1.0);
+    EXPECT_EQ(w.mass(b), mass);
+  }
+}
+
+// Within the range, a body 1e149 times heavier than another still collides with it, with finite
+// results: head-on, the light disk leaves at twice the heavy one's speed (the limit of an elastic
+// collision as the mass ratio grows), and the heavy one does not slow to the precision of a double.
+TEST(ExtremeValues, TheHeaviestAndLightestBodiesCollide) {
+  for (StepMode mode : {StepMode::Hybrid, StepMode::Predictive, StepMode::Discrete}) {
+    SCOPED_TRACE(nameOf(mode));
+    World w(defOf(mode));
+    const BodyId heavy = w.createBody({.type = BodyType::Dynamic, .position = {0, 0}, .velocity = {1, 0}});
+    w.createFixture(heavy, {.geometry = Circle{{0, 0}, 0.5}, .density = 1e149, .restitution = 1});
+    const BodyId light = w.createBody({.type = BodyType::Dynamic, .position = {2, 0}});
+    w.createFixture(light, {.geometry = Circle{{0, 0}, 0.5}, .density = 1e-149, .restitution = 1});
+    for (int i = 0; i < 60; ++i) w.step(1.0 / 60);
+    EXPECT_TRUE(isFinite(w.position(heavy)) && isFinite(w.position(light)));
+    EXPECT_DOUBLE_EQ(w.velocity(heavy).x, 1.0);
+    EXPECT_NEAR(w.velocity(light).x, 2.0, 1e-12);
+  }
+}
+
 TEST(TinyBodies, RadiiBelowTheDocumentedMinimumAreRefused) {
   World w;
   const BodyId near = w.createBody({.type = BodyType::Dynamic});

@@ -117,18 +117,26 @@ void World::Impl::endOverlaps(const std::vector<uint64_t>& ended) {
   }
 }
 
+double World::Impl::physicalMass(const BodySlot& body) const {
+  double mass = 0;
+  for (uint32_t f : body.fixtures) {
+    if (!fixtures[f].sensor) mass += fixtures[f].density * areaOf(fixtures[f].geometry);
+  }
+  return mass;
+}
+
 void World::Impl::recomputeMass(BodySlot& body) {
   if (body.type != BodyType::Dynamic) {
     body.mass = std::numeric_limits<double>::infinity();
     body.inverseMass = 0;
     return;
   }
-  double mass = 0;
-  for (uint32_t f : body.fixtures) {
-    if (!fixtures[f].sensor) mass += fixtures[f].density * areaOf(fixtures[f].geometry);
-  }
+  double mass = physicalMass(body);
   // Like Box2D: a dynamic body with nothing that has area (points only) still needs a finite mass.
   if (!(mass > 0)) mass = 1;
+  // Creation and setDensity keep it at most World::kMaxMass; below the smallest normal double its
+  // inverse would overflow.
+  mass = std::clamp(mass, std::numeric_limits<double>::min(), World::kMaxMass);
   body.mass = mass;
   body.inverseMass = 1 / mass;
 }
@@ -394,9 +402,10 @@ FixtureId World::createFixture(BodyId bodyId, const FixtureDef& def) {
     }
     checkRestitution(def.restitution, "FixtureDef.restitution");
     if (body.type == BodyType::Dynamic && !def.sensor) {
-      double mass = body.mass == std::numeric_limits<double>::infinity() ? 0 : body.mass;
-      require(std::isfinite(mass + def.density * areaOf(def.geometry)), [&] {
-        return std::string("FixtureDef.density = " + str(def.density) + ": gives the body an infinite mass");
+      const double mass = w.physicalMass(body) + def.density * areaOf(def.geometry);
+      require(mass <= kMaxMass, [&] {
+        return std::string("FixtureDef.density = " + str(def.density) + ": gives the body a mass of " + str(mass) +
+                           ", more than 1e150 (World::kMaxMass)");
       });
     }
     const Box localBox = boxOf(def.geometry);
@@ -490,12 +499,13 @@ void World::setDensity(FixtureId id, double density) {
   detail::unlessOutOfMemory("setDensity", [&] { w.roomToTouch(1); });
   const double old = f.density;
   f.density = density;
-  w.recomputeMass(body);
-  if (!std::isfinite(body.mass) && body.type == BodyType::Dynamic) {
+  const double mass = w.physicalMass(body);
+  if (body.type == BodyType::Dynamic && !f.sensor && !(mass <= kMaxMass)) {
     f.density = old;
-    w.recomputeMass(body);
-    throw Error("density = " + str(density) + ": gives the body an infinite mass");
+    throw Error("density = " + str(density) + ": gives the body a mass of " + str(mass) +
+                ", more than 1e150 (World::kMaxMass)");
   }
+  w.recomputeMass(body);
   w.touched(f.body);
 }
 

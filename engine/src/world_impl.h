@@ -287,6 +287,8 @@ struct World::Impl {
   /// body in a static sensor) is no end.
   template <class StartOf>
   void endUnseenOverlaps(StartOf&& startOf);
+  /// The density x area of the body's physical fixtures (0 when none has area).
+  double physicalMass(const detail::BodySlot& body) const;
   void recomputeMass(detail::BodySlot& body);
 
   // Motion inside a step: a parabola from the body's local time (a straight line without gravity).

@@ -55,6 +55,11 @@ class World {
   /// impact. Circles that small still collide head-on while their coordinates stay within that range.
   FixtureId createFixture(BodyId body, const FixtureDef& def);
   static constexpr double kMinRelativeRadius = 1e-12;
+  /// A dynamic body's mass (the density x area of its physical fixtures) must be at most kMaxMass:
+  /// creation and setDensity refuse a fixture or a density that would take it beyond, where its inverse
+  /// mass loses its digits (it is subnormal near 1e308) and a collision's impulses overflow. A mass
+  /// below the smallest normal double (about 2.2e-308), whose inverse would overflow, is taken as that.
+  static constexpr double kMaxMass = 1e150;
   void destroyFixture(FixtureId fixture);
   bool isValid(FixtureId fixture) const;
   BodyId body(FixtureId fixture) const;
