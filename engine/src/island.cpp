@@ -88,9 +88,9 @@ constexpr double kOverRelaxation = 1.8;
 // The position correction without gravity (separateIsland): its sweeps, and the part of an overlap it
 // takes out in one step.
 constexpr int kSeparateIterations = 64;
+constexpr double kSeparateFactor = 0.5;
 // The relative excess of energy a solve may leave (round-off) before its velocities are scaled down.
 constexpr double kEnergyRoundOff = 1e-12;
-constexpr double kSeparateFactor = 0.5;
 
 // Every point of a placed geometry that can hold a circle centred at p: its closest point on each
 // convex piece (a polyline's segments, a polygon's edges), so a disk in a corner gets both walls.
@@ -323,9 +323,9 @@ void World::Impl::keepIslandEnergy(const std::vector<uint32_t>& members, std::ve
   // Energy never rises, by construction rather than by convergence. Before the solve each member had
   // v0 - g h (v0 carries the rest of the step's gravity); after it, it moves along v for the rest of the
   // step. Projecting never adds kinetic energy, but under gravity it can turn a fall into a rise: a wedge
-  // (a disk on two that part) lifts the disk on top, and along a straight path of a long step that lift
-  // costs nothing (fuzz/regressions/world_api/energy-hybrid-gravity-long-step-lifted). Over-relaxed
-  // sweeps that stop short, or a warm start they stop short of undoing, can do the same. Scaling every
+  // (a disk on two that part) lifts the disk on top, and along a straight path that lift costs nothing.
+  // Over-relaxed sweeps that stop short, or a warm start they stop short of undoing
+  // (fuzz/regressions/world_api/energy-hybrid-gravity-resting-row), can do the same. Scaling every
   // velocity by s in [0, 1] keeps every contact met against holders at rest (every target is <= 0), and
   // the energy at the step's end is then a s^2 + b s + c above the start: s = 0 never gains, so the
   // largest s that does not is taken. Against moving holders (a kinematic body) the energy is not the
