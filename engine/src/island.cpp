@@ -541,6 +541,24 @@ void World::Impl::separateIsland(const std::vector<uint32_t>& members, const std
     const double radius = detail::circleRadius(fixtures[c.fa].geometry);
     if (dot(d[c.ka], c.normal) < std::min(lower[i], 0.0) - 1e-12 * std::max(radius, 1.0)) d[c.ka] = Vec2{};
   }
+  // The contacts above are those of the pairs the sweep found for the boxes it saw. A body moved out
+  // of its box, along its path for the step, could meet what no pair told of (a disk at rest beside a
+  // heavy one it overlaps, pushed down through a floor that only touched its box): it stays put.
+  for (size_t k = 0; k < members.size(); ++k) {
+    if (d[k].x == 0 && d[k].y == 0) continue;
+    const BodySlot& b = bodies[members[k]];
+    for (uint32_t f : b.fixtures) {
+      if (fixtures[f].sensor || !broadPhase.contains(f)) continue;
+      const Box& seen = broadPhase.box(f);
+      const Box& local = fixtures[f].localBox;
+      const Vec2 start = b.position + d[k], end = start + v[k] * h;
+      if (!seen.contains(Box{start + local.min, start + local.max}) ||
+          !seen.contains(Box{end + local.min, end + local.max})) {
+        d[k] = Vec2{};
+        break;
+      }
+    }
+  }
   for (size_t k = 0; k < members.size(); ++k) {
     if (d[k].x == 0 && d[k].y == 0) continue;
     BodySlot& b = bodies[members[k]];
