@@ -395,19 +395,6 @@ World::Impl::IslandSolve World::Impl::solveIsland(const std::vector<uint32_t>& m
     const Vec2 vb = c.kb >= 0 ? v[c.kb] : c.holderVelocity;
     c.approach = -dot(v[c.ka] - vb, c.normal);
   }
-  // Warm start: the impulse the same contact took in the solve at the start of the last step
-  // (islandImpulses, sorted by key), applied before iterating so that a resting pile starts where it
-  // left off (Catto 2005). Only at the start of a step: later the velocities hold this step's impulses.
-  for (IslandContact& c : contacts) {
-    if (!warmStart) break;
-    const uint64_t key = islandKey(c.fa, c.fb);
-    auto it = std::lower_bound(islandImpulses.begin(), islandImpulses.end(), key,
-                               [](const std::pair<uint64_t, double>& e, uint64_t k) { return e.first < k; });
-    if (it == islandImpulses.end() || it->first != key) continue;
-    c.lambda = it->second;
-    v[c.ka] += c.normal * (c.lambda * c.inverseA);
-    if (c.kb >= 0) v[c.kb] -= c.normal * (c.lambda * c.inverseB);
-  }
   // Converged when no impulse changes a velocity by more than 1e-6 of the speeds at play (the bodies'
   // and what the step's gravity adds): a contact then closes by at most that much too fast.
   const double tolerance = 1e-6 * (speed + length(def.gravity) * h);
@@ -421,6 +408,20 @@ World::Impl::IslandSolve World::Impl::solveIsland(const std::vector<uint32_t>& m
   // a wall and a heavy disk) they take tens of thousands.
   const bool small = members.size() <= detail::kExactProjectionMembers;
   bool converged = small && !noGravity && projectIslandExactly(members, v, tolerance);
+  // Warm start: the impulse the same contact took in the solve at the start of the last step
+  // (islandImpulses, sorted by key), applied before the sweeps so that a resting pile starts where it
+  // left off (Catto 2005). Only at the start of a step: later the velocities hold this step's impulses.
+  // An exact projection needs none.
+  for (IslandContact& c : contacts) {
+    if (!warmStart || converged) break;
+    const uint64_t key = islandKey(c.fa, c.fb);
+    auto it = std::lower_bound(islandImpulses.begin(), islandImpulses.end(), key,
+                               [](const std::pair<uint64_t, double>& e, uint64_t k) { return e.first < k; });
+    if (it == islandImpulses.end() || it->first != key) continue;
+    c.lambda = it->second;
+    v[c.ka] += c.normal * (c.lambda * c.inverseA);
+    if (c.kb >= 0) v[c.kb] -= c.normal * (c.lambda * c.inverseB);
+  }
   const int maxIterations = warmStart ? kStartIterations : whole ? kIslandIterations : kPartIterations;
   for (int iteration = 0; iteration < maxIterations && !converged; ++iteration) {
     const double worst = projectedSweep(

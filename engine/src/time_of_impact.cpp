@@ -142,7 +142,7 @@ std::optional<Impact> faceImpact(const Circle& circle, const Motion& m, const Ed
   std::optional<double> t;
   // A point exactly on the line touches it (a closed edge): the overlap rules apply, as they do to a
   // circle whose gap is exactly 0.
-  if (front && (s0 > -circle.radius || (circle.radius == 0 && s0 == 0))) {
+  if (front && (s0 > -circle.radius || s0 == 0)) {
     t = firstImpactOfGap(gap, maxTime, justResolved);
   } else {
     // Centre a full radius behind the line (or on the segment's other side): only coming round to the
