@@ -219,6 +219,7 @@ void World::Impl::absorb(const PredictedContact& c, double vn) {
   for (BodySlot* s : {&a, &b}) {
     if (s->type != BodyType::Dynamic) continue;
     ++s->collisionCount;
+    if (s->stepAbsorbs < std::numeric_limits<uint16_t>::max()) ++s->stepAbsorbs;
     s->setLast(last);
   }
 }
@@ -419,6 +420,7 @@ double World::Impl::sweepBoxes(double dt) {
       b.last = detail::LastContact{};
       b.jamTime = -1;
       b.stepCollisions = 0;
+      b.stepAbsorbs = 0;
       b.stepLocalsSet = false;
     }
     if (b.sliding &&
@@ -608,6 +610,11 @@ void World::Impl::dismissContact(const PredictedContact& c, double dt, double vn
       repredict(fixtures[c.a].body, c.time, dt);
       return;
     }
+    // Its approach is below round-off: leaving it moves the pair together by no more than the
+    // round-off of their coordinates over the step, and ends a run of absorbs that would not.
+    const int absorbLimit =
+        std::min<int>(detail::collapseCollisions(def.maxEventsPerStep), std::numeric_limits<uint16_t>::max() - 1);
+    if (a.stepAbsorbs > absorbLimit || b.stepAbsorbs > absorbLimit) return;
     absorb(c, vn);
     ++stats.eventsProcessed;  // bounded by the budget like any other change of motion
     for (uint32_t body : {fixtures[c.a].body, fixtures[c.b].body}) {

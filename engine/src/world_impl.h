@@ -89,6 +89,11 @@ struct alignas(64) BodySlot {
   double jamTime = -1;
   uint32_t jam = 0;
   bool steppedHeld = false;  // a contact of an island solve pushed it this step
+  // Round-off approaches absorbed in the current step (World::Impl::dismissContact): a disk wedged
+  // between two others can absorb against each in turn at one instant, without end, where coordinates
+  // are large. Past collapseCollisions() such an approach is left as it is. Reset with stepCollisions;
+  // saturates (16 bits fit the padding before lastContactTime).
+  uint16_t stepAbsorbs = 0;
   double lastContactTime = -std::numeric_limits<double>::infinity();  // world time of its last collision
   double mass = std::numeric_limits<double>::infinity();
   double inverseMass = 0;
