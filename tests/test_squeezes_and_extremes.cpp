@@ -433,6 +433,24 @@ TEST(TinyBodies, PointsSlidingIntoACornerStayInTheBox) {
         ASSERT_GE(w.position(p).y, floor - 1e-13) << "step " << i;
       }
     }
+    {
+      // A box of four separate Segments: landing on the floor in the corner, the point was on the left
+      // wall's line too, and the wall's contact, forgotten when the floor's slide began, read as just
+      // arrived from outside (fuzz/regressions/world_api/escape-point-into-a-corner-of-segments).
+      World w(defOf(mode, {0, -9.81}));
+      const BodyId box = w.createBody({.type = BodyType::Static, .position = {1e-12, 1e-12}});
+      const double a = 10.500149636933546;
+      const Vec2 corners[4] = {{-a, -a}, {a, -a}, {a, a}, {-a, a}};
+      for (int k = 0; k < 4; ++k) w.createFixture(box, {.geometry = Segment{corners[k], corners[(k + 1) % 4]}});
+      const BodyId p = w.createBody(
+          {.type = BodyType::Dynamic, .position = {-10.381016586071739, -a + 1e-12}, .velocity = {-3.8724463275946235, 0}});
+      w.createFixture(p, {.geometry = Point{}, .restitution = 0.052404429253232944});
+      for (int i = 0; i < 60; ++i) {
+        w.step(0.05);
+        ASSERT_GE(w.position(p).x, -a + 1e-12 - 1e-13) << "step " << i;
+        ASSERT_GE(w.position(p).y, -a + 1e-12 - 1e-13) << "step " << i;
+      }
+    }
   }
 }
 

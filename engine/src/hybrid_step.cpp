@@ -331,7 +331,11 @@ void World::Impl::resolve(const PredictedContact& c, std::vector<uint32_t>& woke
   for (BodySlot* s : {&a, &b}) {
     if (s->type != BodyType::Dynamic) continue;
     ++s->collisionCount;
-    s->setLast(last);
+    // A body that starts to slide here has the face as its support, which its predictions already
+    // leave out; what it was resolved against earlier at this same instant stays its last contact. A
+    // point sliding into a corner of two Segments is on the wall's line when it lands on the floor: the
+    // wall, forgotten, would read as just arrived from outside and push it out.
+    if (!(s == slider && s->last.time == c.time)) s->setLast(last);
     s->lastContactTime = now;
     // Any other contact ends a slide: the body either leaves the face or is pushed into it, and then
     // the face's own contact (touching and approaching: now) resolves that, resting rules included.
