@@ -1,4 +1,4 @@
-// The broad phase (engine/src/broad_phase.h) against brute force: every pair and every query answer it
+// The broad phase (engine/src/broad_phase/broad_phase.h) against brute force: every pair and every query answer it
 // gives must be exactly the pairs an O(n^2) check of the same boxes gives, each once, step after step
 // while boxes move, grow, jump, come and go, change kind and filter, and the world outgrows its bands.
 #include <gtest/gtest.h>
@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include "broad_phase.h"
+#include "broad_phase/broad_phase.h"
 
 namespace rattle {
 namespace {

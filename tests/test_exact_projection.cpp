@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "exact_projection.h"
+#include "contact/exact_projection.h"
 
 namespace {
 

@@ -1,7 +1,7 @@
-// FixtureList (engine/src/fixture_list.h), a body's fixture indices held in place up to four, checked
+// FixtureList (engine/src/world/fixture_list.h), a body's fixture indices held in place up to four, checked
 // against std::vector, which it replaced, as the reference: the same contents in the same order after
 // every operation, across the move from in place to a block of its own, through copies and moves.
-#include "fixture_list.h"
+#include "world/fixture_list.h"
 
 #include <gtest/gtest.h>
 

@@ -11,7 +11,7 @@
 #include <random>
 #include <vector>
 
-#include "plain_disk_impact.h"
+#include "collision/plain_disk_impact.h"
 #include "rattle/rattle.h"
 #include "rattle/time_of_impact.h"
 #include "world_test_support.h"

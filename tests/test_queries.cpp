@@ -27,7 +27,7 @@
 #include <string>
 #include <vector>
 
-#include "format.h"
+#include "common/format.h"
 #include "rattle/rattle.h"
 
 namespace {

@@ -5,10 +5,10 @@
 #include <cstring>
 #include <string>
 
-#include "format.h"
-#include "out_of_memory.h"
-#include "predictive_step.h"
-#include "world_impl.h"
+#include "common/format.h"
+#include "common/out_of_memory.h"
+#include "predictive/predictive_step.h"
+#include "world/world_impl.h"
 
 namespace rattle {
 

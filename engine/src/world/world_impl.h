@@ -1,5 +1,6 @@
-// Private: the world's storage, shared by world.cpp (creation, validation, accessors) and
-// hybrid_step.cpp (the step).
+// Private: the world's state (bodies, fixtures, the broad phase, the step's queue and scratch) and the
+// member functions every part of the engine is written as: world/ creates, checks and reads it, the
+// step modes (hybrid/, predictive/, discrete/) advance it, contact/ and sensors/ serve them.
 #pragma once
 
 #include <algorithm>
@@ -11,12 +12,12 @@
 #include <unordered_map>
 #include <vector>
 
-#include "broad_phase.h"
-#include "collapse_guard.h"
-#include "exact_projection.h"
-#include "fixture_list.h"
-#include "out_of_memory.h"
-#include "path_log.h"
+#include "broad_phase/broad_phase.h"
+#include "contact/collapse_guard.h"
+#include "contact/exact_projection.h"
+#include "world/fixture_list.h"
+#include "common/out_of_memory.h"
+#include "sensors/path_log.h"
 #include "rattle/time_of_impact.h"
 #include "rattle/world.h"
 

@@ -13,7 +13,7 @@
 // meets. StepStats::squeezes counts both.
 #include <algorithm>
 
-#include "world_impl.h"
+#include "world/world_impl.h"
 
 namespace rattle {
 

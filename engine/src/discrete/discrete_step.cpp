@@ -9,8 +9,8 @@
 #include <cmath>
 #include <span>
 
-#include "closest_point.h"
-#include "world_impl.h"
+#include "collision/closest_point.h"
+#include "world/world_impl.h"
 
 namespace rattle {
 

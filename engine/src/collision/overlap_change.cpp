@@ -13,7 +13,7 @@
 #include <limits>
 #include <vector>
 
-#include "polynomial.h"
+#include "collision/polynomial.h"
 #include "rattle/time_of_impact.h"
 
 namespace rattle {

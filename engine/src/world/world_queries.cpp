@@ -11,8 +11,8 @@
 #include <cmath>
 #include <string>
 
-#include "format.h"
-#include "world_impl.h"
+#include "common/format.h"
+#include "world/world_impl.h"
 
 namespace rattle {
 

@@ -3,7 +3,7 @@
 // The active normals N are kept as N = Q R (Q orthonormal, R upper triangular): the step direction
 // for a new constraint p is its part z outside span(N), and r = R^-1 Q^T c_p says how the active
 // multipliers must change to keep their constraints met while p's grows.
-#include "exact_projection.h"
+#include "contact/exact_projection.h"
 
 #include <cmath>
 #include <limits>

@@ -1,4 +1,4 @@
-#include "path_box.h"
+#include "collision/path_box.h"
 
 namespace rattle::detail {
 

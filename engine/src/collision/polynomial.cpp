@@ -1,4 +1,4 @@
-#include "polynomial.h"
+#include "collision/polynomial.h"
 
 #include <algorithm>
 #include <cmath>

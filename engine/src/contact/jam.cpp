@@ -16,9 +16,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "closest_point.h"
-#include "collapse_guard.h"
-#include "world_impl.h"
+#include "collision/closest_point.h"
+#include "contact/collapse_guard.h"
+#include "world/world_impl.h"
 
 namespace rattle {
 

@@ -13,7 +13,7 @@
 
 #include <algorithm>
 
-#include "predictive_step.h"
+#include "predictive/predictive_step.h"
 #include "rattle/types.h"
 
 namespace rattle::detail {

@@ -4,7 +4,7 @@
 // opening comment describes the mode as a whole.
 #pragma once
 
-#include "predictive_engine.h"
+#include "predictive/predictive_engine.h"
 
 namespace rattle {
 namespace {

@@ -4,7 +4,7 @@
 // Included only by those; predictive_step.cpp's opening comment describes the mode as a whole.
 #pragma once
 
-#include "predictive_step.h"
+#include "predictive/predictive_step.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,12 +12,12 @@
 #include <optional>
 #include <tuple>
 
-#include "closest_point.h"
-#include "path_box.h"
-#include "plain_collision.h"
-#include "plain_disk_impact.h"
+#include "collision/closest_point.h"
+#include "collision/path_box.h"
+#include "predictive/plain_collision.h"
+#include "collision/plain_disk_impact.h"
 #include "rattle/time_of_impact.h"
-#include "world_impl.h"
+#include "world/world_impl.h"
 
 namespace rattle {
 

@@ -15,10 +15,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "path_box.h"
-#include "path_log.h"
+#include "collision/path_box.h"
+#include "sensors/path_log.h"
 #include "rattle/time_of_impact.h"
-#include "world_impl.h"
+#include "world/world_impl.h"
 
 namespace rattle {
 

@@ -9,8 +9,8 @@
 #include <cmath>
 #include <limits>
 
-#include "plain_disk_impact.h"
-#include "polynomial.h"
+#include "collision/plain_disk_impact.h"
+#include "collision/polynomial.h"
 
 namespace rattle {
 

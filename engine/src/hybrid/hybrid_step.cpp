@@ -31,9 +31,9 @@
 #include <cstring>
 #include <limits>
 
-#include "path_box.h"
+#include "collision/path_box.h"
 #include "rattle/time_of_impact.h"
-#include "world_impl.h"
+#include "world/world_impl.h"
 
 namespace rattle {
 

@@ -35,7 +35,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "large_array.h"
+#include "common/large_array.h"
 #include "rattle/geometry.h"
 
 namespace rattle::detail {

@@ -18,9 +18,9 @@
 // rehash the map, as it never holds more than it held when the node was taken out.
 #include <algorithm>
 
-#include "out_of_memory.h"
-#include "predictive_step.h"
-#include "world_impl.h"
+#include "common/out_of_memory.h"
+#include "predictive/predictive_step.h"
+#include "world/world_impl.h"
 
 namespace rattle {
 

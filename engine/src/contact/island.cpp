@@ -54,9 +54,9 @@
 #include <cmath>
 #include <numeric>
 
-#include "closest_point.h"
-#include "exact_projection.h"
-#include "world_impl.h"
+#include "collision/closest_point.h"
+#include "contact/exact_projection.h"
+#include "world/world_impl.h"
 
 namespace rattle {
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include "format.h"
+#include "common/format.h"
 
 namespace rattle {
 

@@ -53,12 +53,12 @@
 //
 // Sensors: when the world has any, every change of a body's motion is recorded (PathLog), and the sensor
 // events are found from those paths when the step's events are done (sensor_paths.cpp).
-#include "predictive_step.h"
+#include "predictive/predictive_step.h"
 
-#include "predictive_engine.h"
-#include "predictive_predictions.h"
-#include "predictive_queue.h"
-#include "predictive_setup.h"
+#include "predictive/predictive_engine.h"
+#include "predictive/predictive_predictions.h"
+#include "predictive/predictive_queue.h"
+#include "predictive/predictive_setup.h"
 
 namespace rattle {
 namespace {

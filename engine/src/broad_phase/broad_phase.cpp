@@ -1,10 +1,10 @@
-#include "broad_phase.h"
+#include "broad_phase/broad_phase.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "out_of_memory.h"
+#include "common/out_of_memory.h"
 
 namespace rattle::detail {
 

@@ -13,9 +13,9 @@
 #include <limits>
 #include <vector>
 
-#include "collapse_guard.h"
-#include "large_array.h"
-#include "path_log.h"
+#include "contact/collapse_guard.h"
+#include "common/large_array.h"
+#include "sensors/path_log.h"
 #include "rattle/types.h"
 #include "rattle/vec2.h"
 

@@ -14,10 +14,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "closest_point.h"
-#include "out_of_memory.h"
-#include "polynomial.h"
-#include "world_impl.h"
+#include "collision/closest_point.h"
+#include "common/out_of_memory.h"
+#include "collision/polynomial.h"
+#include "world/world_impl.h"
 
 namespace rattle {
 
