@@ -1,5 +1,5 @@
 // A few disks bouncing in a closed box. Prints every contact event and, with --svg FILE, draws the
-// paths of the disks as an SVG picture. `make demo` runs this until the RTS demo exists.
+// paths of the disks as an SVG picture. It uses only the public headers (<rattle/rattle.h>).
 #include <rattle/rattle.h>
 
 #include <cmath>

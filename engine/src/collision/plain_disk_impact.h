@@ -6,7 +6,7 @@
 // The arithmetic is timeOfImpactCircleCircle's (time_of_impact.cpp: timeToReach's straight case, then
 // pointImpact), expression for expression with the zero acceleration and the zero centre of B written
 // in, so the bits are the same; tests/test_predictive_plain.cpp compares the two on random pairs. The
-// method is that of Bannerman et al. (Comput. Part. Mech. 1, 191, 2014; /work/shared/NUMERICS.md): an
+// method is that of Bannerman et al. (Comput. Part. Mech. 1, 191, 2014; docs/numerics.md): an
 // overlap by round-off collides now only while approaching, and the root is taken in the form without
 // cancellation, t = c / (-b + sqrt(b^2 - A c)).
 #pragma once
@@ -33,7 +33,7 @@ inline double plainDiscriminant(double b, double a, double c) {
 // When reach is tiny against the distance |r|, c has rounded reach^2 away and the tangent test with it
 // (two disks of radius 1e-10 a unit apart meet head-on at disc = 4e-20 A, below c's rounding); the
 // miss-distance form of Lagrange's identity, b^2 - A c = A reach^2 - (r x v)^2 (Haines et al., Ray
-// Tracing Gems ch. 7, 2019; /work/shared/NUMERICS.md), keeps it, with r x v as a compensated product.
+// Tracing Gems ch. 7, 2019; docs/numerics.md), keeps it, with r x v as a compensated product.
 // Below 2^-20 |r|^2 only, where c's rounding is at most 2^-32 of the discriminant's scale: elsewhere
 // the two forms agree to round-off, and the usual one keeps its bits.
 inline double reachDiscriminant(Vec2 r, Vec2 v, double b, double A, double c, double reach) {

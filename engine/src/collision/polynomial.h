@@ -3,7 +3,7 @@
 // Following Yuksel, "High-Performance Polynomial Root Finding for Graphics" (HPG 2022): the real roots of
 // the derivative split the interval into pieces on which the polynomial is monotone; each piece holds at
 // most one root, which a safeguarded Newton-bisection finds to the last bit. No Ferrari or Cardano
-// formulas, whose cancellation makes them unreliable near double roots (NUMERICS.md).
+// formulas, whose cancellation makes them unreliable near double roots (docs/numerics.md).
 #pragma once
 
 #include <array>

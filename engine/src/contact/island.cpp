@@ -2,7 +2,7 @@
 //
 // Under gravity, bodies pressed together (a column standing on a disk that slides on the floor, a pile)
 // can only be held by an endless stream of ever smaller collisions when contacts are instantaneous
-// events: inelastic collapse (McNamara & Young 1994; NUMERICS.md). Its cost grows with the number of
+// events: inelastic collapse (McNamara & Young 1994; docs/numerics.md). Its cost grows with the number of
 // such contacts and not with what moves, and a poured pile of a few thousand disks never came to rest.
 // So a body that comes to rest on another movable body, and every body of a cluster caught in a
 // collapse (more than kJamCollisions collisions in one step), becomes *stepped*: from then on its

@@ -3,7 +3,7 @@
 // A ball bouncing on a floor with restitution below 1 makes infinitely many bounces in finite time (a
 // Zeno sequence), and a body pressed against something that does not fall with it can otherwise only be
 // held by an endless stream of zero-speed collisions. Event-driven codes end this in one of a few ways
-// (NUMERICS.md: Luding & McNamara's TC model, a velocity threshold, DynamO's sleeping particles). rattle
+// (docs/numerics.md: Luding & McNamara's TC model, a velocity threshold, DynamO's sleeping particles). rattle
 // uses a threshold, WorldDef::restingSpeed, and three outcomes for a contact that would bounce slower
 // than it against something that does not fall with the body:
 //  - sleep: the body is slow and held (the up direction lies within the cone of the normals of the

@@ -174,7 +174,7 @@ class Engine {
   /// of dt otherwise).
   double step(double dt);
   /// Under gravity, a body that collides more than this many times in one step is in a pile that exact
-  /// events cannot settle (inelastic collapse: McNamara & Young 1992; NUMERICS.md): the rest of the step,
+  /// events cannot settle (inelastic collapse: McNamara & Young 1992; docs/numerics.md): the rest of the step,
   /// and the steps after it while the pile is held, go to the hybrid step, whose stepped islands hold
   /// such contacts by a solve (island.cpp, jam.cpp). Without gravity the same holds for a contact of a
   /// body the game drives (BodySlot::driven): a crowd pressed into itself.
