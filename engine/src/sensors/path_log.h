@@ -1,5 +1,5 @@
-// Private: the paths bodies took through a step, piece by piece, for a mode that finds sensor events
-// after the step instead of during it (the predictive mode; see sensor_paths.cpp).
+// Private: the paths bodies took through a step, piece by piece, for the modes that find sensor events
+// after the step instead of during it (hybrid and predictive; see sensor_paths.cpp).
 #pragma once
 
 #include <cstdint>
