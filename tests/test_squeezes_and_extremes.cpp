@@ -451,6 +451,25 @@ TEST(TinyBodies, PointsSlidingIntoACornerStayInTheBox) {
         ASSERT_GE(w.position(p).y, -a + 1e-12 - 1e-13) << "step " << i;
       }
     }
+    {
+      // A Polyline box, the point an ulp below the floor (where earlier steps' round-off left it) and
+      // sliding into the corner: the floor's broad-phase box must still hold it (hybrid), and a slide
+      // that starts an ulp past the floor's end must not end at once (a fall through the corner)
+      // (fuzz/regressions/world_api/escape-point-resting-in-a-corner).
+      World w(defOf(mode, {0, -9.81}));
+      const BodyId box = w.createBody({.type = BodyType::Static, .position = {1e-12, 1e-12}});
+      const double a = 10.500149636933546;
+      w.createFixture(box, {.geometry = Polyline{{{-a, -a}, {a, -a}, {a, a}, {-a, a}, {-a, -a}}}});
+      const BodyId p = w.createBody({.type = BodyType::Dynamic,
+                                     .position = {-10.485258493952553, -10.500149636932553},
+                                     .velocity = {-1.2218951015142883, 0}});
+      w.createFixture(p, {.geometry = Point{}, .restitution = 0.050498527257548789});
+      for (int i = 0; i < 60; ++i) {
+        w.step(1.0 / 60);
+        ASSERT_GE(w.position(p).x, -a + 1e-12 - 1e-13) << "step " << i;
+        ASSERT_GE(w.position(p).y, -a + 1e-12 - 1e-13) << "step " << i;
+      }
+    }
   }
 }
 

@@ -13,6 +13,7 @@
 //  - otherwise it bounces off at restingSpeed, which bounds the bounce rate at g / (2 restingSpeed).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "collision/closest_point.h"
 #include "common/out_of_memory.h"
@@ -53,6 +54,27 @@ bool flatFeature(const Geometry& g, int feature, Vec2& a, Vec2& b) {
 bool World::Impl::isFlatFeature(uint32_t fixture, int feature) const {
   Vec2 a, b;
   return flatFeature(fixtures[fixture].geometry, feature, a, b);
+}
+
+bool World::Impl::leavesCorner(const BodySlot& b, uint32_t fixture, int feature, double now) const {
+  // A point that reached the end of the face it slides on was resolved against the face it met there
+  // (fixture, feature) and then began to slide at the same instant: it sits on both lines, in the corner
+  // between them, on the side of the second face where the first one lies (it came along the first).
+  // The slide took out only the first face's normal part of its velocity; in a corner of 90 degrees or
+  // more that leaves it moving away from the second face, in an acute one it may turn it back in.
+  Vec2 s0, s1, f0, f1;
+  if (!flatFeature(fixtures[b.support.fixture].geometry, b.support.feature, s0, s1)) return true;
+  if (!flatFeature(fixtures[fixture].geometry, feature, f0, f1)) return true;
+  const Vec2 supportAt = bodies[fixtures[b.support.fixture].body].position;
+  const Vec2 faceAt = bodies[fixtures[fixture].body].position;
+  const Vec2 p = positionAt(b, now) + detail::circleCentre(fixtures[b.fixtures.front()].geometry);
+  const Vec2 near = supportAt + s0, far = supportAt + s1;
+  const Vec2 away = length(near - p) > length(far - p) ? near : far;  // the support's other end
+  const Vec2 d = f1 - f0;
+  const Vec2 normal{-d.y, d.x};
+  const double side = dot(normal, away - p);
+  const Vec2 relative = velocityAt(b, now) - bodies[fixtures[fixture].body].velocity;
+  return side == 0 || dot(relative, normal) * side >= 0;
 }
 
 bool World::Impl::supportsAt(uint32_t bodyIndex, double now, std::vector<uint32_t>& supporters) const {
@@ -199,9 +221,16 @@ std::optional<double> World::Impl::slideEndTime(const BodySlot& b, double now, d
   detail::Polynomial tau;
   tau.degree = 2;
   tau.c = {dot(u, centre - origin), dot(u, v), 0.5 * dot(u, b.acceleration)};
+  // A point's face reaches the round-off of its coordinates past its ends, as its time of impact does
+  // (time_of_impact.h): one that came to rest in a corner an ulp beyond the floor's end is on the floor,
+  // and does not fall off it at once to land on it again.
+  const bool point = detail::circleRadius(fixtures[b.fixtures.front()].geometry) == 0;
+  const double slack =
+      point ? 16 * std::numeric_limits<double>::epsilon() * (length(centre) + length(origin) + len) : 0.0;
+  tau.c[0] += slack;
   detail::Polynomial rest = tau;
   for (double& c : rest.c) c = -c;
-  rest.c[0] += len;
+  rest.c[0] += len + 2 * slack;
   auto low = detail::firstDownwardCrossing(tau, 0, dt - now);
   auto high = detail::firstDownwardCrossing(rest, 0, dt - now);
   if (tau.c[0] < 0 || rest.c[0] < 0) return now;  // already past an end

@@ -31,6 +31,7 @@
 #include <cstring>
 #include <limits>
 
+#include "collision/closest_point.h"
 #include "collision/path_box.h"
 #include "rattle/time_of_impact.h"
 #include "world/world_impl.h"
@@ -49,6 +50,12 @@ bool sameBits(const T& a, const T& b) {
 template <class T>
 void storeIfChanged(T& to, const T& value) {
   if (!sameBits(to, value)) to = value;
+}
+
+// A circle of radius 0 or a Point: no extent, so no overlap to tell its side of a line.
+bool isPoint(const Geometry& g) {
+  if (const auto* c = std::get_if<Circle>(&g)) return c->radius == 0;
+  return std::holds_alternative<Point>(g);
 }
 
 }  // namespace
@@ -72,6 +79,35 @@ bool hasSeveralFeatures(const Geometry& g) {
 
 }  // namespace
 
+// The feature of `other` that `own` cannot be approaching now (TimeOfImpact's resolvedFeature): the
+// face its body slides on, or the one both bodies of the pair were last resolved on at this instant.
+int World::Impl::resolvedFeature(const BodySlot& a, const BodySlot& b, uint32_t own, uint32_t other,
+                                 double now) const {
+  int resolved = kNoFeature;
+  // Round-off guard (see LastContact): if every dynamic body of the pair was last resolved against
+  // this same pair at this same instant, the feature it touched cannot be approaching now.
+  const uint32_t low = std::min(own, other), high = std::max(own, other);
+  auto resolvedHereNow = [&](const BodySlot& s) {
+    return s.type != BodyType::Dynamic || (s.last.time == now && s.last.fixtureLow == low && s.last.fixtureHigh == high);
+  };
+  const bool lastHere = a.last.time == now && resolvedHereNow(a) && resolvedHereNow(b);
+  // A point has no overlap to tell which side of a line it is on (time_of_impact.h); in a corner it is
+  // on two lines at once, and which of them it leaves is told by leavesCorner().
+  const bool point = a.sliding && lastHere && detail::circleRadius(fixtures[own].geometry) == 0;
+  if (a.support.generation != 0 && a.support.fixture == other) {
+    // Sliding on this fixture: the face it slides on is a constraint; it only matters again if the
+    // body leaves it and comes back. A point in the corner of two of its faces, resolved against the
+    // other one at this instant and leaving it, leaves both.
+    resolved = a.support.feature;
+    if (point && a.last.feature != a.support.feature && leavesCorner(a, other, a.last.feature, now)) {
+      resolved = kEveryFeature;
+    }
+  } else if (lastHere && !(point && !leavesCorner(a, other, a.last.feature, now))) {
+    resolved = a.last.feature;
+  }
+  return resolved;
+}
+
 void World::Impl::predict(uint32_t own, uint32_t other, double now, double dt, int dismissed) {
   const BodySlot& a = bodyOf(own);
   const BodySlot& b = bodyOf(other);
@@ -79,21 +115,7 @@ void World::Impl::predict(uint32_t own, uint32_t other, double now, double dt, i
   if (!squeezes.empty() && squeezeExempt(own, other)) return;  // squeeze.cpp
   ++stats.timeOfImpactTests;
 
-  int resolved = kNoFeature;
-  if (a.support.generation != 0 && a.support.fixture == other) {
-    // Sliding on this fixture: the face it slides on is a constraint; it only matters again if the
-    // body leaves it and comes back.
-    resolved = a.support.feature;
-  } else {
-    // Round-off guard (see LastContact): if every dynamic body of the pair was last resolved against
-    // this same pair at this same instant, the feature it touched cannot be approaching now.
-    const uint32_t low = std::min(own, other), high = std::max(own, other);
-    auto resolvedHereNow = [&](const BodySlot& s) {
-      return s.type != BodyType::Dynamic ||
-             (s.last.time == now && s.last.fixtureLow == low && s.last.fixtureHigh == high);
-    };
-    if (a.last.time == now && resolvedHereNow(a) && resolvedHereNow(b)) resolved = a.last.feature;
-  }
+  int resolved = resolvedFeature(a, b, own, other, now);
   if (dismissed != kNoFeature) resolved = dismissed;
 
   const Vec2 pa = positionAt(a, now);
@@ -174,7 +196,8 @@ void World::Impl::repredict(uint32_t bodyIndex, double now, double dt, bool forc
   const Box path = pathBox(positionAt(body, now), velocityAt(body, now), body.acceleration, dt - now);
   for (uint32_t f : body.fixtures) {
     if (fixtures[f].sensor) continue;  // sensed along the paths after the step (sensor_paths.cpp)
-    const Box box{path.min + fixtures[f].localBox.min, path.max + fixtures[f].localBox.max};
+    Box box{path.min + fixtures[f].localBox.min, path.max + fixtures[f].localBox.max};
+    if (isPoint(fixtures[f].geometry)) box = detail::withRoundOff(box);
     if (!forceRequery && broadPhase.box(f).contains(box)) continue;
     // The new path leaves the swept box (or the body just woke and the sweep skipped it as resting):
     // grow the box and ask the broad phase again.
@@ -487,7 +510,7 @@ double World::Impl::sweepBoxes(double dt) {
           swept = unionOf(swept, Box{b.position - Vec2{reach, reach}, b.position + Vec2{reach, reach}});
         }
       }
-      broadPhase.setBox(shape.fixture, swept);
+      broadPhase.setBox(shape.fixture, shape.radius == 0 ? detail::withRoundOff(swept) : swept);
       broadPhase.setTag(shape.fixture, plain ? i : detail::BroadPhase::kNoTag);
       continue;
     }
@@ -495,7 +518,8 @@ double World::Impl::sweepBoxes(double dt) {
       const detail::FixtureSlot& fixture = fixtures[f];
       if (fixture.sensor) continue;
       broadPhase.setMoving(f, moving && !still);
-      broadPhase.setBox(f, Box{path.min + fixture.localBox.min, path.max + fixture.localBox.max});
+      const Box box{path.min + fixture.localBox.min, path.max + fixture.localBox.max};
+      broadPhase.setBox(f, isPoint(fixture.geometry) ? detail::withRoundOff(box) : box);
       broadPhase.setTag(f, detail::BroadPhase::kNoTag);
     }
   }

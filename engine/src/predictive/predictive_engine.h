@@ -346,7 +346,6 @@ class Engine {
   void predictPair(uint32_t own, uint32_t other, double now, double horizon, PredictiveEvent& best,
                    int dismissed = kNoFeature);
   void predictCircles(const Predicting& p, uint32_t j, double horizon, PredictiveEvent& best);
-  int resolvedFeature(const BodySlot& a, const BodySlot& b, uint32_t own, uint32_t other, double now) const;
   void fillPairs(uint32_t slot);
 
   // The queue (see PredictiveState): the calendar's buckets, and the heap of the current one, a 4-ary

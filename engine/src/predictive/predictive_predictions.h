@@ -31,21 +31,6 @@ void Engine<W>::crossing(const Predicting& p, double& h, int& side) const {
 }
 
 template <class W>
-int Engine<W>::resolvedFeature(const BodySlot& a, const BodySlot& b, uint32_t own, uint32_t other, double now) const {
-  // As World::Impl::predict: the face a body slides on, or the feature of a contact that both bodies of
-  // the pair were last resolved on at this very instant.
-  if (a.support.generation != 0 && a.support.fixture == other) return a.support.feature;
-  if (a.last.time != now) return kNoFeature;
-  const uint32_t low = std::min(own, other), high = std::max(own, other);
-  auto resolvedHereNow = [&](const BodySlot& s) {
-    return s.type != BodyType::Dynamic ||
-           (s.last.time == now && s.last.fixtureLow == low && s.last.fixtureHigh == high);
-  };
-  if (resolvedHereNow(a) && resolvedHereNow(b)) return a.last.feature;
-  return kNoFeature;
-}
-
-template <class W>
 void Engine<W>::predictPair(uint32_t own, uint32_t other, double now, double horizon, PredictiveEvent& best,
                             int dismissed) {
   // World::Impl::predict, up to the body's horizon instead of the step's end.
@@ -54,7 +39,7 @@ void Engine<W>::predictPair(uint32_t own, uint32_t other, double now, double hor
   const BodySlot& a = w_.bodyOf(own);
   const BodySlot& b = w_.bodyOf(other);
   ++w_.stats.timeOfImpactTests;
-  const int resolved = dismissed != kNoFeature ? dismissed : resolvedFeature(a, b, own, other, now);
+  const int resolved = dismissed != kNoFeature ? dismissed : w_.resolvedFeature(a, b, own, other, now);
   const Vec2 pa = w_.positionAt(a, now);
   const Vec2 pb = w_.positionAt(b, now);
   const Vec2 vb = w_.velocityAt(b, now);
@@ -115,7 +100,7 @@ void Engine<W>::predictCircles(const Predicting& p, uint32_t j, double horizon, 
   }
   const ColdBody& ca = *p.cold;
   const ColdBody& cb = s_.cold[j];
-  // resolvedFeature() from the copies: both bodies' last contact is this pair, at this instant.
+  // World::Impl::resolvedFeature() from the copies: both bodies' last contact is this pair, at this instant.
   int resolved = kNoFeature;
   if (ca.lastTime == now) {
     const uint32_t low = std::min(a.fixture, b.fixture), high = std::max(a.fixture, b.fixture);

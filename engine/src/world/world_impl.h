@@ -320,6 +320,9 @@ struct World::Impl {
   void startSliding(uint32_t body, uint32_t fixture, int feature, Vec2 normal);
   void stopSliding(detail::BodySlot& b);
   bool isFlatFeature(uint32_t fixture, int feature) const;
+  bool leavesCorner(const detail::BodySlot& b, uint32_t fixture, int feature, double now) const;
+  int resolvedFeature(const detail::BodySlot& a, const detail::BodySlot& b, uint32_t own, uint32_t other,
+                      double now) const;
   bool supportsAt(uint32_t body, double now, std::vector<uint32_t>& supporters) const;
   std::optional<double> slideEndTime(const detail::BodySlot& b, double now, double dt) const;
 
