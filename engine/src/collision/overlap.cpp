@@ -261,7 +261,7 @@ std::optional<LocalHit> rayPoint(const ScaledRay& ray, Vec2 p) {
 // b^2 - a*c as Kahan's compensated 2x2 determinant: with w = a*c rounded, e = w - a*c is exact (one fma),
 // so b^2 - a*c = (b^2 - w) + (w - a*c) loses nothing to cancellation. Error <= 1.5 ulp for exact inputs
 // (Jeannerod, Louvet, Muller, Math. Comp. 82, 2013). std::fma is correctly rounded by IEEE 754, so this is
-// the same on every build. (The same helper as in time_of_impact.cpp, which keeps its own private.)
+// the same on every build. (Times of impact use plain_disk_impact.h's, the same arithmetic.)
 double discriminant(double b, double a, double c) {
   const double w = a * c;
   const double e = std::fma(-a, c, w);

@@ -2,8 +2,9 @@
 //
 // Under gravity, bodies pressed together (a column standing on a disk that slides on the floor, a pile)
 // can only be held by an endless stream of ever smaller collisions when contacts are instantaneous
-// events: inelastic collapse (McNamara & Young 1994; docs/numerics.md). Its cost grows with the number of
-// such contacts and not with what moves, and a poured pile of a few thousand disks never came to rest.
+// events: inelastic collapse (McNamara & Young, Phys. Rev. E 50, R28, 1994; docs/numerics.md). Its cost
+// grows with the number of such contacts and not with what moves, and a poured pile of a few thousand
+// disks never came to rest.
 // So a body that comes to rest on another movable body, and every body of a cluster caught in a
 // collapse (more than kJamCollisions collisions in one step), becomes *stepped*: from then on its
 // contacts with other stepped bodies and with what cannot move (static, sleeping and kinematic bodies)

@@ -2,9 +2,9 @@
 //
 // Under gravity, a stack of awake disks pressed together (a chain leaning on a wall, a cluster falling
 // into a corner) takes infinitely many ever smaller collisions in finite time: inelastic collapse
-// (McNamara & Young 1994; docs/numerics.md). Resolving one pair at a time is then Gauss-Seidel on the
-// cluster's contacts, one iteration per event, converging slowly and stopping the step at its event
-// budget. Most such clusters form through slow contacts and join a stepped island one pair at a time
+// (McNamara & Young, Phys. Rev. E 50, R28, 1994; docs/numerics.md). Resolving one pair at a time is
+// then Gauss-Seidel on the cluster's contacts, one iteration per event, converging slowly and stopping
+// the step at its event budget. Most such clusters form through slow contacts and join a stepped island one pair at a time
 // (island.cpp); when a body still collides more than kJamCollisions times in one step, its whole touching
 // cluster joins the islands at once and is solved with the island it touches.
 //
