@@ -149,7 +149,7 @@ double projectedSweep(const Contacts& contacts, std::vector<Vec2>& x, double ome
 
 }  // namespace
 
-std::vector<uint32_t> World::Impl::islandOf(const std::vector<uint32_t>& seeds, int hops) {
+std::vector<uint32_t> detail::WorldState::islandOf(const std::vector<uint32_t>& seeds, int hops) {
   // Stepped bodies reached from the seeds through candidate pairs, breadth first (so in a deterministic
   // order, seeds first): with hops < 0 everything a change of their motion can push within the step.
   std::vector<int>& slot = jamSlot;
@@ -177,7 +177,8 @@ std::vector<uint32_t> World::Impl::islandOf(const std::vector<uint32_t>& seeds, 
   return members;
 }
 
-int World::Impl::settleAround(const std::vector<uint32_t>& seeds, int hops, double now, double dt, uint64_t reportPair) {
+int detail::WorldState::settleAround(const std::vector<uint32_t>& seeds, int hops, double now, double dt,
+                                     uint64_t reportPair) {
   // The seeds and the stepped bodies within `hops` candidate pairs of them move; the rest of the island
   // keeps its paths. That part's edge may push it like a moving wall (a stepped body coming at it) and
   // so add energy that the whole island would not (it would slow the pusher), or ask the impossible of a
@@ -230,7 +231,7 @@ int World::Impl::settleAround(const std::vector<uint32_t>& seeds, int hops, doub
   return solve.reported;
 }
 
-void World::Impl::settleUnsolvedIslandPairs(double now, double dt) {
+void detail::WorldState::settleUnsolvedIslandPairs(double now, double dt) {
   // A solve can send a body beyond the box the sweep saw: asking the broad phase again (repredict) may
   // then find contacts an island holds that no solve has seen, which are solved in turn. Each round moves
   // bodies less; a few rounds at most (the boxes were made with room to spare).
@@ -247,7 +248,7 @@ void World::Impl::settleUnsolvedIslandPairs(double now, double dt) {
   settlingUnsolved = false;
 }
 
-void World::Impl::joinIslands(const std::vector<uint32_t>& joining, double now, double dt) {
+void detail::WorldState::joinIslands(const std::vector<uint32_t>& joining, double now, double dt) {
   for (uint32_t i : joining) {
     BodySlot& b = bodies[i];
     if (b.stepped) continue;
@@ -263,7 +264,7 @@ void World::Impl::joinIslands(const std::vector<uint32_t>& joining, double now, 
 // The members' contacts with one another and with what holds them (static, kinematic, sleeping and
 // stepped non-member bodies) within reach of the rest of the step, into islandScratch, with their clocks
 // moved to `now`. Returns the fastest speed at play (at least restingSpeed).
-double World::Impl::gatherIslandContacts(const std::vector<uint32_t>& members, double now, double h) {
+double detail::WorldState::gatherIslandContacts(const std::vector<uint32_t>& members, double now, double h) {
   std::vector<int>& slot = jamSlot;  // body -> index into members; -1 outside (reset on the way out)
   if (slot.size() < bodies.size()) slot.resize(bodies.size(), -1);
   for (size_t k = 0; k < members.size(); ++k) slot[members[k]] = static_cast<int>(k);
@@ -320,7 +321,7 @@ double World::Impl::gatherIslandContacts(const std::vector<uint32_t>& members, d
   return speed;
 }
 
-void World::Impl::keepIslandEnergy(const std::vector<uint32_t>& members, std::vector<Vec2>& v, double h) const {
+void detail::WorldState::keepIslandEnergy(const std::vector<uint32_t>& members, std::vector<Vec2>& v, double h) const {
   // Energy never rises, by construction rather than by convergence. Before the solve each member had
   // v0 - g h (v0 carries the rest of the step's gravity); after it, it moves along v for the rest of the
   // step. Projecting never adds kinetic energy, but under gravity it can turn a fall into a rise: a wedge
@@ -356,7 +357,7 @@ void World::Impl::keepIslandEnergy(const std::vector<uint32_t>& members, std::ve
 
 // Marks what the solve's contacts held, and reports as collisions those that closed faster than
 // reportAbove (and reportPair's), at most maxReports. Returns how many it reported.
-int World::Impl::reportIslandContacts(double now, double reportAbove, uint64_t reportPair, int maxReports) {
+int detail::WorldState::reportIslandContacts(double now, double reportAbove, uint64_t reportPair, int maxReports) {
   const std::vector<IslandContact>& contacts = islandScratch;
   int reported = 0;
   for (const IslandContact& c : contacts) {
@@ -382,9 +383,9 @@ int World::Impl::reportIslandContacts(double now, double reportAbove, uint64_t r
   return reported;
 }
 
-World::Impl::IslandSolve World::Impl::solveIsland(const std::vector<uint32_t>& members, double now, double dt,
-                                                  double reportAbove, uint64_t reportPair, bool warmStart,
-                                                  bool whole, int maxReports) {
+detail::WorldState::IslandSolve detail::WorldState::solveIsland(const std::vector<uint32_t>& members, double now,
+                                                                double dt, double reportAbove, uint64_t reportPair,
+                                                                bool warmStart, bool whole, int maxReports) {
   const double h = dt - now;
   const double speed = gatherIslandContacts(members, now, h);
   std::vector<IslandContact>& contacts = islandScratch;
@@ -469,7 +470,8 @@ World::Impl::IslandSolve World::Impl::solveIsland(const std::vector<uint32_t>& m
   return {reported, converged || violation <= 1e-4 * (speed + length(def.gravity) * h)};
 }
 
-bool World::Impl::projectIslandExactly(const std::vector<uint32_t>& members, std::vector<Vec2>& v, double tolerance) {
+bool detail::WorldState::projectIslandExactly(const std::vector<uint32_t>& members, std::vector<Vec2>& v,
+                                              double tolerance) {
   // The same contacts as the sweeps, from the velocities before them (the bodies', without the warm
   // start).
   const std::vector<IslandContact>& contacts = islandScratch;
@@ -493,7 +495,7 @@ bool World::Impl::projectIslandExactly(const std::vector<uint32_t>& members, std
   return true;
 }
 
-void World::Impl::separateIsland(const std::vector<uint32_t>& members, const std::vector<Vec2>& v, double h) {
+void detail::WorldState::separateIsland(const std::vector<uint32_t>& members, const std::vector<Vec2>& v, double h) {
   // Overlap left by a solve that stopped short of its tolerance would otherwise stay (a touching
   // contact's target is 0, not a push apart) and grow step by step in a crowd that keeps pressing. It is
   // taken out by moving positions, not velocities (the split impulse of Catto's Box2D v2.x TOI solver
@@ -571,7 +573,7 @@ void World::Impl::separateIsland(const std::vector<uint32_t>& members, const std
   }
 }
 
-void World::Impl::startIslands(double dt, std::vector<uint32_t>& freed) {
+void detail::WorldState::startIslands(double dt, std::vector<uint32_t>& freed) {
   islandImpulses.swap(islandNext);
   stepStart.islandsSwapped = true;
   islandNext.clear();
@@ -614,7 +616,7 @@ void World::Impl::startIslands(double dt, std::vector<uint32_t>& freed) {
   for (size_t k = 0; k < stepped.size(); ++k) steppedCounts[k] = bodies[stepped[k]].collisionCount;
 }
 
-void World::Impl::endIslands(double end) {
+void detail::WorldState::endIslands(double end) {
   // Without gravity nothing holds a body at rest (no up): it stays stepped while its contacts push, and
   // is free again at the start of the first step in which none does.
   if (stepped.empty() || (def.gravity.x == 0 && def.gravity.y == 0)) return;

@@ -4,9 +4,9 @@
 // into a corner) takes infinitely many ever smaller collisions in finite time: inelastic collapse
 // (McNamara & Young, Phys. Rev. E 50, R28, 1994; docs/numerics.md). Resolving one pair at a time is
 // then Gauss-Seidel on the cluster's contacts, one iteration per event, converging slowly and stopping
-// the step at its event budget. Most such clusters form through slow contacts and join a stepped island one pair at a time
-// (island.cpp); when a body still collides more than kJamCollisions times in one step, its whole touching
-// cluster joins the islands at once and is solved with the island it touches.
+// the step at its event budget. Most such clusters form through slow contacts and join a stepped island
+// one pair at a time (island.cpp); when a body still collides more than kJamCollisions times in one step,
+// its whole touching cluster joins the islands at once and is solved with the island it touches.
 //
 // Without gravity the same happens to a cluster the game keeps driving into itself (a crowd steered into
 // a doorway: BodySlot::driven, after kJamCollisions) and to one nobody drives that collapses (after the
@@ -30,7 +30,7 @@ constexpr size_t kMaxJamBodies = 4096;
 
 }  // namespace
 
-bool World::Impl::isJammed(uint32_t bodyIndex) {
+bool detail::WorldState::isJammed(uint32_t bodyIndex) {
   BodySlot& s = bodies[bodyIndex];
   if (s.type != BodyType::Dynamic || s.asleep || s.jamTime == kJamRefused) return false;
   if (!(def.restingSpeed > 0)) return false;
@@ -44,7 +44,7 @@ bool World::Impl::isJammed(uint32_t bodyIndex) {
   return s.countStepCollision() > kJamCollisions;
 }
 
-bool World::Impl::settleJamAt(const detail::PredictedContact& c, double dt) {
+bool detail::WorldState::settleJamAt(const detail::PredictedContact& c, double dt) {
   const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
   const bool jamA = isJammed(ia), jamB = isJammed(ib);
   if (!jamA && !jamB) return false;
@@ -53,7 +53,7 @@ bool World::Impl::settleJamAt(const detail::PredictedContact& c, double dt) {
   return events > 0;
 }
 
-bool World::Impl::settledTogether(const BodySlot& a, const BodySlot& b, double now) const {
+bool detail::WorldState::settledTogether(const BodySlot& a, const BodySlot& b, double now) const {
   const bool aFree = a.type == BodyType::Dynamic && !a.asleep, bFree = b.type == BodyType::Dynamic && !b.asleep;
   if (!aFree && !bFree) return false;
   const BodySlot& settled = aFree ? a : b;
@@ -62,14 +62,14 @@ bool World::Impl::settledTogether(const BodySlot& a, const BodySlot& b, double n
   return !(other.type == BodyType::Dynamic && !other.asleep) || (other.jam == settled.jam && other.jamTime == now);
 }
 
-void World::Impl::refuseJam(const std::vector<uint32_t>& cluster) {
+void detail::WorldState::refuseJam(const std::vector<uint32_t>& cluster) {
   for (uint32_t i : cluster) {
     bodies[i].jamTime = kJamRefused;
     bodies[i].stepLocalsSet = true;
   }
 }
 
-double World::Impl::islandResidual(double h) const {
+double detail::WorldState::islandResidual(double h) const {
   // The worst overlap the last solve's contacts reach within h beyond what they had (a fixture created
   // overlapping others is not the solve's doing), beyond kJamResidual of the radius.
   double worst = -std::numeric_limits<double>::infinity();
@@ -82,7 +82,7 @@ double World::Impl::islandResidual(double h) const {
   return worst;
 }
 
-int World::Impl::settleJam(uint32_t seed, double now, double dt, int budget) {
+int detail::WorldState::settleJam(uint32_t seed, double now, double dt, int budget) {
   // Touching: within the gap a contact at restingSpeed closes before it rests, under gravity (v^2 / g),
   // and without it within what restingSpeed closes in the step.
   const double g = length(def.gravity);

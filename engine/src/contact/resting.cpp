@@ -51,12 +51,12 @@ bool flatFeature(const Geometry& g, int feature, Vec2& a, Vec2& b) {
 
 }  // namespace
 
-bool World::Impl::isFlatFeature(uint32_t fixture, int feature) const {
+bool detail::WorldState::isFlatFeature(uint32_t fixture, int feature) const {
   Vec2 a, b;
   return flatFeature(fixtures[fixture].geometry, feature, a, b);
 }
 
-bool World::Impl::leavesCorner(const BodySlot& b, uint32_t fixture, int feature, double now) const {
+bool detail::WorldState::leavesCorner(const BodySlot& b, uint32_t fixture, int feature, double now) const {
   // A point that reached the end of the face it slides on was resolved against the face it met there
   // (fixture, feature) and then began to slide at the same instant: it sits on both lines, in the corner
   // between them, on the side of the second face where the first one lies (it came along the first).
@@ -66,7 +66,6 @@ bool World::Impl::leavesCorner(const BodySlot& b, uint32_t fixture, int feature,
   if (!flatFeature(fixtures[b.support.fixture].geometry, b.support.feature, s0, s1)) return true;
   if (!flatFeature(fixtures[fixture].geometry, feature, f0, f1)) return true;
   const Vec2 supportAt = bodies[fixtures[b.support.fixture].body].position;
-  const Vec2 faceAt = bodies[fixtures[fixture].body].position;
   const Vec2 p = positionAt(b, now) + detail::circleCentre(fixtures[b.fixtures.front()].geometry);
   const Vec2 near = supportAt + s0, far = supportAt + s1;
   const Vec2 away = length(near - p) > length(far - p) ? near : far;  // the support's other end
@@ -77,7 +76,7 @@ bool World::Impl::leavesCorner(const BodySlot& b, uint32_t fixture, int feature,
   return side == 0 || dot(relative, normal) * side >= 0;
 }
 
-bool World::Impl::supportsAt(uint32_t bodyIndex, double now, std::vector<uint32_t>& supporters) const {
+bool detail::WorldState::supportsAt(uint32_t bodyIndex, double now, std::vector<uint32_t>& supporters) const {
   const BodySlot& body = bodies[bodyIndex];
   const Vec2 up = -def.gravity * (1.0 / length(def.gravity));
   supporters.clear();
@@ -119,7 +118,7 @@ bool World::Impl::supportsAt(uint32_t bodyIndex, double now, std::vector<uint32_
   return false;
 }
 
-void World::Impl::sleepIfZeno(uint32_t bodyIndex, double now) {
+void detail::WorldState::sleepIfZeno(uint32_t bodyIndex, double now) {
   // A body wedged where the independent-collision model needs infinitely many bounces (a narrowing gap
   // between a wall and a resting disk) collides ever faster without coming to rest. Once it has collided
   // kZenoCollisions times in one step while held up by static or sleeping bodies, it sleeps where it is,
@@ -134,7 +133,7 @@ void World::Impl::sleepIfZeno(uint32_t bodyIndex, double now) {
   }
 }
 
-void World::Impl::putToSleep(uint32_t bodyIndex, const std::vector<uint32_t>& supporters) {
+void detail::WorldState::putToSleep(uint32_t bodyIndex, const std::vector<uint32_t>& supporters) {
   BodySlot& b = bodies[bodyIndex];
   keep(b);
   b.asleep = true;
@@ -146,13 +145,13 @@ void World::Impl::putToSleep(uint32_t bodyIndex, const std::vector<uint32_t>& su
   for (uint32_t s : supporters) dependents[s].push_back(bodyIndex);
 }
 
-void World::Impl::wakeUp(uint32_t bodyIndex, double now, std::vector<uint32_t>& woken) {
+void detail::WorldState::wakeUp(uint32_t bodyIndex, double now, std::vector<uint32_t>& woken) {
   const size_t from = woken.size();
   collectWake(bodyIndex, woken);
   applyWake(woken, from, now);
 }
 
-void World::Impl::collectWake(uint32_t bodyIndex, std::vector<uint32_t>& woken) const {
+void detail::WorldState::collectWake(uint32_t bodyIndex, std::vector<uint32_t>& woken) const {
   if (!bodies[bodyIndex].alive || !bodies[bodyIndex].asleep) return;  // a game's every tick: no allocation
   // Iterative, in a fixed order: a tall pile wakes layer by layer without deep recursion. A body is
   // listed once, at its first visit; `seen` (sorted) holds what `woken` holds.
@@ -173,7 +172,7 @@ void World::Impl::collectWake(uint32_t bodyIndex, std::vector<uint32_t>& woken) 
   }
 }
 
-void World::Impl::applyWake(const std::vector<uint32_t>& woken, size_t from, double now) {
+void detail::WorldState::applyWake(const std::vector<uint32_t>& woken, size_t from, double now) {
   for (size_t k = from; k < woken.size(); ++k) {
     const uint32_t i = woken[k];
     BodySlot& b = bodies[i];
@@ -193,7 +192,7 @@ void World::Impl::applyWake(const std::vector<uint32_t>& woken, size_t from, dou
   }
 }
 
-void World::Impl::startSliding(uint32_t bodyIndex, uint32_t fixture, int feature, Vec2 normal) {
+void detail::WorldState::startSliding(uint32_t bodyIndex, uint32_t fixture, int feature, Vec2 normal) {
   BodySlot& b = bodies[bodyIndex];
   keep(b);
   b.setSupport(detail::Support{fixture, fixtures[fixture].generation, feature, normal});
@@ -201,13 +200,13 @@ void World::Impl::startSliding(uint32_t bodyIndex, uint32_t fixture, int feature
   b.acceleration = def.gravity - normal * dot(def.gravity, normal);
 }
 
-void World::Impl::stopSliding(BodySlot& b) {
+void detail::WorldState::stopSliding(BodySlot& b) {
   keep(b);
   b.clearSupport();
   if (!b.asleep) b.acceleration = def.gravity;
 }
 
-std::optional<double> World::Impl::slideEndTime(const BodySlot& b, double now, double dt) const {
+std::optional<double> detail::WorldState::slideEndTime(const BodySlot& b, double now, double dt) const {
   const detail::FixtureSlot& face = fixtures[b.support.fixture];
   Vec2 a, e;
   flatFeature(face.geometry, b.support.feature, a, e);

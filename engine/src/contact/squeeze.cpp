@@ -19,7 +19,7 @@ namespace rattle {
 
 using detail::BodySlot;
 
-bool World::Impl::squeezeExempt(uint32_t fa, uint32_t fb) const {
+bool detail::WorldState::squeezeExempt(uint32_t fa, uint32_t fb) const {
   const uint64_t key = islandKey(fa, fb);
   for (const Squeeze& s : squeezes) {
     if (s.key == key) return true;
@@ -27,7 +27,7 @@ bool World::Impl::squeezeExempt(uint32_t fa, uint32_t fb) const {
   return false;
 }
 
-void World::Impl::refreshSqueezes() {
+void detail::WorldState::refreshSqueezes() {
   // The counts start again each step (the predictive mode's step after a plain one does not reset them).
   for (uint32_t body : squeezeCounted) bodies[body].stepCollisions = 0;
   squeezeCounted.clear();
@@ -45,7 +45,7 @@ void World::Impl::refreshSqueezes() {
   });
 }
 
-bool World::Impl::squeezeAt(const detail::PredictedContact& c) {
+bool detail::WorldState::squeezeAt(const detail::PredictedContact& c) {
   const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
   BodySlot& a = bodies[ia];
   const BodySlot& b = bodies[ib];

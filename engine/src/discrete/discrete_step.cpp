@@ -57,7 +57,7 @@ std::optional<Penetration> penetration(Vec2 c, double r, const Geometry& g, Vec2
 
 }  // namespace
 
-void World::Impl::stepDiscrete(double dt) {
+void detail::WorldState::stepDiscrete(double dt) {
   contactEvents.clear();
   sensorEvents.swap(pendingSensorEvents);
   pendingSensorEvents.clear();

@@ -2,7 +2,7 @@
 //
 //  1. Every fixture of a moving body gets the box of its path over the step (a straight line, or a
 //     parabola under gravity); sleeping bodies count as resting. Without gravity a slow plain disk's box
-//     also has room for a turn at 1.5 times its speed (World::Impl::kPlainSlack), so that after most of
+//     also has room for a turn at 1.5 times its speed (detail::WorldState::kPlainSlack), so that after most of
 //     its collisions step 4 need not ask the broad phase again.
 //  2. Sort-and-sweep turns overlapping boxes into candidate pairs (static-static and filtered pairs
 //     never get this far; sensors wait for step 6). Without gravity the broad phase keeps the pairs of
@@ -64,7 +64,7 @@ using detail::BodySlot;
 using detail::PredictedContact;
 using detail::pathBox;
 
-void World::Impl::addPair(uint32_t fa, uint32_t fb) {
+void detail::WorldState::addPair(uint32_t fa, uint32_t fb) {
   const uint32_t ba = fixtures[fa].body, bb = fixtures[fb].body;
   if (bodies[ba].type == BodyType::Dynamic) pairsOfBody[ba].push_back({fa, fb});
   if (bodies[bb].type == BodyType::Dynamic) pairsOfBody[bb].push_back({fb, fa});
@@ -81,14 +81,15 @@ bool hasSeveralFeatures(const Geometry& g) {
 
 // The feature of `other` that `own` cannot be approaching now (TimeOfImpact's resolvedFeature): the
 // face its body slides on, or the one both bodies of the pair were last resolved on at this instant.
-int World::Impl::resolvedFeature(const BodySlot& a, const BodySlot& b, uint32_t own, uint32_t other,
+int detail::WorldState::resolvedFeature(const BodySlot& a, const BodySlot& b, uint32_t own, uint32_t other,
                                  double now) const {
   int resolved = kNoFeature;
   // Round-off guard (see LastContact): if every dynamic body of the pair was last resolved against
   // this same pair at this same instant, the feature it touched cannot be approaching now.
   const uint32_t low = std::min(own, other), high = std::max(own, other);
   auto resolvedHereNow = [&](const BodySlot& s) {
-    return s.type != BodyType::Dynamic || (s.last.time == now && s.last.fixtureLow == low && s.last.fixtureHigh == high);
+    return s.type != BodyType::Dynamic ||
+           (s.last.time == now && s.last.fixtureLow == low && s.last.fixtureHigh == high);
   };
   const bool lastHere = a.last.time == now && resolvedHereNow(a) && resolvedHereNow(b);
   // A point has no overlap to tell which side of a line it is on (time_of_impact.h); in a corner it is
@@ -108,7 +109,7 @@ int World::Impl::resolvedFeature(const BodySlot& a, const BodySlot& b, uint32_t 
   return resolved;
 }
 
-void World::Impl::predict(uint32_t own, uint32_t other, double now, double dt, int dismissed) {
+void detail::WorldState::predict(uint32_t own, uint32_t other, double now, double dt, int dismissed) {
   const BodySlot& a = bodyOf(own);
   const BodySlot& b = bodyOf(other);
   if (heldByIsland(a, b)) return;  // the island's solve holds this contact (island.cpp)
@@ -128,7 +129,7 @@ void World::Impl::predict(uint32_t own, uint32_t other, double now, double dt, i
   }
 }
 
-void World::Impl::queueContact(const Impact& impact, uint32_t own, uint32_t other, uint32_t countOwn,
+void detail::WorldState::queueContact(const Impact& impact, uint32_t own, uint32_t other, uint32_t countOwn,
                                uint32_t countOther, Vec2 velocityOfOther, Vec2 accelerationOfOther, double now,
                                double dt, bool afterDismissal) {
   // The impact's point is in the frame where `other` rests; in the world it has moved with it.
@@ -141,7 +142,7 @@ void World::Impl::queueContact(const Impact& impact, uint32_t own, uint32_t othe
   std::push_heap(queue.begin(), queue.end(), detail::later);
 }
 
-void World::Impl::predictPlainPair(uint32_t fa, uint32_t fb, uint32_t ba, uint32_t bb, double dt) {
+void detail::WorldState::predictPlainPair(uint32_t fa, uint32_t fb, uint32_t ba, uint32_t bb, double dt) {
   // The sweep's candidate pair of two plain disks at the step's start: canCollide, addPair and
   // predict(own, other, 0, dt) as for any pair, reading each body's first line and its DiskShape instead
   // of its fixture. The arithmetic is predict's and timeOfImpact's for two circles centred on their
@@ -171,7 +172,7 @@ void World::Impl::predictPlainPair(uint32_t fa, uint32_t fb, uint32_t ba, uint32
   queueContact(*impact, own, other, a.collisionCount, b.collisionCount, velocityB, def.gravity, 0.0, dt);
 }
 
-void World::Impl::predictSlideEnd(uint32_t bodyIndex, double now, double dt) {
+void detail::WorldState::predictSlideEnd(uint32_t bodyIndex, double now, double dt) {
   const BodySlot& b = bodies[bodyIndex];
   if (b.support.generation == 0) return;
   const auto t = slideEndTime(b, now, dt);
@@ -189,7 +190,7 @@ void World::Impl::predictSlideEnd(uint32_t bodyIndex, double now, double dt) {
   std::push_heap(queue.begin(), queue.end(), detail::later);
 }
 
-void World::Impl::repredict(uint32_t bodyIndex, double now, double dt, bool forceRequery) {
+void detail::WorldState::repredict(uint32_t bodyIndex, double now, double dt, bool forceRequery) {
   BodySlot& body = bodies[bodyIndex];
   recordPath(bodyIndex, now);
   auto& pairs = pairsOfBody[bodyIndex];
@@ -221,13 +222,13 @@ void World::Impl::repredict(uint32_t bodyIndex, double now, double dt, bool forc
   predictSlideEnd(bodyIndex, now, dt);
 }
 
-void World::Impl::advance(BodySlot& b, double t) {
+void detail::WorldState::advance(BodySlot& b, double t) {
   if (b.type != BodyType::Dynamic) return;  // kinematic paths are evaluated from the step start
   keep(b);  // every change of a body within a step starts here, or says so (step_undo.cpp)
   moveTo(b, t);
 }
 
-void World::Impl::absorb(const PredictedContact& c, double vn) {
+void detail::WorldState::absorb(const PredictedContact& c, double vn) {
   BodySlot& a = bodyOf(c.a);
   BodySlot& b = bodyOf(c.b);
   advance(a, c.time);
@@ -247,7 +248,7 @@ void World::Impl::absorb(const PredictedContact& c, double vn) {
   }
 }
 
-bool World::Impl::joinsIsland(const PredictedContact& c) const {
+bool detail::WorldState::joinsIsland(const PredictedContact& c) const {
   if (!(def.restingSpeed > 0)) return false;
   const BodySlot& a = bodyOf(c.a);
   const BodySlot& b = bodyOf(c.b);
@@ -263,7 +264,7 @@ bool World::Impl::joinsIsland(const PredictedContact& c) const {
   return -e * vn < def.restingSpeed;
 }
 
-void World::Impl::resolve(const PredictedContact& c, std::vector<uint32_t>& woken, bool zenoGuard) {
+void detail::WorldState::resolve(const PredictedContact& c, std::vector<uint32_t>& woken, bool zenoGuard) {
   const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
   BodySlot& a = bodies[ia];
   BodySlot& b = bodies[ib];
@@ -379,7 +380,7 @@ void World::Impl::resolve(const PredictedContact& c, std::vector<uint32_t>& woke
   contactEvents.push_back(event);
 }
 
-void World::Impl::learnDiskShape(uint32_t bodyIndex) {
+void detail::WorldState::learnDiskShape(uint32_t bodyIndex) {
   BodySlot& b = bodies[bodyIndex];
   uint32_t physical = 0, f = 0;
   for (uint32_t g : b.fixtures) {
@@ -403,7 +404,7 @@ void World::Impl::learnDiskShape(uint32_t bodyIndex) {
   b.diskShapeKnown = true;
 }
 
-[[gnu::always_inline]] inline void World::Impl::prefetchFirstPass(uint32_t i, uint32_t count) const {
+[[gnu::always_inline]] inline void detail::WorldState::prefetchFirstPass(uint32_t i, uint32_t count) const {
   // The first pass streams several arrays at once (the bodies' first lines, the pair lists' headers, the
   // disk shapes, the proxies and their reaches), which the hardware prefetcher does not keep ahead of:
   // it stops at every 4 KiB page, 21 BodySlots. Asked for kStreamAhead bodies ahead, and what depends on
@@ -427,7 +428,7 @@ void World::Impl::learnDiskShape(uint32_t bodyIndex) {
 
 // 1. Swept boxes. A sleeping body does not move this step: its proxies count as resting. Returns the
 // fastest speed in the world this step.
-double World::Impl::sweepBoxes(double dt) {
+double detail::WorldState::sweepBoxes(double dt) {
   double speedScale = 0, straightSpeedSquared = 0;
   sliding.clear();
   stepped.clear();
@@ -530,7 +531,7 @@ double World::Impl::sweepBoxes(double dt) {
 
 // 2 and 3. Candidate pairs and their first predictions; a pair with a stepped body waits for its
 // island's solve (deferred).
-void World::Impl::predictCandidatePairs(double dt) {
+void detail::WorldState::predictCandidatePairs(double dt) {
   deferred.clear();
   // Without gravity nothing reads the pairs in the order the sweep found them (island solves do), so the
   // broad phase may keep them from step to step.
@@ -590,7 +591,7 @@ void World::Impl::predictCandidatePairs(double dt) {
 }
 
 // Stepped islands (island.cpp): gravity and the solve, then the predictions that wait for them.
-void World::Impl::startIslandsAndPredict(double dt) {
+void detail::WorldState::startIslandsAndPredict(double dt) {
   std::vector<uint32_t>& freed = islandFreed;
   startIslands(dt, freed);
   for (uint32_t i : stepped) recordPath(i, 0);
@@ -616,7 +617,7 @@ void World::Impl::startIslandsAndPredict(double dt) {
 // 4. Events in time order, up to the step's end or the instant the event budget runs out (returned).
 // A predicted contact that no longer approaches (beyond round-off) and that nothing presses: no collision.
 // Its tiny approach is absorbed, or the pair is predicted again without the feature it names.
-void World::Impl::dismissContact(const PredictedContact& c, double dt, double vn, Vec2 relativeVelocity,
+void detail::WorldState::dismissContact(const PredictedContact& c, double dt, double vn, Vec2 relativeVelocity,
                                  double restTolerance, int& featureRepredictions) {
   const BodySlot& a = bodyOf(c.a);
   const BodySlot& b = bodyOf(c.b);
@@ -665,7 +666,7 @@ void World::Impl::dismissContact(const PredictedContact& c, double dt, double vn
 
 // A collision at c.time: a jam, a squeeze, a join to an island, or resolved as a pair (then the parts of
 // their islands that its stepped bodies are in are solved again for the rest of the step).
-void World::Impl::collide(const PredictedContact& c, double dt, std::vector<uint32_t>& woken) {
+void detail::WorldState::collide(const PredictedContact& c, double dt, std::vector<uint32_t>& woken) {
   // A body caught in a collapse or a jam collides ever faster without coming to rest (jam.cpp).
   if (settleJamAt(c, dt)) return;
   // Or between bodies that do not yield (squeeze.cpp).
@@ -686,7 +687,7 @@ void World::Impl::collide(const PredictedContact& c, double dt, std::vector<uint
       ++s.collisionCount;
       s.lastContactTime = time + c.time;
     }
-    stats.eventsProcessed += std::max(1, settleAround(pair, 2, c.time, dt, World::Impl::islandKey(c.a, c.b)));
+    stats.eventsProcessed += std::max(1, settleAround(pair, 2, c.time, dt, detail::WorldState::islandKey(c.a, c.b)));
     return;
   }
   woken.clear();
@@ -718,7 +719,7 @@ void World::Impl::collide(const PredictedContact& c, double dt, std::vector<uint
   if (bodies[ib].type == BodyType::Dynamic) repredict(ib, c.time, dt, bWoke);
 }
 
-double World::Impl::processEvents(double dt, double approachTolerance) {
+double detail::WorldState::processEvents(double dt, double approachTolerance) {
   std::vector<uint32_t> woken;
   int featureRepredictions = 0;
   double budgetTime = dt;
@@ -784,7 +785,7 @@ double World::Impl::processEvents(double dt, double approachTolerance) {
   return budgetTime;
 }
 
-void World::Impl::stepHybrid(double dt) {
+void detail::WorldState::stepHybrid(double dt) {
   contactEvents.clear();
   sensorEvents.swap(pendingSensorEvents);
   pendingSensorEvents.clear();

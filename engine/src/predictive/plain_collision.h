@@ -2,7 +2,7 @@
 // default filter), resolved on the compact copies (HotBody, ColdBody) instead of the two
 // BodySlots and FixtureSlots, which are written back later (the engine's attach()).
 //
-// It is World::Impl::resolve() (hybrid_step.cpp) for the case the predictive mode takes it in when the
+// It is detail::WorldState::resolve() (hybrid_step.cpp) for the case the predictive mode takes it in when the
 // world has no gravity, no sensors and nobody asleep: no wake-ups, no Zeno guard (it counts only under
 // gravity), no resting rules (they need gravity pressing the pair together), no slides. What is left is
 // the same arithmetic in the same order, so the same bits: Newton's law along the normal with
@@ -18,7 +18,7 @@
 
 namespace rattle::detail {
 
-// Motion of a hot copy: the same expressions as World::Impl::positionAt and velocityAt, so the same
+// Motion of a hot copy: the same expressions as detail::WorldState::positionAt and velocityAt, so the same
 // values.
 inline Vec2 positionAt(const HotBody& b, Vec2 acceleration, double t) {
   const double h = t - b.localTime;
@@ -44,7 +44,7 @@ struct PlainOutcome {
 inline PlainOutcome resolvePlainDisks(PlainDisk a, PlainDisk b, const PredictiveEvent& c, double worldTime,
                                       double collapseTime, double tolerance, int collapseCollisions) {
   const double t = c.time;
-  for (HotBody* h : {&a.hot, &b.hot}) {  // World::Impl::advance
+  for (HotBody* h : {&a.hot, &b.hot}) {  // detail::WorldState::advance
     h->position = positionAt(*h, Vec2{}, t);
     h->velocity = velocityAt(*h, Vec2{}, t);
     h->localTime = t;

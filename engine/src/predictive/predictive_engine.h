@@ -130,7 +130,7 @@ int32_t cellCoord(double x, double origin, double size) {
 using detail::ColdBody;
 using detail::HotBody;
 
-// Motion of a hot copy: the same expressions as World::Impl::positionAt and velocityAt, so the same
+// Motion of a hot copy: the same expressions as detail::WorldState::positionAt and velocityAt, so the same
 // values (the acceleration is read only when it is not zero).
 Vec2 accelerationOf(const HotBody& h, const detail::RareBody& r) {
   return (h.flags & HotBody::kAccelerating) ? r.acceleration : Vec2{};
@@ -161,13 +161,14 @@ struct Predicting {
   const ColdBody* cold;
 };
 
-// The predictive step over a World::Impl (a template only so that this file can name the world's
-// private implementation type through a parameter). Indices named `i`, `j`, `slot` are slots of tracked
-// bodies (PredictiveState); `body` is an index into World::Impl::bodies.
-template <class W>
+// The predictive step over the world's state (detail::WorldState) and its own (PredictiveState). Its
+// parts are in predictive_setup.h, predictive_predictions.h and predictive_queue.h, which only
+// predictive_step.cpp includes: one translation unit, so that the per-event calls stay inlined. Indices
+// named `i`, `j`, `slot` are slots of tracked bodies (PredictiveState); `body` is an index into
+// detail::WorldState::bodies.
 class Engine {
  public:
-  Engine(W& w, PredictiveState& s) : w_(w), s_(s) {}
+  Engine(detail::WorldState& w, PredictiveState& s) : w_(w), s_(s) {}
   /// How far the step went: the whole step (dt); 0, having changed nothing the caller sees, when a body
   /// is too fast for the grid this step (kFollowCells); or the instant at which a pile under gravity
   /// (or a driven jam) took a body past kPileCollisions (the world is then at that instant, and the caller steps the rest
@@ -192,7 +193,7 @@ class Engine {
   static constexpr uint32_t kCrowdedCell = 1024;
 
  private:
-  W& w_;
+  detail::WorldState& w_;
   PredictiveState& s_;
   // The slot whose event was just taken from the queue and is being handled. Its entry stays in the heap
   // until the body's next prediction replaces it in place (one sift instead of a removal and an

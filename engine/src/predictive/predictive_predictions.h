@@ -9,8 +9,7 @@
 namespace rattle {
 namespace {
 
-template <class W>
-void Engine<W>::crossing(const Predicting& p, double& h, int& side) const {
+void Engine::crossing(const Predicting& p, double& h, int& side) const {
   const Vec2 c = p.position + p.centre;
   const Vec2 v = p.velocity;
   const Vec2 a = p.acceleration;
@@ -30,10 +29,9 @@ void Engine<W>::crossing(const Predicting& p, double& h, int& side) const {
   if (y < kMaxCoord) keep(exitTime((s_.y0 + (y + 1.0) * s + d) - c.y, -v.y, -0.5 * a.y), 3);
 }
 
-template <class W>
-void Engine<W>::predictPair(uint32_t own, uint32_t other, double now, double horizon, PredictiveEvent& best,
+void Engine::predictPair(uint32_t own, uint32_t other, double now, double horizon, PredictiveEvent& best,
                             int dismissed) {
-  // World::Impl::predict, up to the body's horizon instead of the step's end.
+  // detail::WorldState::predict, up to the body's horizon instead of the step's end.
   attachFixture(own);
   attachFixture(other);
   const BodySlot& a = w_.bodyOf(own);
@@ -63,8 +61,7 @@ void Engine<W>::predictPair(uint32_t own, uint32_t other, double now, double hor
   if (earlier(e, best)) best = e;
 }
 
-template <class W>
-void Engine<W>::predictCircles(const Predicting& p, uint32_t j, double horizon, PredictiveEvent& best) {
+void Engine::predictCircles(const Predicting& p, uint32_t j, double horizon, PredictiveEvent& best) {
   // Two single-circle dynamic bodies, from their copies: the same arithmetic as predictPair through the
   // dispatcher (timeOfImpact's circle-circle entry), with a cheap rejection of receding pairs first.
   const HotBody& a = *p.hot;
@@ -100,7 +97,7 @@ void Engine<W>::predictCircles(const Predicting& p, uint32_t j, double horizon, 
   }
   const ColdBody& ca = *p.cold;
   const ColdBody& cb = s_.cold[j];
-  // World::Impl::resolvedFeature() from the copies: both bodies' last contact is this pair, at this instant.
+  // detail::WorldState::resolvedFeature() from the copies: both bodies' last contact is this pair, at this instant.
   int resolved = kNoFeature;
   if (ca.lastTime == now) {
     const uint32_t low = std::min(a.fixture, b.fixture), high = std::max(a.fixture, b.fixture);
@@ -119,8 +116,7 @@ void Engine<W>::predictCircles(const Predicting& p, uint32_t j, double horizon, 
   if (earlier(e, best)) best = e;
 }
 
-template <class W>
-void Engine<W>::startPrediction(uint32_t i, double now, Prediction& q) const {
+void Engine::startPrediction(uint32_t i, double now, Prediction& q) const {
   // The body's earliest event from `now` on. A moving body looks at everything near it up to its cell
   // crossing (or a horizon), after which it is predicted again anyway. A body at rest has no crossing:
   // it looks at each moving neighbour up to that neighbour's own next event, when the neighbour is
@@ -160,8 +156,7 @@ void Engine<W>::startPrediction(uint32_t i, double now, Prediction& q) const {
   q.horizon = best.time;
 }
 
-template <class W>
-void Engine<W>::pairWith(Prediction& q, uint32_t j, double until) {
+void Engine::pairWith(Prediction& q, uint32_t j, double until) {
   const uint32_t i = q.p.slot;
   ++w_.stats.candidatePairs;
   if (q.single && (s_.hot[j].flags & HotBody::kSingle)) {
@@ -176,8 +171,7 @@ void Engine<W>::pairWith(Prediction& q, uint32_t j, double until) {
   });
 }
 
-template <class W>
-inline void Engine<W>::pairPlain(Prediction& q, uint32_t j) {
+inline void Engine::pairPlain(Prediction& q, uint32_t j) {
   // pairWith() and predictCircles() for two plain bodies (isPlain(), the predicted one without dismissals),
   // the moving one's neighbour up to its horizon: the same expressions with the zero acceleration and
   // centre written in, so the same values, without the branches on flags and the call per pair. A scene
@@ -229,8 +223,7 @@ inline void Engine<W>::pairPlain(Prediction& q, uint32_t j) {
   if (earlier(e, best)) best = e;
 }
 
-template <class W>
-void Engine<W>::finishPrediction(Prediction& q) {
+void Engine::finishPrediction(Prediction& q) {
   // Static fixtures, kinematic bodies and the slide's end; then the event goes into the queue. A pair
   // whose boxes, swept up to the horizon, stay clearly apart cannot meet before it: its time of impact
   // (a search along both paths, the costliest test there is against a polygon that moves) is not sought.
@@ -293,8 +286,7 @@ void Engine<W>::finishPrediction(Prediction& q) {
   if (i == popped_) popped_ = PredictiveState::kNone;
 }
 
-template <class W>
-void Engine<W>::predictBody(uint32_t i, double now) {
+void Engine::predictBody(uint32_t i, double now) {
   if (predictsPlain(i)) {
     predictPlain(i, now);
     return;
@@ -325,8 +317,7 @@ void Engine<W>::predictBody(uint32_t i, double now) {
   finishPrediction(q);
 }
 
-template <class W>
-void Engine<W>::crossingStraight(Vec2 c, Vec2 v, const ColdBody& cell, double& h, int& side) const {
+void Engine::crossingStraight(Vec2 c, Vec2 v, const ColdBody& cell, double& h, int& side) const {
   // crossing() for a centre `c` moving in a straight line at `v`: exitTime() with no acceleration leaves
   // each side's time infinite unless the centre moves toward that side, so at most one side of each axis
   // has a finite time. The same arguments and the same tie rule (the first side in 0..3 wins), so the
@@ -362,8 +353,7 @@ void Engine<W>::crossingStraight(Vec2 c, Vec2 v, const ColdBody& cell, double& h
   }
 }
 
-template <class W>
-void Engine<W>::predictPlain(uint32_t i, double now) {
+void Engine::predictPlain(uint32_t i, double now) {
   // predictBody() for a moving plain body without dismissals in a plain world, where every neighbour is
   // a plain disk too (plainWorld_; no acceleration anywhere): pairPlain() over the neighbours with
   // everything the general path carries from pair to pair (the Prediction, the best event, the bound
@@ -375,8 +365,7 @@ void Engine<W>::predictPlain(uint32_t i, double now) {
   predictPlainAmong(i, now, found, count);
 }
 
-template <class W>
-void Engine<W>::predictPlainAmong(uint32_t i, double now, const uint32_t* neighbours, size_t count) {
+void Engine::predictPlainAmong(uint32_t i, double now, const uint32_t* neighbours, size_t count) {
   // predictPlain() with the neighbours gathered already (into a buffer of kNeighbourBuffer: a longer
   // list is gathered again here).
   if (count > kNeighbourBuffer) {
@@ -532,9 +521,8 @@ void Engine<W>::predictPlainAmong(uint32_t i, double now, const uint32_t* neighb
   finishPrediction(q);
 }
 
-template <class W>
-void Engine<W>::fillPairs(uint32_t i) {
-  // The body's candidate pairs, for the resting rules (World::Impl::supportsAt reads them).
+void Engine::fillPairs(uint32_t i) {
+  // The body's candidate pairs, for the resting rules (detail::WorldState::supportsAt reads them).
   auto& pairs = w_.pairsOfBody[s_.bodyOfSlot[i]];
   pairs.clear();
   auto add = [&](uint32_t f, uint32_t g) {

@@ -9,8 +9,7 @@
 namespace rattle {
 namespace {
 
-template <class W>
-void Engine<W>::resetQueue() {
+void Engine::resetQueue() {
   const size_t n = s_.hot.size();
   s_.heap.clear();
   s_.queue.assign(n, PredictiveState::QueueSlot{});
@@ -19,8 +18,7 @@ void Engine<W>::resetQueue() {
   s_.inBuckets = s_.inOverflow = 0;
 }
 
-template <class W>
-void Engine<W>::enqueue(uint32_t slot, double t, uint32_t partner) {
+void Engine::enqueue(uint32_t slot, double t, uint32_t partner) {
   // Into the heap, a bucket or the overflow array, by its time's bucket (t and partner are
   // event[slot]'s, passed along: the record was most often just written, and reading it back waits for
   // its line).
@@ -42,8 +40,7 @@ void Engine<W>::enqueue(uint32_t slot, double t, uint32_t partner) {
   }
 }
 
-template <class W>
-void Engine<W>::dequeue(uint32_t slot) {
+void Engine::dequeue(uint32_t slot) {
   const int32_t where = s_.queue[slot].where;
   if (where == PredictiveState::kNotQueued) return;
   s_.queue[slot].where = PredictiveState::kNotQueued;
@@ -65,8 +62,7 @@ void Engine<W>::dequeue(uint32_t slot) {
   --(where == PredictiveState::kInOverflow ? s_.inOverflow : s_.inBuckets);
 }
 
-template <class W>
-void Engine<W>::retune(double now, bool keepWidth) {
+void Engine::retune(double now, bool keepWidth) {
   // A new calendar from `now`: buckets about as wide as the time in which ~32 events fall near now (the
   // density read from the nearest sixteenth of the events, not just a few, which may all be due at once),
   // and enough of them to reach well past most events. `keepWidth`: the buckets of the last calendar
@@ -124,8 +120,7 @@ void Engine<W>::retune(double now, bool keepWidth) {
   s_.popsSinceRetune = 0;
 }
 
-template <class W>
-uint32_t Engine<W>::top() {
+uint32_t Engine::top() {
   // The earliest event's slot, moving later buckets into the heap as it runs empty.
   while (s_.heap.empty()) {
     // Every event of the buckets up to the step's end has been taken: what is left is due after it.
@@ -226,8 +221,7 @@ uint32_t Engine<W>::top() {
   return s_.heap.front().slot;
 }
 
-template <class W>
-void Engine<W>::siftUp(size_t k) {
+void Engine::siftUp(size_t k) {
   const detail::HeapNode* heap = s_.heap.data();
   const detail::HeapNode node = heap[k];
   while (k > 0) {
@@ -239,8 +233,7 @@ void Engine<W>::siftUp(size_t k) {
   place(k, node);
 }
 
-template <class W>
-void Engine<W>::siftDown(size_t k) {
+void Engine::siftDown(size_t k) {
   const detail::HeapNode* heap = s_.heap.data();
   const size_t n = s_.heap.size();
   const detail::HeapNode node = heap[k];
@@ -278,8 +271,7 @@ void Engine<W>::siftDown(size_t k) {
   place(k, node);
 }
 
-template <class W>
-void Engine<W>::schedule(uint32_t slot, const PredictiveEvent& e) {
+void Engine::schedule(uint32_t slot, const PredictiveEvent& e) {
   if (!queueing_) {
     s_.event[slot] = e;
     return;
@@ -302,8 +294,7 @@ void Engine<W>::schedule(uint32_t slot, const PredictiveEvent& e) {
   enqueue(slot, e.time, e.partner);
 }
 
-template <class W>
-void Engine<W>::unschedule(uint32_t slot) {
+void Engine::unschedule(uint32_t slot) {
   if (queueing_) dequeue(slot);
   s_.event[slot].kind = PredictiveKind::None;
 }

@@ -9,8 +9,7 @@
 namespace rattle {
 namespace {
 
-template <class W>
-void Engine<W>::normalize(double dt) {
+void Engine::normalize(double dt) {
   // As at the start of a hybrid step: the Zeno guard's count starts again, a slide on a fixture that is
   // gone ends, and an awake free dynamic body falls with gravity. The same pass gathers what
   // computeConstants() needs from every body (one pass over the bodies instead of two; nothing in
@@ -41,8 +40,7 @@ void Engine<W>::normalize(double dt) {
   anySliding_ = anySliding;
 }
 
-template <class W>
-void Engine<W>::rebase(double by) {
+void Engine::rebase(double by) {
   if (by == 0) return;
   // The queue is out of order until the next retune().
   for (PredictiveEvent& e : s_.event) {
@@ -52,8 +50,7 @@ void Engine<W>::rebase(double by) {
   // The bodies' own times (localTime, last.time) were re-based at the end of the last step.
 }
 
-template <class W>
-void Engine<W>::computeConstants(double dt) {
+void Engine::computeConstants(double dt) {
   const double speedScale = speedScale_;
   const bool movingKinematic = movingKinematic_;
   s_.approachTolerance = 1e-13 * speedScale;
@@ -65,8 +62,7 @@ void Engine<W>::computeConstants(double dt) {
   if (!(s_.capTime > 0) || !std::isfinite(s_.capTime)) s_.capTime = 1.0;
 }
 
-template <class W>
-void Engine<W>::sync(uint32_t slot) {
+void Engine::sync(uint32_t slot) {
   // The copy from the body, after anything changed it.
   const BodySlot& b = w_.bodies[s_.bodyOfSlot[slot]];
   HotBody& h = s_.hot[slot];
@@ -90,8 +86,7 @@ void Engine<W>::sync(uint32_t slot) {
   if (w_.pathLog.active) w_.pathLog.record(s_.bodyOfSlot[slot], {b.localTime, b.position, b.velocity, b.acceleration});
 }
 
-template <class W>
-void Engine<W>::attach(uint32_t slot) {
+void Engine::attach(uint32_t slot) {
   // The copy back into the BodySlot, after collisions resolved on the copy (collidePlain): before
   // anything reads the BodySlot, and at the step's end.
   HotBody& h = s_.hot[slot];
@@ -109,8 +104,7 @@ void Engine<W>::attach(uint32_t slot) {
   h.flags = static_cast<uint8_t>(h.flags & ~HotBody::kDetached);
 }
 
-template <class W>
-void Engine<W>::buildGrid() {
+void Engine::buildGrid() {
   const size_t nb = w_.bodies.size();
   emptyOccupiedEntries();  // the table is all empty (kept if its size stays)
   s_.slotOfBody.assign(nb, PredictiveState::kNone);
@@ -225,7 +219,7 @@ void Engine<W>::buildGrid() {
     foldY = std::max(foldY, 4u);
   }
   // The static fixtures listed by cell (below) depend only on them and on the grid: while no static or
-  // kinematic body or fixture changed (World::Impl::staticVersion), a grid as fine and as large as the
+  // kinematic body or fixture changed (detail::WorldState::staticVersion), a grid as fine and as large as the
   // one just worked out is kept as it was, with its listing. A game that fires a shot or loses a unit
   // (a change of structure, which makes the grid again) then does not list a large map's walls again.
   // The grid's origin is arbitrary (it is unbounded), and a cell as wide as the one chosen, to a part in
@@ -264,8 +258,7 @@ void Engine<W>::buildGrid() {
   s_.valid = true;
 }
 
-template <class W>
-void Engine<W>::listStatics() {
+void Engine::listStatics() {
   // Static fixtures: in every cell whose region, grown by half a cell (the reach of any dynamic body
   // whose centre is in it), the fixture overlaps. Kinematic bodies' fixtures: in one list.
   const size_t nb = w_.bodies.size();
@@ -353,8 +346,7 @@ void sortKeys(std::vector<uint64_t>& keys) {
   }
 }
 
-template <class W>
-Box Engine<W>::sceneBox() const {
+Box Engine::sceneBox() const {
   // The box around every tracked body's centre and every static and kinematic fixture.
   Box box{{kInf, kInf}, {-kInf, -kInf}};
   for (const Vec2 c : s_.centres) box = unionOf(box, Box{c, c});
@@ -367,8 +359,7 @@ Box Engine<W>::sceneBox() const {
   return box;
 }
 
-template <class W>
-double Engine<W>::meanNeighbours(double size) const {
+double Engine::meanNeighbours(double size) const {
   // How many other bodies the 3 x 3 cells around a body hold, on average, with cells of this size.
   const size_t n = s_.hot.size();
   if (n == 0) return 0.0;
@@ -447,8 +438,7 @@ double Engine<W>::meanNeighbours(double size) const {
   return n > 0 ? total / static_cast<double>(n) : 0.0;
 }
 
-template <class W>
-double Engine<W>::sparseCellSize(double size, double limit) const {
+double Engine::sparseCellSize(double size, double limit) const {
   // Cells of one diameter suit a dense gas. Where bodies are sparse, a body crossing cells of that size
   // would do little else (a fast body in an empty arena crosses millions): cells grow, doubling, while a
   // body still has few neighbours (each crossing costs about as much as a handful of pair tests), up to
@@ -460,8 +450,7 @@ double Engine<W>::sparseCellSize(double size, double limit) const {
   return size;
 }
 
-template <class W>
-void Engine<W>::reorder(bool fresh) {
+void Engine::reorder(bool fresh) {
   // Slots in cell order, so that neighbours sit close in memory. The cells are taken along a Z-order
   // (Morton) curve over the table rather than row by row: a 3 x 3 block of cells, which every prediction
   // reads, then lies in a few short runs of slots instead of three runs a whole row apart. Only where
@@ -578,8 +567,7 @@ void Engine<W>::reorder(bool fresh) {
   s_.popsSinceReorder = 0;
 }
 
-template <class W>
-void Engine<W>::link(uint32_t slot) {
+void Engine::link(uint32_t slot) {
   const size_t cell = cellOf(slot);
   const int32_t head = headSlot(s_.heads[cell]);
   s_.links[slot] = {head, -1};
@@ -587,8 +575,7 @@ void Engine<W>::link(uint32_t slot) {
   s_.heads[cell] = headEntry(static_cast<int32_t>(slot), head >= 0);
 }
 
-template <class W>
-void Engine<W>::unlink(uint32_t slot) {
+void Engine::unlink(uint32_t slot) {
   const auto [n, p] = s_.links[slot];
   if (p >= 0) {
     s_.links[p].next = n;
@@ -600,18 +587,16 @@ void Engine<W>::unlink(uint32_t slot) {
   s_.links[slot] = {};
 }
 
-template <class W>
 template <class Visit>
-void Engine<W>::forEachNeighbour(uint32_t slot, Visit&& visit) const {
+void Engine::forEachNeighbour(uint32_t slot, Visit&& visit) const {
   // The other bodies in the 3 x 3 cells around it (gatherNeighbours()).
   std::vector<uint32_t>& found = s_.visiting;
   gatherNeighbours(slot, found);
   for (uint32_t j : found) visit(j);
 }
 
-template <class W>
 template <class Visit>
-void Engine<W>::forEachPhysical(uint32_t slot, Visit&& visit) const {
+void Engine::forEachPhysical(uint32_t slot, Visit&& visit) const {
   if (s_.hot[slot].flags & HotBody::kSingle) {
     visit(s_.hot[slot].fixture);
     return;
@@ -621,8 +606,7 @@ void Engine<W>::forEachPhysical(uint32_t slot, Visit&& visit) const {
   }
 }
 
-template <class W>
-size_t Engine<W>::gatherNeighbours(uint32_t slot, uint32_t* out, size_t capacity) const {
+size_t Engine::gatherNeighbours(uint32_t slot, uint32_t* out, size_t capacity) const {
   // The other bodies in the 3 x 3 cells around it (distinct table entries, since the table is at least
   // 4 x 4), into out[0, capacity), in no particular order (a plain prediction's result does not depend
   // on it: events are totally ordered); returns how many there are, which may be more than were
@@ -674,10 +658,9 @@ size_t Engine<W>::gatherNeighbours(uint32_t slot, uint32_t* out, size_t capacity
   return count;
 }
 
-template <class W>
-void Engine<W>::gatherNeighbours(uint32_t slot, std::vector<uint32_t>& out) const {
+void Engine::gatherNeighbours(uint32_t slot, std::vector<uint32_t>& out) const {
   // The same bodies in the order of the cells, row by row, and of their lists: the general path's order
-  // (the resting rules keep the first supports found, World::Impl::supportsAt).
+  // (the resting rules keep the first supports found, detail::WorldState::supportsAt).
   out.clear();
   uint32_t x, y;
   unfold(s_.hot[slot].cell, x, y);
@@ -701,8 +684,7 @@ void Engine<W>::gatherNeighbours(uint32_t slot, std::vector<uint32_t>& out) cons
   }
 }
 
-template <class W>
-int Engine<W>::dismissedFeature(uint32_t slot, uint32_t own, uint32_t other) const {
+int Engine::dismissedFeature(uint32_t slot, uint32_t own, uint32_t other) const {
   const Geometry& g = w_.fixtures[other].geometry;
   const bool several = std::holds_alternative<Polyline>(g) || std::holds_alternative<Polygon>(g);
   const uint32_t countOwn = s_.hot[slot].collisionCount;
@@ -716,8 +698,7 @@ int Engine<W>::dismissedFeature(uint32_t slot, uint32_t own, uint32_t other) con
   return found;
 }
 
-template <class W>
-bool Engine<W>::isDismissed(uint32_t slot, uint32_t own, uint32_t other) const {
+bool Engine::isDismissed(uint32_t slot, uint32_t own, uint32_t other) const {
   const uint32_t countOwn = s_.hot[slot].collisionCount;
   for (const detail::Dismissal& d : s_.dismissed[slot]) {
     if (d.own == own && d.other == other && d.countOwn == countOwn && d.countOther == countOf(other)) {

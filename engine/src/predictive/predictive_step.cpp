@@ -44,11 +44,11 @@
 //    no further than the step's end. Branches that a predictor cannot guess (is a cell empty, does a
 //    neighbour approach, which heap child is earliest) are taken without branching.
 //  - Between steps the world may change (bodies created, destroyed, moved, given a velocity, woken; a
-//    filter changed). The World API reports every change (World::Impl::touched), so a step costs nothing
+//    filter changed). The World API reports every change (detail::WorldState::touched), so a step costs nothing
 //    for bodies nobody touched: a dynamic body that was changed is relocated and predicted again (its
 //    counter is bumped so that predictions against its old path go stale); anything structural rebuilds
 //    the grid and the queue, but keeps the grid's cells and its listing of static fixtures while no
-//    static or kinematic fixture came or went and no static body moved (World::Impl::staticVersion): a
+//    static or kinematic fixture came or went and no static body moved (detail::WorldState::staticVersion): a
 //    game firing shots on a large map does not list its walls again.
 //
 // Sensors: when the world has any, every change of a body's motion is recorded (PathLog), and the sensor
@@ -63,9 +63,8 @@
 namespace rattle {
 namespace {
 
-template <class W>
-double Engine<W>::endPlain(double end, double& speed) {
-  // The step's end in a plain world, for the tracked bodies: attach(), World::Impl::advance() to `end`,
+double Engine::endPlain(double end, double& speed) {
+  // The step's end in a plain world, for the tracked bodies: attach(), detail::WorldState::advance() to `end`,
   // the clocks re-based to it and sync(), in one pass over the copies instead of three passes (one over
   // all the BodySlots). Nobody accelerates but by the world's gravity (zero here), sleeps or slides, so
   // sync() would copy back exactly what is written here. Returns the largest coordinate; `speed` grows to
@@ -111,9 +110,8 @@ double Engine<W>::endPlain(double end, double& speed) {
   return extent;
 }
 
-template <class W>
-void Engine<W>::collidePlain(uint32_t i, uint32_t j, const PredictiveEvent& c, double tolerance) {
-  // World::Impl::resolve() for two plain disks, on their copies (plain_collision.h); the BodySlots
+void Engine::collidePlain(uint32_t i, uint32_t j, const PredictiveEvent& c, double tolerance) {
+  // detail::WorldState::resolve() for two plain disks, on their copies (plain_collision.h); the BodySlots
   // catch up in attach(). The contact event as resolve() writes it.
   const detail::PlainOutcome out =
       detail::resolvePlainDisks({s_.hot[i], s_.cold[i]}, {s_.hot[j], s_.cold[j]}, c, w_.time,
@@ -157,8 +155,7 @@ void Engine<W>::collidePlain(uint32_t i, uint32_t j, const PredictiveEvent& c, d
   events.push_back(event);
 }
 
-template <class W>
-bool Engine<W>::crowdedCell() const {
+bool Engine::crowdedCell() const {
   // Cells are as wide as the largest body, so a cell holds a handful of bodies that do not overlap; only
   // bodies piled on each other put thousands in one (each of them then tests all the others).
   std::vector<uint32_t> count(s_.heads.size(), 0);
@@ -168,15 +165,14 @@ bool Engine<W>::crowdedCell() const {
   return false;
 }
 
-template <class W>
-double Engine<W>::step(double dt) {
+double Engine::step(double dt) {
   stepLength_ = dt;
   w_.contactEvents.clear();
   w_.sensorEvents.clear();
   w_.sensorEvents.swap(w_.pendingSensorEvents);
   w_.stats = StepStats{};
   // The bodies' candidate pairs are read only by the resting rules and the Zeno guard, which need gravity
-  // (fillPairs, World::Impl::supportsAt): a world without it does not make them (a vector a body, fresh
+  // (fillPairs, detail::WorldState::supportsAt): a world without it does not make them (a vector a body, fresh
   // memory written at the first step).
   if (!(w_.def.gravity == Vec2{}) && w_.pairsOfBody.size() < w_.bodies.size()) w_.pairsOfBody.resize(w_.bodies.size());
 
@@ -191,7 +187,7 @@ double Engine<W>::step(double dt) {
     normalize(dt);
   }
   s_.normalized = false;
-  // What the World API changed since the last step (World::Impl::touched): the dynamic bodies touched are
+  // What the World API changed since the last step (detail::WorldState::touched): the dynamic bodies touched are
   // predicted again; a change of structure starts afresh.
   bool rebuild = !s_.valid || w_.structureChanged;
   s_.dirty.clear();
@@ -563,7 +559,7 @@ double Engine<W>::step(double dt) {
 
 }  // namespace
 
-void World::Impl::stepPredictive(double dt) {
+void detail::WorldState::stepPredictive(double dt) {
   if (!predictive) {
     // The first step, or the first after one that failed (step_undo.cpp): the grid and the queue are
     // made afresh, and a pile still held by stepped islands stays with the hybrid step (below).
@@ -574,7 +570,7 @@ void World::Impl::stepPredictive(double dt) {
   detail::PredictiveState& s = *predictive;
   // A pile handed over (kPileCollisions) stays with the hybrid step while its islands hold anybody.
   if (!s.pileHeld) {
-    const double done = Engine<World::Impl>(*this, s).step(dt);
+    const double done = Engine(*this, s).step(dt);
     if (done == dt) return;
     if (done > 0) {
       // The rest of the step from `done` on, as a hybrid step of its own whose events and stats join

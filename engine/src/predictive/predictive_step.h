@@ -84,7 +84,7 @@ struct alignas(64) ColdBody {
   int32_t lastFeature = -1;
   int32_t cx = 0, cy = 0;  // its cell
   uint32_t stepCollisions = 0;  // BodySlot::stepCollisions (the collapse guard without gravity)
-  // The rest of what World::Impl::resolve() reads from two BodySlots and two FixtureSlots, for a
+  // The rest of what detail::WorldState::resolve() reads from two BodySlots and two FixtureSlots, for a
   // collision of two plain disks resolved on the copies (plain_collision.h).
   double inverseMass = 0;
   double restitution = 0;  // of the primary fixture
@@ -150,7 +150,7 @@ struct PredictiveState {
   std::vector<uint32_t> staticList;
   std::vector<uint32_t> kinematicFixtures;  // physical fixtures of kinematic bodies
   // The listing above (staticBegin, staticList, staticNear, kinematicFixtures) was made for this grid at
-  // World::Impl::staticVersion `staticVersion`: buildGrid keeps it while that has not moved on.
+  // detail::WorldState::staticVersion `staticVersion`: buildGrid keeps it while that has not moved on.
   bool staticsListed = false;
   uint64_t staticVersion = 0;
 

@@ -10,7 +10,7 @@
 namespace rattle::detail {
 
 // A body's motion from `start` until the next piece starts: position + velocity h + acceleration h^2/2,
-// h = t - start (World::Impl::positionAt).
+// h = t - start (detail::WorldState::positionAt).
 struct PathPiece {
   double start = 0;
   Vec2 position, velocity, acceleration;

@@ -48,7 +48,7 @@ constexpr int kMaxChangesPerPair = 1024;
 
 }  // namespace
 
-void World::Impl::startPaths() {
+void detail::WorldState::startPaths() {
   PathLog& log = pathLog;
   log.active = liveSensors > 0;
   if (!log.active) return;
@@ -64,7 +64,7 @@ void World::Impl::startPaths() {
   }
 }
 
-void World::Impl::sensePaths(PathLog& log, double end) {
+void detail::WorldState::sensePaths(PathLog& log, double end) {
   ++stepStamp;
   // Each body's changes, grouped by body in the order they happened (a counting sort).
   const size_t nb = bodies.size();

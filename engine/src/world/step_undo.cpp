@@ -7,7 +7,7 @@
 // phase's kept pairs, the predictive mode's queue) is marked void, to be rebuilt by the next step.
 //
 // The bodies: a step's passes over every body are most of a large gas's time, so the hybrid and
-// predictive steps keep a body only when they first change it (World::Impl::keep: from advance, from
+// predictive steps keep a body only when they first change it (detail::WorldState::keep: from advance, from
 // the predictive step's copy back into the body, and from the few places that change a body without
 // advancing it), and their last pass, which moves every body to the end, comes after everything that
 // allocates. Their first passes change only what they set again every step. A gas's step keeps the
@@ -24,19 +24,19 @@
 
 namespace rattle {
 
-World::Impl::BodyAtStepStart World::Impl::stateOf(uint32_t body, const detail::BodySlot& b) {
+detail::WorldState::BodyAtStepStart detail::WorldState::stateOf(uint32_t body, const detail::BodySlot& b) {
   return {body, b.position, b.velocity, b.acceleration, b.localTime, b.support, b.lastContactTime,
           b.asleep, b.stepped, b.sliding};
 }
 
-void World::Impl::keepBody(uint32_t body) {
+void detail::WorldState::keepBody(uint32_t body) {
   detail::roomForOneMore(stepStart.bodies);  // before the change it precedes: a failure here is clean
   detail::BodySlot& b = bodies[body];
   stepStart.bodies.push_back(stateOf(body, b));
   b.kept = true;
 }
 
-void World::Impl::saveStepStart() {
+void detail::WorldState::saveStepStart() {
   // Room first: a failure here leaves everything as it was.
   stepStart.keepEach = def.mode != StepMode::Discrete;
   stepStart.keeping = false;
@@ -54,7 +54,7 @@ void World::Impl::saveStepStart() {
   stepStart.keeping = stepStart.keepEach;
 }
 
-void World::Impl::endStep() {
+void detail::WorldState::endStep() {
   stepStart.active = false;
   stepStart.keeping = false;
   if (stepStart.keepEach) {
@@ -64,7 +64,7 @@ void World::Impl::endStep() {
   stepStart.dependents.clear();
 }
 
-void World::Impl::undoStep() {
+void detail::WorldState::undoStep() {
   contactEvents.clear();  // a failed step reports no events
   sensorEvents.clear();
   if (!stepStart.active) return;  // saveStepStart failed: nothing else changed

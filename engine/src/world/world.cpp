@@ -55,7 +55,7 @@ uint32_t nextGeneration(uint32_t g) { return g == UINT32_MAX ? 1 : g + 1; }
 
 // ---- Impl helpers ------------------------------------------------------------------------------------
 
-bool World::Impl::canCollide(uint32_t fa, uint32_t fb) const {
+bool detail::WorldState::canCollide(uint32_t fa, uint32_t fb) const {
   const FixtureSlot& a = fixtures[fa];
   const FixtureSlot& b = fixtures[fb];
   if (a.body == b.body || a.sensor || b.sensor) return false;
@@ -64,7 +64,7 @@ bool World::Impl::canCollide(uint32_t fa, uint32_t fb) const {
   return (a.filter.categoryBits & b.filter.maskBits) != 0 && (b.filter.categoryBits & a.filter.maskBits) != 0;
 }
 
-bool World::Impl::canSense(uint32_t fa, uint32_t fb) const {
+bool detail::WorldState::canSense(uint32_t fa, uint32_t fb) const {
   const FixtureSlot& a = fixtures[fa];
   const FixtureSlot& b = fixtures[fb];
   if (a.body == b.body || a.sensor == b.sensor) return false;
@@ -73,18 +73,19 @@ bool World::Impl::canSense(uint32_t fa, uint32_t fb) const {
   return (a.filter.categoryBits & b.filter.maskBits) != 0 && (b.filter.categoryBits & a.filter.maskBits) != 0;
 }
 
-bool World::Impl::isOverlapping(uint32_t fa, uint32_t fb) const {
+bool detail::WorldState::isOverlapping(uint32_t fa, uint32_t fb) const {
   const bool aIsSensor = fixtures[fa].sensor;
   return sensorOverlaps.count(detail::overlapKey(aIsSensor ? fa : fb, aIsSensor ? fb : fa)) != 0;
 }
 
-void World::Impl::sensorOverlapsSeen(uint32_t fa, uint32_t fb) {
+void detail::WorldState::sensorOverlapsSeen(uint32_t fa, uint32_t fb) {
   const uint32_t sensor = fixtures[fa].sensor ? fa : fb, visitor = fixtures[fa].sensor ? fb : fa;
   auto it = sensorOverlaps.find(detail::overlapKey(sensor, visitor));
   if (it != sensorOverlaps.end()) it->second = stepStamp;
 }
 
-void World::Impl::recordSensorChange(uint32_t fa, uint32_t fb, double time, bool begin, std::vector<SensorEvent>& out) {
+void detail::WorldState::recordSensorChange(uint32_t fa, uint32_t fb, double time, bool begin,
+                                            std::vector<SensorEvent>& out) {
   const uint32_t sensor = fixtures[fa].sensor ? fa : fb, visitor = fixtures[fa].sensor ? fb : fa;
   const uint64_t key = detail::overlapKey(sensor, visitor);
   // Inside a step every change is logged (the room made first), so that undoStep can take it back.
@@ -110,14 +111,14 @@ void World::Impl::recordSensorChange(uint32_t fa, uint32_t fb, double time, bool
   out.push_back(e);
 }
 
-void World::Impl::endOverlaps(const std::vector<uint64_t>& ended) {
+void detail::WorldState::endOverlaps(const std::vector<uint64_t>& ended) {
   for (uint64_t key : ended) {
     if (!sensorOverlaps.contains(key)) continue;  // both of an overlap's fixtures were ending
     recordSensorChange(static_cast<uint32_t>(key >> 32), static_cast<uint32_t>(key), 0.0, false, pendingSensorEvents);
   }
 }
 
-double World::Impl::physicalMass(const BodySlot& body) const {
+double detail::WorldState::physicalMass(const BodySlot& body) const {
   double mass = 0;
   for (uint32_t f : body.fixtures) {
     if (!fixtures[f].sensor) mass += fixtures[f].density * areaOf(fixtures[f].geometry);
@@ -125,7 +126,7 @@ double World::Impl::physicalMass(const BodySlot& body) const {
   return mass;
 }
 
-void World::Impl::recomputeMass(BodySlot& body) {
+void detail::WorldState::recomputeMass(BodySlot& body) {
   if (body.type != BodyType::Dynamic) {
     body.mass = std::numeric_limits<double>::infinity();
     body.inverseMass = 0;

@@ -54,7 +54,7 @@ struct alignas(64) BodySlot {
   // every body read the first line of each, and a loop reading the first 64 bytes of 10^6 slots took
   // about 5 ms at a stride of 192 bytes, aligned, against 12 at 224 (where half the slots' first 64
   // bytes straddle two lines) on the bench's machine. The 224-byte slot held what is now
-  // World::Impl::dependents and userData.
+  // detail::WorldState::dependents and userData.
   Vec2 position;      // at localTime within the current step (0 between steps)
   Vec2 velocity;      // at localTime
   Vec2 acceleration;  // gravity when awake and free, its tangential part when sliding, else zero
@@ -72,25 +72,25 @@ struct alignas(64) BodySlot {
   // last, jamTime or stepCollisions may differ from their values at a step's start (every write of them
   // sets it: setLast, countStepCollision, settleJam; the hybrid step's first pass resets them only then).
   bool stepLocalsSet : 1 = false;
-  // World::Impl::diskShapes[this body] holds its one fixture that is not a sensor, a circle centred on
+  // detail::WorldState::diskShapes[this body] holds its one fixture that is not a sensor, a circle centred on
   // it (the hybrid step learns it; World's changes to the body's fixtures or their filters clear it).
   bool diskShapeKnown : 1 = false;
   // World::setVelocity gave it a velocity since the last step: the game drives it (a unit steered each
   // tick). Without gravity only a cluster with a driven body is held as a jam (jam.cpp); a gas's
   // clusters stay exact events. World::step clears it.
   bool driven : 1 = false;
-  // Its state at the step's start is in World::Impl::StepStart::bodies (World::Impl::keep).
+  // Its state at the step's start is in detail::WorldState::StepStart::bodies (detail::WorldState::keep).
   bool kept : 1 = false;
   LastContact last;  // step-local
   Support support;
   uint32_t generation = 1;
   int stepCollisions = 0;  // collisions in the current step, for the Zeno guard
   FixtureList fixtures;  // in place for up to four (fixture_list.h)
-  // The jam that last settled it (World::Impl::jamCounter) and when, in step time; < 0: none this step.
+  // The jam that last settled it (detail::WorldState::jamCounter) and when, in step time; < 0: none this step.
   double jamTime = -1;
   uint32_t jam = 0;
   bool steppedHeld = false;  // a contact of an island solve pushed it this step
-  // Round-off approaches absorbed in the current step (World::Impl::dismissContact): a disk wedged
+  // Round-off approaches absorbed in the current step (detail::WorldState::dismissContact): a disk wedged
   // between two others can absorb against each in turn at one instant, without end, where coordinates
   // are large. Past collapseCollisions() such an approach is left as it is. Reset with stepCollisions;
   // saturates (16 bits fit the padding before lastContactTime).
@@ -192,9 +192,11 @@ struct CandidatePair {
 // Key of a sensor overlap: the sensor fixture in the high half, the visitor in the low half.
 inline uint64_t overlapKey(uint32_t sensor, uint32_t visitor) { return (uint64_t{sensor} << 32) | visitor; }
 
-}  // namespace detail
-
-struct World::Impl {
+// The world's state: every body and fixture, the broad phase, the last step's results, and the state the
+// step modes and the contact solve keep between and within steps. Every part of the engine is written
+// as its member functions (engine/src/README.md says which folder holds which); World's pimpl is this
+// struct (detail::WorldState below), so code outside World can name it.
+struct WorldState {
   WorldDef def;
   double time = 0;
   detail::LargeArray<detail::BodySlot> bodies;
@@ -567,8 +569,12 @@ struct World::Impl {
   void endStep();
 };
 
+}  // namespace detail
+
+struct World::Impl : detail::WorldState {};
+
 template <class Keep>
-void World::Impl::overlapsToEnd(uint32_t fixture, Keep&& keep, std::vector<uint64_t>& ended) const {
+void detail::WorldState::overlapsToEnd(uint32_t fixture, Keep&& keep, std::vector<uint64_t>& ended) const {
   const auto from = static_cast<std::ptrdiff_t>(ended.size());
   for (const auto& [key, stamp] : sensorOverlaps) {
     const uint32_t sensor = static_cast<uint32_t>(key >> 32), visitor = static_cast<uint32_t>(key);
@@ -578,7 +584,7 @@ void World::Impl::overlapsToEnd(uint32_t fixture, Keep&& keep, std::vector<uint6
 }
 
 template <class StartOf>
-void World::Impl::endUnseenOverlaps(StartOf&& startOf) {
+void detail::WorldState::endUnseenOverlaps(StartOf&& startOf) {
   std::vector<uint64_t> unseen;
   for (const auto& [key, seen] : sensorOverlaps) {
     if (seen == stepStamp) continue;

@@ -49,7 +49,7 @@ Box boxAround(Vec2 a, Vec2 b) {
   return {{std::min(a.x, b.x), std::min(a.y, b.y)}, {std::max(a.x, b.x), std::max(a.y, b.y)}};
 }
 
-// The helpers below take the world's storage as a template parameter: World::Impl is private to World,
+// The helpers below take the world's storage as a template parameter: detail::WorldState is private to World,
 // so these free functions may use it only without naming it.
 
 // Calls found(index, hit) for every seen fixture the ray hits, in fixture index order.
