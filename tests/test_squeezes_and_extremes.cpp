@@ -473,6 +473,30 @@ TEST(TinyBodies, PointsSlidingIntoACornerStayInTheBox) {
   }
 }
 
+// A point dropped on a level Polyline floor: the floor's normal was unit only to an ulp, its slide kept
+// a downward acceleration of 1e-16 g, and it fell into the floor at one instant again and again until it
+// fell through (fuzz/regressions/world_api/escape-point-falling-on-a-floor).
+TEST(TinyBodies, APointDroppedOnAFloorComesToRestOnIt) {
+  for (StepMode mode : kExactModes) {
+    SCOPED_TRACE(nameOf(mode));
+    World w(defOf(mode, {0, -9.81}));
+    const BodyId box = w.createBody({.type = BodyType::Static, .position = {1e-12, 1e-12}});
+    const double a = 10.500149636933546, b = 10.519303164427363;
+    w.createFixture(box, {.geometry = Polyline{{{-b, -a}, {b, -a}, {b, a}, {-b, a}, {-b, -a}}}});
+    const BodyId p = w.createBody({.type = BodyType::Dynamic, .position = {-10.419303164426363, -10.400149636932547}});
+    w.createFixture(p, {.geometry = Point{}, .restitution = 0.050498527257548789});
+    const double floor = -a + 1e-12;
+    for (int i = 0; i < 120; ++i) {
+      w.step(i < 3 ? 0.05 : 1.0 / 60);
+      ASSERT_GE(w.position(p).y, floor - 1e-13) << "step " << i;
+    }
+    // At rest on the floor, where it landed.
+    EXPECT_NEAR(w.position(p).y, floor, 1e-13);
+    EXPECT_EQ(w.velocity(p).y, 0.0);
+    EXPECT_EQ(w.position(p).x, -10.419303164426363);
+  }
+}
+
 // A density of 1.7e308 on a disk of radius 0.4 gave it a mass of 9e307 and an inverse mass of 1e-308
 // (subnormal): the islands' solve divided by it, and the body's position became NaN
 // (fuzz/regressions/world_api/finite-hybrid-density-max).

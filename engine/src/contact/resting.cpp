@@ -192,9 +192,16 @@ void detail::WorldState::applyWake(const std::vector<uint32_t>& woken, size_t fr
   }
 }
 
-void detail::WorldState::startSliding(uint32_t bodyIndex, uint32_t fixture, int feature, Vec2 normal) {
+void detail::WorldState::startSliding(uint32_t bodyIndex, uint32_t fixture, int feature, Vec2 contactNormal) {
   BodySlot& b = bodies[bodyIndex];
   keep(b);
+  // An edge's normal is unit only to an ulp (a direction times a rounded reciprocal length): projecting
+  // with it left a slide on a level floor a downward acceleration of 1e-16 g, and a point (which has no
+  // overlap to hold it up) fell into the floor again and again at one instant until it fell through
+  // (fuzz/regressions/world_api/escape-point-falling-on-a-floor). Divided by its length, a level or
+  // upright face's normal is exact, and so is the slide along it.
+  const double norm = length(contactNormal);
+  const Vec2 normal{contactNormal.x / norm, contactNormal.y / norm};
   b.setSupport(detail::Support{fixture, fixtures[fixture].generation, feature, normal});
   b.velocity -= normal * dot(b.velocity, normal);
   b.acceleration = def.gravity - normal * dot(def.gravity, normal);
