@@ -378,7 +378,9 @@ double Engine::step(double dt) {
     if (!(vn < -tolerance) && !pressing) {
       ++w_.stats.staleEvents;
       const double speed = length(relativeVelocity);
-      if (vn < -16 * kEps * velocityScale && speed > restTol && w_.stats.eventsProcessed < w_.def.maxEventsPerStep) {
+      if (vn < -16 * kEps * velocityScale && speed > restTol && w_.stats.eventsProcessed < w_.def.maxEventsPerStep &&
+          stepAbsorbs_ < detail::collapseCollisions(w_.def.maxEventsPerStep)) {
+        ++stepAbsorbs_;
         attach(i);
         if (j != PredictiveState::kNone) attach(j);
         w_.absorb(contact, vn);
