@@ -205,6 +205,21 @@ class Engine {
   // (fuzz/regressions/world_api/budget-predictive-collapse-far-from-the-origin). Counted for the whole
   // step, not a body, so that nothing is reset per body.
   int stepAbsorbs_ = 0;
+  // The step's phases (step()) and what runEvents() hands to finishStep().
+  bool startStep(double dt);
+  void runEvents(double dt);
+  void crossCell(uint32_t i, const PredictiveEvent& c);
+  void endSlide(uint32_t i, const PredictiveEvent& c);
+  bool collideAt(uint32_t i, uint32_t j, const PredictiveEvent& c);
+  void absorbOrDismiss(uint32_t i, uint32_t j, const PredictiveEvent& c, const detail::PredictedContact& contact,
+                       double vn, double speed, double velocityScale, double restTol);
+  bool collidePlainPair(uint32_t i, uint32_t j, const PredictiveEvent& c, double tolerance);
+  bool handsOver(uint32_t most, bool driven) const;
+  double finishStep(double dt);
+  double budgetTime_ = 0;  // where the step ended, when it ended early
+  bool pile_ = false;      // handed over at budgetTime_ (kPileCollisions)
+  bool pilesForm_ = false, jamsForm_ = false;
+  uint32_t collapseLimit_ = 0;
   // Gathered by normalize() for computeConstants(): the fastest body's speed scale, and whether a
   // kinematic body with a fixture moves.
   double speedScale_ = 0;

@@ -166,6 +166,14 @@ bool Engine::crowdedCell() const {
 }
 
 double Engine::step(double dt) {
+  if (!startStep(dt)) return 0;
+  runEvents(dt);
+  return finishStep(dt);
+}
+
+// 1. Notice what changed since the last step, re-base the clocks, predict what must be. False: a body is
+// too fast for the grid, or a fresh grid too crowded; the step is the hybrid step's (nothing changed).
+bool Engine::startStep(double dt) {
   stepLength_ = dt;
   w_.contactEvents.clear();
   w_.sensorEvents.clear();
@@ -176,7 +184,7 @@ double Engine::step(double dt) {
   // memory written at the first step).
   if (!(w_.def.gravity == Vec2{}) && w_.pairsOfBody.size() < w_.bodies.size()) w_.pairsOfBody.resize(w_.bodies.size());
 
-  // 1. Notice what changed since the last step; re-base the clocks to this step's start. After a plain
+  // Re-base the clocks to this step's start. After a plain
   // world's step, with nothing touched since, normalize() would change nothing (no gravity, sleep or
   // slide; the Zeno count moves only under gravity) and its gathering was done by endPlain().
   if (s_.normalized && s_.valid && !w_.structureChanged && w_.touchedBodies.empty()) {
@@ -214,7 +222,7 @@ double Engine::step(double dt) {
     w_.sensorEvents.swap(w_.pendingSensorEvents);
     s_.valid = false;
     s_.normalized = false;
-    return 0;
+    return false;
   }
   if (!rebuild && w_.restitutionChanged) {
     for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) {
@@ -256,27 +264,23 @@ double Engine::step(double dt) {
   // bodies' worth of events went by since (short steps see few events each).
   retune(0, /*keepWidth=*/!rebuild && s_.popsSinceRetune < s_.hot.size() / 4);
   w_.startPaths();
+  return true;
+}
 
-  // 2. Events in time order, up to the step's end.
-  const double restTolerance = s_.restTolerance;
-  const double approachTolerance = s_.approachTolerance;
+// 2. Events in time order, up to the step's end (or budgetTime_, at the event budget or when a pile or a
+// jam is handed over: pile_).
+void Engine::runEvents(double dt) {
   // Slots back in cell order (reorder()) once every body has had a few dozen events: by then a body of
   // a dense gas has moved about a cell, and the order has begun to fray (more often cost more than the
   // locality won: 4n pops was 4% slower on the 1e5-disk gas).
   const uint64_t reorderEvery = 16 * static_cast<uint64_t>(s_.hot.size()) + 1024;
-  double budgetTime = dt;
-  bool pile = false;  // handed over at budgetTime (kPileCollisions)
+  budgetTime_ = dt;
+  pile_ = false;
   // Without gravity, a cluster the game drives into itself is a jam that the hybrid step holds (jam.cpp):
-  // handed over the same way when one of a contact's bodies is driven...
-  const bool pilesForm = w_.def.restingSpeed > 0 && !(w_.def.gravity == Vec2{});
-  const bool jamsForm = w_.def.restingSpeed > 0 && w_.def.gravity == Vec2{};
-  // ... or in an inelastic collapse, where the collapse guard would make its collisions elastic (jam.cpp).
-  const uint32_t collapseLimit = static_cast<uint32_t>(detail::collapseCollisions(w_.def.maxEventsPerStep));
-  // Whether a contact whose bodies collided at most `most` times this step (either of them driven or not)
-  // ends the predictive part of the step.
-  auto handsOver = [&](uint32_t most, bool driven) {
-    return most > kPileCollisions && (pilesForm || (jamsForm && (driven || most > collapseLimit)));
-  };
+  // handed over the same way when one of a contact's bodies is driven (handsOver).
+  pilesForm_ = w_.def.restingSpeed > 0 && !(w_.def.gravity == Vec2{});
+  jamsForm_ = w_.def.restingSpeed > 0 && w_.def.gravity == Vec2{};
+  collapseLimit_ = static_cast<uint32_t>(detail::collapseCollisions(w_.def.maxEventsPerStep));
   const int64_t queueBudget = kQueueEventsPerEvent * int64_t{w_.def.maxEventsPerStep};
   int64_t queueEvents = 0;
   for (;;) {
@@ -287,7 +291,7 @@ double Engine::step(double dt) {
     if (!(c.time <= dt)) break;
     if (++queueEvents > queueBudget) {
       w_.stats.eventBudgetReached = true;
-      budgetTime = c.time;
+      budgetTime_ = c.time;
       break;
     }
     // A heap grown large (events denser than the calendar was cut for): cut it again from here.
@@ -305,199 +309,239 @@ double Engine::step(double dt) {
     }
 
     if (c.kind == PredictiveKind::Cross) {
-      if (c.feature >= 0) {
-        unlink(i);
-        ColdBody& cell = s_.cold[i];
-        if (c.feature == 0) {
-          --cell.cx;
-        } else if (c.feature == 1) {
-          ++cell.cx;
-        } else if (c.feature == 2) {
-          --cell.cy;
-        } else {
-          ++cell.cy;
-        }
-        setCell(i);
-        link(i);
-      }
-      predictBody(i, c.time);
+      crossCell(i, c);
       continue;
     }
     if (c.kind == PredictiveKind::SlideEnd) {
-      const uint32_t ia = s_.bodyOfSlot[i];
-      attach(i);
-      BodySlot& a = w_.bodies[ia];
-      if (a.support.generation == 0) {
-        ++w_.stats.staleEvents;
-        predictBody(i, c.time);
-        continue;
-      }
-      w_.advance(a, c.time);
-      w_.stopSliding(a);
-      ++a.collisionCount;
-      sync(i);
-      predictBody(i, c.time);
+      endSlide(i, c);
       continue;
     }
+    if (!collideAt(i, j, c)) break;
+  }
+}
 
-    // A contact. Static and kinematic bodies never change their counters; the body's own event is never
-    // stale (PredictiveEvent).
-    const uint32_t countA = s_.hot[i].collisionCount;
-    if (j != PredictiveState::kNone && s_.hot[j].collisionCount != c.countB) {
-      ++w_.stats.staleEvents;
-      predictBody(i, c.time);
-      continue;
+// A cell crossing: the body moves to its neighbour cell, and is predicted there.
+void Engine::crossCell(uint32_t i, const PredictiveEvent& c) {
+  if (c.feature >= 0) {
+    unlink(i);
+    ColdBody& cell = s_.cold[i];
+    if (c.feature == 0) {
+      --cell.cx;
+    } else if (c.feature == 1) {
+      ++cell.cx;
+    } else if (c.feature == 2) {
+      --cell.cy;
+    } else {
+      ++cell.cy;
     }
-    if (j != PredictiveState::kNone) __builtin_prefetch(&s_.cold[j]);
-    // The hybrid step's check at pop: an approach no faster than round-off, with nothing pressing the two
-    // together, is not a collision. It is absorbed when the bodies still move, or else dropped.
-    Vec2 relativeVelocity, relativeAcceleration;
-    double velocityScale = 0;  // |v_a| + |v_b|: the round-off of the relative velocity (as the hybrid step)
-    {
-      const HotBody& ha = s_.hot[i];
-      const Vec2 accA = accelerationOf(ha, s_.rare[i]);
-      if (j != PredictiveState::kNone) {
-        const HotBody& hb = s_.hot[j];
-        const Vec2 accB = accelerationOf(hb, s_.rare[j]);
-        relativeVelocity = velocityAt(ha, accA, c.time) - velocityAt(hb, accB, c.time);
-        relativeAcceleration = accA - accB;
-        velocityScale = length(velocityAt(ha, accA, c.time)) + length(velocityAt(hb, accB, c.time));
-      } else {
-        const BodySlot& b = w_.bodyOf(c.b);
-        relativeVelocity = velocityAt(ha, accA, c.time) - w_.velocityAt(b, c.time);
-        relativeAcceleration = accA - b.acceleration;
-        velocityScale = length(velocityAt(ha, accA, c.time)) + length(w_.velocityAt(b, c.time));
-      }
-    }
-    const detail::PredictedContact contact{
-        c.time, detail::EventKind::Contact, false, c.a, c.b, c.feature, countA, c.countB, c.point, c.normal};
-    const double vn = dot(relativeVelocity, c.normal);
-    const bool pressing = dot(relativeAcceleration, c.normal) < 0;
-    const double restTol = restTolerance * (std::fabs(c.point.x) + std::fabs(c.point.y));
-    const double tolerance = approachTolerance + restTol;
-    if (!(vn < -tolerance) && !pressing) {
-      ++w_.stats.staleEvents;
-      const double speed = length(relativeVelocity);
-      if (vn < -16 * kEps * velocityScale && speed > restTol && w_.stats.eventsProcessed < w_.def.maxEventsPerStep &&
-          stepAbsorbs_ < detail::collapseCollisions(w_.def.maxEventsPerStep)) {
-        ++stepAbsorbs_;
-        attach(i);
-        if (j != PredictiveState::kNone) attach(j);
-        w_.absorb(contact, vn);
-        ++w_.stats.eventsProcessed;
-        sync(i);
-        if (j != PredictiveState::kNone) sync(j);
-        predictBody(i, c.time);
-        if (j != PredictiveState::kNone) predictBody(j, c.time);
-      } else {
-        if (!dismissals(i)) s_.dismissedSlots.push_back(i);
-        s_.hot[i].flags |= HotBody::kDismissals;
-        // Only entries that still hold are kept (a body at rest in a pile is dismissed again and again).
-        if (s_.dismissed.size() < s_.hot.size()) s_.dismissed.resize(s_.hot.size());
-        auto& list = s_.dismissed[i];
-        list.erase(std::remove_if(list.begin(), list.end(),
-                                  [&](const detail::Dismissal& d) {
-                                    return d.countOwn != countA || d.countOther != countOf(d.other);
-                                  }),
-                   list.end());
-        list.push_back({c.a, c.b, countA, c.countB, c.feature});
-        predictBody(i, c.time);
-      }
-      continue;
-    }
-    if (w_.stats.eventsProcessed >= w_.def.maxEventsPerStep) {
-      w_.stats.eventBudgetReached = true;
-      budgetTime = c.time;
-      break;
-    }
-    if (plainWorld_ && j != PredictiveState::kNone) {
-      // (No gravity here, so no pile: only a jam hands over.)
-      if (jamsForm && handsOver(std::max(s_.cold[i].stepCollisions, s_.cold[j].stepCollisions),
-                                w_.bodies[s_.bodyOfSlot[i]].driven || w_.bodies[s_.bodyOfSlot[j]].driven)) {
-        pile = true;
-        budgetTime = c.time;
-        break;
-      }
-      // Both bodies' neighbours are gathered first, which asks for their records, so that they arrive
-      // while the collision is resolved (it moves no body between cells).
-      uint32_t aroundI[kNeighbourBuffer], aroundJ[kNeighbourBuffer];
-      const size_t countI = gatherNeighbours(i, aroundI, kNeighbourBuffer);
-      const size_t countJ = gatherNeighbours(j, aroundJ, kNeighbourBuffer);
-      collidePlain(i, j, c, tolerance);
-      ++w_.stats.eventsProcessed;
-      if (predictsPlain(i)) {
-        predictPlainAmong(i, c.time, aroundI, countI);
-      } else {
-        predictBody(i, c.time);
-      }
-      if (predictsPlain(j)) {
-        predictPlainAmong(j, c.time, aroundJ, countJ);
-      } else {
-        predictBody(j, c.time);
-      }
-      continue;
-    }
-    const uint32_t ia = s_.bodyOfSlot[i];
+    setCell(i);
+    link(i);
+  }
+  predictBody(i, c.time);
+}
+
+// The end of a slide: the body leaves the face and falls freely from here.
+void Engine::endSlide(uint32_t i, const PredictiveEvent& c) {
+  const uint32_t ia = s_.bodyOfSlot[i];
+  attach(i);
+  BodySlot& a = w_.bodies[ia];
+  if (a.support.generation == 0) {
+    ++w_.stats.staleEvents;
+    predictBody(i, c.time);
+    return;
+  }
+  w_.advance(a, c.time);
+  w_.stopSliding(a);
+  ++a.collisionCount;
+  sync(i);
+  predictBody(i, c.time);
+}
+
+// Whether a contact whose bodies collided at most `most` times this step (either of them driven or not)
+// ends the predictive part of the step: a pile, a driven jam, or an inelastic collapse, where the collapse
+// guard would make its collisions elastic (jam.cpp).
+bool Engine::handsOver(uint32_t most, bool driven) const {
+  return most > kPileCollisions && (pilesForm_ || (jamsForm_ && (driven || most > collapseLimit_)));
+}
+
+// A contact that does not approach (beyond round-off) and that nothing presses: not a collision. Its
+// tiny approach is absorbed while the pair moves (the hybrid step's dismissContact), or the pair is
+// dismissed for the step (dismissals) and predicted again without it.
+void Engine::absorbOrDismiss(uint32_t i, uint32_t j, const PredictiveEvent& c, const detail::PredictedContact& contact,
+                             double vn, double speed, double velocityScale, double restTol) {
+  const uint32_t countA = contact.countA;
+  ++w_.stats.staleEvents;
+  if (vn < -16 * kEps * velocityScale && speed > restTol && w_.stats.eventsProcessed < w_.def.maxEventsPerStep &&
+      stepAbsorbs_ < detail::collapseCollisions(w_.def.maxEventsPerStep)) {
+    ++stepAbsorbs_;
     attach(i);
     if (j != PredictiveState::kNone) attach(j);
-    // The resting rules look at the bodies' candidate pairs.
-    if (w_.def.restingSpeed > 0 && !(w_.def.gravity == Vec2{})) {
-      fillPairs(i);
-      if (j != PredictiveState::kNone) fillPairs(j);
-    }
-    const detail::BodySlot* partner = j != PredictiveState::kNone ? &w_.bodies[s_.bodyOfSlot[j]] : nullptr;
-    const int most = std::max(w_.bodies[ia].stepCollisions, partner != nullptr ? partner->stepCollisions : 0);
-    const bool driven = w_.bodies[ia].driven || (partner != nullptr && partner->driven);
-    if (handsOver(static_cast<uint32_t>(std::max(most, 0)), driven)) {
-      pile = true;
-      budgetTime = c.time;
-      break;
-    }
-    if (w_.squeezeAt(contact)) {
-      ++w_.stats.eventsProcessed;
-      sync(i);
-      predictBody(i, c.time);
-      continue;
-    }
-    s_.woken.clear();
-    w_.resolve(contact, s_.woken, /*zenoGuard=*/true);
+    w_.absorb(contact, vn);
     ++w_.stats.eventsProcessed;
-    {
-      // The round-off guard (LastContact) takes a pair just resolved to be separating. When the resolution
-      // left it approaching after all (a body put back to sleep after sharing the impulse), that is not
-      // so: drop the guard for it, and the pair's next prediction finds the contact again, now. (The
-      // hybrid step does the same at its next step, which starts without guards.)
-      BodySlot& ba = w_.bodies[ia];
-      BodySlot& bb = w_.bodyOf(c.b);
-      const double after = dot(w_.velocityAt(ba, c.time) - w_.velocityAt(bb, c.time), c.normal);
-      if (after < -tolerance) {
-        for (BodySlot* body : {&ba, &bb}) {
-          if (body->type == BodyType::Dynamic) body->last = detail::LastContact{};
-        }
-      }
-    }
     sync(i);
     if (j != PredictiveState::kNone) sync(j);
-    if (!s_.woken.empty()) {
-      const uint32_t ib = w_.fixtures[c.b].body;
-      for (uint32_t k : s_.woken) {
-        if (k == ia || k == ib) continue;
-        // Asleep until now, so at rest where it lies: its clock starts here.
-        w_.bodies[k].localTime = c.time;
-        syncBody(k);
-      }
-      for (uint32_t k : s_.woken) {
-        const uint32_t slot = s_.slotOfBody[k];
-        if (k != ia && k != ib && slot != PredictiveState::kNone) predictBody(slot, c.time);
-      }
-    }
     predictBody(i, c.time);
     if (j != PredictiveState::kNone) predictBody(j, c.time);
+  } else {
+    if (!dismissals(i)) s_.dismissedSlots.push_back(i);
+    s_.hot[i].flags |= HotBody::kDismissals;
+    // Only entries that still hold are kept (a body at rest in a pile is dismissed again and again).
+    if (s_.dismissed.size() < s_.hot.size()) s_.dismissed.resize(s_.hot.size());
+    auto& list = s_.dismissed[i];
+    list.erase(std::remove_if(list.begin(), list.end(),
+                              [&](const detail::Dismissal& d) {
+                                return d.countOwn != countA || d.countOther != countOf(d.other);
+                              }),
+               list.end());
+    list.push_back({c.a, c.b, countA, c.countB, c.feature});
+    predictBody(i, c.time);
   }
+}
 
-  // 3. Sensor events, from the paths the bodies took. Then every body to the end of the step (out of
-  // budget: to the instant the budget ran out, as the hybrid step does); the clocks start again from there.
-  const double end = w_.stats.eventBudgetReached || pile ? budgetTime : dt;
+// A collision of two plain disks in a plain world (no gravity, sensors, sleep or slides), on the copies
+// (collidePlain). False: a jam is handed over (pile_).
+bool Engine::collidePlainPair(uint32_t i, uint32_t j, const PredictiveEvent& c, double tolerance) {
+  // (No gravity here, so no pile: only a jam hands over.)
+  if (jamsForm_ && handsOver(std::max(s_.cold[i].stepCollisions, s_.cold[j].stepCollisions),
+                             w_.bodies[s_.bodyOfSlot[i]].driven || w_.bodies[s_.bodyOfSlot[j]].driven)) {
+    pile_ = true;
+    budgetTime_ = c.time;
+    return false;
+  }
+  // Both bodies' neighbours are gathered first, which asks for their records, so that they arrive
+  // while the collision is resolved (it moves no body between cells).
+  uint32_t aroundI[kNeighbourBuffer], aroundJ[kNeighbourBuffer];
+  const size_t countI = gatherNeighbours(i, aroundI, kNeighbourBuffer);
+  const size_t countJ = gatherNeighbours(j, aroundJ, kNeighbourBuffer);
+  collidePlain(i, j, c, tolerance);
+  ++w_.stats.eventsProcessed;
+  if (predictsPlain(i)) {
+    predictPlainAmong(i, c.time, aroundI, countI);
+  } else {
+    predictBody(i, c.time);
+  }
+  if (predictsPlain(j)) {
+    predictPlainAmong(j, c.time, aroundJ, countJ);
+  } else {
+    predictBody(j, c.time);
+  }
+  return true;
+}
+
+// A contact: stale, dismissed or absorbed (not approaching), or a collision. False: the step stops here
+// (the event budget, or a pile or a jam handed over: budgetTime_, pile_).
+bool Engine::collideAt(uint32_t i, uint32_t j, const PredictiveEvent& c) {
+  const double restTolerance = s_.restTolerance;
+  const double approachTolerance = s_.approachTolerance;
+  // A contact. Static and kinematic bodies never change their counters; the body's own event is never
+  // stale (PredictiveEvent).
+  const uint32_t countA = s_.hot[i].collisionCount;
+  if (j != PredictiveState::kNone && s_.hot[j].collisionCount != c.countB) {
+    ++w_.stats.staleEvents;
+    predictBody(i, c.time);
+    return true;
+  }
+  if (j != PredictiveState::kNone) __builtin_prefetch(&s_.cold[j]);
+  // The hybrid step's check at pop: an approach no faster than round-off, with nothing pressing the two
+  // together, is not a collision. It is absorbed when the bodies still move, or else dropped.
+  Vec2 relativeVelocity, relativeAcceleration;
+  double velocityScale = 0;  // |v_a| + |v_b|: the round-off of the relative velocity (as the hybrid step)
+  {
+    const HotBody& ha = s_.hot[i];
+    const Vec2 accA = accelerationOf(ha, s_.rare[i]);
+    if (j != PredictiveState::kNone) {
+      const HotBody& hb = s_.hot[j];
+      const Vec2 accB = accelerationOf(hb, s_.rare[j]);
+      relativeVelocity = velocityAt(ha, accA, c.time) - velocityAt(hb, accB, c.time);
+      relativeAcceleration = accA - accB;
+      velocityScale = length(velocityAt(ha, accA, c.time)) + length(velocityAt(hb, accB, c.time));
+    } else {
+      const BodySlot& b = w_.bodyOf(c.b);
+      relativeVelocity = velocityAt(ha, accA, c.time) - w_.velocityAt(b, c.time);
+      relativeAcceleration = accA - b.acceleration;
+      velocityScale = length(velocityAt(ha, accA, c.time)) + length(w_.velocityAt(b, c.time));
+    }
+  }
+  const detail::PredictedContact contact{
+      c.time, detail::EventKind::Contact, false, c.a, c.b, c.feature, countA, c.countB, c.point, c.normal};
+  const double vn = dot(relativeVelocity, c.normal);
+  const bool pressing = dot(relativeAcceleration, c.normal) < 0;
+  const double restTol = restTolerance * (std::fabs(c.point.x) + std::fabs(c.point.y));
+  const double tolerance = approachTolerance + restTol;
+  if (!(vn < -tolerance) && !pressing) {
+    absorbOrDismiss(i, j, c, contact, vn, length(relativeVelocity), velocityScale, restTol);
+    return true;
+  }
+  if (w_.stats.eventsProcessed >= w_.def.maxEventsPerStep) {
+    w_.stats.eventBudgetReached = true;
+    budgetTime_ = c.time;
+    return false;
+  }
+  if (plainWorld_ && j != PredictiveState::kNone) return collidePlainPair(i, j, c, tolerance);
+  const uint32_t ia = s_.bodyOfSlot[i];
+  attach(i);
+  if (j != PredictiveState::kNone) attach(j);
+  // The resting rules look at the bodies' candidate pairs.
+  if (w_.def.restingSpeed > 0 && !(w_.def.gravity == Vec2{})) {
+    fillPairs(i);
+    if (j != PredictiveState::kNone) fillPairs(j);
+  }
+  const detail::BodySlot* partner = j != PredictiveState::kNone ? &w_.bodies[s_.bodyOfSlot[j]] : nullptr;
+  const int most = std::max(w_.bodies[ia].stepCollisions, partner != nullptr ? partner->stepCollisions : 0);
+  const bool driven = w_.bodies[ia].driven || (partner != nullptr && partner->driven);
+  if (handsOver(static_cast<uint32_t>(std::max(most, 0)), driven)) {
+    pile_ = true;
+    budgetTime_ = c.time;
+    return false;
+  }
+  if (w_.squeezeAt(contact)) {
+    ++w_.stats.eventsProcessed;
+    sync(i);
+    predictBody(i, c.time);
+    return true;
+  }
+  s_.woken.clear();
+  w_.resolve(contact, s_.woken, /*zenoGuard=*/true);
+  ++w_.stats.eventsProcessed;
+  {
+    // The round-off guard (LastContact) takes a pair just resolved to be separating. When the resolution
+    // left it approaching after all (a body put back to sleep after sharing the impulse), that is not
+    // so: drop the guard for it, and the pair's next prediction finds the contact again, now. (The
+    // hybrid step does the same at its next step, which starts without guards.)
+    BodySlot& ba = w_.bodies[ia];
+    BodySlot& bb = w_.bodyOf(c.b);
+    const double after = dot(w_.velocityAt(ba, c.time) - w_.velocityAt(bb, c.time), c.normal);
+    if (after < -tolerance) {
+      for (BodySlot* body : {&ba, &bb}) {
+        if (body->type == BodyType::Dynamic) body->last = detail::LastContact{};
+      }
+    }
+  }
+  sync(i);
+  if (j != PredictiveState::kNone) sync(j);
+  if (!s_.woken.empty()) {
+    const uint32_t ib = w_.fixtures[c.b].body;
+    for (uint32_t k : s_.woken) {
+      if (k == ia || k == ib) continue;
+      // Asleep until now, so at rest where it lies: its clock starts here.
+      w_.bodies[k].localTime = c.time;
+      syncBody(k);
+    }
+    for (uint32_t k : s_.woken) {
+      const uint32_t slot = s_.slotOfBody[k];
+      if (k != ia && k != ib && slot != PredictiveState::kNone) predictBody(slot, c.time);
+    }
+  }
+  predictBody(i, c.time);
+  if (j != PredictiveState::kNone) predictBody(j, c.time);
+  return true;
+}
+
+// 3. Sensor events, from the paths the bodies took. Then every body to the end of the step (out of
+// budget: to the instant the budget ran out, as the hybrid step does); the clocks start again from there.
+double Engine::finishStep(double dt) {
+  const bool pile = pile_;
+  const double end = w_.stats.eventBudgetReached || pile ? budgetTime_ : dt;
   if (w_.pathLog.active) {
     w_.sensePaths(w_.pathLog, end);
     w_.pathLog.active = false;
