@@ -367,18 +367,7 @@ int detail::WorldState::reportIslandContacts(double now, double reportAbove, uin
     if (!(c.approach > reportAbove) && islandKey(c.fa, c.fb) != reportPair) continue;
     if (reported >= maxReports) continue;
     ++reported;
-    const bool aIsLower = c.fa < c.fb;
-    const uint32_t fa = aIsLower ? c.fa : c.fb, fb = aIsLower ? c.fb : c.fa;
-    ContactEvent event;
-    event.time = now;
-    event.point = c.point;
-    event.impulse = c.lambda;
-    event.fixtureA = {fa, fixtures[fa].generation};
-    event.fixtureB = {fb, fixtures[fb].generation};
-    event.bodyA = {fixtures[fa].body, bodies[fixtures[fa].body].generation};
-    event.bodyB = {fixtures[fb].body, bodies[fixtures[fb].body].generation};
-    event.normal = aIsLower ? -c.normal : c.normal;
-    contactEvents.push_back(event);
+    contactEvents.push_back(contactEventOf(c.fa, c.fb, now, c.point, c.normal, c.lambda));
   }
   return reported;
 }

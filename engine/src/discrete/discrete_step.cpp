@@ -274,20 +274,10 @@ void DiscreteStepper::reflect(uint32_t own, uint32_t other, const Penetration& p
     j += extra;
   }
   ++w.stats.eventsProcessed;
-  ContactEvent event;
-  event.time = dt;
   // Where the two touch once pushed apart: on the circle, opposite its normal.
-  event.point = body.position + detail::circleCentre(w.fixtures[own].geometry) -
-                pen.normal * detail::circleRadius(w.fixtures[own].geometry);
-  event.impulse = j;
-  const bool ownIsLower = own < other;
-  const uint32_t fa = ownIsLower ? own : other, fb = ownIsLower ? other : own;
-  event.fixtureA = {fa, w.fixtures[fa].generation};
-  event.fixtureB = {fb, w.fixtures[fb].generation};
-  event.bodyA = {w.fixtures[fa].body, w.bodies[w.fixtures[fa].body].generation};
-  event.bodyB = {w.fixtures[fb].body, w.bodies[w.fixtures[fb].body].generation};
-  event.normal = ownIsLower ? -pen.normal : pen.normal;  // pen.normal points from other toward own
-  w.contactEvents.push_back(event);
+  const Vec2 point = body.position + detail::circleCentre(w.fixtures[own].geometry) -
+                     pen.normal * detail::circleRadius(w.fixtures[own].geometry);
+  w.contactEvents.push_back(w.contactEventOf(own, other, dt, point, pen.normal, j));
 }
 
 // 3b. A push may have carried a body's centre across a static fixture's surface (a thin wall, a

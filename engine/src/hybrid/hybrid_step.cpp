@@ -79,36 +79,6 @@ bool hasSeveralFeatures(const Geometry& g) {
 
 }  // namespace
 
-// The feature of `other` that `own` cannot be approaching now (TimeOfImpact's resolvedFeature): the
-// face its body slides on, or the one both bodies of the pair were last resolved on at this instant.
-int detail::WorldState::resolvedFeature(const BodySlot& a, const BodySlot& b, uint32_t own, uint32_t other,
-                                 double now) const {
-  int resolved = kNoFeature;
-  // Round-off guard (see LastContact): if every dynamic body of the pair was last resolved against
-  // this same pair at this same instant, the feature it touched cannot be approaching now.
-  const uint32_t low = std::min(own, other), high = std::max(own, other);
-  auto resolvedHereNow = [&](const BodySlot& s) {
-    return s.type != BodyType::Dynamic ||
-           (s.last.time == now && s.last.fixtureLow == low && s.last.fixtureHigh == high);
-  };
-  const bool lastHere = a.last.time == now && resolvedHereNow(a) && resolvedHereNow(b);
-  // A point has no overlap to tell which side of a line it is on (time_of_impact.h); in a corner it is
-  // on two lines at once, and which of them it leaves is told by leavesCorner().
-  const bool point = a.sliding && lastHere && detail::circleRadius(fixtures[own].geometry) == 0;
-  if (a.support.generation != 0 && a.support.fixture == other) {
-    // Sliding on this fixture: the face it slides on is a constraint; it only matters again if the
-    // body leaves it and comes back. A point in the corner of two of its faces, resolved against the
-    // other one at this instant and leaving it, leaves both.
-    resolved = a.support.feature;
-    if (point && a.last.feature != a.support.feature && leavesCorner(a, other, a.last.feature, now)) {
-      resolved = kEveryFeature;
-    }
-  } else if (lastHere && !(point && !leavesCorner(a, other, a.last.feature, now))) {
-    resolved = a.last.feature;
-  }
-  return resolved;
-}
-
 void detail::WorldState::predict(uint32_t own, uint32_t other, double now, double dt, int dismissed) {
   const BodySlot& a = bodyOf(own);
   const BodySlot& b = bodyOf(other);
@@ -228,26 +198,6 @@ void detail::WorldState::advance(BodySlot& b, double t) {
   moveTo(b, t);
 }
 
-void detail::WorldState::absorb(const PredictedContact& c, double vn) {
-  BodySlot& a = bodyOf(c.a);
-  BodySlot& b = bodyOf(c.b);
-  advance(a, c.time);
-  advance(b, c.time);
-  const double inverseA = a.asleep ? 0.0 : a.inverseMass;
-  const double inverseB = b.asleep ? 0.0 : b.inverseMass;
-  if (!(inverseA + inverseB > 0)) return;
-  const double j = -vn / (inverseA + inverseB);
-  a.velocity += c.normal * (j * inverseA);
-  b.velocity -= c.normal * (j * inverseB);
-  const detail::LastContact last{std::min(c.a, c.b), std::max(c.a, c.b), c.feature, c.time};
-  for (BodySlot* s : {&a, &b}) {
-    if (s->type != BodyType::Dynamic) continue;
-    ++s->collisionCount;
-    if (s->stepAbsorbs < std::numeric_limits<uint16_t>::max()) ++s->stepAbsorbs;
-    s->setLast(last);
-  }
-}
-
 bool detail::WorldState::joinsIsland(const PredictedContact& c) const {
   if (!(def.restingSpeed > 0)) return false;
   const BodySlot& a = bodyOf(c.a);
@@ -262,122 +212,6 @@ bool detail::WorldState::joinsIsland(const PredictedContact& c) const {
   const bool rapid = now - a.lastContactTime < def.collapseTime || now - b.lastContactTime < def.collapseTime;
   const double e = rapid ? 1.0 : std::max(fixtures[c.a].restitution, fixtures[c.b].restitution);
   return -e * vn < def.restingSpeed;
-}
-
-void detail::WorldState::resolve(const PredictedContact& c, std::vector<uint32_t>& woken, bool zenoGuard) {
-  const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
-  BodySlot& a = bodies[ia];
-  BodySlot& b = bodies[ib];
-  advance(a, c.time);
-  advance(b, c.time);
-  const Vec2 n = c.normal;  // from b toward a
-  // A contact predicted as "pressing" (touching, not moving apart, pushed together by gravity) may read
-  // as slightly separating after round-off: treat it as touching.
-  const double vn = std::min(dot(a.velocity - b.velocity, n), 0.0);
-
-  // A sleeping body holds like a static one against soft hits; a harder hit, or a kinematic body,
-  // wakes it (and whatever it holds up) first.
-  const double restingSpeed = def.restingSpeed;
-  if (a.asleep && (b.type == BodyType::Kinematic || -vn > restingSpeed)) wakeUp(ia, c.time, woken);
-  if (b.asleep && (a.type == BodyType::Kinematic || -vn > restingSpeed)) wakeUp(ib, c.time, woken);
-  // The predictive mode's guard against a Zeno sequence, after the wakes (a body woken here and already
-  // caught in one sleeps again at once); the hybrid step resolves such clusters at once instead (jam.cpp).
-  if (zenoGuard) {
-    sleepIfZeno(ia, c.time);
-    sleepIfZeno(ib, c.time);
-  }
-  const double inverseA = a.asleep ? 0.0 : a.inverseMass;
-  const double inverseB = b.asleep ? 0.0 : b.inverseMass;
-  const double inverseSum = inverseA + inverseB;
-  if (!(inverseSum > 0)) return;
-
-  // Newton's restitution law along the normal: the separation speed after is e times the approach
-  // speed, with e the larger of the two fixtures' restitutions. j = (separation - vn) / (1/ma + 1/mb);
-  // static, kinematic and sleeping bodies have 1/m = 0.
-  const double now = time + c.time;
-  // The collapse guard without gravity (collapse_guard.h); under gravity the stepped islands and jams
-  // hold such clusters instead.
-  bool collapsing = false;
-  if (def.gravity.x == 0 && def.gravity.y == 0) {
-    const int limit = detail::collapseCollisions(def.maxEventsPerStep);
-    const bool aCollapsing = a.type == BodyType::Dynamic && a.countStepCollision() > limit;
-    const bool bCollapsing = b.type == BodyType::Dynamic && b.countStepCollision() > limit;
-    collapsing = aCollapsing || bCollapsing;
-  }
-  const bool rapid =
-      collapsing || now - a.lastContactTime < def.collapseTime || now - b.lastContactTime < def.collapseTime;
-  const double e = rapid ? 1.0 : std::max(fixtures[c.a].restitution, fixtures[c.b].restitution);
-  double separation = -e * vn;
-  double j = (separation - vn) / inverseSum;
-  a.velocity += n * (j * inverseA);
-  b.velocity -= n * (j * inverseB);
-
-  // Resting (resting.cpp): only when gravity presses the two together, so that a slow bounce would
-  // turn into a Zeno sequence.
-  const bool pressing = dot(a.acceleration - b.acceleration, n) < 0;
-  BodySlot* slider = nullptr;  // a body that starts sliding on this contact keeps that slide
-  if (restingSpeed > 0 && pressing && separation < restingSpeed) {
-    // The body that rests is the one that can move, against one that cannot.
-    const bool aRests = inverseA > 0 && inverseB == 0;
-    const bool bRests = inverseB > 0 && inverseA == 0;
-    const uint32_t rester = aRests ? ia : ib;
-    const uint32_t holderFixture = aRests ? c.b : c.a;
-    BodySlot& r = bodies[rester];
-    if ((aRests || bRests) && length(r.velocity) < restingSpeed && supportsAt(rester, c.time, supporters)) {
-      putToSleep(rester, supporters);
-    } else if ((aRests || bRests) && bodies[fixtures[holderFixture].body].type == BodyType::Static &&
-               isFlatFeature(holderFixture, c.feature) && aRests) {
-      startSliding(rester, holderFixture, c.feature, n);
-      slider = &r;
-      j = -vn / inverseSum;
-    } else {
-      // Bounce off at restingSpeed at least: bounded bounce rate instead of a Zeno sequence.
-      const double extra = (restingSpeed - separation) / inverseSum;
-      a.velocity += n * (extra * inverseA);
-      b.velocity -= n * (extra * inverseB);
-      j += extra;
-      separation = restingSpeed;
-    }
-  }
-
-  // With restitution 0 the normal speed after is zero only up to round-off; make sure it is not left
-  // approaching, since the pair is now taken to be separating (LastContact) until something changes.
-  for (int k = 0; k < 3; ++k) {
-    const double after = dot(a.velocity - b.velocity, n);
-    if (!(after < 0)) break;
-    const double extra = -after / inverseSum;
-    a.velocity += n * (extra * inverseA);
-    b.velocity -= n * (extra * inverseB);
-    j += extra;
-  }
-
-  const detail::LastContact last{std::min(c.a, c.b), std::max(c.a, c.b), c.feature, c.time};
-  for (BodySlot* s : {&a, &b}) {
-    if (s->type != BodyType::Dynamic) continue;
-    ++s->collisionCount;
-    // A body that starts to slide here has the face as its support, which its predictions already
-    // leave out; what it was resolved against earlier at this same instant stays its last contact. A
-    // point sliding into a corner of two Segments is on the wall's line when it lands on the floor: the
-    // wall, forgotten, would read as just arrived from outside and push it out.
-    if (!(s == slider && s->last.time == c.time)) s->setLast(last);
-    s->lastContactTime = now;
-    // Any other contact ends a slide: the body either leaves the face or is pushed into it, and then
-    // the face's own contact (touching and approaching: now) resolves that, resting rules included.
-    if (s->support.generation != 0 && s != slider) stopSliding(*s);
-  }
-
-  ContactEvent event;
-  event.time = c.time;
-  event.point = c.point;
-  event.impulse = j;
-  const bool aIsLower = c.a < c.b;
-  const uint32_t fa = aIsLower ? c.a : c.b, fb = aIsLower ? c.b : c.a;
-  event.fixtureA = {fa, fixtures[fa].generation};
-  event.fixtureB = {fb, fixtures[fb].generation};
-  event.bodyA = {fixtures[fa].body, bodies[fixtures[fa].body].generation};
-  event.bodyB = {fixtures[fb].body, bodies[fixtures[fb].body].generation};
-  event.normal = aIsLower ? -n : n;  // n points from c.b toward c.a
-  contactEvents.push_back(event);
 }
 
 void detail::WorldState::learnDiskShape(uint32_t bodyIndex) {

@@ -325,6 +325,8 @@ struct WorldState {
   bool leavesCorner(const detail::BodySlot& b, uint32_t fixture, int feature, double now) const;
   int resolvedFeature(const detail::BodySlot& a, const detail::BodySlot& b, uint32_t own, uint32_t other,
                       double now) const;
+  /// The ContactEvent of fixtures a and b (either order) at `time`; `normal` points from b toward a.
+  ContactEvent contactEventOf(uint32_t a, uint32_t b, double time, Vec2 point, Vec2 normal, double impulse) const;
   bool supportsAt(uint32_t body, double now, std::vector<uint32_t>& supporters) const;
   std::optional<double> slideEndTime(const detail::BodySlot& b, double now, double dt) const;
 
