@@ -205,6 +205,16 @@ class Engine {
   // (fuzz/regressions/world_api/budget-predictive-collapse-far-from-the-origin). Counted for the whole
   // step, not a body, so that nothing is reset per body.
   int stepAbsorbs_ = 0;
+  // buildGrid()'s parts.
+  struct TrackedBounds {
+    double diameter, minX, minY, maxX, maxY;
+  };
+  struct GridShape {
+    double size, least;
+    uint32_t foldX, foldY;
+  };
+  TrackedBounds trackBodies();
+  GridShape chooseGrid(const TrackedBounds& t);
   // The step's phases (step()) and what runEvents() hands to finishStep().
   bool startStep(double dt);
   void runEvents(double dt);

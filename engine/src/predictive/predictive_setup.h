@@ -104,23 +104,10 @@ void Engine::attach(uint32_t slot) {
   h.flags = static_cast<uint8_t>(h.flags & ~HotBody::kDetached);
 }
 
-void Engine::buildGrid() {
+// The tracked bodies' copies (HotBody, ColdBody, RareBody) made afresh, in body order, with their
+// largest diameter and the box of their centres.
+Engine::TrackedBounds Engine::trackBodies() {
   const size_t nb = w_.bodies.size();
-  emptyOccupiedEntries();  // the table is all empty (kept if its size stays)
-  s_.slotOfBody.assign(nb, PredictiveState::kNone);
-  s_.bodyOfSlot.clear();
-  s_.hot.clear();
-  s_.cold.clear();
-  s_.rare.clear();
-  s_.centres.clear();
-  s_.untracked.clear();
-  s_.plainShapes = true;
-  s_.bodyOfSlot.reserve(nb);
-  s_.hot.reserve(nb);
-  s_.cold.reserve(nb);
-  s_.rare.reserve(nb);
-
-  // Tracked bodies: dynamic ones with a physical fixture.
   double diameter = 0;
   double minX = kInf, minY = kInf, maxX = -kInf, maxY = -kInf;
   for (uint32_t body = 0; body < nb; ++body) {
@@ -174,15 +161,19 @@ void Engine::buildGrid() {
     maxX = std::max(maxX, centre.x);
     maxY = std::max(maxY, centre.y);
   }
-  const size_t n = s_.hot.size();
-  for (uint32_t slot = 0; slot < n; ++slot) sync(slot);
+  return {diameter, minX, minY, maxX, maxY};
+}
 
+// The cell size and the table's folds for the tracked bodies (their bounds) and the static fixtures'
+// region; sets the grid's origin. `least` is the smallest cell that holds the bodies (before
+// sparseCellSize).
+Engine::GridShape Engine::chooseGrid(const TrackedBounds& t) {
+  const size_t n = s_.hot.size();
+  const double diameter = t.diameter, minX = t.minX, minY = t.minY, maxX = t.maxX, maxY = t.maxY;
   // Cell size: the largest diameter, with a margin for round-off in cell crossings. The table: about
   // the bodies' region, at most a few entries per body, or the static fixtures' region (below).
   double size = 1;
-  double least = 0;  // the smallest cell that holds the bodies (before sparseCellSize)
-  const double lastX0 = s_.x0, lastY0 = s_.y0, lastSize = s_.cellSize;
-  const uint32_t lastFoldX = s_.foldX, lastFoldY = s_.foldY;
+  double least = 0;
   s_.x0 = s_.y0 = 0;
   uint32_t foldX = 4, foldY = 4;
   if (n > 0 && std::isfinite(maxX - minX) && std::isfinite(maxY - minY)) {
@@ -218,6 +209,37 @@ void Engine::buildGrid() {
     foldX = std::max(foldX, 4u);
     foldY = std::max(foldY, 4u);
   }
+  return {size, least, foldX, foldY};
+}
+
+void Engine::buildGrid() {
+  const size_t nb = w_.bodies.size();
+  emptyOccupiedEntries();  // the table is all empty (kept if its size stays)
+  s_.slotOfBody.assign(nb, PredictiveState::kNone);
+  s_.bodyOfSlot.clear();
+  s_.hot.clear();
+  s_.cold.clear();
+  s_.rare.clear();
+  s_.centres.clear();
+  s_.untracked.clear();
+  s_.plainShapes = true;
+  s_.bodyOfSlot.reserve(nb);
+  s_.hot.reserve(nb);
+  s_.cold.reserve(nb);
+  s_.rare.reserve(nb);
+
+  // Tracked bodies: dynamic ones with a physical fixture.
+  const TrackedBounds tracked = trackBodies();
+  const double diameter = tracked.diameter;
+  const size_t n = s_.hot.size();
+  for (uint32_t slot = 0; slot < n; ++slot) sync(slot);
+
+  const double lastX0 = s_.x0, lastY0 = s_.y0, lastSize = s_.cellSize;
+  const uint32_t lastFoldX = s_.foldX, lastFoldY = s_.foldY;
+  const GridShape shape = chooseGrid(tracked);
+  double size = shape.size;
+  const double least = shape.least;
+  const uint32_t foldX = shape.foldX, foldY = shape.foldY;
   // The static fixtures listed by cell (below) depend only on them and on the grid: while no static or
   // kinematic body or fixture changed (detail::WorldState::staticVersion), a grid as fine and as large as the
   // one just worked out is kept as it was, with its listing. A game that fires a shot or loses a unit
