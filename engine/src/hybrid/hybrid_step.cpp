@@ -100,8 +100,8 @@ void detail::WorldState::predict(uint32_t own, uint32_t other, double now, doubl
 }
 
 void detail::WorldState::queueContact(const Impact& impact, uint32_t own, uint32_t other, uint32_t countOwn,
-                               uint32_t countOther, Vec2 velocityOfOther, Vec2 accelerationOfOther, double now,
-                               double dt, bool afterDismissal) {
+                                      uint32_t countOther, Vec2 velocityOfOther, Vec2 accelerationOfOther, double now,
+                                      double dt, bool afterDismissal) {
   // The impact's point is in the frame where `other` rests; in the world it has moved with it.
   const double h = impact.time;
   const double time = std::min(now + h, dt);
@@ -452,7 +452,7 @@ void detail::WorldState::startIslandsAndPredict(double dt) {
 // A predicted contact that no longer approaches (beyond round-off) and that nothing presses: no collision.
 // Its tiny approach is absorbed, or the pair is predicted again without the feature it names.
 void detail::WorldState::dismissContact(const PredictedContact& c, double dt, double vn, Vec2 relativeVelocity,
-                                 double restTolerance, int& featureRepredictions) {
+                                        double restTolerance, int& featureRepredictions) {
   const BodySlot& a = bodyOf(c.a);
   const BodySlot& b = bodyOf(c.b);
   ++stats.staleEvents;
