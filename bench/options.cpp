@@ -197,7 +197,7 @@ usage: rattle-bench [--scene S] [--engine E] [--n N] [--dt DT] [--seconds T] [--
                     [--no-reference] [--measure-every K] [--warm-up T] [--time-limit S] [--quiet]
        rattle-bench --help | --version
 
-  --scene S          gas (default), pile, bullets, cradle, sensors, crowd (bench/scenes.h says what
+  --scene S          gas (default), pile, bullets, cradle, sensors, crowd (scenes/scenes.h says what
                      each is), arena (the demo's game on assets/maps/arena.json; bench/arena.h)
   --engine E         one of the engines below (default hybrid); arena: discrete, hybrid, predictive;
                      crowd: discrete, hybrid, predictive, box2d, box2d-bullet, chipmunk
@@ -244,7 +244,7 @@ rattle's predictive mode for the collision count, rattle's hybrid mode at DT <= 
 and Box2D; empty for engines that do not say or never sleep).
 
 The crowd row: before every step (outside the timing) each disk's velocity is set by the naive steering
-(bench/scenes.h); reached_goal counts the disks whose centre was ever in the goal region (the second
+(scenes/scenes.h); reached_goal counts the disks whose centre was ever in the goal region (the second
 room); tunnelled counts the disks ever found outside the container or that crossed the dividing wall
 anywhere but through a doorway (through a wall); max_overlap and mean_overlap as above (disks against
 disks and walls). There is no exact reference (the steering makes each engine's run its own), and

@@ -16,7 +16,7 @@ The matrix (what `make bench` runs; --quick shrinks every scene for a smoke test
       bullets 100 bullets for 2 s, once at each speed 10, 100, 1000, 10000
       cradle  600 disks (100 cradles) for 5 s
       sensors 200 disks for 5 s
-  - crowd (disks steered naively through two doorways into a second room, bench/scenes.h) with discrete,
+  - crowd (disks steered naively through two doorways into a second room, scenes/scenes.h) with discrete,
     hybrid, predictive, box2d and chipmunk at the game's tick (1/30 s): 1,000 and 10,000 disks for 20 s, each
     run stopped at CROWD_TIME_LIMIT_S of wall-clock time (60 s at 1,000 disks, 120 s at 10,000) (rattle-bench --time-limit; the row says so in
     stopped_at_time_limit and its notes) so that an engine that cannot keep up does not hold the matrix up;

@@ -1,4 +1,4 @@
-// The benchmark's shared scenes (bench/scenes.h, suite BenchScenes): what each scene promises about its
+// The benchmark's shared scenes (scenes/scenes.h, suite BenchScenes): what each scene promises about its
 // start (the packing fraction asked for, no disk overlapping another or a wall, speeds as stated, valid
 // geometry), that one seed gives one scene bit for bit, and that bad parameters are refused with a message
 // naming them. Checked by brute force against the scene's own numbers, not against the scene code.

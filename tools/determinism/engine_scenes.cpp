@@ -1,4 +1,4 @@
-// gas, pile, bullets and sensors are the benchmark's scenes (bench/scenes.h, one seed, no libm in their
+// gas, pile, bullets and sensors are the benchmark's scenes (scenes/scenes.h, one seed, no libm in their
 // placement; the pile with collapseTime 1e-3, as the benchmark runs it). kinematic is written here: two
 // kinematic pushers, one carrying a sensor, that turn around every 40 steps among bouncing disks.
 #include "engine_scenes.h"

@@ -1,7 +1,7 @@
 // rattle-bench: the benchmark's scenes, written once as plain data (disks, walls, sensor strips) so that
 // every engine adapter builds its own world from the same numbers, and tests and the demo can share them.
 //
-// Every random start comes from the seed through bench/random.h (no std distributions, no libm calls in
+// Every random start comes from the seed through scenes/random.h (no std distributions, no libm calls in
 // the placement), so one seed gives one scene, bit for bit, on every build.
 //
 // The scenes (defaults in brackets; --packing and --speed override where they apply):
