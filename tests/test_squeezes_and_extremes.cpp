@@ -497,6 +497,39 @@ TEST(TinyBodies, APointDroppedOnAFloorComesToRestOnIt) {
   }
 }
 
+// A point sliding on a floor runs into a disk made overlapping that floor: the disk's contact pushes it
+// down into the floor, which holds it, so it goes on along the floor and never below it. The floor and
+// every contact with it push only vertically, so the pair's horizontal momentum is kept
+// (fuzz/regressions/world_api/escape-point-inside-a-disk-that-overlaps-the-floor).
+TEST(TinyBodies, APointSlidingIntoADiskThatOverlapsTheFloorStaysOnTheFloor) {
+  for (StepMode mode : kExactModes) {
+    SCOPED_TRACE(nameOf(mode));
+    World w(defOf(mode, {0, -9.81}));
+    const BodyId ground = w.createBody({.type = BodyType::Static});
+    w.createFixture(ground, {.geometry = Segment{{-10, 0}, {10, 0}}});
+    const BodyId p = w.createBody({.type = BodyType::Dynamic, .position = {-1, 0.01}, .velocity = {1, 0}});
+    w.createFixture(p, {.geometry = Point{}, .restitution = 0});
+    const BodyId d = w.createBody({.type = BodyType::Dynamic, .position = {0, 0.02}});
+    w.createFixture(d, {.geometry = Circle{{0, 0}, 0.1}, .restitution = 0.03});
+    const double mp = w.mass(p), md = w.mass(d);
+    bool met = false;
+    double momentum = 0;
+    for (int i = 0; i < 90; ++i) {
+      w.step(1.0 / 60);
+      ASSERT_GE(w.position(p).y, 0.0) << "step " << i;
+      const double now = mp * w.velocity(p).x + md * w.velocity(d).x;
+      if (!met && w.velocity(d).x != 0) {
+        met = true;
+        momentum = mp * 1.0;  // the point's, before it met the disk
+      }
+      if (met) {
+        EXPECT_NEAR(now, momentum, 1e-12 * momentum) << "step " << i;
+      }
+    }
+    EXPECT_TRUE(met);
+  }
+}
+
 // A density of 1.7e308 on a disk of radius 0.4 gave it a mass of 9e307 and an inverse mass of 1e-308
 // (subnormal): the islands' solve divided by it, and the body's position became NaN
 // (fuzz/regressions/world_api/finite-hybrid-density-max).

@@ -61,5 +61,10 @@ inline double circleRadius(const Geometry& g) {
   if (const auto* c = std::get_if<Circle>(&g)) return c->radius;
   return 0;
 }
+/// A Point or a circle of radius 0: no extent, so no overlap to tell its side of a line it lies on.
+inline bool isPoint(const Geometry& g) {
+  if (const auto* c = std::get_if<Circle>(&g)) return c->radius == 0;
+  return std::holds_alternative<Point>(g);
+}
 
 }  // namespace rattle::detail

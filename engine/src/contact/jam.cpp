@@ -30,10 +30,21 @@ constexpr size_t kMaxJamBodies = 4096;
 
 }  // namespace
 
+// A dynamic body is one circle (or point) and its sensors.
+bool detail::WorldState::bodyIsPoint(const BodySlot& b) const {
+  for (uint32_t f : b.fixtures) {
+    if (!fixtures[f].sensor && detail::isPoint(fixtures[f].geometry)) return true;
+  }
+  return false;
+}
+
 bool detail::WorldState::isJammed(uint32_t bodyIndex) {
   BodySlot& s = bodies[bodyIndex];
   if (s.type != BodyType::Dynamic || s.asleep || s.jamTime == kJamRefused) return false;
   if (!(def.restingSpeed > 0)) return false;
+  // An island's contacts are built from distances (island.cpp), which cannot tell a point's side of a
+  // face it lies on: a point's contacts stay events, where its slide and LastContact tell it.
+  if (bodyIsPoint(s)) return false;
   // Without gravity resolve() counts every collision already (the collapse guard, collapse_guard.h). A
   // body the game drives jams as under gravity; one it does not (a gas) only where the collapse guard
   // would otherwise make its collisions elastic: it is then in an inelastic collapse (a cluster with low
@@ -102,6 +113,7 @@ int detail::WorldState::settleJam(uint32_t seed, double now, double dt, int budg
       const uint32_t j = other.body;
       const BodySlot& holder = bodies[j];
       if (holder.type != BodyType::Dynamic || holder.asleep || slot[j] >= 0) continue;
+      if (bodyIsPoint(holder)) continue;  // as in isJammed
       const Vec2 centre = positionAt(body, now) + detail::circleCentre(own.geometry);
       const double radius = detail::circleRadius(own.geometry);
       const auto closest = detail::closestPoint(other.geometry, positionAt(holder, now), centre);

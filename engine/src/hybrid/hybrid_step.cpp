@@ -52,12 +52,6 @@ void storeIfChanged(T& to, const T& value) {
   if (!sameBits(to, value)) to = value;
 }
 
-// A circle of radius 0 or a Point: no extent, so no overlap to tell its side of a line.
-bool isPoint(const Geometry& g) {
-  if (const auto* c = std::get_if<Circle>(&g)) return c->radius == 0;
-  return std::holds_alternative<Point>(g);
-}
-
 }  // namespace
 
 using detail::BodySlot;
@@ -168,7 +162,7 @@ void detail::WorldState::repredict(uint32_t bodyIndex, double now, double dt, bo
   for (uint32_t f : body.fixtures) {
     if (fixtures[f].sensor) continue;  // sensed along the paths after the step (sensor_paths.cpp)
     Box box{path.min + fixtures[f].localBox.min, path.max + fixtures[f].localBox.max};
-    if (isPoint(fixtures[f].geometry)) box = detail::withRoundOff(box);
+    if (detail::isPoint(fixtures[f].geometry)) box = detail::withRoundOff(box);
     if (!forceRequery && broadPhase.box(f).contains(box)) continue;
     // The new path leaves the swept box (or the body just woke and the sweep skipped it as resting):
     // grow the box and ask the broad phase again.
@@ -204,6 +198,9 @@ bool detail::WorldState::joinsIsland(const PredictedContact& c) const {
   const BodySlot& b = bodyOf(c.b);
   auto movable = [](const BodySlot& s) { return s.type == BodyType::Dynamic && !s.asleep; };
   if (!movable(a) || !movable(b)) return false;
+  // An island's contacts are built from distances (island.cpp), which cannot tell a point's side of a
+  // face it lies on: a point's contacts stay events, where its slide and LastContact tell it.
+  if (detail::isPoint(fixtures[c.a].geometry) || detail::isPoint(fixtures[c.b].geometry)) return false;
   // Pressed together by gravity, or one of them already held by an island that pushes it into the other.
   if (!a.stepped && !b.stepped && !(dot(a.acceleration - b.acceleration, c.normal) < 0)) return false;
   // The bounce resolve() would give (Newton's law with the TC model's exception), against restingSpeed.
@@ -354,7 +351,7 @@ double detail::WorldState::sweepBoxes(double dt) {
       if (fixture.sensor) continue;
       broadPhase.setMoving(f, moving && !still);
       const Box box{path.min + fixture.localBox.min, path.max + fixture.localBox.max};
-      broadPhase.setBox(f, isPoint(fixture.geometry) ? detail::withRoundOff(box) : box);
+      broadPhase.setBox(f, detail::isPoint(fixture.geometry) ? detail::withRoundOff(box) : box);
       broadPhase.setTag(f, detail::BroadPhase::kNoTag);
     }
   }

@@ -508,6 +508,7 @@ struct WorldState {
   bool settledTogether(const detail::BodySlot& a, const detail::BodySlot& b, double now) const;
   /// Counts a collision of `body` in this step; true once it has had more than kJamCollisions.
   bool isJammed(uint32_t body);
+  bool bodyIsPoint(const BodySlot& b) const;
   /// Brings the touching cluster of `seed` into the stepped islands at `now` and solves its island;
   /// returns the contact events it took (at least 1, at most `budget` >= 1), or
   /// returns 0 when it is refused (below).
