@@ -497,6 +497,44 @@ TEST(TinyBodies, APointDroppedOnAFloorComesToRestOnIt) {
   }
 }
 
+// A point at rest on a floor lies on the floor's line, where it has no overlap to tell its side. Sent up
+// by the game, it leaves the floor and rises as a thrown body does; sent down, the floor stops it
+// (fuzz/regressions/world_api/escape-point-woken-upward-off-a-floor: it was taken to arrive from below
+// and bounced down through the floor).
+TEST(TinyBodies, APointAtRestOnAFloorThatTheGameSendsUpRises) {
+  for (StepMode mode : kExactModes) {
+    for (double vy : {12.0, -12.0}) {
+      SCOPED_TRACE(std::string(nameOf(mode)) + (vy > 0 ? " up" : " down"));
+      World w(defOf(mode, {0, -9.81}));
+      const BodyId box = w.createBody({.type = BodyType::Static, .position = {1e-12, 1e-12}});
+      const double a = 10.500149636933546;
+      w.createFixture(box, {.geometry = Polyline{{{-a, -a}, {a, -a}, {a, a}, {-a, a}, {-a, -a}}}});
+      const BodyId p = w.createBody({.type = BodyType::Dynamic, .position = {-10.000149636932546, -10.4}});
+      w.createFixture(p, {.geometry = Point{}, .restitution = 0.05});
+      const double floor = -a + 1e-12;
+      for (int i = 0; i < 120; ++i) w.step(1.0 / 60);
+      ASSERT_NEAR(w.position(p).y, floor, 1e-13);
+      ASSERT_EQ(w.velocity(p).y, 0.0);
+      const Vec2 start = w.position(p);
+      w.setVelocity(p, {-1.5, vy});
+      const double dt = 1.0 / 30;
+      w.step(dt);
+      if (vy > 0) {
+        // Free flight: y = y0 + vy t - g t^2 / 2, to the round-off of the coordinates.
+        EXPECT_NEAR(w.position(p).y, start.y + vy * dt - 0.5 * 9.81 * dt * dt, 1e-12);
+        EXPECT_NEAR(w.velocity(p).y, vy - 9.81 * dt, 1e-12);
+      } else {
+        EXPECT_GE(w.position(p).y, floor - 1e-13);
+        EXPECT_GE(w.velocity(p).y, 0.0);
+      }
+      for (int i = 0; i < 120; ++i) {
+        w.step(1.0 / 60);
+        ASSERT_GE(w.position(p).y, floor - 1e-13) << "step " << i;
+      }
+    }
+  }
+}
+
 // A point sliding on a floor runs into a disk made overlapping that floor: the disk's contact pushes it
 // down into the floor, which holds it, so it goes on along the floor and never below it. The floor and
 // every contact with it push only vertically, so the pair's horizontal momentum is kept

@@ -17,7 +17,8 @@ using detail::BodySlot;
 using detail::PredictedContact;
 
 // The feature of `other` that `own` cannot be approaching now (TimeOfImpact's resolvedFeature): the
-// face its body slides on, or the one both bodies of the pair were last resolved on at this instant.
+// face its body slides on, the one both bodies of the pair were last resolved on at this instant, or
+// (a point) the one it last touched, when it moves away toward the side it touched it from.
 int detail::WorldState::resolvedFeature(const BodySlot& a, const BodySlot& b, uint32_t own, uint32_t other,
                                         double now) const {
   int resolved = kNoFeature;
@@ -32,7 +33,7 @@ int detail::WorldState::resolvedFeature(const BodySlot& a, const BodySlot& b, ui
   // A point has no overlap to tell which side of a line it is on (time_of_impact.h); in a corner it is
   // on two lines at once, and which of them it leaves is told by leavesCorner().
   const bool point = a.sliding && lastHere && detail::circleRadius(fixtures[own].geometry) == 0;
-  if (a.support.generation != 0 && a.support.fixture == other) {
+  if (a.sliding && a.support.fixture == other) {
     // Sliding on this fixture: the face it slides on is a constraint; it only matters again if the
     // body leaves it and comes back. A point in the corner of two of its faces, resolved against the
     // other one at this instant and leaving it, leaves both.
@@ -42,6 +43,17 @@ int detail::WorldState::resolvedFeature(const BodySlot& a, const BodySlot& b, ui
     }
   } else if (lastHere && !(point && !leavesCorner(a, other, a.last.feature, now))) {
     resolved = a.last.feature;
+  } else if (!a.sliding && a.support.fixture == other && a.support.generation != 0 &&
+             fixtures[other].generation == a.support.generation && fixtures[other].alive &&
+             detail::isPoint(fixtures[own].geometry) &&
+             dot(velocityAt(a, now) - velocityAt(b, now), a.support.normal) > 0) {
+    // A point lying on a line has no overlap to tell its side, and the time of impact takes it to have
+    // just arrived from the side it comes from: one at rest on a floor that the game sends up would be
+    // "arriving from below" and bounce down through it (fuzz/regressions/world_api/
+    // escape-point-woken-upward-off-a-floor). It last touched this feature from the side `normal`
+    // points to, and moves toward that side: it is leaving. (Away from the line this matters to no
+    // root: the rule only concerns a contact at this instant.)
+    resolved = a.support.feature;
   }
   return resolved;
 }
@@ -106,6 +118,15 @@ void detail::WorldState::absorb(const PredictedContact& c, double vn) {
     if (s->stepAbsorbs < std::numeric_limits<uint16_t>::max()) ++s->stepAbsorbs;
     s->setLast(last);
   }
+  rememberFace(c);
+}
+
+// A point's side of a feature of what cannot move (Support): kept at each contact with it.
+void detail::WorldState::rememberFace(const PredictedContact& c) {
+  BodySlot& a = bodyOf(c.a);
+  if (a.type != BodyType::Dynamic || bodyOf(c.b).type == BodyType::Dynamic) return;
+  if (!detail::isPoint(fixtures[c.a].geometry)) return;
+  a.rememberFace(detail::Support{c.b, fixtures[c.b].generation, c.feature, c.normal});
 }
 
 ContactEvent detail::WorldState::contactEventOf(uint32_t a, uint32_t b, double time, Vec2 point, Vec2 normal,
@@ -226,8 +247,9 @@ void detail::WorldState::resolve(const PredictedContact& c, std::vector<uint32_t
     // Any other contact ends a slide: the body either leaves the face or is pushed into it, and then
     // the face's own contact (touching and approaching: now) resolves that, resting rules included.
     const bool held = (s == &a && hold.heldA) || (s == &b && hold.heldB);
-    if (s->support.generation != 0 && s != slider && !held) stopSliding(*s);
+    if (s->sliding && s != slider && !held) stopSliding(*s);
   }
+  rememberFace(c);
 
   contactEvents.push_back(contactEventOf(c.a, c.b, c.time, c.point, n, j));
 }

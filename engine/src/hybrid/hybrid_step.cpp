@@ -138,7 +138,7 @@ void detail::WorldState::predictPlainPair(uint32_t fa, uint32_t fb, uint32_t ba,
 
 void detail::WorldState::predictSlideEnd(uint32_t bodyIndex, double now, double dt) {
   const BodySlot& b = bodies[bodyIndex];
-  if (b.support.generation == 0) return;
+  if (!b.sliding) return;
   const auto t = slideEndTime(b, now, dt);
   if (!t) return;
   queue.push_back(PredictedContact{std::min(*t, dt),
@@ -575,7 +575,7 @@ double detail::WorldState::processEvents(double dt, double approachTolerance) {
     BodySlot& a = bodyOf(c.a);
     const BodySlot& b = bodyOf(c.b);
     if (c.kind == detail::EventKind::SlideEnd) {
-      if (a.collisionCount != c.countA || a.support.generation == 0) {
+      if (a.collisionCount != c.countA || !a.sliding) {
         ++stats.staleEvents;
         continue;
       }

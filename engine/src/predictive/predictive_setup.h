@@ -20,14 +20,14 @@ void Engine::normalize(double dt) {
   for (BodySlot& b : w_.bodies) {
     if (!b.alive) continue;
     b.stepCollisions = 0;
-    if (b.support.generation != 0 &&
+    if (b.sliding &&
         (!w_.fixtures[b.support.fixture].alive || w_.fixtures[b.support.fixture].generation != b.support.generation)) {
       w_.stopSliding(b);
     }
-    if (b.type == BodyType::Dynamic && !b.asleep && b.support.generation == 0) b.acceleration = w_.def.gravity;
+    if (b.type == BodyType::Dynamic && !b.asleep && !b.sliding) b.acceleration = w_.def.gravity;
     if (b.type == BodyType::Dynamic) {
       anyAsleep = anyAsleep || b.asleep;
-      anySliding = anySliding || b.support.generation != 0;
+      anySliding = anySliding || b.sliding;
     }
     // As the hybrid step: approach speeds below 1e-13 of the fastest body's are round-off.
     if (b.type == BodyType::Static || b.asleep) continue;
@@ -74,7 +74,7 @@ void Engine::sync(uint32_t slot) {
   constexpr uint8_t keep =
       HotBody::kSingle | HotBody::kOffCentre | HotBody::kCustomFilter | HotBody::kDismissals | HotBody::kStaticNear;
   h.flags = static_cast<uint8_t>((h.flags & keep) | (b.acceleration == Vec2{} ? 0 : HotBody::kAccelerating) |
-                                 (b.support.generation != 0 ? HotBody::kSliding : 0));
+                                 (b.sliding ? HotBody::kSliding : 0));
   s_.rare[slot].acceleration = b.acceleration;
   c.lastTime = b.last.time;
   c.lastLow = b.last.fixtureLow;

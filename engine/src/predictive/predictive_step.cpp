@@ -345,7 +345,7 @@ void Engine::endSlide(uint32_t i, const PredictiveEvent& c) {
   const uint32_t ia = s_.bodyOfSlot[i];
   attach(i);
   BodySlot& a = w_.bodies[ia];
-  if (a.support.generation == 0) {
+  if (!a.sliding) {
     ++w_.stats.staleEvents;
     predictBody(i, c.time);
     return;

@@ -350,7 +350,7 @@ void World::setVelocity(BodyId id, Vec2 velocity) {
     impl().roomToTouch(1 + woken.size());
     // Nothing below allocates.
     impl().applyWake(woken, 0, 0.0);
-    if (b.support.generation != 0) impl().stopSliding(b);
+    if (b.sliding) impl().stopSliding(b);
     b.velocity = velocity;
     b.driven = b.type == BodyType::Dynamic;
     impl().touched(id.index);

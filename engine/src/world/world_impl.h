@@ -38,10 +38,13 @@ struct LastContact {
 };
 
 // A body resting on a flat feature of a static fixture: it slides along it (no friction) with gravity's
-// tangential part, and the feature is left out of its predictions until it slides off the end.
+// tangential part, and the feature is left out of its predictions until it slides off the end
+// (BodySlot::sliding). When it is not sliding, a point (radius 0) keeps here the feature of a fixture that
+// cannot move that it last touched, and the side it touched it from (`normal`, toward the point): a point
+// lying on a line has no overlap to tell its side, and this does (detail::WorldState::resolvedFeature).
 struct Support {
   uint32_t fixture = 0;
-  uint32_t generation = 0;  // 0: not sliding
+  uint32_t generation = 0;  // the fixture's: 0 names none
   int feature = -1;
   Vec2 normal;
 };
@@ -67,7 +70,7 @@ struct alignas(64) BodySlot {
   // are held by a solve once per step, and it moves along straight lines. Kept from step to step.
   bool stepped : 1 = false;
   // The hybrid step's first pass reads only this line of a body whose state allows it; these three say
-  // whether it does. `sliding` is support.generation != 0 (setSupport, clearSupport).
+  // whether it does. `sliding`: `support` is the face it slides on (setSupport, clearSupport).
   bool sliding : 1 = false;
   // last, jamTime or stepCollisions may differ from their values at a step's start (every write of them
   // sets it: setLast, countStepCollision, settleJam; the hybrid step's first pass resets them only then).
@@ -103,9 +106,10 @@ struct alignas(64) BodySlot {
     support = s;
     sliding = s.generation != 0;
   }
-  void clearSupport() {
-    support.generation = 0;
-    sliding = false;
+  // The support stays as the face last touched (a point's side of it, see Support).
+  void clearSupport() { sliding = false; }
+  void rememberFace(const Support& s) {
+    if (!sliding) support = s;
   }
   void setLast(const LastContact& contact) {
     last = contact;
@@ -323,6 +327,7 @@ struct WorldState {
   void stopSliding(detail::BodySlot& b);
   bool isFlatFeature(uint32_t fixture, int feature) const;
   bool leavesCorner(const detail::BodySlot& b, uint32_t fixture, int feature, double now) const;
+  void rememberFace(const detail::PredictedContact& c);
   int resolvedFeature(const detail::BodySlot& a, const detail::BodySlot& b, uint32_t own, uint32_t other,
                       double now) const;
   /// The ContactEvent of fixtures a and b (either order) at `time`; `normal` points from b toward a.
