@@ -26,13 +26,15 @@ rts::GameConfig config(const ArenaParams& p) {
 ArenaGame::ArenaGame(const ArenaParams& p)
     : game_(std::make_unique<rts::Game>(rts::loadMap(p.map.empty() ? defaultArenaMap() : p.map), config(p))),
       opponent_(p.seed),
-      meter_(std::make_unique<ArenaMeter>(*game_)) {}
+      meter_(std::make_unique<ArenaMeter>(*game_)),
+      loop_(*game_) {
+  loop_.add(opponent_);
+}
 
 void ArenaGame::tick(bool measureOverlaps) {
-  // The same loop as rattle-demo's headless run (demo/app/headless.cpp), so a seed gives the same game.
-  commands_.clear();
-  opponent_.commandsFor(game_->tickCount(), *game_, commands_);
-  for (const rts::Command& c : commands_) game_->apply(c);
+  // The loop of rattle-demo's headless run (rts::TickLoop), so a seed gives the same game; the meter
+  // reads the state between the commands and the tick.
+  loop_.applyCommands();
   meter_->before(*game_);
   game_->tick();
   meter_->after(*game_, measureOverlaps);

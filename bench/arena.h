@@ -16,6 +16,7 @@
 #include "game/commands.h"
 #include "game/game.h"
 #include "game/opponent.h"
+#include "game/tick_loop.h"
 
 namespace rattle_bench {
 
@@ -35,6 +36,8 @@ class ArenaGame {
   /// Loads the map and places the units. Throws rts::MapError (the map) or rts::GameError (the units do
   /// not fit).
   explicit ArenaGame(const ArenaParams& params);
+  ArenaGame(const ArenaGame&) = delete;  // the loop holds the opponent it asks
+  ArenaGame& operator=(const ArenaGame&) = delete;
 
   /// One tick: the scripted opponent's commands, Game::tick (which times the engine step), then the
   /// measures. `measureOverlaps` false skips the overlap measure this tick (the others always run).
@@ -47,7 +50,7 @@ class ArenaGame {
   std::unique_ptr<rts::Game> game_;
   rts::ScriptedOpponent opponent_;
   std::unique_ptr<ArenaMeter> meter_;
-  std::vector<rts::Command> commands_;
+  rts::TickLoop loop_;
 };
 
 }  // namespace rattle_bench

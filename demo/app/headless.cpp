@@ -8,6 +8,7 @@
 
 #include "app/run.h"
 #include "game/opponent.h"
+#include "game/tick_loop.h"
 #include "render/offscreen.h"
 #include "render/png.h"
 #include "render/scene_builder.h"
@@ -64,7 +65,8 @@ int runHeadless(Game& game, const Options& o, replay::Recorder* recorder) {
     renderer = std::make_unique<OffscreenRenderer>(o.width, o.height, o.supersample);
   }
   ScriptedOpponent opponent(o.seed);
-  std::vector<Command> commands;
+  TickLoop loop(game);
+  loop.add(opponent);
   std::vector<double> frameSeconds, drawSeconds;
   int frames = 0;
   SceneOptions view;
@@ -91,11 +93,7 @@ int runHeadless(Game& game, const Options& o, replay::Recorder* recorder) {
 
   if (renderer && !frame()) return 1;
   for (long t = 0; t < o.ticks; ++t) {
-    // The loop a replay plugs into: commands for this tick (recorded here, or read back), then the tick.
-    commands.clear();
-    opponent.commandsFor(game.tickCount(), game, commands);
-    for (const Command& c : commands) game.apply(c);
-    game.tick();
+    const std::vector<Command>& commands = loop.tick();
     if (recorder) recorder->afterTick(game, commands);
     if (renderer && game.tickCount() % unsigned(o.every) == 0 && !frame()) return 1;
     if (!o.quiet) progress(game, o.ticks, false);

@@ -27,6 +27,7 @@
 
 #include "app/run.h"
 #include "game/opponent.h"
+#include "game/tick_loop.h"
 #include "render/offscreen.h"
 #include "render/png.h"
 #include "render/renderer.h"
@@ -35,6 +36,22 @@
 
 namespace rts {
 namespace {
+
+// The person's orders, given between ticks and played at the next one.
+class PlayerOrders : public CommandSource {
+ public:
+  void push(Command c) { queued_.push_back(std::move(c)); }
+  void commandsFor(uint32_t tick, const Game&, std::vector<Command>& out) override {
+    for (Command& c : queued_) {
+      c.tick = tick;
+      out.push_back(std::move(c));
+    }
+    queued_.clear();
+  }
+
+ private:
+  std::vector<Command> queued_;
+};
 
 struct ScriptedEvent {
   long frame = 0;
@@ -189,7 +206,10 @@ int runWindow(Game& game, const Options& o, replay::Recorder* recorder) {
   sceneOptions.fogTeam = o.fogTeam;
   sceneOptions.showSight = o.showSight;
   sceneOptions.showTimes = o.showTimes;
-  std::vector<Command> mine, commands;
+  PlayerOrders mine;
+  TickLoop loop(game);
+  loop.add(opponent);  // red's orders first, then the person's
+  loop.add(mine);
   bool paused = false, quit = false, dragging = false;
   Vec2 dragFrom, dragTo;  // window pixels
   size_t nextScripted = 0;
@@ -243,7 +263,7 @@ int runWindow(Game& game, const Options& o, replay::Recorder* recorder) {
         for (size_t id = 0; id < sceneOptions.selected.size(); ++id) {
           if (sceneOptions.selected[id] && game.units()[id].alive) c.units.push_back(uint32_t(id));
         }
-        if (!c.units.empty()) mine.push_back(std::move(c));
+        if (!c.units.empty()) mine.push(std::move(c));
       } else if (ev.type == SDL_KEYDOWN) {
         switch (ev.key.keysym.sym) {
           case SDLK_SPACE: paused = !paused; break;
@@ -254,7 +274,7 @@ int runWindow(Game& game, const Options& o, replay::Recorder* recorder) {
               Command c;
               c.team = 0;
               c.type = CommandType::ToggleGate;
-              mine.push_back(std::move(c));
+              mine.push(std::move(c));
             }
             break;
           case SDLK_ESCAPE:
@@ -272,15 +292,7 @@ int runWindow(Game& game, const Options& o, replay::Recorder* recorder) {
     owed = script.empty() ? std::min(owed - due * Game::kTickSeconds, Game::kTickSeconds) : 0;
     if (paused) due = 0;
     for (int t = 0; t < due && !quit; ++t) {
-      commands.clear();
-      opponent.commandsFor(game.tickCount(), game, commands);
-      for (Command& c : mine) {
-        c.tick = game.tickCount();
-        commands.push_back(std::move(c));
-      }
-      mine.clear();
-      for (const Command& c : commands) game.apply(c);
-      game.tick();
+      const std::vector<Command>& commands = loop.tick();
       if (recorder) recorder->afterTick(game, commands);
       if (o.ticks > 0 && game.tickCount() >= unsigned(o.ticks)) quit = true;
     }

@@ -10,6 +10,7 @@
 
 #include "game/game.h"
 #include "game/opponent.h"
+#include "game/tick_loop.h"
 #include "map/map_loader.h"
 #include "render/offscreen.h"
 #include "render/png.h"
@@ -26,13 +27,9 @@ std::unique_ptr<rts::Game> playedGame(int ticks) {
   auto owned = std::make_unique<rts::Game>(rts::loadMap(assetPath("arena.json")), config);
   rts::Game& game = *owned;
   rts::ScriptedOpponent opponent(5);
-  std::vector<rts::Command> commands;
-  for (int t = 0; t < ticks; ++t) {
-    commands.clear();
-    opponent.commandsFor(game.tickCount(), game, commands);
-    for (const rts::Command& c : commands) game.apply(c);
-    game.tick();
-  }
+  rts::TickLoop loop(game);
+  loop.add(opponent);
+  for (int t = 0; t < ticks; ++t) loop.tick();
   return owned;
 }
 

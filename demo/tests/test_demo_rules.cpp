@@ -8,6 +8,7 @@
 
 #include "game/game.h"
 #include "game/opponent.h"
+#include "game/tick_loop.h"
 #include "game/rng.h"
 #include "map/map_loader.h"
 
@@ -232,13 +233,11 @@ bool bruteForceSees(const Game& g, const rts::Unit& o, const rts::Unit& t) {
 TEST(DemoRules, SightAgreesWithABruteForceCheckEveryTick) {
   Game g(rts::loadMap(assetPath("arena.json")), config(50));
   rts::ScriptedOpponent opponent(3);
-  std::vector<Command> commands;
+  rts::TickLoop loop(g);
+  loop.add(opponent);
   long seen = 0, hiddenByWalls = 0, checked = 0;
   for (int tick = 0; tick < 600; ++tick) {
-    commands.clear();
-    opponent.commandsFor(g.tickCount(), g, commands);
-    for (const Command& c : commands) g.apply(c);
-    g.tick();
+    loop.tick();
     for (const rts::Unit& o : g.units()) {
       if (!o.alive) continue;
       for (const rts::Unit& t : g.units()) {
@@ -294,16 +293,13 @@ TEST(DemoRules, ARecordedCommandLogReplaysWithoutTheOpponent) {
   const Map map = rts::loadMap(assetPath("arena.json"));
   Game live(map, config(30));
   rts::ScriptedOpponent opponent(9);
-  std::vector<Command> log, now;
+  rts::TickLoop loop(live);
+  loop.add(opponent);
+  std::vector<Command> log;
   std::vector<uint64_t> hashes;
   for (int tick = 0; tick < 300; ++tick) {
-    now.clear();
-    opponent.commandsFor(live.tickCount(), live, now);
-    for (const Command& c : now) {
-      live.apply(c);
-      log.push_back(c);
-    }
-    live.tick();
+    const std::vector<Command>& played = loop.tick();
+    log.insert(log.end(), played.begin(), played.end());
     hashes.push_back(live.stateHash());
   }
   Game replay(map, config(30));

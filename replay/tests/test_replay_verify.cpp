@@ -6,6 +6,7 @@
 
 #include "format/checksum.h"
 #include "game/opponent.h"
+#include "game/tick_loop.h"
 #include "map/map_loader.h"
 #include "replay_test_support.h"
 #include "tool/build_facts.h"
@@ -28,17 +29,12 @@ TEST(ReplayVerify, RecordingDoesNotChangeTheGame) {
   info.mapJson = rts::readMapFile(mapPath);
   info.keyframeEvery = 7;
   Recorder recorder(scratch("r.replay"), info, recorded);
-  std::vector<rts::Command> ca, cb;
+  rts::TickLoop playing(plain), recording(recorded);
+  playing.add(a);
+  recording.add(b);
   for (int t = 0; t < 150; ++t) {
-    ca.clear();
-    cb.clear();
-    a.commandsFor(plain.tickCount(), plain, ca);
-    b.commandsFor(recorded.tickCount(), recorded, cb);
-    for (const rts::Command& c : ca) plain.apply(c);
-    for (const rts::Command& c : cb) recorded.apply(c);
-    plain.tick();
-    recorded.tick();
-    recorder.afterTick(recorded, cb);
+    playing.tick();
+    recorder.afterTick(recorded, recording.tick());
     ASSERT_EQ(plain.stateHash(), recorded.stateHash()) << "tick " << plain.tickCount();
   }
   recorder.finish(recorded);

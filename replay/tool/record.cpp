@@ -5,6 +5,7 @@
 
 #include "game/game.h"
 #include "game/opponent.h"
+#include "game/tick_loop.h"
 #include "map/map_loader.h"
 #include "tool/command_script.h"
 #include "tool/recorder.h"
@@ -32,13 +33,11 @@ RecordOutcome recordGame(const RecordRequest& r, const std::function<void(uint32
   ScriptedOpponent opponent(r.seed, r.opponentTeams & 3);
   Recorder recorder(r.output, info, game);
   RecordOutcome out;
-  std::vector<Command> commands;
+  TickLoop loop(game);
+  if (r.opponentTeams & 3) loop.add(opponent);
+  if (script) loop.add(*script);
   for (uint32_t t = 0; t < r.ticks; ++t) {
-    commands.clear();
-    if (r.opponentTeams & 3) opponent.commandsFor(game.tickCount(), game, commands);
-    if (script) script->commandsFor(game.tickCount(), game, commands);
-    for (const Command& c : commands) game.apply(c);
-    game.tick();
+    const std::vector<Command>& commands = loop.tick();
     recorder.afterTick(game, commands);
     out.commands += commands.size();
     if (progress) progress(game.tickCount(), r.ticks);

@@ -40,7 +40,16 @@ std::unique_ptr<Game> buildGame(const Replay& r) {
   return game;
 }
 
-ReplayRun::ReplayRun(const Replay& replay) : replay_(replay), game_(buildGame(replay)) {}
+void RecordedCommands::commandsFor(uint32_t tick, const Game&, std::vector<Command>& out) {
+  if (tick >= replay_.ticks.size()) return;
+  const std::vector<Command>& recorded = replay_.ticks[tick].commands;
+  out.insert(out.end(), recorded.begin(), recorded.end());
+}
+
+ReplayRun::ReplayRun(const Replay& replay)
+    : replay_(replay), game_(buildGame(replay)), recorded_(replay), loop_(*game_) {
+  loop_.add(recorded_);
+}
 ReplayRun::~ReplayRun() = default;
 
 const Keyframe* ReplayRun::keyframeAt(uint32_t tick) const {
@@ -68,8 +77,7 @@ TickCheck ReplayRun::checkInitial() const {
 TickCheck ReplayRun::step(bool check) {
   if (done()) throw std::logic_error("ReplayRun::step past the last tick");
   const TickRecord& record = replay_.ticks[tick()];
-  for (const Command& c : record.commands) game_->apply(c);
-  game_->tick();
+  loop_.tick();
   TickCheck c;
   c.tick = game_->tickCount();
   c.recordedStateHash = record.stateHash;

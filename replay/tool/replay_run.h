@@ -9,6 +9,7 @@
 
 #include "format/replay.h"
 #include "game/game.h"
+#include "game/tick_loop.h"
 #include "tool/divergence.h"
 
 namespace rts::replay {
@@ -29,6 +30,18 @@ struct TickCheck {
   bool keyframe = false;            ///< the recording has a keyframe here; `fields` compares it
   std::vector<FieldDiff> fields;
   bool ok() const { return recordedStateHash == actualStateHash && recordedWorldHash == actualWorldHash && bodies.empty() && fields.empty(); }
+};
+
+/// A recording's commands as a source: each tick's, as they were played.
+class RecordedCommands : public CommandSource {
+ public:
+  /// `replay` must outlive the source.
+  explicit RecordedCommands(const Replay& replay) : replay_(replay) {}
+  /// Appends the commands recorded for `tick`; none past the recording's end.
+  void commandsFor(uint32_t tick, const Game& game, std::vector<Command>& out) override;
+
+ private:
+  const Replay& replay_;
 };
 
 class ReplayRun {
@@ -52,6 +65,8 @@ class ReplayRun {
   const Keyframe* keyframeAt(uint32_t tick) const;
   const Replay& replay_;
   std::unique_ptr<Game> game_;
+  RecordedCommands recorded_;
+  TickLoop loop_;
   size_t nextKeyframe_ = 0;
 };
 

@@ -15,8 +15,7 @@
 #include <vector>
 
 #include "engine_scenes.h"
-#include "game/game.h"
-#include "game/opponent.h"
+#include "game_scene.h"
 #include "map/map_loader.h"
 
 namespace {
@@ -63,20 +62,10 @@ std::string hex(uint64_t h) {
 
 // The game loop of rattle-trace's game scene: both teams played by the scripted opponent (seed 1).
 uint64_t gameHash(StepMode mode) {
-  const rts::Map map = rts::loadMap(RATTLE_PINNED_MAP);
-  rts::GameConfig config;
-  config.unitsPerTeam = kUnitsPerTeam;
-  config.stepMode = mode;
-  rts::Game game(map, config);
-  rts::ScriptedOpponent opponent(1);
-  std::vector<rts::Command> commands;
-  for (int t = 0; t < kGameTicks; ++t) {
-    commands.clear();
-    opponent.commandsFor(game.tickCount(), game, commands);
-    for (const rts::Command& c : commands) game.apply(c);
-    game.tick();
-  }
-  return game.stateHash();
+  rattle_trace::GameScene game(rts::loadMap(RATTLE_PINNED_MAP), mode, kUnitsPerTeam, 1);
+  uint64_t hash = 0;
+  for (int t = 0; t < kGameTicks; ++t) hash = game.tick();
+  return hash;
 }
 
 uint64_t engineSceneHash(const std::string& name, StepMode mode) {

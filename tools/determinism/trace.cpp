@@ -22,8 +22,7 @@
 #include <vector>
 
 #include "engine_scenes.h"
-#include "game/game.h"
-#include "game/opponent.h"
+#include "game_scene.h"
 #include "map/map_loader.h"
 
 namespace {
@@ -162,19 +161,8 @@ int main(int argc, char** argv) {
       for (rattle::StepMode mode : modes) {
         const std::string name = std::string("game/") + modeName(mode);
         if (!wanted(name)) continue;
-        rts::GameConfig config;
-        config.unitsPerTeam = o.units;
-        config.stepMode = mode;
-        rts::Game game(map, config);
-        rts::ScriptedOpponent opponent(o.seed);
-        std::vector<rts::Command> commands;
-        runScene(name, o.gameTicks, [&] {
-          commands.clear();
-          opponent.commandsFor(game.tickCount(), game, commands);
-          for (const rts::Command& c : commands) game.apply(c);
-          game.tick();
-          return game.stateHash();
-        });
+        rattle_trace::GameScene game(map, mode, o.units, o.seed);
+        runScene(name, o.gameTicks, [&] { return game.tick(); });
       }
     }
     for (const std::string& scene : rattle_trace::engineSceneNames()) {
