@@ -241,12 +241,12 @@ void Engine::buildGrid() {
   const double least = shape.least;
   const uint32_t foldX = shape.foldX, foldY = shape.foldY;
   // The static fixtures listed by cell (below) depend only on them and on the grid: while no static or
-  // kinematic body or fixture changed (detail::WorldState::staticVersion), a grid as fine and as large as the
+  // kinematic body or fixture changed (detail::ChangeLog::staticVersion), a grid as fine and as large as the
   // one just worked out is kept as it was, with its listing. A game that fires a shot or loses a unit
   // (a change of structure, which makes the grid again) then does not list a large map's walls again.
   // The grid's origin is arbitrary (it is unbounded), and a cell as wide as the one chosen, to a part in
   // a thousand, is as good, if it holds the bodies.
-  const bool keepStatics = s_.staticsListed && s_.staticVersion == w_.staticVersion && foldX == lastFoldX &&
+  const bool keepStatics = s_.staticsListed && s_.staticVersion == w_.changes.staticVersion && foldX == lastFoldX &&
                            foldY == lastFoldY && lastSize >= least && std::fabs(lastSize - size) <= size / 1024;
   if (keepStatics) {
     size = lastSize;
@@ -343,7 +343,7 @@ void Engine::listStatics() {
   for (size_t c = 0; c < cells; ++c) {
     if (s_.staticBegin[c] != s_.staticBegin[c + 1]) s_.staticNear[c >> 6] |= uint64_t{1} << (c & 63);
   }
-  s_.staticVersion = w_.staticVersion;
+  s_.staticVersion = w_.changes.staticVersion;
   s_.staticsListed = true;
 }
 

@@ -48,7 +48,7 @@
 //    for bodies nobody touched: a dynamic body that was changed is relocated and predicted again (its
 //    counter is bumped so that predictions against its old path go stale); anything structural rebuilds
 //    the grid and the queue, but keeps the grid's cells and its listing of static fixtures while no
-//    static or kinematic fixture came or went and no static body moved (detail::WorldState::staticVersion): a
+//    static or kinematic fixture came or went and no static body moved (detail::ChangeLog::staticVersion): a
 //    game firing shots on a large map does not list its walls again.
 //
 // Sensors: when the world has any, every change of a body's motion is recorded (PathLog), and the sensor
@@ -187,7 +187,7 @@ bool Engine::startStep(double dt) {
   // Re-base the clocks to this step's start. After a plain
   // world's step, with nothing touched since, normalize() would change nothing (no gravity, sleep or
   // slide; the Zeno count moves only under gravity) and its gathering was done by endPlain().
-  if (s_.normalized && s_.valid && !w_.structureChanged && w_.touchedBodies.empty()) {
+  if (s_.normalized && s_.valid && !w_.changes.structureChanged && w_.changes.touchedBodies.empty()) {
     speedScale_ = s_.nextSpeedScale;
     movingKinematic_ = s_.nextMovingKinematic;
     anyAsleep_ = anySliding_ = false;
@@ -197,12 +197,12 @@ bool Engine::startStep(double dt) {
   s_.normalized = false;
   // What the World API changed since the last step (detail::WorldState::touched): the dynamic bodies touched are
   // predicted again; a change of structure starts afresh.
-  bool rebuild = !s_.valid || w_.structureChanged;
+  bool rebuild = !s_.valid || w_.changes.structureChanged;
   s_.dirty.clear();
   if (!rebuild) {
     rebase(s_.lastStep);
     double extent = s_.endExtent;
-    std::vector<uint32_t>& touched = w_.touchedBodies;
+    std::vector<uint32_t>& touched = w_.changes.touchedBodies;
     std::sort(touched.begin(), touched.end());
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
     for (uint32_t body : touched) {
@@ -224,7 +224,7 @@ bool Engine::startStep(double dt) {
     s_.normalized = false;
     return false;
   }
-  if (!rebuild && w_.restitutionChanged) {
+  if (!rebuild && w_.changes.restitutionChanged) {
     for (uint32_t slot = 0; slot < s_.hot.size(); ++slot) {
       s_.cold[slot].restitution = w_.fixtures[s_.hot[slot].fixture].restitution;
     }

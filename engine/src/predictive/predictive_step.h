@@ -150,7 +150,7 @@ struct PredictiveState {
   std::vector<uint32_t> staticList;
   std::vector<uint32_t> kinematicFixtures;  // physical fixtures of kinematic bodies
   // The listing above (staticBegin, staticList, staticNear, kinematicFixtures) was made for this grid at
-  // detail::WorldState::staticVersion `staticVersion`: buildGrid keeps it while that has not moved on.
+  // detail::ChangeLog::staticVersion `staticVersion`: buildGrid keeps it while that has not moved on.
   bool staticsListed = false;
   uint64_t staticVersion = 0;
 

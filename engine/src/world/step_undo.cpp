@@ -125,8 +125,8 @@ void detail::WorldState::undoStep() {
   // Caches of positions the step moved away from: void, rebuilt by the next step.
   broadPhase.forgetStep();
   predictive.reset();  // its queue may be part built: the next step makes it afresh
-  structureChanged = true;
-  ++staticVersion;
+  changes.structureChanged = true;
+  ++changes.staticVersion;
 }
 
 }  // namespace rattle

@@ -238,7 +238,7 @@ BodyId World::createBody(const BodyDef& def) {
     w.dependents[index].clear();
     w.recomputeMass(b);
     ++w.liveBodies;
-    w.structureChanged = true;
+    w.changes.structureChanged = true;
     return BodyId{index, b.generation};
   });
 }
@@ -271,14 +271,14 @@ void World::destroyBody(BodyId id) {
   }
   b.fixtures.clear();
   b.diskShapeKnown = false;
-  w.staticsChanged(b);
+  w.changes.staticsChanged(b.type);
   // Island impulses are kept by fixture index, and indices are reused: forget them (island.cpp).
   w.islandNext.clear();
   b.alive = false;
   b.generation = nextGeneration(b.generation);
   w.freeBodies.push_back(id.index);
   --w.liveBodies;
-  w.structureChanged = true;
+  w.changes.structureChanged = true;
 }
 
 bool World::isValid(BodyId id) const {
@@ -297,7 +297,7 @@ void World::wake(BodyId id) {
   detail::unlessOutOfMemory("wake", [&] {
     std::vector<uint32_t> woken;
     impl().collectWake(id.index, woken);
-    impl().roomToTouch(woken.size());
+    impl().changes.roomToTouch(woken.size());
     impl().applyWake(woken, 0, 0.0);
     impl().touched(woken);
   });
@@ -326,7 +326,7 @@ void World::setPosition(BodyId id, Vec2 position) {
     std::vector<uint32_t> woken;
     impl().collectWake(id.index, woken);
     for (uint32_t d : impl().dependents[id.index]) impl().collectWake(d, woken);
-    impl().roomToTouch(1 + woken.size());
+    impl().changes.roomToTouch(1 + woken.size());
     // Nothing below allocates.
     impl().applyWake(woken, 0, 0.0);
     impl().dependents[id.index].clear();
@@ -347,7 +347,7 @@ void World::setVelocity(BodyId id, Vec2 velocity) {
   detail::unlessOutOfMemory("setVelocity", [&] {
     std::vector<uint32_t> woken;
     impl().collectWake(id.index, woken);
-    impl().roomToTouch(1 + woken.size());
+    impl().changes.roomToTouch(1 + woken.size());
     // Nothing below allocates.
     impl().applyWake(woken, 0, 0.0);
     if (b.sliding) impl().stopSliding(b);
@@ -437,8 +437,8 @@ FixtureId World::createFixture(BodyId bodyId, const FixtureDef& def) {
     body.fixtures.push_back(index);
     body.diskShapeKnown = false;
     w.recomputeMass(body);
-    w.structureChanged = true;
-    w.staticsChanged(body);
+    w.changes.structureChanged = true;
+    w.changes.staticsChanged(body.type);
     w.broadPhase.add(index, w.worldBox(index), body.type != BodyType::Static, f.sensor, f.filter.categoryBits,
                      f.filter.maskBits);
     if (f.sensor) ++w.liveSensors;
@@ -461,8 +461,8 @@ void World::destroyFixture(FixtureId id) {
   body.diskShapeKnown = false;
   w.broadPhase.remove(id.index);
   if (f.sensor) --w.liveSensors;
-  w.structureChanged = true;
-  w.staticsChanged(body);
+  w.changes.structureChanged = true;
+  w.changes.staticsChanged(body.type);
   f.alive = false;
   f.generation = nextGeneration(f.generation);
   f.geometry = Point{};
@@ -497,7 +497,7 @@ void World::setDensity(FixtureId id, double density) {
     require(std::isfinite(density) && density >= 0,
             [&] { return std::string("density = " + str(density) + ": must be finite and >= 0"); });
   }
-  detail::unlessOutOfMemory("setDensity", [&] { w.roomToTouch(1); });
+  detail::unlessOutOfMemory("setDensity", [&] { w.changes.roomToTouch(1); });
   const double old = f.density;
   f.density = density;
   const double mass = w.physicalMass(body);
@@ -514,7 +514,7 @@ void World::setRestitution(FixtureId id, double restitution) {
   FixtureSlot& f = lookUp(impl().fixtures, id);
   checkRestitution(restitution, "restitution");
   f.restitution = restitution;
-  impl().restitutionChanged = true;
+  impl().changes.restitutionChanged = true;
 }
 
 void World::setFilter(FixtureId id, const Filter& filter) {
@@ -535,7 +535,7 @@ void World::setFilter(FixtureId id, const Filter& filter) {
     }
     w.bodies[fixture.body].diskShapeKnown = false;
     w.broadPhase.setFilter(id.index, filter.categoryBits, filter.maskBits);
-    w.structureChanged = true;
+    w.changes.structureChanged = true;
     w.endOverlaps(ended);
   });
 }
@@ -582,11 +582,9 @@ void World::step(double dt) {
     throw Error("step: out of memory (the world is unchanged)");
   }
   w.endStep();
-  impl().structureChanged = false;
-  impl().restitutionChanged = false;
   // Every body setVelocity drove is in touchedBodies.
-  for (uint32_t i : impl().touchedBodies) impl().bodies[i].driven = false;
-  impl().touchedBodies.clear();
+  for (uint32_t i : impl().changes.touchedBodies) impl().bodies[i].driven = false;
+  impl().changes.clear();
 }
 
 void World::advanceTo(double t) {

@@ -15,6 +15,7 @@
 #include "broad_phase/broad_phase.h"
 #include "contact/collapse_guard.h"
 #include "contact/exact_projection.h"
+#include "world/change_log.h"
 #include "world/fixture_list.h"
 #include "common/out_of_memory.h"
 #include "sensors/path_log.h"
@@ -244,30 +245,9 @@ struct WorldState {
   std::vector<SensorEvent> pendingSensorEvents;  // ends caused between steps, reported at time 0 of the next
   uint32_t stepStamp = 0;
   int liveSensors = 0;
-  // What the World API changed since the last step, for the predictive mode, which keeps its predictions
-  // from one step to the next: after a change of structure (a body or fixture created or destroyed, a
-  // filter, a static or kinematic body moved) it starts afresh; the dynamic bodies touched (moved, given a
-  // velocity, woken, given a mass) are predicted again. Every mutator of World reports here.
-  bool structureChanged = true;
-  // Moves on when a fixture is created on or destroyed with a static or kinematic body, and when a
-  // static body moves: the predictive mode keeps its listing of static fixtures by cell (and of kinematic
-  // fixtures) while it stays, so a change of structure among dynamic bodies (a shot fired) does not list
-  // a map's walls again. Filters are not listed.
-  uint64_t staticVersion = 0;
-  void staticsChanged(const detail::BodySlot& b) {
-    if (b.type != BodyType::Dynamic) ++staticVersion;
-  }
-  bool restitutionChanged = false;  // World::setRestitution since the last step
-  std::vector<uint32_t> touchedBodies;
-  void touched(uint32_t body) {
-    if (bodies[body].type == BodyType::Dynamic) {
-      touchedBodies.push_back(body);
-    } else {
-      structureChanged = true;
-      // A kinematic body's motion is not listed (every prediction looks at each kinematic fixture).
-      if (bodies[body].type == BodyType::Static) ++staticVersion;
-    }
-  }
+  // What the World API changed since the last step (change_log.h).
+  detail::ChangeLog changes;
+  void touched(uint32_t body) { changes.touched(body, bodies[body].type); }
   void touched(const std::vector<uint32_t>& woken) {
     for (uint32_t body : woken) touched(body);
   }
@@ -321,8 +301,6 @@ struct WorldState {
   /// second wakes woken[from, end) and does not allocate between steps.
   void collectWake(uint32_t body, std::vector<uint32_t>& woken) const;
   void applyWake(const std::vector<uint32_t>& woken, size_t from, double now);
-  /// Room in touchedBodies for `count` more, so that the touched calls that follow cannot fail.
-  void roomToTouch(size_t count) { detail::roomFor(touchedBodies, count); }
   void startSliding(uint32_t body, uint32_t fixture, int feature, Vec2 normal);
   void stopSliding(detail::BodySlot& b);
   bool isFlatFeature(uint32_t fixture, int feature) const;
