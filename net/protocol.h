@@ -1,0 +1,144 @@
+// The lockstep wire protocol (issue 26): the messages two peers of a networked game exchange, their bytes,
+// and the handshake's comparison. No sockets here: a transport (ENet, later) carries one message a
+// packet. net/README.md describes the bytes.
+//
+// Packets come from the network, so decode() trusts nothing, as the replay reader does: every field is
+// range-checked, every count is checked against the bytes left before anything is allocated, and the
+// first problem comes back as one line naming the message, the field, the value and why. It never throws.
+#pragma once
+
+#include <rattle/types.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "game/commands.h"
+
+namespace rts::net {
+
+/// Bumped on any change to the bytes below. Both sides send it in Hello, and handshakeMismatch refuses
+/// a peer whose version differs, so a newer build never misreads an older one's commands.
+inline constexpr uint32_t kProtocolVersion = 1;
+
+// ---- Limits (decode refuses anything beyond them, encode throws) ----
+
+/// A whole packet. Enough for one Move of every unit of the largest team a replay allows (200,000 ids
+/// of at most 3 bytes each, 600 KB); a transport can hand this to ENet as its largest packet, so a peer
+/// cannot make the other buffer more.
+inline constexpr size_t kMaxPacketBytes = size_t(1) << 20;
+/// Hello.engineVersion: "rattle 0.1.0" and the like, the BILD chunk's `engine` fact; 64 bytes as the
+/// replay's build-fact keys. It is printed in refusals, so it must be short and printable.
+inline constexpr size_t kMaxEngineVersionBytes = 64;
+/// Refuse.reason and Bye.reason: one line for a person to read (the handshake's mismatch line is
+/// shorter). Printable ASCII only, since it reaches a terminal: no escape sequences, no newlines.
+inline constexpr size_t kMaxReasonBytes = 200;
+/// Commands in one Commands message (one team, one tick). A person issues a few a tick and the scripted
+/// opponent at most 9 (8 squads and a gate); 1024 is far above both, and caps what a packet of empty
+/// commands decodes to (3 bytes each on the wire, about 60 in memory).
+inline constexpr size_t kMaxCommandsPerMessage = 1024;
+/// Hello.inputDelayTicks. Ten seconds at 30 ticks a second: a longer delay is no longer a game, and a
+/// peer buffers up to this many ticks of the other side's commands, so it bounds that buffer.
+inline constexpr uint16_t kMaxInputDelayTicks = 300;
+// Hello.unitsPerTeam is 1 to rts::replay::kMaxUnitsPerTeam (replay/format/limits.h), as a replay's.
+
+// ---- Messages ----
+
+/// The first byte of every packet. The numbers are stable: changing one takes a new kProtocolVersion.
+enum class MessageType : uint8_t { Hello = 1, Refuse = 2, Commands = 3, Hash = 4, Bye = 5 };
+
+enum class Role : uint8_t { Player = 0, Spectator = 1 };
+
+/// The first message each side sends. Two sides play together only when handshakeMismatch finds
+/// nothing: the same build of the same game, from the same map, seed and settings.
+struct Hello {
+  uint32_t protocolVersion = kProtocolVersion;
+  std::string engineVersion;  ///< "rattle 0.1.0": the engine's arithmetic changes between versions
+  uint64_t mapDigest = 0;     ///< FNV-1a 64 of the map file's bytes (as a replay's MAPJ hash)
+  uint64_t seed = 0;
+  uint32_t unitsPerTeam = 1;
+  rattle::StepMode stepMode = rattle::StepMode::Hybrid;
+  uint16_t inputDelayTicks = 0;    ///< commands issued at tick t are stamped t + this
+  uint16_t hashIntervalTicks = 1;  ///< state hashes are exchanged every this many ticks (at least 1)
+  Role role = Role::Player;
+  uint8_t team = 0;  ///< a player's team, 0 (blue) or 1 (red); 0 for a spectator
+};
+
+/// Sent instead of play when the handshake fails (or the game is full); the connection then closes.
+struct Refuse {
+  std::string reason;
+};
+
+/// One team's commands for one tick, sent every tick, empty or not: a tick runs only when every
+/// player's set for it has arrived.
+struct Commands {
+  uint32_t tick = 0;
+  uint8_t team = 0;  ///< the sender's team; every command carries it too
+  /// Each one's `tick` is not sent: decode sets it to `tick` above, encode ignores it.
+  std::vector<rts::Command> commands;
+};
+
+/// Game::stateHash() after tick `tick`, every hashIntervalTicks ticks.
+struct Hash {
+  uint32_t tick = 0;
+  uint64_t stateHash = 0;
+};
+
+/// The sender is leaving (the game ended, the player quit, the other side sent garbage).
+struct Bye {
+  std::string reason;
+};
+
+using Message = std::variant<Hello, Refuse, Commands, Hash, Bye>;
+
+/// "Hello", "Refuse", "Commands", "Hash", "Bye": how errors and logs name a message.
+const char* messageName(const Message& m);
+
+// ---- Bytes ----
+
+/// One message's bytes: the type, then its fields, little-endian, fixed width; strings as a u8 length
+/// and the bytes; commands as the replay's command codec writes them (FORMAT.md, "Commands").
+/// Throws std::invalid_argument, naming the field as decode would, when the message breaks a rule
+/// decode enforces, except the commands' unit ids and gates, which need the game's sizes (the receiver
+/// checks those). Never sends what the other side would refuse for any other reason.
+std::vector<uint8_t> encode(const Message& m);
+
+/// What decoding commands needs to know about the game: unit ids must be below unitCount and gates
+/// below gateCount (as rts::replay::decodeCommand checks them). Before the handshake, when the game is
+/// not built yet, the default (no units, no gates) decodes every message except Commands that name a
+/// unit or a gate.
+struct DecodeContext {
+  uint32_t unitCount = 0;  ///< Game::units().size(): both teams
+  uint32_t gateCount = 0;  ///< the map's gates
+};
+
+/// A decoded packet: the message, or why the bytes are not one.
+struct Decoded {
+  std::optional<Message> message;
+  /// One line when `message` is empty, e.g. "Commands.count = 1025 exceeds the limit 1024" or
+  /// "Hello.engineVersion: truncated at byte 23 of 23 (needs 12 bytes, 0 left)". It starts with the
+  /// message's name once the type byte is known ("empty packet", "message type 9 ..." otherwise).
+  std::string error;
+  bool ok() const { return message.has_value(); }
+};
+
+/// Decodes one packet of `size` bytes (data may be null when size is 0). Refuses packets over
+/// kMaxPacketBytes, unknown message types, any field out of range or over its limit, non-printable
+/// strings, commands the game's sizes forbid or that are not the message's team's, and any byte after
+/// a complete message. Never throws, never reads outside the bytes, allocates at most a small multiple
+/// of `size`.
+Decoded decode(const uint8_t* data, size_t size, const DecodeContext& context) noexcept;
+
+// ---- Handshake ----
+
+/// Whether two sides may play together, from the Hello each sent. nullopt when they may; otherwise one
+/// line naming every difference with both values, mine first, e.g.
+///   seed: mine 7, theirs 8; step mode: mine hybrid, theirs discrete
+/// Compared: protocol version, engine version, map digest, seed, units a team, step mode, input delay,
+/// hash interval. Two players on the same team do not go together either, nor do two spectators.
+std::optional<std::string> handshakeMismatch(const Hello& mine, const Hello& theirs);
+
+}  // namespace rts::net

@@ -1,0 +1,527 @@
+// The lockstep protocol (net/protocol.h): every message round-trips bit for bit; the bytes are the
+// documented layout; every truncation, a trailing byte, every limit one over and unknown types are
+// refused with one line naming the message and field; the handshake names each difference; random and
+// mutated packets are refused cleanly or round-trip.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+#include "format/byte_writer.h"
+#include "format/command_codec.h"
+#include "net_test_support.h"
+
+namespace {
+
+using namespace net_test;
+using rts::CommandType;
+using rts::replay::ByteWriter;
+
+// ---- Bytes written field by field, independently of encode, to pin the layout and to break rules ----
+
+struct RawHello {
+  uint32_t version = kProtocolVersion;
+  std::string engine = "rattle 0.1.0";
+  int engineLength = -1;  // the string's own length unless set
+  uint64_t digest = 0x0123456789abcdefull, seed = 7;
+  uint32_t units = 100;
+  uint8_t stepMode = 0;
+  uint16_t delay = 4, interval = 1;
+  uint8_t role = 0, team = 0;
+};
+
+std::vector<uint8_t> raw(const RawHello& h) {
+  ByteWriter w;
+  w.u8(1);
+  w.u32(h.version);
+  w.u8(uint8_t(h.engineLength >= 0 ? h.engineLength : int(h.engine.size())));
+  w.bytes(h.engine);
+  w.u64(h.digest);
+  w.u64(h.seed);
+  w.u32(h.units);
+  w.u8(h.stepMode);
+  w.u16(h.delay);
+  w.u16(h.interval);
+  w.u8(h.role);
+  w.u8(h.team);
+  return bytesOf(w.data());
+}
+
+std::vector<uint8_t> rawText(uint8_t type, const std::string& s) {
+  ByteWriter w;
+  w.u8(type);
+  w.u8(uint8_t(s.size()));
+  w.bytes(s);
+  return bytesOf(w.data());
+}
+
+// A Commands header; the commands are appended by the caller with encodeCommand or by hand.
+ByteWriter rawCommandsHeader(uint32_t tick, uint8_t team, uint16_t count) {
+  ByteWriter w;
+  w.u8(3);
+  w.u32(tick);
+  w.u8(team);
+  w.u16(count);
+  return w;
+}
+
+std::string errorOf(const std::vector<uint8_t>& bytes, const DecodeContext& context = largestGame()) {
+  const Decoded d = decodeBytes(bytes, context);
+  EXPECT_FALSE(d.ok()) << "accepted";
+  return d.error;
+}
+
+std::string encodeError(const Message& m) {
+  try {
+    encode(m);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "(encoded)";
+}
+
+// ---- Round trips and layout ----
+
+TEST(NetProtocol, EveryMessageRoundTripsBitForBit) {
+  std::vector<std::pair<std::string, Message>> cases = sampleMessages();
+  cases.push_back({"commands-full", fullCommands()});
+  for (const auto& [name, message] : cases) {
+    const std::vector<uint8_t> bytes = encode(message);
+    const Decoded d = decodeBytes(bytes, largestGame());
+    ASSERT_TRUE(d.ok()) << name << ": " << d.error;
+    EXPECT_EQ(d.error, "") << name;
+    expectSame(message, *d.message, name);
+    EXPECT_EQ(encode(*d.message), bytes) << name;
+  }
+  // The doubles kept their bits: -0.0 stays negative, the smallest subnormal stays itself.
+  const Decoded d = decodeBytes(encode(everyCommandType()), largestGame());
+  const rts::Command& move = std::get<Commands>(*d.message).commands[0];
+  EXPECT_TRUE(std::signbit(move.target.x));
+  EXPECT_EQ(bits(move.target.y), 1u);
+  EXPECT_EQ(move.tick, 123456u);  // stamped with the message's tick
+}
+
+TEST(NetProtocol, MessagesWithoutCommandsDecodeBeforeTheHandshake) {
+  for (const auto& [name, message] : sampleMessages()) {
+    if (name == "commands-every-type") continue;
+    const Decoded d = decodeBytes(encode(message), noGame());
+    ASSERT_TRUE(d.ok()) << name << ": " << d.error;
+    expectSame(message, *d.message, name);
+  }
+  EXPECT_EQ(errorOf(encode(everyCommandType()), noGame()),
+            "Commands.commands[0] unit count: 6 is out of range (at most 0)");
+}
+
+TEST(NetProtocol, TheBytesAreTheDocumentedLayout) {
+  Hello h = playerHello();
+  RawHello r;
+  r.digest = h.mapDigest;
+  r.seed = h.seed;
+  r.units = h.unitsPerTeam;
+  r.stepMode = 2;
+  r.delay = 4;
+  r.interval = 30;
+  r.role = 0;
+  r.team = 1;
+  EXPECT_EQ(encode(h), raw(r));
+  EXPECT_EQ(encode(h).size(), 45u);
+
+  const std::vector<uint8_t> hash = {4, 0x78, 0x56, 0x34, 0x12, 0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x80};
+  EXPECT_EQ(encode(Hash{0x12345678, 0x8000000000000001ull}), hash);
+  EXPECT_EQ(encode(Bye{"ok"}), (std::vector<uint8_t>{5, 2, 'o', 'k'}));
+  EXPECT_EQ(encode(Refuse{""}), (std::vector<uint8_t>{2, 0}));
+
+  // Commands: tick, team, u16 count, then the replay's command codec: type, team, varint count, varint
+  // ids, f64 target (Move); varint gate (ToggleGate).
+  Commands m;
+  m.tick = 2;
+  m.team = 1;
+  m.commands.push_back(command(2, 1, CommandType::Move, {300}, {1.0, 0.0}));
+  m.commands.push_back(command(2, 1, CommandType::ToggleGate, {}, {}, 3));
+  // clang-format off
+  const std::vector<uint8_t> expected = {
+      3, 2, 0, 0, 0, 1, 2, 0,                          // Commands, tick 2, team 1, 2 commands
+      1, 1, 1, 0xac, 0x02,                             // Move, team 1, 1 unit: 300
+      0, 0, 0, 0, 0, 0, 0xf0, 0x3f, 0, 0, 0, 0, 0, 0, 0, 0,  // target 1.0, 0.0
+      3, 1, 3};                                        // ToggleGate, team 1, gate 3
+  // clang-format on
+  EXPECT_EQ(encode(m), expected);
+  EXPECT_EQ(encode(Commands{7, 0, {}}), (std::vector<uint8_t>{3, 7, 0, 0, 0, 0, 0, 0}));
+}
+
+TEST(NetProtocol, TheLargestPacketPassesAndOneByteMoreDoesNot) {
+  // One Move whose packet is exactly kMaxPacketBytes: 8 bytes of header, type and team, a 3-byte unit
+  // count, 16 bytes of target, and the ids: one of 2 bytes (128 to 16383) and the rest of 3.
+  const size_t n = (kMaxPacketBytes - 8 - 2 - 3 - 16 + 1) / 3;
+  Commands m;
+  m.tick = 1;
+  m.team = 0;
+  m.commands.push_back(command(1, 0, CommandType::Move, std::vector<uint32_t>(n, 20000), {1, 2}));
+  m.commands[0].units[0] = 200;
+  const std::vector<uint8_t> bytes = encode(m);
+  ASSERT_EQ(bytes.size(), kMaxPacketBytes);
+  const Decoded d = decodeBytes(bytes, largestGame());
+  ASSERT_TRUE(d.ok()) << d.error;
+  EXPECT_EQ(std::get<Commands>(*d.message).commands[0].units.size(), n);
+
+  m.commands[0].units.push_back(5);
+  EXPECT_EQ(encodeError(m), "Commands: packet of 1048577 bytes exceeds the limit 1048576");
+  std::vector<uint8_t> over = bytes;
+  over.push_back(0);
+  EXPECT_EQ(errorOf(over), "Commands: packet of 1048577 bytes exceeds the limit 1048576");
+}
+
+// ---- Truncations, trailing bytes, unknown types ----
+
+TEST(NetProtocol, EveryTruncationIsAnErrorNamingTheMessage) {
+  std::vector<std::pair<std::string, Message>> cases = sampleMessages();
+  cases.push_back({"commands-full", fullCommands()});
+  int checked = 0;
+  for (const auto& [name, message] : cases) {
+    const std::vector<uint8_t> bytes = encode(message);
+    const std::string type = messageName(message);
+    for (size_t n = 1; n < bytes.size(); ++n) {
+      const std::vector<uint8_t> cut(bytes.begin(), bytes.begin() + std::ptrdiff_t(n));
+      const Decoded d = decodeBytes(cut, largestGame());
+      ASSERT_FALSE(d.ok()) << name << " cut at " << n;
+      ASSERT_EQ(d.error.rfind(type, 0), 0u) << name << " cut at " << n << ": " << d.error;
+      ASSERT_NE(d.error.find(": truncated at byte "), std::string::npos) << name << " cut at " << n << ": " << d.error;
+      ASSERT_NE(d.error.find(" of " + std::to_string(n) + " ("), std::string::npos)
+          << name << " cut at " << n << ": " << d.error;
+      expectCleanError(cut, d.error, name);
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 3000);
+  // Exactly, at a few places.
+  const std::vector<uint8_t> hello = encode(playerHello());
+  EXPECT_EQ(errorOf({hello.begin(), hello.begin() + 3}),
+            "Hello.protocolVersion: truncated at byte 1 of 3 (needs 4 bytes, 2 left)");
+  EXPECT_EQ(errorOf({hello.begin(), hello.begin() + 5}),
+            "Hello.engineVersion length: truncated at byte 5 of 5 (needs 1 byte, 0 left)");
+  EXPECT_EQ(errorOf({hello.begin(), hello.begin() + 6}),
+            "Hello.engineVersion: truncated at byte 6 of 6 (needs 12 bytes, 0 left)");
+  EXPECT_EQ(errorOf({hello.begin(), hello.begin() + 44}),
+            "Hello.team: truncated at byte 44 of 44 (needs 1 byte, 0 left)");
+  const std::vector<uint8_t> commands = encode(everyCommandType());
+  EXPECT_EQ(errorOf({commands.begin(), commands.begin() + 9}),
+            "Commands.count = 5: truncated at byte 8 of 9 (5 commands need at least 15 bytes, 1 left)");
+  EXPECT_EQ(errorOf({commands.begin(), commands.begin() + 30}),
+            "Commands.commands[0] target.x: truncated at byte 23 of 30 (needs 8 bytes, 7 left)");
+  Commands oneMove = everyCommandType();
+  oneMove.commands.resize(1);
+  const std::vector<uint8_t> move = encode(oneMove);
+  EXPECT_EQ(errorOf({move.begin(), move.begin() + 21}),
+            "Commands.commands[0] unit 5: truncated at byte 21 of 21 (inside a varint)");
+  EXPECT_EQ(errorOf({move.begin(), move.begin() + 12}),
+            "Commands.commands[0] unit count: truncated at byte 10 of 12 (6 items cannot fit in the 1 bytes left)");
+  EXPECT_EQ(errorOf({}), "empty packet: no message type");
+  EXPECT_EQ(decode(nullptr, 0, largestGame()).error, "empty packet: no message type");
+  EXPECT_EQ(decode(nullptr, 5, largestGame()).error, "empty packet: no message type");
+}
+
+TEST(NetProtocol, AByteAfterTheMessageIsAnError) {
+  for (const auto& [name, message] : sampleMessages()) {
+    std::vector<uint8_t> bytes = encode(message);
+    const size_t size = bytes.size();
+    bytes.push_back(0);
+    EXPECT_EQ(errorOf(bytes), std::string(messageName(message)) + ": 1 byte after the end of the message (from byte " +
+                                  std::to_string(size) + " of " + std::to_string(size + 1) + ")")
+        << name;
+    bytes.push_back(0xff);
+    EXPECT_NE(errorOf(bytes).find(": 2 bytes after the end of the message"), std::string::npos) << name;
+  }
+}
+
+TEST(NetProtocol, UnknownMessageTypesAreErrors) {
+  for (const uint8_t type : {0, 6, 7, 127, 255}) {
+    EXPECT_EQ(errorOf({type, 1, 2, 3}),
+              "message type " + std::to_string(type) + " is unknown (1 Hello, 2 Refuse, 3 Commands, 4 Hash, 5 Bye)");
+    EXPECT_EQ(errorOf({type}),
+              "message type " + std::to_string(type) + " is unknown (1 Hello, 2 Refuse, 3 Commands, 4 Hash, 5 Bye)");
+  }
+}
+
+// ---- Every limit, one over ----
+
+TEST(NetProtocol, HelloFieldsOneOverTheirLimitsAreErrors) {
+  ASSERT_TRUE(decodeBytes(raw({}), largestGame()).ok()) << decodeBytes(raw({}), largestGame()).error;
+  auto with = [](auto change) {
+    RawHello r;
+    change(r);
+    return errorOf(raw(r));
+  };
+  EXPECT_EQ(with([](RawHello& r) { r.engine = std::string(kMaxEngineVersionBytes + 1, 'v'); }),
+            "Hello.engineVersion length = 65 exceeds the limit 64");
+  EXPECT_EQ(with([](RawHello& r) {
+              r.engine = std::string(kMaxEngineVersionBytes, 'v');
+              r.engineLength = 255;
+            }),
+            "Hello.engineVersion length = 255 exceeds the limit 64");
+  EXPECT_EQ(with([](RawHello& r) { r.engine = "rat\ntle"; }),
+            "Hello.engineVersion: byte 3 is 0x0a, not printable ASCII (0x20 to 0x7e)");
+  EXPECT_EQ(with([](RawHello& r) { r.engine = "x\x7f"; }),
+            "Hello.engineVersion: byte 1 is 0x7f, not printable ASCII (0x20 to 0x7e)");
+  EXPECT_EQ(with([](RawHello& r) { r.engine = std::string("\x1f", 1); }),
+            "Hello.engineVersion: byte 0 is 0x1f, not printable ASCII (0x20 to 0x7e)");
+  EXPECT_EQ(with([](RawHello& r) { r.engine = std::string("\xc3\xa9"); }),
+            "Hello.engineVersion: byte 0 is 0xc3, not printable ASCII (0x20 to 0x7e)");
+  EXPECT_EQ(with([](RawHello& r) { r.units = rts::replay::kMaxUnitsPerTeam + 1; }),
+            "Hello.unitsPerTeam = 200001 is out of range (1 to 200000)");
+  EXPECT_EQ(with([](RawHello& r) { r.units = 0; }), "Hello.unitsPerTeam = 0 is out of range (1 to 200000)");
+  EXPECT_EQ(with([](RawHello& r) { r.stepMode = 3; }),
+            "Hello.stepMode = 3 is not a step mode (0 hybrid, 1 discrete, 2 predictive)");
+  EXPECT_EQ(with([](RawHello& r) { r.delay = kMaxInputDelayTicks + 1; }),
+            "Hello.inputDelayTicks = 301 exceeds the limit 300");
+  EXPECT_EQ(with([](RawHello& r) { r.interval = 0; }), "Hello.hashIntervalTicks = 0 is below the minimum 1");
+  EXPECT_EQ(with([](RawHello& r) { r.role = 2; }), "Hello.role = 2 is not a role (0 player, 1 spectator)");
+  EXPECT_EQ(with([](RawHello& r) { r.team = 2; }), "Hello.team = 2: a player's team is 0 (blue) or 1 (red)");
+  EXPECT_EQ(with([](RawHello& r) {
+              r.role = 1;
+              r.team = 1;
+            }),
+            "Hello.team = 1: a spectator's team is 0");
+
+  // At the limits, all is well.
+  RawHello edge;
+  edge.engine = std::string(kMaxEngineVersionBytes, '~');
+  edge.units = rts::replay::kMaxUnitsPerTeam;
+  edge.stepMode = 2;
+  edge.delay = kMaxInputDelayTicks;
+  edge.interval = 1;
+  edge.role = 1;
+  EXPECT_TRUE(decodeBytes(raw(edge), largestGame()).ok());
+}
+
+TEST(NetProtocol, AnotherProtocolVersionDecodesAndItsErrorsSaySo) {
+  RawHello r;
+  r.version = 2;
+  const Decoded d = decodeBytes(raw(r), largestGame());
+  ASSERT_TRUE(d.ok()) << d.error;  // so that the handshake, not the decoder, refuses it
+  EXPECT_EQ(std::get<Hello>(*d.message).protocolVersion, 2u);
+  r.stepMode = 9;
+  EXPECT_EQ(errorOf(raw(r)),
+            "Hello.stepMode = 9 is not a step mode (0 hybrid, 1 discrete, 2 predictive) "
+            "(the peer speaks protocol version 2; this build speaks 1)");
+}
+
+TEST(NetProtocol, ReasonsOneOverTheirLimitsAreErrors) {
+  const std::string longest(kMaxReasonBytes, 'r');
+  EXPECT_TRUE(decodeBytes(rawText(2, longest), largestGame()).ok());
+  EXPECT_TRUE(decodeBytes(rawText(5, longest), largestGame()).ok());
+  EXPECT_EQ(errorOf(rawText(2, longest + "r")), "Refuse.reason length = 201 exceeds the limit 200");
+  EXPECT_EQ(errorOf(rawText(5, longest + "r")), "Bye.reason length = 201 exceeds the limit 200");
+  EXPECT_EQ(errorOf(rawText(2, "a\tb")), "Refuse.reason: byte 1 is 0x09, not printable ASCII (0x20 to 0x7e)");
+  EXPECT_EQ(errorOf(rawText(5, "\x1b[2J")), "Bye.reason: byte 0 is 0x1b, not printable ASCII (0x20 to 0x7e)");
+}
+
+TEST(NetProtocol, CommandsFieldsOneOverTheirLimitsAreErrors) {
+  const DecodeContext small{200, 4};
+  auto oneCommand = [](uint8_t team, const rts::Command& c) {
+    ByteWriter w = rawCommandsHeader(5, team, 1);
+    rts::replay::encodeCommand(w, c);
+    return bytesOf(w.data());
+  };
+  EXPECT_TRUE(decodeBytes(oneCommand(1, command(5, 1, CommandType::Move, {199}, {1, 2})), small).ok());
+  EXPECT_EQ(errorOf(oneCommand(2, command(5, 2, CommandType::Stop))),
+            "Commands.team = 2: expected 0 (blue) or 1 (red)");
+  EXPECT_EQ(errorOf(oneCommand(0, command(5, 1, CommandType::Stop))),
+            "Commands.commands[0] team = 1 differs from Commands.team = 0 (a peer sends its own team's commands only)");
+  EXPECT_EQ(errorOf(oneCommand(1, command(5, 1, CommandType::Move, {200}, {1, 2})), small),
+            "Commands.commands[0] unit 0: 200 is out of range (0 to 199)");
+  EXPECT_EQ(errorOf(oneCommand(1, command(5, 1, CommandType::Stop, std::vector<uint32_t>(201, 1))), small),
+            "Commands.commands[0] unit count: 201 is out of range (at most 200)");
+  EXPECT_TRUE(decodeBytes(oneCommand(1, command(5, 1, CommandType::ToggleGate, {}, {}, 3)), small).ok());
+  EXPECT_EQ(errorOf(oneCommand(1, command(5, 1, CommandType::ToggleGate, {}, {}, 4)), small),
+            "Commands.commands[0] gate: 4 is out of range (0 to 3)");
+  EXPECT_EQ(errorOf(oneCommand(1, command(5, 1, CommandType::Move, {1}, {std::nan(""), 0}))),
+            "Commands.commands[0] target.x: not a finite number");
+  EXPECT_EQ(errorOf(oneCommand(1, command(5, 1, CommandType::Move, {1}, {0, -HUGE_VAL}))),
+            "Commands.commands[0] target.y: not a finite number");
+  std::vector<uint8_t> unknown = oneCommand(1, command(5, 1, CommandType(4)));
+  unknown.push_back(0);
+  EXPECT_EQ(errorOf(unknown), "Commands.commands[0] type: unknown command type 4 (1 move, 2 stop, 3 toggle gate)");
+
+  // The count: the limit, then one over (with the commands really there), then a huge one in a small packet.
+  auto stops = [](uint16_t count, size_t present) {
+    ByteWriter w = rawCommandsHeader(5, 0, count);
+    for (size_t i = 0; i < present; ++i) rts::replay::encodeCommand(w, command(5, 0, CommandType::Stop));
+    return bytesOf(w.data());
+  };
+  EXPECT_TRUE(decodeBytes(stops(kMaxCommandsPerMessage, kMaxCommandsPerMessage), largestGame()).ok());
+  EXPECT_EQ(errorOf(stops(kMaxCommandsPerMessage + 1, kMaxCommandsPerMessage + 1)),
+            "Commands.count = 1025 exceeds the limit 1024");
+  EXPECT_EQ(errorOf(stops(UINT16_MAX, 2)), "Commands.count = 65535 exceeds the limit 1024");
+  EXPECT_EQ(errorOf(stops(3, 2)),
+            "Commands.count = 3: truncated at byte 8 of 14 (3 commands need at least 9 bytes, 6 left)");
+}
+
+TEST(NetProtocol, EncodeRefusesWhatDecodeWouldRefuseInTheSameWords) {
+  Hello h = playerHello();
+  h.engineVersion = std::string(kMaxEngineVersionBytes + 1, 'v');
+  EXPECT_EQ(encodeError(h), "Hello.engineVersion length = 65 exceeds the limit 64");
+  h = playerHello();
+  h.engineVersion = "a\nb";
+  EXPECT_EQ(encodeError(h), "Hello.engineVersion: byte 1 is 0x0a, not printable ASCII (0x20 to 0x7e)");
+  h = playerHello();
+  h.unitsPerTeam = 0;
+  EXPECT_EQ(encodeError(h), "Hello.unitsPerTeam = 0 is out of range (1 to 200000)");
+  h = playerHello();
+  h.stepMode = rattle::StepMode(3);
+  EXPECT_EQ(encodeError(h), "Hello.stepMode = 3 is not a step mode (0 hybrid, 1 discrete, 2 predictive)");
+  h = playerHello();
+  h.inputDelayTicks = kMaxInputDelayTicks + 1;
+  EXPECT_EQ(encodeError(h), "Hello.inputDelayTicks = 301 exceeds the limit 300");
+  h = playerHello();
+  h.hashIntervalTicks = 0;
+  EXPECT_EQ(encodeError(h), "Hello.hashIntervalTicks = 0 is below the minimum 1");
+  h = playerHello();
+  h.role = Role(2);
+  EXPECT_EQ(encodeError(h), "Hello.role = 2 is not a role (0 player, 1 spectator)");
+  h = playerHello();
+  h.role = Role::Spectator;
+  EXPECT_EQ(encodeError(h), "Hello.team = 1: a spectator's team is 0");
+
+  EXPECT_EQ(encodeError(Refuse{std::string(kMaxReasonBytes + 1, 'r')}),
+            "Refuse.reason length = 201 exceeds the limit 200");
+  EXPECT_EQ(encodeError(Bye{"\x07"}), "Bye.reason: byte 0 is 0x07, not printable ASCII (0x20 to 0x7e)");
+
+  Commands m = fullCommands();
+  m.commands.push_back(m.commands.back());
+  EXPECT_EQ(encodeError(m), "Commands.count = 1025 exceeds the limit 1024");
+  m = everyCommandType();
+  m.team = 2;
+  EXPECT_EQ(encodeError(m), "Commands.team = 2: expected 0 (blue) or 1 (red)");
+  m = everyCommandType();
+  m.commands[3].team = 0;
+  EXPECT_EQ(encodeError(m),
+            "Commands.commands[3] team = 0 differs from Commands.team = 1 (a peer sends its own team's commands only)");
+  m = everyCommandType();
+  m.commands[1].target.y = INFINITY;
+  EXPECT_EQ(encodeError(m), "Commands.commands[1] target.y: not a finite number");
+  m = everyCommandType();
+  m.commands[2].type = CommandType(0);
+  EXPECT_EQ(encodeError(m), "Commands.commands[2] type: unknown command type 0 (1 move, 2 stop, 3 toggle gate)");
+}
+
+// ---- The handshake ----
+
+TEST(NetProtocol, HandshakeAcceptsTheSameGame) {
+  Hello blue = playerHello(), red = playerHello();
+  blue.team = 0;
+  red.team = 1;
+  EXPECT_EQ(handshakeMismatch(blue, red), std::nullopt);
+  EXPECT_EQ(handshakeMismatch(red, blue), std::nullopt);
+  Hello watcher = blue;
+  watcher.role = Role::Spectator;
+  EXPECT_EQ(handshakeMismatch(blue, watcher), std::nullopt);
+  EXPECT_EQ(handshakeMismatch(watcher, red), std::nullopt);
+}
+
+TEST(NetProtocol, HandshakeNamesEachDifferenceWithBothValues) {
+  Hello mine = playerHello();
+  mine.team = 0;
+  const Hello base = [&] {
+    Hello h = mine;
+    h.team = 1;
+    return h;
+  }();
+  struct Case {
+    void (*change)(Hello&);
+    std::string expected;
+  };
+  const Case cases[] = {
+      {[](Hello& h) { h.protocolVersion = 2; }, "protocol version: mine 1, theirs 2"},
+      {[](Hello& h) { h.engineVersion = "rattle 0.2.0"; },
+       "engine version: mine \"rattle 0.1.0\", theirs \"rattle 0.2.0\""},
+      {[](Hello& h) { h.mapDigest = 0xab; }, "map digest: mine 0x0123456789abcdef, theirs 0x00000000000000ab"},
+      {[](Hello& h) { h.seed = 8; }, "seed: mine 18364758544493064720, theirs 8"},
+      {[](Hello& h) { h.unitsPerTeam = 5000; }, "units a team: mine 100, theirs 5000"},
+      {[](Hello& h) { h.stepMode = rattle::StepMode::Hybrid; }, "step mode: mine predictive, theirs hybrid"},
+      {[](Hello& h) { h.inputDelayTicks = 6; }, "input delay: mine 4 ticks, theirs 6 ticks"},
+      {[](Hello& h) { h.hashIntervalTicks = 1; }, "hash interval: mine 30 ticks, theirs 1 ticks"},
+      {[](Hello& h) { h.team = 0; }, "team: both players are on team 0 (blue)"},
+  };
+  for (const Case& c : cases) {
+    Hello theirs = base;
+    c.change(theirs);
+    const auto line = handshakeMismatch(mine, theirs);
+    ASSERT_TRUE(line.has_value()) << c.expected;
+    EXPECT_EQ(*line, c.expected);
+  }
+  // Several at once: all of them, in one line.
+  Hello theirs = base;
+  theirs.seed = 8;
+  theirs.stepMode = rattle::StepMode::Discrete;
+  theirs.team = 0;
+  EXPECT_EQ(handshakeMismatch(mine, theirs),
+            "seed: mine 18364758544493064720, theirs 8; step mode: mine predictive, theirs discrete; "
+            "team: both players are on team 0 (blue)");
+  // Two spectators have no game to follow.
+  Hello a = mine, b = base;
+  a.role = b.role = Role::Spectator;
+  a.team = b.team = 0;
+  EXPECT_EQ(handshakeMismatch(a, b), "role: both sides are spectators");
+}
+
+// ---- Random and mutated bytes ----
+
+TEST(NetProtocol, RandomBytesAreRefusedCleanlyOrRoundTrip) {
+  std::mt19937_64 rng(26);
+  int decoded = 0, refused = 0, hashes = 0;
+  for (int i = 0; i < 4000; ++i) {
+    std::vector<uint8_t> bytes(rng() % 49);
+    for (uint8_t& b : bytes) b = uint8_t(rng());
+    // Half of them start with a known type, so that they get past the first byte.
+    if (!bytes.empty() && rng() % 2 == 0) bytes[0] = uint8_t(1 + rng() % 5);
+    const std::string where = "random input " + std::to_string(i);
+    for (const DecodeContext& context : {noGame(), largestGame()}) {
+      (expectRefusedCleanlyOrRoundTrips(bytes, context, where) ? decoded : refused)++;
+    }
+    // Any 13 bytes that start with 4 are a Hash, and these are its fields.
+    if (bytes.size() == 13 && bytes[0] == 4) {
+      ++hashes;
+      const Decoded d = decodeBytes(bytes, noGame());
+      ASSERT_TRUE(d.ok()) << d.error;
+      uint64_t tick = 0, hash = 0;
+      for (int k = 0; k < 4; ++k) tick |= uint64_t(bytes[size_t(1 + k)]) << (8 * k);
+      for (int k = 0; k < 8; ++k) hash |= uint64_t(bytes[size_t(5 + k)]) << (8 * k);
+      EXPECT_EQ(std::get<Hash>(*d.message).tick, tick);
+      EXPECT_EQ(std::get<Hash>(*d.message).stateHash, hash);
+    }
+  }
+  EXPECT_GT(hashes, 0);
+  EXPECT_GT(decoded, 0);
+  EXPECT_GT(refused, 7000);
+}
+
+TEST(NetProtocol, MutatedPacketsAreRefusedCleanlyOrRoundTrip) {
+  std::mt19937_64 rng(2026);
+  const auto samples = sampleMessages();
+  int decoded = 0, refused = 0, exact = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const auto& [name, message] = samples[size_t(rng() % samples.size())];
+    std::vector<uint8_t> bytes = encode(message);
+    const int flips = 1 + int(rng() % 3);
+    for (int f = 0; f < flips; ++f) bytes[1 + size_t(rng() % (bytes.size() - 1))] ^= uint8_t(1u << (rng() % 8));
+    const std::string where = name + " mutant " + std::to_string(i);
+    if (!expectRefusedCleanlyOrRoundTrips(bytes, largestGame(), where)) {
+      ++refused;
+      continue;
+    }
+    ++decoded;
+    // Fixed-width fields have one encoding each: what decodes encodes back to the very same bytes
+    // (commands' varints may have longer spellings than the shortest, which encode writes).
+    const Decoded d = decodeBytes(bytes, largestGame());
+    if (!std::holds_alternative<Commands>(*d.message)) {
+      EXPECT_EQ(encode(*d.message), bytes) << where;
+      ++exact;
+    }
+  }
+  EXPECT_GT(decoded, 300);
+  EXPECT_GT(refused, 300);
+  EXPECT_GT(exact, 100);
+}
+
+}  // namespace
