@@ -34,6 +34,7 @@
 #include "collision/closest_point.h"
 #include "collision/path_box.h"
 #include "rattle/time_of_impact.h"
+#include "hybrid/hybrid_state.h"
 #include "world/world_impl.h"
 
 namespace rattle {
@@ -100,20 +101,21 @@ void detail::WorldState::queueContact(const Impact& impact, uint32_t own, uint32
   const double h = impact.time;
   const double time = std::min(now + h, dt);
   const Vec2 travelOfOther = velocityOfOther * h + accelerationOfOther * (0.5 * h * h);
+  std::vector<PredictedContact>& queue = hybridState().queue;
   queue.push_back(PredictedContact{time, detail::EventKind::Contact, afterDismissal, own, other, impact.feature,
-                                   countOwn, countOther,
-                                   impact.point + travelOfOther, impact.normal});
+                                   countOwn, countOther, impact.point + travelOfOther, impact.normal});
   std::push_heap(queue.begin(), queue.end(), detail::later);
 }
 
 void detail::WorldState::predictPlainPair(uint32_t fa, uint32_t fb, uint32_t ba, uint32_t bb, double dt) {
+  const detail::HybridState& h = *hybrid;  // made by the step that sweeps
   // The sweep's candidate pair of two plain disks at the step's start: canCollide, addPair and
   // predict(own, other, 0, dt) as for any pair, reading each body's first line and its DiskShape instead
   // of its fixture. The arithmetic is predict's and timeOfImpact's for two circles centred on their
   // bodies, step by step, so the prediction has the same bits. (The broad phase has checked the filter
   // bits; neither is a sensor.)
-  const detail::DiskShape& sa = diskShapes[ba];
-  const detail::DiskShape& sb = diskShapes[bb];
+  const detail::DiskShape& sa = h.diskShapes[ba];
+  const detail::DiskShape& sb = h.diskShapes[bb];
   if (ba == bb || (sa.group != 0 && sa.group == sb.group)) return;
   ++stats.candidatePairs;
   pairsOfBody[ba].push_back({fa, fb});
@@ -137,11 +139,12 @@ void detail::WorldState::predictPlainPair(uint32_t fa, uint32_t fb, uint32_t ba,
 }
 
 void detail::WorldState::predictSlideEnd(uint32_t bodyIndex, double now, double dt) {
+  detail::HybridState& h = hybridState();
   const BodySlot& b = bodies[bodyIndex];
   if (!b.sliding) return;
   const auto t = slideEndTime(b, now, dt);
   if (!t) return;
-  queue.push_back(PredictedContact{std::min(*t, dt),
+  h.queue.push_back(PredictedContact{std::min(*t, dt),
                                    detail::EventKind::SlideEnd,
                                    false,
                                    b.fixtures.front(),
@@ -151,10 +154,11 @@ void detail::WorldState::predictSlideEnd(uint32_t bodyIndex, double now, double 
                                    0,
                                    {},
                                    {}});
-  std::push_heap(queue.begin(), queue.end(), detail::later);
+  std::push_heap(h.queue.begin(), h.queue.end(), detail::later);
 }
 
 void detail::WorldState::repredict(uint32_t bodyIndex, double now, double dt, bool forceRequery) {
+  detail::HybridState& h = hybridState();
   BodySlot& body = bodies[bodyIndex];
   recordPath(bodyIndex, now);
   auto& pairs = pairsOfBody[bodyIndex];
@@ -168,13 +172,13 @@ void detail::WorldState::repredict(uint32_t bodyIndex, double now, double dt, bo
     // grow the box and ask the broad phase again.
     ++stats.requeries;
     broadPhase.grow(f, unionOf(broadPhase.box(f), box));
-    ++stampCounter;
+    ++h.stampCounter;
     for (const auto& p : pairs) {
-      if (p.own == f) stamp[p.other] = stampCounter;
+      if (p.own == f) h.stamp[p.other] = h.stampCounter;
     }
     broadPhase.queryAround(f, [&](uint32_t g) {
-      if (stamp[g] == stampCounter || !canCollide(f, g)) return;
-      stamp[g] = stampCounter;
+      if (h.stamp[g] == h.stampCounter || !canCollide(f, g)) return;
+      h.stamp[g] = h.stampCounter;
       ++stats.candidatePairs;
       addPair(f, g);
       // A contact an island holds that its last solve did not see (island.cpp).
@@ -231,11 +235,12 @@ void detail::WorldState::learnDiskShape(uint32_t bodyIndex) {
       !sameBits(fixture.localBox.max, box.max)) {
     return;
   }
-  diskShapes[bodyIndex] = {circle->radius, f, fixture.filter.group};
+  hybridState().diskShapes[bodyIndex] = {circle->radius, f, fixture.filter.group};
   b.diskShapeKnown = true;
 }
 
-[[gnu::always_inline]] inline void detail::WorldState::prefetchFirstPass(uint32_t i, uint32_t count) const {
+[[gnu::always_inline]] inline void detail::WorldState::prefetchFirstPass(uint32_t i, uint32_t count,
+                                                                        const DiskShape* shapes) const {
   // The first pass streams several arrays at once (the bodies' first lines, the pair lists' headers, the
   // disk shapes, the proxies and their reaches), which the hardware prefetcher does not keep ahead of:
   // it stops at every 4 KiB page, 21 BodySlots. Asked for kStreamAhead bodies ahead, and what depends on
@@ -249,7 +254,7 @@ void detail::WorldState::learnDiskShape(uint32_t bodyIndex) {
   const BodySlot& b = bodies[i + kHalf];
   if (!b.alive) return;
   if (b.diskShapeKnown) {
-    broadPhase.prefetch(diskShapes[i + kHalf].fixture);
+    broadPhase.prefetch(shapes[i + kHalf].fixture);
   }
   if (b.stepLocalsSet || b.sliding || !b.diskShapeKnown) {
     const char* slot = reinterpret_cast<const char*>(&b);
@@ -260,13 +265,16 @@ void detail::WorldState::learnDiskShape(uint32_t bodyIndex) {
 // 1. Swept boxes. A sleeping body does not move this step: its proxies count as resting. Returns the
 // fastest speed in the world this step.
 double detail::WorldState::sweepBoxes(double dt) {
+  detail::HybridState& h = hybridState();
+  // Read once: stores into the bodies below could alias the array's pointer for all the compiler knows.
+  const detail::DiskShape* const shapes = h.diskShapes.data();
   double speedScale = 0, straightSpeedSquared = 0;
-  sliding.clear();
+  h.slidingAtStart.clear();
   stepped.clear();
   const uint32_t bodyCount = static_cast<uint32_t>(bodies.size());
   const bool noGravity = def.gravity.x == 0 && def.gravity.y == 0;
   for (uint32_t i = 0; i < bodyCount; ++i) {
-    prefetchFirstPass(i, bodyCount);
+    prefetchFirstPass(i, bodyCount, shapes);
     BodySlot& b = bodies[i];
     if (!b.alive) continue;
     // The stores below are skipped when they would not change a bit: most bodies of a large world
@@ -289,7 +297,7 @@ double detail::WorldState::sweepBoxes(double dt) {
     if (b.type == BodyType::Dynamic && !b.asleep && !b.sliding) {
       storeIfChanged(b.acceleration, b.stepped ? Vec2{} : def.gravity);
     }
-    if (b.sliding) sliding.push_back(i);
+    if (b.sliding) h.slidingAtStart.push_back(i);
     if (b.stepped) stepped.push_back(i);
     const bool moving = moves(b) && !b.asleep;
     // A body standing still all step (a crowd's waiting units) meets another still one only after
@@ -324,7 +332,7 @@ double detail::WorldState::sweepBoxes(double dt) {
       // island and sliding on nothing, it is a plain disk: its proxy is tagged with its body, and a
       // candidate pair of two plain disks is predicted from their bodies' first lines and DiskShapes
       // (predictPlainPair), without a look at their fixtures.
-      const detail::DiskShape& shape = diskShapes[i];
+      const detail::DiskShape& shape = shapes[i];
       const bool plain = b.type == BodyType::Dynamic && moving && !still && b.acceleration.x == 0 &&
                          b.acceleration.y == 0 && !b.sliding && !b.stepped;
       broadPhase.setMoving(shape.fixture, moving && !still);
@@ -363,7 +371,8 @@ double detail::WorldState::sweepBoxes(double dt) {
 // 2 and 3. Candidate pairs and their first predictions; a pair with a stepped body waits for its
 // island's solve (deferred).
 void detail::WorldState::predictCandidatePairs(double dt) {
-  deferred.clear();
+  detail::HybridState& h = hybridState();
+  h.deferred.clear();
   // Without gravity nothing reads the pairs in the order the sweep found them (island solves do), so the
   // broad phase may keep them from step to step.
   broadPhase.setPairCache(def.gravity.x == 0 && def.gravity.y == 0);
@@ -389,8 +398,8 @@ void detail::WorldState::predictCandidatePairs(double dt) {
     if (plain) {
       __builtin_prefetch(&bodies[plainA]);
       __builtin_prefetch(&bodies[plainB]);
-      __builtin_prefetch(&diskShapes[plainA]);
-      __builtin_prefetch(&diskShapes[plainB]);
+      __builtin_prefetch(&h.diskShapes[plainA]);
+      __builtin_prefetch(&h.diskShapes[plainB]);
       __builtin_prefetch(&pairsOfBody[plainA], 1);
       __builtin_prefetch(&pairsOfBody[plainB], 1);
     }
@@ -413,7 +422,7 @@ void detail::WorldState::predictCandidatePairs(double dt) {
       const uint32_t own = aFirst ? fa : fb, other = aFirst ? fb : fa;
       // A stepped body's path is known once its island is solved.
       if (bodyOf(fa).stepped || bodyOf(fb).stepped) {
-        deferred.push_back({own, other});
+        h.deferred.push_back({own, other});
       } else {
         predict(own, other, 0, dt);
       }
@@ -423,11 +432,12 @@ void detail::WorldState::predictCandidatePairs(double dt) {
 
 // Stepped islands (island.cpp): gravity and the solve, then the predictions that wait for them.
 void detail::WorldState::startIslandsAndPredict(double dt) {
-  std::vector<uint32_t>& freed = islandFreed;
+  detail::HybridState& h = hybridState();
+  std::vector<uint32_t>& freed = h.islandFreed;
   startIslands(dt, freed);
   for (uint32_t i : stepped) recordPath(i, 0);
   for (uint32_t i : freed) recordPath(i, 0);
-  for (const auto& p : deferred) predict(p.own, p.other, 0, dt);
+  for (const auto& p : h.deferred) predict(p.own, p.other, 0, dt);
   // A stepped body the solve sent out of the box the sweep saw is asked about again; contacts found so
   // are solved in turn.
   for (uint32_t i : stepped) {
@@ -442,7 +452,7 @@ void detail::WorldState::startIslandsAndPredict(double dt) {
     }
   }
   settleUnsolvedIslandPairs(0, dt);
-  for (uint32_t i : sliding) predictSlideEnd(i, 0, dt);
+  for (uint32_t i : h.slidingAtStart) predictSlideEnd(i, 0, dt);
 }
 
 // 4. Events in time order, up to the step's end or the instant the event budget runs out (returned).
@@ -551,13 +561,14 @@ void detail::WorldState::collide(const PredictedContact& c, double dt, std::vect
 }
 
 double detail::WorldState::processEvents(double dt, double approachTolerance) {
+  detail::HybridState& h = hybridState();
   std::vector<uint32_t> woken;
   int featureRepredictions = 0;
   double budgetTime = dt;
-  while (!queue.empty()) {
-    std::pop_heap(queue.begin(), queue.end(), detail::later);
-    const PredictedContact c = queue.back();
-    queue.pop_back();
+  while (!h.queue.empty()) {
+    std::pop_heap(h.queue.begin(), h.queue.end(), detail::later);
+    const PredictedContact c = h.queue.back();
+    h.queue.pop_back();
     // An event reads its two bodies, their pair lists and swept boxes one after another; at 10^6 bodies
     // each is a wait for memory. Asked for together they wait once, and the next event's fixtures (most
     // often the next popped) arrive while this one is handled: about 10% off the events' time there.
@@ -568,9 +579,9 @@ double detail::WorldState::processEvents(double dt, double approachTolerance) {
       __builtin_prefetch(&pairsOfBody[body]);
       __builtin_prefetch(&broadPhase.box(f));
     }
-    if (!queue.empty()) {
-      __builtin_prefetch(&fixtures[queue.front().a]);
-      __builtin_prefetch(&fixtures[queue.front().b]);
+    if (!h.queue.empty()) {
+      __builtin_prefetch(&fixtures[h.queue.front().a]);
+      __builtin_prefetch(&fixtures[h.queue.front().b]);
     }
     BodySlot& a = bodyOf(c.a);
     const BodySlot& b = bodyOf(c.b);
@@ -617,15 +628,16 @@ double detail::WorldState::processEvents(double dt, double approachTolerance) {
 }
 
 void detail::WorldState::stepHybrid(double dt) {
+  detail::HybridState& h = hybridState();
   contactEvents.clear();
   sensorEvents.swap(pendingSensorEvents);
   pendingSensorEvents.clear();
   ++stepStamp;
   stats = StepStats{};
-  queue.clear();
+  h.queue.clear();
   if (pairsOfBody.size() < bodies.size()) pairsOfBody.resize(bodies.size());
-  if (stamp.size() < fixtures.size()) stamp.resize(fixtures.size(), 0);
-  if (diskShapes.size() < bodies.size()) diskShapes.resize(bodies.size());
+  if (h.stamp.size() < fixtures.size()) h.stamp.resize(fixtures.size(), 0);
+  if (h.diskShapes.size() < bodies.size()) h.diskShapes.resize(bodies.size());
 
   const double speedScale = sweepBoxes(dt);
   // Approach speeds below this are round-off: 1e-13 of the fastest speed in the world this step.
@@ -635,7 +647,7 @@ void detail::WorldState::stepHybrid(double dt) {
     // A degenerate world (bodies piled on one point): its pairs are incomplete, so no body may move.
     // As at the event budget at time 0: everything stays where it is for this step.
     stats.eventBudgetReached = true;
-    queue.clear();
+    h.queue.clear();
     pathLog.active = false;
     for (const BodySlot& b : bodies) {
       if (b.alive && b.type == BodyType::Dynamic && b.asleep) ++stats.sleeping;
@@ -645,7 +657,7 @@ void detail::WorldState::stepHybrid(double dt) {
   }
   startIslandsAndPredict(dt);
   const double budgetTime = processEvents(dt, approachTolerance);
-  queue.clear();
+  h.queue.clear();
   const uint32_t bodyCount = static_cast<uint32_t>(bodies.size());
 
   // 5. Everyone to the end of the step; out of budget, to the instant the budget ran out, which is a

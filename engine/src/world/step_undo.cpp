@@ -19,6 +19,7 @@
 #include <algorithm>
 
 #include "common/out_of_memory.h"
+#include "hybrid/hybrid_state.h"
 #include "predictive/predictive_step.h"
 #include "world/world_impl.h"
 
@@ -121,7 +122,7 @@ void detail::WorldState::undoStep() {
   unsolvedIslandPairs.clear();
   settlingUnsolved = false;
   pathLog.active = false;
-  queue.clear();
+  if (hybrid) hybrid->queue.clear();
   // Caches of positions the step moved away from: void, rebuilt by the next step.
   broadPhase.forgetStep();
   predictive.reset();  // its queue may be part built: the next step makes it afresh

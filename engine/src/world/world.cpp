@@ -7,6 +7,7 @@
 
 #include "common/format.h"
 #include "common/out_of_memory.h"
+#include "hybrid/hybrid_state.h"
 #include "predictive/predictive_step.h"
 #include "world/world_impl.h"
 

@@ -27,6 +27,8 @@ namespace rattle {
 namespace detail {
 
 struct PredictiveState;  // predictive_step.h
+struct HybridState;      // hybrid_state.h
+struct DiskShape;        // hybrid_state.h
 
 // The last collision a body took part in, within the current step. A pair that was resolved at an
 // instant and whose bodies have done nothing since cannot be approaching at that instant; remembering it
@@ -76,7 +78,7 @@ struct alignas(64) BodySlot {
   // last, jamTime or stepCollisions may differ from their values at a step's start (every write of them
   // sets it: setLast, countStepCollision, settleJam; the hybrid step's first pass resets them only then).
   bool stepLocalsSet : 1 = false;
-  // detail::WorldState::diskShapes[this body] holds its one fixture that is not a sensor, a circle centred on
+  // detail::HybridState::diskShapes[this body] holds its one fixture that is not a sensor, a circle centred on
   // it (the hybrid step learns it; World's changes to the body's fixtures or their filters clear it).
   bool diskShapeKnown : 1 = false;
   // World::setVelocity gave it a velocity since the last step: the game drives it (a unit steered each
@@ -179,16 +181,6 @@ inline bool later(const PredictedContact& x, const PredictedContact& y) {
   return x.countB > y.countB;
 }
 
-// A body's fixtures when the only one that is not a sensor is a circle centred on the body, as the hybrid
-// step needs them (BodySlot::diskShapeKnown says when this holds): its first pass reads these 16 bytes in
-// body order instead of the body's fixture list and its fixture's two lines, and a candidate pair of two
-// plain disks (predictPlainPair) reads them with the bodies' first lines instead of their fixtures.
-struct DiskShape {
-  double radius = 0;  // the circle's; its box relative to the body is exactly [-radius, radius]^2
-  uint32_t fixture = 0;
-  int32_t group = 0;  // its filter's collision group
-};
-
 struct CandidatePair {
   uint32_t own;  // a fixture of the body whose list this is
   uint32_t other;
@@ -222,14 +214,11 @@ struct WorldState {
 
   // Step scratch, kept to reuse its memory.
   detail::LargeArray<std::vector<detail::CandidatePair>> pairsOfBody;  // by body index; dynamic bodies only
-  std::vector<detail::PredictedContact> queue;                  // binary heap ordered by detail::later
-  detail::LargeArray<uint32_t> stamp;                           // by fixture index, for de-duplication
-  detail::LargeArray<detail::DiskShape> diskShapes;             // by body index; see BodySlot::diskShapeKnown
-  uint32_t stampCounter = 0;
   std::vector<uint32_t> supporters;
-  std::vector<uint32_t> sliding;  // scratch of stepHybrid: the bodies that start the step sliding
-  std::vector<detail::CandidatePair> deferred;  // scratch of stepHybrid: pairs predicted after the islands
-  std::vector<uint32_t> islandFreed;            // scratch of stepHybrid
+  // The hybrid step's own state (hybrid_state.h), made by its first step; the predictive mode hands
+  // piles to the hybrid step's islands and events, and uses it then too.
+  std::unique_ptr<detail::HybridState> hybrid;
+  detail::HybridState& hybridState();  // inline in hybrid_state.h
 
   detail::BodySlot& bodyOf(uint32_t fixture) { return bodies[fixtures[fixture].body]; }
   const detail::BodySlot& bodyOf(uint32_t fixture) const { return bodies[fixtures[fixture].body]; }
@@ -348,7 +337,7 @@ struct WorldState {
   /// Asks for what the hybrid step's first pass will read of body i + kStreamAhead (a prefetch). Inline
   /// in hybrid_step.cpp: a call to a function that only prefetches is one GCC may drop (it finds it has
   /// no effect), and did.
-  inline void prefetchFirstPass(uint32_t i, uint32_t count) const;
+  inline void prefetchFirstPass(uint32_t i, uint32_t count, const DiskShape* shapes) const;
   /// Sets diskShapes[body] and BodySlot::diskShapeKnown when the only fixture of the body that is not a
   /// sensor is a circle centred on it.
   void learnDiskShape(uint32_t body);
