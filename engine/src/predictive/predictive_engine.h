@@ -369,6 +369,22 @@ class Engine {
   void predictBody(uint32_t slot, double now);
   void predictPlain(uint32_t slot, double now);
   void predictPlainAmong(uint32_t slot, double now, const uint32_t* neighbours, size_t count);
+  /// predictPlainAmong's earliest contact so far: with neighbour `partner` (kNone: none), and the pair's
+  /// relative motion at `now`, for the contact's point and normal once the search is done.
+  struct PlainImpact {
+    uint32_t partner = PredictiveState::kNone;
+    double time = 0;  // after `now`
+    Vec2 r, v, pb, vb;
+  };
+  /// Whether the pair of `slot` and `other` was resolved at `now` as both bodies' last contact.
+  bool plainJustResolved(const ColdBody& own, uint32_t fixture, uint32_t other, double now) const;
+  /// Whether a contact of `fixture` with `b` at `time` comes before the one held with `held`, at the same
+  /// time, in the events' total order.
+  bool beatsHeldContact(double time, uint32_t fixture, const HotBody& b, uint32_t held) const;
+  /// The end of predictPlainAmong: the event of the earliest impact (or the cell crossing), scheduled,
+  /// or handed to finishPrediction when static or kinematic fixtures or a slide are near.
+  void finishPlain(uint32_t slot, double now, Vec2 position, Vec2 velocity, double horizon, double h, int side,
+                   double bestTime, const PlainImpact& impact);
   bool predictsPlain(uint32_t slot) const {
     return plainWorld_ && isPlain(s_.hot[slot]) && !dismissals(slot) && isMoving(s_.hot[slot]);
   }

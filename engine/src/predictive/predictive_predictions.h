@@ -382,11 +382,9 @@ void Engine::predictPlainAmong(uint32_t i, double now, const uint32_t* neighbour
   crossingStraight(centre, velocity, cb, h, side);
   const double horizon = h < kInf ? now + h : now + s_.capTime;
 
-  // The best so far: the crossing, or a contact with neighbour `partner` at `bestTime`.
+  // The best so far: the crossing, or a contact with neighbour impact.partner at `bestTime`.
   double bestTime = horizon;
-  uint32_t partner = PredictiveState::kNone;
-  double impactTime = 0;
-  Vec2 impactR, impactV, impactPb, impactVb;
+  PlainImpact impact;
   // No impact later than this can beat the best (searchBound).
   double within = searchBound(horizon, bestTime, now);
   const double radius = hb.radius;
@@ -454,51 +452,60 @@ void Engine::predictPlainAmong(uint32_t i, double now, const uint32_t* neighbour
     const double c = m.c;
     if (c > 0 && c > -2 * rv * within * (1 + 1e-9)) continue;
     // The LastContact guard: the pair is both bodies' last contact, resolved at this instant.
-    bool justResolved = false;
-    if (lastNow) {
-      const uint32_t low = std::min(fixture, b.fixture), high = std::max(fixture, b.fixture);
-      if (cb.lastLow == low && cb.lastHigh == high) {
-        const ColdBody& other = s_.cold[j];
-        justResolved = other.lastTime == now && other.lastLow == low && other.lastHigh == high && cb.lastFeature == 0;
-      }
-    }
+    const bool justResolved = lastNow && plainJustResolved(cb, fixture, j, now);
     double t;
     if (!detail::plainTimeToReach(r, c, rv, v, reach, within, justResolved, t)) continue;
     const double time = std::min(now + t, horizon);
     if (time > bestTime) continue;
-    if (time == bestTime && partner != PredictiveState::kNone) {
-      // A tie with the contact held: the total order decides (the contacts differ in the partner only).
-      PredictiveEvent e, held;
-      e.time = held.time = time;
-      e.kind = held.kind = PredictiveKind::Contact;
-      e.a = held.a = fixture;
-      e.b = b.fixture;
-      e.countB = b.collisionCount;
-      held.b = s_.hot[partner].fixture;
-      held.countB = s_.hot[partner].collisionCount;
-      if (!earlier(e, held)) continue;
+    if (time == bestTime && impact.partner != PredictiveState::kNone &&
+        !beatsHeldContact(time, fixture, b, impact.partner)) {
+      continue;
     }
     // (A contact at the crossing's time comes first: Contact < Cross in the order.)
     bestTime = time;
-    partner = j;
-    impactTime = t;
-    impactR = r;
-    impactV = v;
-    impactPb = pb;
-    impactVb = vb;
+    impact = PlainImpact{j, t, r, v, pb, vb};
     within = searchBound(horizon, bestTime, now);
   }
+  finishPlain(i, now, position, velocity, horizon, h, side, bestTime, impact);
+}
+
+bool Engine::plainJustResolved(const ColdBody& own, uint32_t fixture, uint32_t other, double now) const {
+  const uint32_t otherFixture = s_.hot[other].fixture;
+  const uint32_t low = std::min(fixture, otherFixture), high = std::max(fixture, otherFixture);
+  if (own.lastLow != low || own.lastHigh != high) return false;
+  const ColdBody& o = s_.cold[other];
+  return o.lastTime == now && o.lastLow == low && o.lastHigh == high && own.lastFeature == 0;
+}
+
+bool Engine::beatsHeldContact(double time, uint32_t fixture, const HotBody& b, uint32_t held) const {
+  // The contacts differ in the partner only.
+  PredictiveEvent e, h;
+  e.time = h.time = time;
+  e.kind = h.kind = PredictiveKind::Contact;
+  e.a = h.a = fixture;
+  e.b = b.fixture;
+  e.countB = b.collisionCount;
+  h.b = s_.hot[held].fixture;
+  h.countB = s_.hot[held].collisionCount;
+  return earlier(e, h);
+}
+
+void Engine::finishPlain(uint32_t i, double now, Vec2 position, Vec2 velocity, double horizon, double h, int side,
+                         double bestTime, const PlainImpact& impact) {
+  const HotBody& hb = s_.hot[i];
+  const ColdBody& cb = s_.cold[i];
+  const uint32_t fixture = hb.fixture;
 
   const PredictiveEvent best = [&] {
-    if (partner == PredictiveState::kNone) {
+    if (impact.partner == PredictiveState::kNone) {
       return PredictiveEvent{horizon, fixture, fixture, h < kInf ? side : -1, 0, PredictiveKind::Cross};
     }
-    const HotBody& b = s_.hot[partner];
+    const HotBody& b = s_.hot[impact.partner];
     Vec2 point, normal;
-    detail::plainContact(impactR, impactV, b.radius, impactTime, point, normal);
-    point += impactPb;
-    const Vec2 travelOfB = impactVb * impactTime + Vec2{} * (0.5 * impactTime * impactTime);
-    return contactEvent(bestTime, fixture, b, partner, 0, point + travelOfB, normal);
+    detail::plainContact(impact.r, impact.v, b.radius, impact.time, point, normal);
+    point += impact.pb;
+    const Vec2 travelOfB = impact.vb * impact.time + Vec2{} * (0.5 * impact.time * impact.time);
+    return contactEvent(bestTime, fixture, b, impact.partner, 0, point + travelOfB, normal);
   }();
   if ((hb.flags & (HotBody::kStaticNear | HotBody::kSliding)) == 0 && s_.kinematicFixtures.empty()) {
     // Nothing else to look at (finishPrediction()): into the queue.
