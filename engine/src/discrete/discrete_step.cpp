@@ -10,6 +10,7 @@
 #include <span>
 
 #include "collision/closest_point.h"
+#include "contact/tolerances.h"
 #include "world/world_impl.h"
 
 namespace rattle {
@@ -258,7 +259,7 @@ void DiscreteStepper::reflect(uint32_t own, uint32_t other, const Penetration& p
   const double vn = dot(body.velocity - partner.velocity, pen.normal);
   // Only an approach is a collision; an overlap that is already separating, or approaching no faster
   // than round-off of the speeds involved, is just pushed apart.
-  const double roundOff = 1e-13 * (length(body.velocity) + length(partner.velocity));
+  const double roundOff = detail::kApproachRoundOff * (length(body.velocity) + length(partner.velocity));
   if (!(vn < -roundOff)) return;
   const double e = std::max(w.fixtures[own].restitution, w.fixtures[other].restitution);
   double j = -(1 + e) * vn / inverseSum;

@@ -33,6 +33,7 @@
 
 #include "collision/closest_point.h"
 #include "collision/path_box.h"
+#include "contact/tolerances.h"
 #include "rattle/time_of_impact.h"
 #include "hybrid/hybrid_state.h"
 #include "world/world_impl.h"
@@ -472,7 +473,7 @@ void detail::WorldState::dismissContact(const PredictedContact& c, double dt, do
   // 10 units/s cannot have their approach absorbed below about 1e-15.
   const double speed = length(relativeVelocity);
   const double roundOff = length(velocityAt(a, c.time)) + length(velocityAt(b, c.time));
-  if (vn < -16 * std::numeric_limits<double>::epsilon() * roundOff && speed > restTolerance &&
+  if (vn < -detail::kAbsorbRoundOff * roundOff && speed > restTolerance &&
       stats.eventsProcessed < def.maxEventsPerStep) {
     if (settleJamAt(c, dt)) return;
     if (squeezeAt(c)) {
@@ -610,8 +611,7 @@ double detail::WorldState::processEvents(double dt, double approachTolerance) {
     const bool pressing = dot(a.acceleration - b.acceleration, c.normal) < 0;
     // Also round-off: an approach that closes no more than the round-off of the contact's coordinates
     // within the whole step, which decides when everything is nearly at rest.
-    const double restTolerance =
-        8 * std::numeric_limits<double>::epsilon() * (std::fabs(c.point.x) + std::fabs(c.point.y)) / dt;
+    const double restTolerance = detail::kRestRoundOff * (std::fabs(c.point.x) + std::fabs(c.point.y)) / dt;
     const double tolerance = approachTolerance + restTolerance;
     if (!(vn < -tolerance) && !pressing) {
       dismissContact(c, dt, vn, relativeVelocity, restTolerance, featureRepredictions);
@@ -641,7 +641,7 @@ void detail::WorldState::stepHybrid(double dt) {
 
   const double speedScale = sweepBoxes(dt);
   // Approach speeds below this are round-off: 1e-13 of the fastest speed in the world this step.
-  const double approachTolerance = 1e-13 * speedScale;
+  const double approachTolerance = detail::kApproachRoundOff * speedScale;
   predictCandidatePairs(dt);
   if (broadPhase.overflowed()) {
     // A degenerate world (bodies piled on one point): its pairs are incomplete, so no body may move.

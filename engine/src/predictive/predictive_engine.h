@@ -14,6 +14,7 @@
 
 #include "collision/closest_point.h"
 #include "collision/path_box.h"
+#include "contact/tolerances.h"
 #include "predictive/plain_collision.h"
 #include "collision/plain_disk_impact.h"
 #include "rattle/time_of_impact.h"

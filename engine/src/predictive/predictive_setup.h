@@ -53,8 +53,8 @@ void Engine::rebase(double by) {
 void Engine::computeConstants(double dt) {
   const double speedScale = speedScale_;
   const bool movingKinematic = movingKinematic_;
-  s_.approachTolerance = 1e-13 * speedScale;
-  s_.restTolerance = 8 * kEps / dt;
+  s_.approachTolerance = detail::kApproachRoundOff * speedScale;
+  s_.restTolerance = detail::kRestRoundOff / dt;
   s_.movingKinematic = movingKinematic;
   // Horizon of a prediction that no cell crossing bounds (a body at the far edge of the coordinates, or
   // at rest next to a moving kinematic body): a few dozen cells at the fastest speed.

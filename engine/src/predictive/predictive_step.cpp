@@ -371,7 +371,7 @@ void Engine::absorbOrDismiss(uint32_t i, uint32_t j, const PredictiveEvent& c, c
                              double vn, double speed, double velocityScale, double restTol) {
   const uint32_t countA = contact.countA;
   ++w_.stats.staleEvents;
-  if (vn < -16 * kEps * velocityScale && speed > restTol && w_.stats.eventsProcessed < w_.def.maxEventsPerStep &&
+  if (vn < -detail::kAbsorbRoundOff * velocityScale && speed > restTol && w_.stats.eventsProcessed < w_.def.maxEventsPerStep &&
       stepAbsorbs_ < detail::collapseCollisions(w_.def.maxEventsPerStep)) {
     ++stepAbsorbs_;
     attach(i);
