@@ -193,6 +193,31 @@ TEST(DiscreteContainer, APileStaysInsideAClosedBox) {
   }
 }
 
+// A disk wider than the slot it is in (walls made around it) cannot be clear of both walls. Pushed out
+// of the floor, it went into the ceiling: its centre ended 0.1 radii inside that wall
+// (fuzz/regressions/world_api/inside-discrete-disk-wider-than-its-slot). It overlaps, but its centre
+// never enters a wall.
+TEST(DiscreteContainer, ADiskWiderThanItsSlotNeverHasItsCentreInAWall) {
+  World w(defOf(StepMode::Discrete));
+  const BodyId d = disk(w, {0, 0}, {-40.9, -1.05}, 2.33, 0.4);
+  const BodyId slot = w.createBody({.type = BodyType::Static, .position = {0, 0.32}});
+  const double x = 9.6, y = 1.05, t = 0.5;
+  for (const auto& wall : std::vector<std::vector<Vec2>>{{{-x, -y - t}, {x, -y - t}, {x, -y}, {-x, -y}},
+                                                         {{-x, y}, {x, y}, {x, y + t}, {-x, y + t}},
+                                                         {{-x, -y}, {-x + t, -y}, {-x + t, y}, {-x, y}},
+                                                         {{x - t, -y}, {x, -y}, {x, y}, {x - t, y}}}) {
+    w.createFixture(slot, {.geometry = Polygon{wall}});
+  }
+  for (int i = 0; i < 30; ++i) {
+    w.step(1.0 / 30);
+    // The centre in the slot's interior, or on its surface (to round-off): the walls are boxes.
+    const Vec2 p = w.position(d) - Vec2{0, 0.32};
+    const double slack = 1e-12;
+    EXPECT_TRUE(p.y >= -y - slack && p.y <= y + slack && p.x >= -x + t - slack && p.x <= x - t + slack)
+        << "step " << i << ": centre (" << p.x << ", " << p.y << ") in a wall";
+  }
+}
+
 // ---- Piles never stall ----------------------------------------------------------------------------
 
 // Disks poured into a closed box under gravity, restitution 0.5, every WorldDef default but the mode and

@@ -54,6 +54,7 @@ class DiscreteStepper {
   void putBack(const Moved& m);
   void senseOverlaps(double dt);
   void pushOutOf(detail::BodySlot& b, Vec2 centre, double radius, std::span<const uint32_t> statics);
+  void keepCentreOut(detail::BodySlot& b, uint32_t own, Vec2 centre);
   void notePush(uint32_t body, Vec2 before, bool byKinematic);
 
   detail::WorldState& w_;
@@ -236,6 +237,9 @@ void DiscreteStepper::pushApartAndReflect(double dt) {
       // overlaps it (README, "Squeezes").
       ++w.stats.squeezes;
       pushed_[pushedSlot[ownBody]].pushedByKinematic = false;
+    } else {
+      // Out of one static fixture it may be pushed across another (a slot narrower than the disk).
+      notePush(ownBody, body.position, false);
     }
     body.position += pen->normal * (pen->depth * inverseA / inverseSum);
     partner.position -= pen->normal * (pen->depth * inverseB / inverseSum);
@@ -336,13 +340,37 @@ void DiscreteStepper::putBack(const Moved& m) {
       firstFixture = g;
     }
   });
-  if (!first) return;
+  if (!first) {
+    keepCentreOut(b, own, centre);
+    return;
+  }
   b.position = first->point + first->normal * radius - centre;
   const double vn = dot(b.velocity, first->normal);
   if (vn < 0) b.velocity -= first->normal * vn;
   // Put back on its side, it may overlap another wall there (a corner): out of those too.
   std::sort(walls_.begin(), walls_.end());
   pushOutOf(b, centre, radius, walls_);
+  keepCentreOut(b, own, centre);
+}
+
+// A disk wider than the gap between two walls cannot be clear of both: pushed out of one it went into
+// the other (fuzz/regressions/world_api/inside-discrete-disk-wider-than-its-slot). It may overlap them,
+// but its centre goes no further in than the surface, and stops moving into it.
+void DiscreteStepper::keepCentreOut(BodySlot& b, uint32_t own, Vec2 centre) {
+  detail::WorldState& w = w_;
+  const Vec2 at = b.position + centre;
+  walls_.clear();
+  w.broadPhase.query(Box{at, at}, [&](uint32_t g) {
+    if (w.bodyOf(g).type == BodyType::Static && w.canCollide(own, g)) walls_.push_back(g);
+  });
+  std::sort(walls_.begin(), walls_.end());
+  for (uint32_t g : walls_) {
+    const auto pen = penetration(b.position + centre, 0.0, w.fixtures[g].geometry, w.bodyOf(g).position);
+    if (!pen || !(pen->depth > 0)) continue;
+    b.position += pen->normal * pen->depth;
+    const double vn = dot(b.velocity, pen->normal);
+    if (vn < 0) b.velocity -= pen->normal * vn;
+  }
 }
 
 // 4. Sensors: what overlaps where the bodies ended, after the pushes (a push can move a body into a
