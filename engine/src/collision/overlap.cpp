@@ -42,6 +42,7 @@
 #include <limits>
 #include <optional>
 
+#include "collision/plain_disk_impact.h"
 #include "rattle/geometry.h"
 
 namespace rattle {
@@ -258,17 +259,6 @@ std::optional<LocalHit> rayPoint(const ScaledRay& ray, Vec2 p) {
   return LocalHit{t, ray.against};
 }
 
-// b^2 - a*c as Kahan's compensated 2x2 determinant: with w = a*c rounded, e = w - a*c is exact (one fma),
-// so b^2 - a*c = (b^2 - w) + (w - a*c) loses nothing to cancellation. Error <= 1.5 ulp for exact inputs
-// (Jeannerod, Louvet, Muller, Math. Comp. 82, 2013). std::fma is correctly rounded by IEEE 754, so this is
-// the same on every build. (Times of impact use plain_disk_impact.h's, the same arithmetic.)
-double discriminant(double b, double a, double c) {
-  const double w = a * c;
-  const double e = std::fma(-a, c, w);
-  const double f = std::fma(b, b, -w);
-  return f + e;
-}
-
 // |m|^2 - r^2, accurate even when the origin is near the surface and the difference cancels. Each square
 // is split into its rounded value and its exact rounding error (one fma each), the two large squares are
 // added with Knuth's TwoSum (which also yields its exact error), and the large terms then cancel exactly
@@ -310,7 +300,7 @@ std::optional<LocalHit> rayCircle(const ScaledRay& ray, Vec2 center, double radi
   if (!(b < 0)) return std::nullopt;
   const double a = dot(ray.d, ray.d);
   const double c = circleValue(m, radius);
-  const double disc = discriminant(b, a, c);
+  const double disc = detail::plainDiscriminant(b, a, c);  // the compensated b^2 - a c (plain_disk_impact.h)
   if (disc < 0) return std::nullopt;  // passes by; disc == 0 is a tangent graze, which hits (closed set)
   // The smaller root (-b - sqrt(disc)) / A cancels when c -> 0 (origin near the surface); its conjugate
   // form c / (-b + sqrt(disc)) adds two non-negative terms (Press et al., Numerical Recipes, 5.6).
