@@ -1,6 +1,6 @@
 // The lockstep wire protocol (issue 26): the messages two peers of a networked game exchange, their bytes,
-// and the handshake's comparison. No sockets here: a transport (ENet, later) carries one message a
-// packet. net/README.md describes the bytes.
+// and the handshake's comparison. No sockets here: the transport (net/transport.h, on ENet) carries one
+// message a packet. net/README.md describes the bytes.
 //
 // Packets come from the network, so decode() trusts nothing, as the replay reader does: every field is
 // range-checked, every count is checked against the bytes left before anything is allocated, and the

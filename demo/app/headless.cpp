@@ -1,4 +1,7 @@
-// Headless: the scripted opponent plays both teams; every N ticks a frame is drawn offscreen and saved.
+// Headless: the scripted opponent plays both teams, or with --host / --join this side's team against the
+// peer's over the network; every N ticks a frame is drawn offscreen and saved.
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -9,6 +12,9 @@
 #include "app/run.h"
 #include "game/opponent.h"
 #include "game/tick_loop.h"
+#include "net/hello.h"
+#include "net/lockstep.h"
+#include "net/transport.h"
 #include "render/offscreen.h"
 #include "render/png.h"
 #include "render/scene_builder.h"
@@ -50,9 +56,56 @@ bool removeEarlierFrames(const std::string& dir) {
   return true;
 }
 
+const char* teamName(int team) { return team == 0 ? "blue (team 0)" : "red (team 1)"; }
+
+int exitStatus(net::SessionError::Kind kind) {
+  switch (kind) {
+    case net::SessionError::Kind::Refused: return kExitRefused;
+    case net::SessionError::Kind::Desync: return kExitDesync;
+    case net::SessionError::Kind::PeerLost: return kExitPeerLost;
+    case net::SessionError::Kind::Protocol: return kExitProtocol;
+  }
+  return 1;
+}
+
+// The network side of a headless run: the transport and the session, once the handshake has passed.
+struct Network {
+  std::unique_ptr<net::Transport> transport;
+  std::unique_ptr<net::LockstepSession> session;
+};
+
+Network connect(const Game& game, const Options& o, const std::string& mapJson, CommandSource& opponent) {
+  // A line in the middle of the progress line would be lost at its end: start a line of its own.
+  const bool newline = !o.quiet && isatty(2);
+  auto say = [newline](const std::string& line) {
+    std::fprintf(stderr, "%srattle-demo: %s\n", newline ? "\n" : "", line.c_str());
+  };
+  Network n;
+  if (o.network == Options::Network::Host) {
+    n.transport = net::Transport::host(o.port);
+    say("hosting on UDP port " + std::to_string(n.transport->localPort()) +
+        ", waiting for a player to join (rattle-demo --join THIS-HOST:" + std::to_string(n.transport->localPort()) +
+        " with the same options)");
+  } else {
+    n.transport = net::Transport::join(o.joinHost, o.port);
+    say("joining " + o.joinHost + ":" + std::to_string(o.port));
+  }
+  net::LockstepConfig config;
+  config.hello =
+      net::playerHello(game, mapJson, o.seed, uint8_t(o.team()), uint16_t(o.inputDelay), uint16_t(o.hashEvery));
+  config.peerTimeoutSeconds = o.peerTimeout;
+  config.log = say;
+  n.session = std::make_unique<net::LockstepSession>(*n.transport, opponent, std::move(config));
+  n.session->handshake(game);
+  say(std::string("playing ") + teamName(o.team()) + " against " + teamName(1 - o.team()) + ": input delay " +
+      std::to_string(o.inputDelay) + " ticks, state hashes compared every " +
+      (o.hashEvery == 1 ? std::string("tick") : std::to_string(o.hashEvery) + " ticks"));
+  return n;
+}
+
 }  // namespace
 
-int runHeadless(Game& game, const Options& o, replay::Recorder* recorder) {
+int runHeadless(Game& game, const Options& o, const std::string& mapJson, replay::Recorder* recorder) {
   std::unique_ptr<OffscreenRenderer> renderer;
   if (o.render) {
     std::error_code ec;
@@ -64,9 +117,23 @@ int runHeadless(Game& game, const Options& o, replay::Recorder* recorder) {
     if (!removeEarlierFrames(o.framesDir)) return 1;
     renderer = std::make_unique<OffscreenRenderer>(o.width, o.height, o.supersample);
   }
-  ScriptedOpponent opponent(o.seed);
+  const bool networked = o.network != Options::Network::None;
+  // Networked, each side's opponent plays its own team only; its commands reach the game through the
+  // session, which applies both teams' in one order on both sides.
+  ScriptedOpponent opponent(o.seed, networked ? 1u << o.team() : 3u);
   TickLoop loop(game);
-  loop.add(opponent);
+  Network network;
+  if (networked) {
+    try {
+      network = connect(game, o, mapJson, opponent);
+    } catch (const net::SessionError& e) {
+      std::fprintf(stderr, "rattle-demo: %s\n", e.what());
+      return exitStatus(e.kind());
+    }
+    loop.add(*network.session);
+  } else {
+    loop.add(opponent);
+  }
   std::vector<double> frameSeconds, drawSeconds;
   int frames = 0;
   SceneOptions view;
@@ -92,11 +159,26 @@ int runHeadless(Game& game, const Options& o, replay::Recorder* recorder) {
   };
 
   if (renderer && !frame()) return 1;
-  for (long t = 0; t < o.ticks; ++t) {
-    const std::vector<Command>& commands = loop.tick();
-    if (recorder) recorder->afterTick(game, commands);
-    if (renderer && game.tickCount() % unsigned(o.every) == 0 && !frame()) return 1;
-    if (!o.quiet) progress(game, o.ticks, false);
+  try {
+    for (long t = 0; t < o.ticks; ++t) {
+      const std::vector<Command>& commands = loop.tick();
+      // Recorded before the hashes are compared: a desync's replay holds the tick that differs.
+      if (recorder) recorder->afterTick(game, commands);
+      if (network.session) network.session->afterTick(game);
+      if (renderer && game.tickCount() % unsigned(o.every) == 0 && !frame()) return 1;
+      if (!o.quiet) progress(game, o.ticks, false);
+    }
+    if (network.session) network.session->finish(game);
+  } catch (const net::SessionError& e) {
+    if (!o.quiet) progress(game, o.ticks, true);
+    std::fprintf(stderr, "rattle-demo: %s\n", e.what());
+    // The ticks played so far replay as they were: after a desync, what to compare with the peer's.
+    if (recorder) {
+      recorder->finish(game);
+      std::fprintf(stderr, "rattle-demo: the %u ticks played are in the replay %s\n", game.tickCount(),
+                   o.record.c_str());
+    }
+    return exitStatus(e.kind());
   }
   if (!o.quiet) progress(game, o.ticks, true);
   if (recorder) recorder->finish(game);
@@ -104,6 +186,13 @@ int runHeadless(Game& game, const Options& o, replay::Recorder* recorder) {
   std::sort(drawSeconds.begin(), drawSeconds.end());
   printSummary(game, o, frames, frameSeconds.empty() ? 0 : frameSeconds[frameSeconds.size() / 2],
                drawSeconds.empty() ? 0 : drawSeconds[drawSeconds.size() / 2]);
+  if (network.session) {
+    // The same line on both sides (a test compares them); the waiting differs, so it goes elsewhere.
+    std::printf("Network game over after %u ticks: final state hash %016llx, the same on both sides.\n",
+                game.tickCount(), static_cast<unsigned long long>(game.stateHash()));
+    std::fprintf(stderr, "rattle-demo: %u state hashes compared with the peer's; waited %.2f s for %s in all\n",
+                 network.session->hashesCompared(), network.session->waitedSeconds(), teamName(1 - o.team()));
+  }
   return 0;
 }
 

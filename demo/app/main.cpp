@@ -1,6 +1,6 @@
 // rattle-demo: reads the options and the map, makes the game, and hands it to the headless loop or the
 // window. Every error a user can cause ends here as one line naming the problem, with exit status 1
-// (2 for bad options).
+// (2 for bad options; 3 to 6 for a networked game that ended early: app/run.h).
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -42,12 +42,17 @@ int main(int argc, char** argv) {
       info.mapName = std::filesystem::path(o.map).filename().string();
       info.mapJson = mapJson;
       info.seed = o.seed;
-      info.opponentTeams = o.window ? 2 : 3;
+      // Networked, this side's opponent plays its own team; the other team's commands came from the peer.
+      info.opponentTeams = o.network != rts::Options::Network::None ? uint8_t(1u << o.team()) : o.window ? 2 : 3;
       info.keyframeEvery = uint32_t(o.keyframeEvery);
-      info.recordedBy = o.window ? "rattle-demo --window" : "rattle-demo";
+      info.recordedBy = o.window                                   ? "rattle-demo --window"
+                        : o.network == rts::Options::Network::Host ? "rattle-demo --host"
+                        : o.network == rts::Options::Network::Join ? "rattle-demo --join"
+                                                                   : "rattle-demo";
       recorder = std::make_unique<rts::replay::Recorder>(o.record, info, game);
     }
-    const int status = o.window ? rts::runWindow(game, o, recorder.get()) : rts::runHeadless(game, o, recorder.get());
+    const int status =
+        o.window ? rts::runWindow(game, o, recorder.get()) : rts::runHeadless(game, o, mapJson, recorder.get());
     if (recorder && status == 0) std::fprintf(stderr, "rattle-demo: replay written to %s\n", o.record.c_str());
     return status;
   } catch (const rts::MapError& e) {

@@ -47,7 +47,27 @@ const char* kUsage =
     "                  nothing in the game\n"
     "  --keyframe-every K  with --record: every body's exact state every K ticks (default 30)\n"
     "  --quiet         no progress line\n"
-    "  --help          this text\n";
+    "  --help          this text\n"
+    "\n"
+    "Network play (headless only for now; demo/README.md, \"Network play\"): two rattle-demo processes play\n"
+    "one game in lockstep over ENet, each side's scripted opponent playing its own team. Both must be given\n"
+    "the same --map, --seed, --units, --mode, --ticks, --input-delay and --hash-every (the handshake\n"
+    "compares all but --ticks and refuses a difference).\n"
+    "  --host [PORT]   host the game on UDP port PORT (default 47800; 0: any free port, printed) and play\n"
+    "                  blue (team 0); waits for a player to join\n"
+    "  --join HOST[:PORT]  join the game hosted at HOST (a name or an IPv4 address; port default 47800)\n"
+    "                  and play red (team 1)\n"
+    "  --input-delay N ticks between issuing a command and applying it, 0 to 300 (default 3: 100 ms of\n"
+    "                  round trip at 30 ticks a second)\n"
+    "  --hash-every K  compare the state hash with the peer's every K ticks, 1 to 65535 (default 1)\n"
+    "  --peer-timeout S  give up on a peer silent for S seconds, 0.1 to 3600 (default 10)\n"
+    "  With --host or --join, frames go to out/demo-host or out/demo-join and show this side's fog unless\n"
+    "  --frames and --fog say otherwise. Exit status: 0 the game was played to the end with equal hashes,\n"
+    "  3 the handshake refused the game, 4 desync (the state hashes differ), 5 the peer could not be\n"
+    "  reached, disconnected, went silent or left early, 6 the peer sent garbage or broke the protocol.\n"
+    "\n"
+    "Exit status: 0 done, 1 an error (a bad map, a file that cannot be written), 2 bad options; with\n"
+    "--host or --join also 3 to 6 (above).\n";
 
 bool parseLong(const char* text, long lo, long hi, long& out) {
   if (!text || !*text) return false;
@@ -65,6 +85,7 @@ ParseResult parseOptions(int argc, char** argv) {
   ParseResult r;
   Options& o = r.options;
   bool keyframeGiven = false;
+  std::string networkOption;  // the last of the options that need --host or --join
   auto fail = [&](const std::string& message) {
     std::fprintf(stderr, "rattle-demo: %s\nTry 'rattle-demo --help'.\n", message.c_str());
     r.action = ParseResult::Action::Exit;
@@ -114,6 +135,7 @@ ParseResult parseOptions(int argc, char** argv) {
       const char* v = value();
       if (!v || !*v) return fail("--frames: expected a directory");
       o.framesDir = v;
+      o.framesGiven = true;
     } else if (arg == "--every") {
       if (!number(1, 100'000'000, n)) return badNumber(1, 100'000'000);
       o.every = int(n);
@@ -135,6 +157,7 @@ ParseResult parseOptions(int argc, char** argv) {
     } else if (arg == "--fog") {
       const char* v = value();
       std::string_view f = v ? v : "";
+      o.fogGiven = true;
       if (f == "0" || f == "blue") {
         o.fogTeam = 0;
       } else if (f == "1" || f == "red") {
@@ -188,6 +211,49 @@ ParseResult parseOptions(int argc, char** argv) {
       if (!number(1, 100'000'000, n)) return badNumber(1, 100'000'000);
       o.keyframeEvery = int(n);
       keyframeGiven = true;
+    } else if (arg == "--host") {
+      if (o.network != Options::Network::None) return fail("--host: a side either hosts or joins, once");
+      o.network = Options::Network::Host;
+      if (i + 1 < argc && argv[i + 1][0] != '-') {
+        if (!number(0, 65535, n)) return fail(std::string("--host ") + lastValue + ": expected a port from 0 to 65535");
+        o.port = uint16_t(n);
+      }
+    } else if (arg == "--join") {
+      if (o.network != Options::Network::None) return fail("--join: a side either hosts or joins, once");
+      o.network = Options::Network::Join;
+      const char* v = value();
+      const std::string_view text = v ? v : "";
+      const size_t colon = text.find(':');
+      o.joinHost = std::string(text.substr(0, colon));
+      if (o.joinHost.empty() ||
+          (colon != std::string_view::npos && text.find(':', colon + 1) != std::string_view::npos)) {
+        return fail(std::string("--join ") + (v ? v : "(missing)") +
+                    ": expected HOST or HOST:PORT (a name or an IPv4 address)");
+      }
+      if (colon != std::string_view::npos) {
+        if (!parseLong(std::string(text.substr(colon + 1)).c_str(), 1, 65535, n)) {
+          return fail(std::string("--join ") + v + ": the port after ':' must be a whole number from 1 to 65535");
+        }
+        o.port = uint16_t(n);
+      }
+    } else if (arg == "--input-delay") {
+      if (!number(0, net::kMaxInputDelayTicks, n)) return badNumber(0, net::kMaxInputDelayTicks);
+      o.inputDelay = int(n);
+      networkOption = arg;
+    } else if (arg == "--hash-every") {
+      if (!number(1, 65535, n)) return badNumber(1, 65535);
+      o.hashEvery = int(n);
+      networkOption = arg;
+    } else if (arg == "--peer-timeout") {
+      const char* v = value();
+      char* end = nullptr;
+      errno = 0;
+      const double s = v && *v ? std::strtod(v, &end) : 0;
+      if (!v || !*v || errno || *end != '\0' || !(s >= 0.1 && s <= 3600)) {
+        return fail(std::string("--peer-timeout ") + (v ? v : "(missing)") + ": expected seconds from 0.1 to 3600");
+      }
+      o.peerTimeout = s;
+      networkOption = arg;
     } else if (arg == "--quiet") {
       o.quiet = true;
     } else {
@@ -202,6 +268,21 @@ ParseResult parseOptions(int argc, char** argv) {
   if (o.steering != Steering::KeepApart && !o.record.empty()) {
     return fail("--steering naive cannot go with --record: a replay does not record the steering, and is played "
                 "with the default (keep-apart)");
+  }
+  if (o.network != Options::Network::None) {
+    const char* side = o.network == Options::Network::Host ? "--host" : "--join";
+    if (o.window) {
+      return fail(std::string(side) + " with --window: not yet; network play is headless for now (issue 26)");
+    }
+    if (o.steering != Steering::KeepApart) {
+      return fail(std::string("--steering naive cannot go with ") + side +
+                  ": the handshake does not compare the steering, so two sides could play different games");
+    }
+    // Two sides on one machine would otherwise write over each other's frames.
+    if (!o.framesGiven) o.framesDir = o.network == Options::Network::Host ? "out/demo-host" : "out/demo-join";
+    if (!o.fogGiven) o.fogTeam = o.team();
+  } else if (!networkOption.empty()) {
+    return fail(networkOption + " needs --host or --join");
   }
   return r;
 }

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "game/steering.h"
+#include "net/transport.h"
 
 namespace rts {
 
@@ -33,6 +34,17 @@ struct Options {
   bool quiet = false;
   std::string record;         ///< write a replay of the game to this file (replay/FORMAT.md)
   int keyframeEvery = 30;     ///< the replay's keyframe interval, in ticks
+  bool framesGiven = false, fogGiven = false;
+
+  // Network play (headless only for now; demo/README.md, "Network play").
+  enum class Network { None, Host, Join } network = Network::None;
+  uint16_t port = net::kDefaultPort;  ///< --host: the port to listen on (0: any free one); --join: the host's
+  std::string joinHost;       ///< --join: the host's name or address
+  int inputDelay = 3;         ///< ticks between issuing a command and applying it
+  int hashEvery = 1;          ///< ticks between state hash comparisons
+  double peerTimeout = 10;    ///< seconds of silence after which the peer is given up on
+  /// The team this side plays: the host blue (0), the joiner red (1).
+  int team() const { return network == Network::Join ? 1 : 0; }
 };
 
 /// What parsing decided: run with the options, exit with a status (after --help), or a usage error.

@@ -1,6 +1,8 @@
 // The two ways to run a game: headless (frames to PNG, or nothing) and in a window.
 #pragma once
 
+#include <string>
+
 #include "app/options.h"
 #include "game/game.h"
 
@@ -9,9 +11,18 @@ namespace replay {
 class Recorder;
 }
 
-/// Runs options.ticks ticks with the scripted opponent playing both teams. Returns the exit status.
-/// `recorder` (may be null) is told every tick's commands and finished at the end.
-int runHeadless(Game& game, const Options& options, replay::Recorder* recorder);
+/// rattle-demo's exit statuses beyond 0 (done), 1 (an error) and 2 (bad options): how a networked
+/// game ended early (demo/README.md, "Network play").
+inline constexpr int kExitRefused = 3;   ///< the handshake refused the game (a setting differs)
+inline constexpr int kExitDesync = 4;    ///< the two sides' state hashes differ
+inline constexpr int kExitPeerLost = 5;  ///< the peer could not be reached, disconnected, went silent or left early
+inline constexpr int kExitProtocol = 6;  ///< the peer sent garbage or broke the protocol
+
+/// Runs options.ticks ticks with the scripted opponent playing both teams, or with --host or --join
+/// this side's team against the peer's over the network. `mapJson`: the map file's bytes (the
+/// handshake compares their digest). Returns the exit status. `recorder` (may be null) is told every
+/// tick's commands and finished at the end (a networked game that ends early: with the ticks played).
+int runHeadless(Game& game, const Options& options, const std::string& mapJson, replay::Recorder* recorder);
 /// Opens an SDL2 window; the person plays team 0, the scripted opponent team 1. Returns the exit status.
 int runWindow(Game& game, const Options& options, replay::Recorder* recorder);
 

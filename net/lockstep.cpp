@@ -1,0 +1,303 @@
+#include "net/lockstep.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "game/game.h"
+
+namespace rts::net {
+namespace {
+
+std::string hex(uint64_t v) {
+  char text[24];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(v));
+  return text;
+}
+
+std::string seconds(double s) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f", s);
+  return text;
+}
+
+std::string teamName(uint8_t team) { return "team " + std::to_string(team) + (team == 0 ? " (blue)" : " (red)"); }
+
+// A Refuse or Bye reason as the protocol allows it: printable ASCII, at most kMaxReasonBytes.
+std::string reasonText(const std::string& line) {
+  std::string out = line.substr(0, kMaxReasonBytes);
+  for (char& c : out) {
+    if (c < 0x20 || c > 0x7e) c = '?';
+  }
+  return out;
+}
+
+}  // namespace
+
+LockstepSession::LockstepSession(Transport& transport, CommandSource& local, LockstepConfig config)
+    : transport_(transport),
+      local_(local, config.hello.inputDelayTicks),
+      config_(std::move(config)),
+      peerTeam_(config_.hello.team == 0 ? 1 : 0),
+      delay_(config_.hello.inputDelayTicks),
+      hashEvery_(std::max<uint32_t>(1, config_.hello.hashIntervalTicks)),
+      sentThrough_(int64_t(delay_) - 1),
+      nextPeerCommands_(delay_),
+      lastHeard_(Clock::now()) {}
+
+void LockstepSession::say(const std::string& line) const {
+  if (config_.log) config_.log(line);
+}
+
+std::string LockstepSession::peerName() const { return teamName(peerTeam_); }
+
+void LockstepSession::send(const Message& message) { transport_.send(message); }
+
+void LockstepSession::fail(SessionError::Kind kind, const std::string& line, const std::string& toPeer, bool refuse) {
+  if (transport_.connected()) {
+    try {
+      if (refuse) {
+        send(Refuse{reasonText(toPeer)});
+      } else if (!toPeer.empty()) {
+        send(Bye{reasonText(toPeer)});
+      }
+    } catch (const std::exception&) {
+      // The peer learns of the end from the disconnect instead.
+    }
+    transport_.close(1.0);
+  }
+  throw SessionError(kind, line);
+}
+
+void LockstepSession::handshake(const Game& game) {
+  if (handshaken_) throw std::logic_error("LockstepSession: handshake() twice");
+  context_.unitCount = uint32_t(game.units().size());
+  context_.gateCount = uint32_t(game.map().gates.size());
+  // ENet gives up a second after this side would: the silence is then reported as silence.
+  transport_.setPeerTimeout(config_.peerTimeoutSeconds + 1);
+
+  const Clock::time_point start = Clock::now();
+  while (!transport_.connected()) {
+    const double waited = std::chrono::duration<double>(Clock::now() - start).count();
+    if (config_.joinWaitSeconds > 0 && waited >= config_.joinWaitSeconds) {
+      fail(SessionError::Kind::PeerLost, "no player joined within " + seconds(config_.joinWaitSeconds) + " s", "");
+    }
+    const TransportEvent event = transport_.poll(0.25, context_);
+    if (event.kind == TransportEvent::Kind::Disconnected) {
+      fail(SessionError::Kind::PeerLost,
+           "cannot connect: no answer after " + seconds(std::chrono::duration<double>(Clock::now() - start).count()) +
+               " s (is a host running there, on that port?)",
+           "");
+    }
+  }
+  lastHeard_ = Clock::now();
+  send(config_.hello);
+
+  std::optional<Hello> theirs;
+  peerHello_ = &theirs;
+  waitFor([&] { return theirs.has_value(); }, "its Hello");
+  peerHello_ = nullptr;
+  if (const std::optional<std::string> mismatch = handshakeMismatch(config_.hello, *theirs)) {
+    fail(SessionError::Kind::Refused, "the handshake failed: " + *mismatch, *mismatch, true);
+  }
+  handshaken_ = true;
+  myHash(0, game.stateHash());
+}
+
+void LockstepSession::commandsFor(uint32_t tick, const Game& game, std::vector<Command>& out) {
+  if (!handshaken_) throw std::logic_error("LockstepSession: commandsFor() before handshake()");
+  if (tick != nextTick_) {
+    throw std::logic_error("LockstepSession: commandsFor(" + std::to_string(tick) + "), expected tick " +
+                           std::to_string(nextTick_));
+  }
+  Commands mine;
+  mine.tick = tick + delay_;
+  mine.team = team();
+  mine.commands = local_.issue(tick, game);
+  for (const Command& c : mine.commands) {
+    if (c.team != team()) {
+      throw std::logic_error("LockstepSession: the local source issued a command for team " + std::to_string(c.team) +
+                             "; this side plays team " + std::to_string(team()));
+    }
+  }
+  send(mine);
+  sentThrough_ = int64_t(mine.tick);
+
+  // Whatever has come meanwhile, so that acknowledgements go out even when nothing is missing.
+  for (;;) {
+    TransportEvent event = transport_.poll(0, context_);
+    if (event.kind == TransportEvent::Kind::None) break;
+    handle(std::move(event));
+  }
+  waitFor([&] { return tick < delay_ || peerCommands_.count(tick) != 0; },
+          "its commands for tick " + std::to_string(tick));
+
+  std::vector<Command> theirs;
+  if (auto it = peerCommands_.find(tick); it != peerCommands_.end()) {
+    theirs = std::move(it->second);
+    peerCommands_.erase(it);
+  }
+  // Team 0's, then team 1's: the same order on both sides, whichever side this is.
+  if (team() == 0) local_.takeDue(tick, out);
+  for (Command& c : theirs) out.push_back(std::move(c));
+  if (team() != 0) local_.takeDue(tick, out);
+  ++nextTick_;
+}
+
+void LockstepSession::afterTick(const Game& game) {
+  const uint32_t tick = game.tickCount();
+  if (tick % hashEvery_ == 0) myHash(tick, game.stateHash());
+}
+
+void LockstepSession::finish(const Game& game) {
+  const uint32_t last = game.tickCount();
+  // The final state is compared even when the interval does not fall on it.
+  if (last % hashEvery_ != 0) myHash(last, game.stateHash());
+  send(Bye{"the game is over after " + std::to_string(last) + " ticks"});
+  waitFor([&] { return peerSaidBye_; }, "the end of its game");
+  if (lastPeerHash_ != int64_t(last)) {
+    fail(SessionError::Kind::PeerLost,
+         "the peer's game ended after tick " + std::to_string(lastPeerHash_) + " and this side's after tick " +
+             std::to_string(last) + ": both must play the same number of ticks",
+         "");
+  }
+  transport_.close(1.0);
+}
+
+void LockstepSession::myHash(uint32_t tick, uint64_t hash) {
+  send(Hash{tick, hash});
+  if (auto it = peerHashes_.find(tick); it != peerHashes_.end()) {
+    const uint64_t theirs = it->second;
+    peerHashes_.erase(it);
+    compare(tick, hash, theirs);
+  } else {
+    myHashes_[tick] = hash;
+  }
+}
+
+void LockstepSession::compare(uint32_t tick, uint64_t mine, uint64_t theirs) {
+  ++hashesCompared_;
+  if (mine == theirs) return;
+  const std::string line = "desync at tick " + std::to_string(tick) + ": mine " + hex(mine) + ", theirs " + hex(theirs);
+  fail(SessionError::Kind::Desync, line, "desync at tick " + std::to_string(tick));
+}
+
+std::string LockstepSession::silentFor(Clock::time_point now) const {
+  return seconds(std::chrono::duration<double>(now - lastHeard_).count());
+}
+
+void LockstepSession::waitFor(const std::function<bool()>& ready, const std::string& what) {
+  if (ready()) return;
+  const Clock::time_point start = Clock::now();
+  const auto timeout = std::chrono::duration<double>(config_.peerTimeoutSeconds);
+  Clock::time_point nextReport = start + std::chrono::milliseconds(500);
+  while (!ready()) {
+    const Clock::time_point now = Clock::now();
+    if (peerGone_) fail(SessionError::Kind::PeerLost, peerGoneWhy_ + " while this side waited for " + what, "");
+    if (now - lastHeard_ >= timeout) {
+      fail(SessionError::Kind::PeerLost,
+           "the peer has been silent for " + silentFor(now) + " s (the limit is " +
+               seconds(config_.peerTimeoutSeconds) + " s) while this side waited for " + what,
+           "you were silent for " + silentFor(now) + " s");
+    }
+    if (now >= nextReport) {
+      say("waiting for " + peerName() + ": " + what + " (" +
+          seconds(std::chrono::duration<double>(now - start).count()) + " s so far)");
+      nextReport = now + std::chrono::seconds(1);
+    }
+    const auto slice = std::min<Clock::duration>(
+        nextReport - now, std::chrono::duration_cast<Clock::duration>(lastHeard_ + timeout - now));
+    handle(transport_.poll(std::clamp(std::chrono::duration<double>(slice).count(), 0.001, 0.25), context_));
+  }
+  if (handshaken_) waited_ += std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+void LockstepSession::handle(TransportEvent event) {
+  switch (event.kind) {
+    case TransportEvent::Kind::None:
+      return;
+    case TransportEvent::Kind::Connected:
+      lastHeard_ = Clock::now();
+      return;
+    case TransportEvent::Kind::Disconnected:
+      if (!peerGone_) peerGoneWhy_ = "the peer disconnected";
+      peerGone_ = true;
+      return;
+    case TransportEvent::Kind::Garbage:
+      fail(SessionError::Kind::Protocol, "the peer sent garbage: " + event.error, "you sent garbage: " + event.error);
+    case TransportEvent::Kind::Received:
+      lastHeard_ = Clock::now();
+      handleMessage(*event.message);
+      return;
+  }
+}
+
+void LockstepSession::handleMessage(Message& message) {
+  auto outOfTurn = [&](const std::string& why) {
+    fail(SessionError::Kind::Protocol, "the peer broke the protocol: " + why, "you broke the protocol: " + why);
+  };
+  // Bye is a peer's last word; more after it would only keep this side reading.
+  if (peerSaidBye_) outOfTurn(std::string(messageName(message)) + " after its Bye");
+  if (auto* hello = std::get_if<Hello>(&message)) {
+    if (!peerHello_ || peerHello_->has_value()) outOfTurn("a second Hello");
+    *peerHello_ = std::move(*hello);
+    return;
+  }
+  if (auto* refuse = std::get_if<Refuse>(&message)) {
+    fail(SessionError::Kind::Refused, "the peer refused the game, saying: " + refuse->reason, "");
+  }
+  if (auto* bye = std::get_if<Bye>(&message)) {
+    peerGone_ = peerSaidBye_ = true;
+    peerGoneWhy_ = "the peer left (" + bye->reason + ")";
+    return;
+  }
+  if (!handshaken_) outOfTurn(std::string(messageName(message)) + " before its Hello");
+  if (auto* commands = std::get_if<Commands>(&message)) {
+    receiveCommands(*commands);
+  } else if (auto* hash = std::get_if<Hash>(&message)) {
+    receiveHash(*hash);
+  }
+}
+
+void LockstepSession::receiveCommands(Commands& m) {
+  const auto why = [&](const std::string& text) {
+    const std::string line =
+        "Commands for tick " + std::to_string(m.tick) + " of team " + std::to_string(m.team) + ": " + text;
+    fail(SessionError::Kind::Protocol, "the peer broke the protocol: " + line, "you broke the protocol: " + line);
+  };
+  if (m.team != peerTeam_) why("it plays " + peerName());
+  if (m.tick != nextPeerCommands_) why("expected tick " + std::to_string(nextPeerCommands_) + " next");
+  // It cannot be further ahead: it would have played ticks this side has not sent it commands for.
+  // This also bounds what a hostile peer can make this side keep.
+  if (int64_t(m.tick) > sentThrough_ + 1 + int64_t(delay_)) {
+    why("more than the input delay ahead of the ticks this side has sent (through " + std::to_string(sentThrough_) +
+        ")");
+  }
+  peerCommands_[m.tick] = std::move(m.commands);
+  ++nextPeerCommands_;
+}
+
+void LockstepSession::receiveHash(const Hash& h) {
+  const auto why = [&](const std::string& text) {
+    const std::string line = "Hash for tick " + std::to_string(h.tick) + ": " + text;
+    fail(SessionError::Kind::Protocol, "the peer broke the protocol: " + line, "you broke the protocol: " + line);
+  };
+  if (peerFinalHash_) why("after its final one");
+  if (int64_t(h.tick) > sentThrough_ + 1) why("a tick it cannot have played yet");
+  if (h.tick == nextPeerHash_) {
+    nextPeerHash_ += hashEvery_;
+  } else if (int64_t(h.tick) > lastPeerHash_ && h.tick < nextPeerHash_) {
+    peerFinalHash_ = true;  // off the interval: the state its game ended with
+  } else {
+    why("expected tick " + std::to_string(nextPeerHash_) + " next");
+  }
+  lastPeerHash_ = h.tick;
+  if (auto it = myHashes_.find(h.tick); it != myHashes_.end()) {
+    const uint64_t mine = it->second;
+    myHashes_.erase(it);
+    compare(h.tick, mine, h.stateHash);
+  } else {
+    peerHashes_[h.tick] = h.stateHash;
+  }
+}
+
+}  // namespace rts::net

@@ -1,0 +1,136 @@
+// One side of a two-player lockstep game (issue 26), as a CommandSource: the game is played through
+// rts::TickLoop as every other game is, with this session as its only source.
+//
+// Each tick t the local source (the scripted opponent for this side's team, later a person) is asked
+// for its commands; they are stamped for t + d (the input delay) and sent, empty or not. Tick t runs
+// once both teams' sets for t are here, team 0's applied before team 1's on both sides, so both sides
+// apply the same commands in the same order at the same tick: the same game. The first d ticks have
+// empty sets. Every k ticks each side sends its state hash and compares it with the other's.
+//
+// What decides which commands run at which tick is the tick each message carries, never when it
+// arrived: waiting only stalls the game. The clock decides one thing, when to give up on a silent peer.
+//
+// Every way a session ends early is a SessionError of one kind with one line saying why. Before it is
+// thrown the other side is told (a Refuse or a Bye) and the connection is closed, so neither hangs.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "game/commands.h"
+#include "net/delayed_source.h"
+#include "net/protocol.h"
+#include "net/transport.h"
+
+namespace rts::net {
+
+class SessionError : public std::runtime_error {
+ public:
+  enum class Kind {
+    Refused,   ///< the handshake failed on this side or the other ("seed: mine 7, theirs 8")
+    Desync,    ///< the two states differ ("desync at tick T: mine H1, theirs H2")
+    PeerLost,  ///< the peer could not be reached, disconnected, went silent, or left before the end
+    Protocol,  ///< the peer sent garbage or a message out of turn
+  };
+  SessionError(Kind kind, const std::string& line) : std::runtime_error(line), kind_(kind) {}
+  Kind kind() const { return kind_; }
+
+ private:
+  Kind kind_;
+};
+
+struct LockstepConfig {
+  /// This side's Hello: its team, the input delay and the hash interval are the session's.
+  Hello hello;
+  /// A peer not heard from for this long is given up on (and ENet gives up a little later).
+  double peerTimeoutSeconds = 10;
+  /// A host waits this long for a player to join; 0: as long as it takes. A joiner waits the peer
+  /// timeout for its connection to be accepted.
+  double joinWaitSeconds = 0;
+  /// Where lines for a person go (waiting, why it ended): one line each, no newline. May be empty.
+  std::function<void(const std::string&)> log;
+};
+
+class LockstepSession : public CommandSource {
+ public:
+  /// `transport` and `local` must outlive the session. `local` is asked for this side's commands and
+  /// may only issue its team's (a std::logic_error otherwise).
+  LockstepSession(Transport& transport, CommandSource& local, LockstepConfig config);
+
+  /// Waits for the connection, exchanges Hellos and compares them; on a difference both sides send
+  /// Refuse and throw Refused. Then sends the hash of tick 0. Call once, before the first tick, with
+  /// the game both sides built (its sizes check the peer's commands).
+  void handshake(const class Game& game);
+
+  /// Sends this side's commands for tick + d, then waits until both teams' for `tick` are here and
+  /// appends them, team 0's first. Throws SessionError.
+  void commandsFor(uint32_t tick, const class Game& game, std::vector<Command>& out) override;
+
+  /// After each Game::tick(): sends the state hash when due and compares it with the peer's.
+  void afterTick(const class Game& game);
+
+  /// After the last tick: sends the final hash (when the interval did not), then Bye, and waits for
+  /// the peer's, comparing the hashes that are still to come. Throws SessionError when the peer's
+  /// game ended at another tick, or as any wait does.
+  void finish(const class Game& game);
+
+  /// Seconds spent waiting for the peer during the game (the handshake not counted).
+  double waitedSeconds() const { return waited_; }
+  /// State hashes compared with the peer's so far.
+  uint32_t hashesCompared() const { return hashesCompared_; }
+  uint8_t team() const { return config_.hello.team; }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+
+  void send(const Message& message);
+  /// Polls until `ready()` holds, handling what arrives. `what` ends the waiting line: "its commands
+  /// for tick 12". Throws when the peer is gone or silent for the timeout.
+  void waitFor(const std::function<bool()>& ready, const std::string& what);
+  void handle(TransportEvent event);
+  void handleMessage(Message& message);
+  void receiveCommands(Commands& message);
+  void receiveHash(const Hash& hash);
+  void compare(uint32_t tick, uint64_t mine, uint64_t theirs);
+  void myHash(uint32_t tick, uint64_t hash);
+  /// Tells the peer (a Refuse when `refuse`, else a Bye with `toPeer`), closes, throws.
+  [[noreturn]] void fail(SessionError::Kind kind, const std::string& line, const std::string& toPeer,
+                         bool refuse = false);
+  void say(const std::string& line) const;
+  std::string peerName() const;
+  std::string silentFor(Clock::time_point now) const;
+
+  Transport& transport_;
+  DelayedSource local_;
+  LockstepConfig config_;
+  DecodeContext context_;
+  uint8_t peerTeam_ = 1;
+  uint32_t delay_ = 0;
+  uint32_t hashEvery_ = 1;
+  bool handshaken_ = false;
+  std::optional<Hello>* peerHello_ = nullptr;  // where the peer's Hello goes while the handshake waits for it
+
+  uint32_t nextTick_ = 0;          // the tick commandsFor expects next
+  int64_t sentThrough_ = -1;       // this side's sets are with the peer up to this tick (the first d free)
+  uint32_t nextPeerCommands_ = 0;  // the tick of the peer's next Commands message
+  std::map<uint32_t, std::vector<Command>> peerCommands_;
+  uint32_t nextPeerHash_ = 0;                           // the tick of the peer's next Hash on the interval
+  int64_t lastPeerHash_ = -1;                           // the tick of the peer's last Hash
+  bool peerFinalHash_ = false;                          // the peer sent a hash off the interval: its game is over
+  std::map<uint32_t, uint64_t> myHashes_, peerHashes_;  // not yet compared, by tick
+  uint32_t hashesCompared_ = 0;
+
+  bool peerGone_ = false;  // Bye or a disconnect: nothing more will come
+  bool peerSaidBye_ = false;
+  std::string peerGoneWhy_;
+  Clock::time_point lastHeard_;
+  double waited_ = 0;
+};
+
+}  // namespace rts::net

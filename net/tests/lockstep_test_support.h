@@ -1,0 +1,136 @@
+// Shared by the lockstep tests: a game from a map of assets/maps/, one side of a networked game played
+// to its end (or its error), and a peer made by hand from a bare Transport.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <fstream>
+#include <iterator>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "game/game.h"
+#include "game/opponent.h"
+#include "game/tick_loop.h"
+#include "map/map_loader.h"
+#include "net/hello.h"
+#include "net/lockstep.h"
+#include "net/transport.h"
+
+namespace net_test {
+
+inline std::string sourcePath(const std::string& relative) { return std::string(RATTLE_SOURCE_DIR) + "/" + relative; }
+
+inline std::string readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+/// The settings both sides of a game must share, and the ones each may choose.
+struct GameSettings {
+  std::string mapFile = "assets/maps/arena.json";
+  uint64_t seed = 1;
+  int units = 20;
+  uint32_t ticks = 300;
+  uint16_t inputDelay = 3;
+  uint16_t hashEvery = 1;
+  double peerTimeout = 10;
+  /// The test's hook for a desync: after this many ticks the side orders one of its units somewhere
+  /// itself, outside the lockstep (0: never).
+  uint32_t perturbAfter = 0;
+};
+
+/// The order that perturbs a game: the team's first unit, sent to the middle of the map.
+inline rts::Command perturbation(const rts::Game& game, uint8_t team) {
+  rts::Command c;
+  c.tick = game.tickCount();
+  c.team = team;
+  c.type = rts::CommandType::Move;
+  for (const rts::Unit& u : game.units()) {
+    if (u.alive && u.team == team) {
+      c.units.push_back(u.id);
+      break;
+    }
+  }
+  c.target = {game.map().width / 2, game.map().height / 2};
+  return c;
+}
+
+inline std::unique_ptr<rts::Game> makeGame(const GameSettings& s, const std::string& mapJson) {
+  rts::GameConfig config;
+  config.unitsPerTeam = s.units;
+  return std::make_unique<rts::Game>(rts::parseMap(mapJson, s.mapFile), config);
+}
+
+/// How one side's game ended.
+struct SideResult {
+  bool finished = false;  ///< played every tick and finish() passed
+  rts::net::SessionError::Kind kind = rts::net::SessionError::Kind::PeerLost;
+  std::string error;  ///< the SessionError's line, when not finished
+  uint64_t finalHash = 0;
+  uint32_t ticksPlayed = 0;
+  uint32_t hashesCompared = 0;
+  std::vector<rts::Command> applied;  ///< every command applied, in order (tick stamped)
+  std::vector<std::string> log;       ///< the session's lines for a person
+  double seconds = 0;                 ///< from the handshake's start to the end
+};
+
+/// One side of a networked game on `transport`: the scripted opponent for its team, through a TickLoop
+/// with the session as its only source, as rattle-demo plays it.
+inline SideResult playSide(rts::net::Transport& transport, uint8_t team, const GameSettings& s) {
+  const std::string mapJson = readFile(sourcePath(s.mapFile));
+  std::unique_ptr<rts::Game> game = makeGame(s, mapJson);
+  rts::ScriptedOpponent opponent(s.seed, 1u << team);
+  SideResult r;
+  rts::net::LockstepConfig config;
+  config.hello = rts::net::playerHello(*game, mapJson, s.seed, team, s.inputDelay, s.hashEvery);
+  config.peerTimeoutSeconds = s.peerTimeout;
+  config.joinWaitSeconds = 30;  // a test never waits for ever
+  config.log = [&r](const std::string& line) { r.log.push_back(line); };
+  rts::net::LockstepSession session(transport, opponent, config);
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    session.handshake(*game);
+    rts::TickLoop loop(*game);
+    loop.add(session);
+    for (uint32_t t = 0; t < s.ticks; ++t) {
+      const std::vector<rts::Command>& commands = loop.tick();
+      r.applied.insert(r.applied.end(), commands.begin(), commands.end());
+      session.afterTick(*game);
+      if (game->tickCount() == s.perturbAfter) game->apply(perturbation(*game, team));
+    }
+    session.finish(*game);
+    r.finished = true;
+  } catch (const rts::net::SessionError& e) {
+    r.kind = e.kind();
+    r.error = e.what();
+  }
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.finalHash = game->stateHash();
+  r.ticksPlayed = game->tickCount();
+  r.hashesCompared = session.hashesCompared();
+  return r;
+}
+
+/// Polls a bare transport until `kind` comes (or `seconds` pass); returns what came last.
+inline rts::net::TransportEvent pollFor(rts::net::Transport& t, rts::net::TransportEvent::Kind kind, double seconds,
+                                        const rts::net::DecodeContext& context = {}) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  rts::net::TransportEvent e;
+  while (std::chrono::steady_clock::now() < end) {
+    e = t.poll(0.05, context);
+    if (e.kind == kind) return e;
+  }
+  return e;
+}
+
+inline bool contains(const std::vector<std::string>& lines, const std::string& part) {
+  for (const std::string& l : lines) {
+    if (l.find(part) != std::string::npos) return true;
+  }
+  return false;
+}
+
+}  // namespace net_test

@@ -1,0 +1,214 @@
+// rattle-demo --host and --join as programs: two processes play one game headless and print the same
+// final hash line, both record replays that verify and hold the same commands, a mismatch is refused
+// with exit status 3 on both sides, and the options are checked.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <string>
+
+#include "format/replay_reader.h"
+#include "lockstep_test_support.h"
+
+namespace {
+
+using net_test::readFile;
+using net_test::sourcePath;
+
+/// A per-test scratch path (ctest runs tests as parallel processes).
+std::string scratch(const std::string& name) {
+  const auto* info = testing::UnitTest::GetInstance()->current_test_info();
+  return testing::TempDir() + "/rattle_net_" + info->test_suite_name() + "_" + info->name() + "_" + name;
+}
+
+struct Outcome {
+  int status = -1;
+  std::string output;  // stdout and stderr
+};
+
+int statusOf(int raw) { return raw != -1 && WIFEXITED(raw) ? WEXITSTATUS(raw) : -1; }
+
+Outcome run(const std::string& binary, const std::string& arguments) {
+  const std::string log = scratch("output.log");
+  const std::string command = binary + " " + arguments + " > " + log + " 2>&1";
+  Outcome r;
+  r.status = statusOf(std::system(command.c_str()));
+  r.output = readFile(log);
+  return r;
+}
+
+bool has(const Outcome& o, const std::string& text) { return o.output.find(text) != std::string::npos; }
+
+/// A host process, started first: its output is read through a pipe until it says which port the
+/// system gave it (--host 0), so two tests never race for one. `timeout` ends it should the joiner
+/// never come.
+class HostProcess {
+ public:
+  explicit HostProcess(const std::string& arguments) {
+    const std::string command = "timeout 120 " RATTLE_DEMO_BINARY " --host 0 " + arguments + " 2>&1";
+    pipe_ = popen(command.c_str(), "r");
+    if (!pipe_) return;
+    char line[4096];
+    while (port_ == 0 && std::fgets(line, sizeof line, pipe_)) {
+      output_ += line;
+      const char* at = std::strstr(line, "hosting on UDP port ");
+      if (at) port_ = std::atoi(at + std::strlen("hosting on UDP port "));
+    }
+  }
+  ~HostProcess() { finish(); }
+
+  int port() const { return port_; }
+
+  /// Reads the rest of the output and waits for the process.
+  Outcome finish() {
+    if (pipe_) {
+      char buffer[4096];
+      size_t n = 0;
+      while ((n = std::fread(buffer, 1, sizeof buffer, pipe_)) > 0) output_.append(buffer, n);
+      status_ = statusOf(pclose(pipe_));
+      pipe_ = nullptr;
+    }
+    return {status_, output_};
+  }
+
+ private:
+  FILE* pipe_ = nullptr;
+  int port_ = 0;
+  int status_ = -1;
+  std::string output_;
+};
+
+/// The line both sides print at the end of a game, or "none".
+std::string finalLine(const std::string& output) {
+  const size_t at = output.find("Network game over after ");
+  if (at == std::string::npos) return "none";
+  return output.substr(at, output.find('\n', at) - at);
+}
+
+const std::string kGame =
+    "--map " + sourcePath("assets/maps/small.json") + " --units 6 --ticks 120 --no-render --quiet";
+
+TEST(NetProgram, TwoProcessesPlayOneGameAndRecordTheSameCommands) {
+  const std::string hostReplay = scratch("host.replay"), joinReplay = scratch("join.replay");
+  HostProcess host(kGame + " --seed 5 --record " + hostReplay);
+  ASSERT_GT(host.port(), 0) << host.finish().output;
+  const Outcome joiner = run(RATTLE_DEMO_BINARY, "--join 127.0.0.1:" + std::to_string(host.port()) + " " + kGame +
+                                                     " --seed 5 --record " + joinReplay);
+  const Outcome hosted = host.finish();
+  ASSERT_EQ(hosted.status, 0) << hosted.output;
+  ASSERT_EQ(joiner.status, 0) << joiner.output;
+  const std::string line = finalLine(hosted.output);
+  EXPECT_EQ(line.rfind("Network game over after 120 ticks: final state hash ", 0), 0u) << hosted.output;
+  EXPECT_EQ(finalLine(joiner.output), line);
+  // The summary's own hash says the same.
+  EXPECT_NE(hosted.output.find("Final state hash " + line.substr(line.find("hash ") + 5, 16)), std::string::npos);
+
+  // Both replays verify, and they hold the same ticks: commands and hashes.
+  for (const std::string& file : {hostReplay, joinReplay}) {
+    const Outcome verified = run(RATTLE_REPLAY_BINARY, "verify " + file);
+    EXPECT_EQ(verified.status, 0) << verified.output;
+    EXPECT_TRUE(has(verified, "all 120 ticks match")) << verified.output;
+  }
+  const rts::replay::ReadResult a = rts::replay::readReplayFile(hostReplay),
+                                b = rts::replay::readReplayFile(joinReplay);
+  ASSERT_TRUE(a.ok()) << a.error.describe();
+  ASSERT_TRUE(b.ok()) << b.error.describe();
+  EXPECT_EQ(a.replay->config.recordedBy, "rattle-demo --host");
+  EXPECT_EQ(b.replay->config.recordedBy, "rattle-demo --join");
+  EXPECT_EQ(a.replay->config.opponentTeams, 1);
+  EXPECT_EQ(b.replay->config.opponentTeams, 2);
+  ASSERT_EQ(a.replay->ticks.size(), 120u);
+  ASSERT_EQ(b.replay->ticks.size(), 120u);
+  size_t commands = 0;
+  for (size_t t = 0; t < a.replay->ticks.size(); ++t) {
+    const rts::replay::TickRecord &x = a.replay->ticks[t], &y = b.replay->ticks[t];
+    EXPECT_EQ(x.stateHash, y.stateHash) << "tick " << x.tick;
+    ASSERT_EQ(x.commands.size(), y.commands.size()) << "tick " << x.tick;
+    for (size_t i = 0; i < x.commands.size(); ++i) {
+      EXPECT_EQ(x.commands[i].team, y.commands[i].team);
+      EXPECT_EQ(x.commands[i].type, y.commands[i].type);
+      EXPECT_EQ(x.commands[i].units, y.commands[i].units);
+      EXPECT_EQ(x.commands[i].target.x, y.commands[i].target.x);
+      EXPECT_EQ(x.commands[i].target.y, y.commands[i].target.y);
+      EXPECT_EQ(x.commands[i].gate, y.commands[i].gate);
+      // Team 0's before team 1's, on both sides.
+      if (i > 0) {
+        EXPECT_LE(x.commands[i - 1].team, x.commands[i].team);
+      }
+    }
+    commands += x.commands.size();
+  }
+  EXPECT_GT(commands, 0u);
+  // The first three ticks (the input delay) have none.
+  for (size_t t = 0; t < 3; ++t) EXPECT_TRUE(a.replay->ticks[t].commands.empty()) << t;
+}
+
+TEST(NetProgram, AMismatchIsRefusedOnBothSidesWithStatus3) {
+  HostProcess host(kGame + " --seed 5 --input-delay 4");
+  ASSERT_GT(host.port(), 0) << host.finish().output;
+  const Outcome joiner =
+      run(RATTLE_DEMO_BINARY, "--join 127.0.0.1:" + std::to_string(host.port()) + " " + kGame + " --seed 6");
+  const Outcome hosted = host.finish();
+  EXPECT_EQ(hosted.status, 3) << hosted.output;
+  EXPECT_EQ(joiner.status, 3) << joiner.output;
+  EXPECT_TRUE(has(
+      hosted, "rattle-demo: the handshake failed: seed: mine 5, theirs 6; input delay: mine 4 ticks, theirs 3 ticks\n"))
+      << hosted.output;
+  EXPECT_TRUE(has(
+      joiner, "rattle-demo: the handshake failed: seed: mine 6, theirs 5; input delay: mine 3 ticks, theirs 4 ticks\n"))
+      << joiner.output;
+  EXPECT_EQ(finalLine(hosted.output), "none");
+}
+
+TEST(NetProgram, NobodyThereIsStatus5WithinThePeerTimeout) {
+  // A port nobody answers on: one a host held a moment ago, now closed.
+  uint16_t port = 0;
+  {
+    const std::unique_ptr<rts::net::Transport> gone = rts::net::Transport::host(0);
+    port = gone->localPort();
+  }
+  const Outcome o =
+      run(RATTLE_DEMO_BINARY, "--join 127.0.0.1:" + std::to_string(port) + " " + kGame + " --peer-timeout 0.5");
+  EXPECT_EQ(o.status, 5) << o.output;
+  EXPECT_TRUE(has(o, "rattle-demo: cannot connect: no answer after ")) << o.output;
+}
+
+TEST(NetProgram, OptionsAreChecked) {
+  struct Case {
+    const char* arguments;
+    const char* message;
+  };
+  for (const Case& c : {
+           Case{"--host --window", "--host with --window: not yet; network play is headless for now"},
+           Case{"--join localhost --window", "--join with --window: not yet"},
+           Case{"--host 70000", "--host 70000: expected a port from 0 to 65535"},
+           Case{"--host --join localhost", "--join: a side either hosts or joins, once"},
+           Case{"--join", "--join (missing): expected HOST or HOST:PORT"},
+           Case{"--join a:b:c", "--join a:b:c: expected HOST or HOST:PORT"},
+           Case{"--join localhost:0", "--join localhost:0: the port after ':' must be a whole number from 1 to 65535"},
+           Case{"--input-delay 3", "--input-delay needs --host or --join"},
+           Case{"--host --input-delay 301", "--input-delay 301: expected a whole number from 0 to 300"},
+           Case{"--host --hash-every 0", "--hash-every 0: expected a whole number from 1 to 65535"},
+           Case{"--join x --peer-timeout 0", "--peer-timeout 0: expected seconds from 0.1 to 3600"},
+           Case{"--host --steering naive", "--steering naive cannot go with --host"},
+       }) {
+    const Outcome o = run(RATTLE_DEMO_BINARY, c.arguments);
+    EXPECT_EQ(o.status, 2) << c.arguments << ": " << o.output;
+    EXPECT_TRUE(has(o, c.message)) << c.arguments << ": " << o.output;
+  }
+  const Outcome help = run(RATTLE_DEMO_BINARY, "--help");
+  for (const char* part :
+       {"--host [PORT]", "default 47800", "--join HOST[:PORT]", "--input-delay N", "(default 3", "--hash-every K",
+        "(default 1)", "--peer-timeout S", "(default 10)", "3 the handshake refused", "4 desync",
+        "5 the peer could not be", "6 the peer sent garbage"}) {
+    EXPECT_TRUE(has(help, part)) << part;
+  }
+  const Outcome unresolved = run(RATTLE_DEMO_BINARY, "--join no-such-host.invalid --no-render --ticks 1");
+  EXPECT_EQ(unresolved.status, 1) << unresolved.output;
+  EXPECT_TRUE(has(unresolved, "rattle-demo: cannot resolve the host name 'no-such-host.invalid'")) << unresolved.output;
+}
+
+}  // namespace
