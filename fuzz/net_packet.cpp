@@ -1,8 +1,10 @@
 // Fuzz target: the lockstep protocol's packet decoder (rts::net::decode, net/protocol.h) on arbitrary bytes.
 //
-// Each input is decoded twice: before the handshake (no game: commands may name no unit and no gate),
-// and in the largest game a replay allows (every unit id and gate a command may name). Every decode
-// must end in one of two ways:
+// Each input is decoded three times: before the handshake (no game: commands may name no unit and no
+// gate, a Snapshot holds nothing), in the largest game a replay allows (every unit id and gate a command
+// may name), and in the small game of the Snapshot seed (3 units, 1 gate, 2 doorways, 2 rooms: a
+// Snapshot decodes only in a game of its own sizes, and no state of the largest game fits a packet).
+// Every decode must end in one of two ways:
 //  - an error: one line, not empty, at most 2 KiB, starting with the message's name once the type byte
 //    names one;
 //  - a message that survives a round trip: encoded again, it decodes, and encodes to the same bytes a
@@ -24,13 +26,13 @@ constexpr size_t kHeapPerByte = 32;
 constexpr size_t kHeapAllowance = 64 << 10;
 constexpr size_t kMaxMessageBytes = 2048;
 
-const char* const kNames[] = {"Hello", "Refuse", "Commands", "Hash", "Bye"};
+const char* const kNames[] = {"Hello", "Refuse", "Commands", "Hash", "Bye", "Snapshot"};
 
 void checkError(const uint8_t* data, size_t size, const std::string& error) {
   RATTLE_FUZZ_CHECK(!error.empty(), "the error says nothing");
   RATTLE_FUZZ_CHECK(error.size() <= kMaxMessageBytes, "the error is unreasonably long");
   RATTLE_FUZZ_CHECK(error.find('\n') == std::string::npos, "the error is more than one line");
-  if (size > 0 && data[0] >= 1 && data[0] <= 5) {
+  if (size > 0 && data[0] >= 1 && data[0] <= 6) {
     const char* name = kNames[data[0] - 1];
     const size_t n = std::strlen(name);
     RATTLE_FUZZ_CHECK(error.compare(0, n, name) == 0 && error.size() > n && (error[n] == '.' || error[n] == ':'),
@@ -65,6 +67,10 @@ void check(const uint8_t* data, size_t size, const rts::net::DecodeContext& cont
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   check(data, size, rts::net::DecodeContext{});
-  check(data, size, rts::net::DecodeContext{2 * rts::replay::kMaxUnitsPerTeam, rts::replay::kMaxGates});
+  check(data, size,
+        rts::net::DecodeContext{2 * rts::replay::kMaxUnitsPerTeam, rts::replay::kMaxGates, rts::replay::kMaxDoorways,
+                                rts::replay::kMaxRooms});
+  // net_test::snapshotGame() (net/tests/net_test_support.h): the seed snapshot's game.
+  check(data, size, rts::net::DecodeContext{3, 1, 2, 2});
   return 0;
 }

@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "game/game.h"
+#include "tool/snapshot.h"
 
 namespace rts::net {
 namespace {
@@ -53,25 +54,34 @@ std::string LockstepSession::peerName() const { return teamName(peerTeam_); }
 void LockstepSession::send(const Message& message) { transport_.send(message); }
 
 void LockstepSession::fail(SessionError::Kind kind, const std::string& line, const std::string& toPeer, bool refuse) {
+  std::optional<Message> lastWord;
+  if (refuse) {
+    lastWord = Refuse{reasonText(toPeer)};
+  } else if (!toPeer.empty() && !byeSent_) {
+    lastWord = Bye{reasonText(toPeer)};
+  }
+  leave(lastWord, 1.0, SessionError(kind, line));
+}
+
+void LockstepSession::leave(const std::optional<Message>& lastWord, double lingerSeconds, const SessionError& error) {
   if (transport_.connected()) {
     try {
-      if (refuse) {
-        send(Refuse{reasonText(toPeer)});
-      } else if (!toPeer.empty()) {
-        send(Bye{reasonText(toPeer)});
-      }
+      if (lastWord) send(*lastWord);
     } catch (const std::exception&) {
       // The peer learns of the end from the disconnect instead.
     }
-    transport_.close(1.0);
+    transport_.close(lingerSeconds);
   }
-  throw SessionError(kind, line);
+  throw error;
 }
 
 void LockstepSession::handshake(const Game& game) {
   if (handshaken_) throw std::logic_error("LockstepSession: handshake() twice");
+  game_ = &game;
   context_.unitCount = uint32_t(game.units().size());
   context_.gateCount = uint32_t(game.map().gates.size());
+  context_.doorwayCount = uint32_t(game.doorways().size());
+  context_.roomCount = uint32_t(game.rooms().size());
   // ENet gives up a second after this side would: the silence is then reported as silence.
   transport_.setPeerTimeout(config_.peerTimeoutSeconds + 1);
 
@@ -100,7 +110,7 @@ void LockstepSession::handshake(const Game& game) {
     fail(SessionError::Kind::Refused, "the handshake failed: " + *mismatch, *mismatch, true);
   }
   handshaken_ = true;
-  myHash(0, game.stateHash());
+  myHash(game);
 }
 
 void LockstepSession::commandsFor(uint32_t tick, const Game& game, std::vector<Command>& out) {
@@ -144,15 +154,15 @@ void LockstepSession::commandsFor(uint32_t tick, const Game& game, std::vector<C
 }
 
 void LockstepSession::afterTick(const Game& game) {
-  const uint32_t tick = game.tickCount();
-  if (tick % hashEvery_ == 0) myHash(tick, game.stateHash());
+  if (game.tickCount() % hashEvery_ == 0) myHash(game);
 }
 
 void LockstepSession::finish(const Game& game) {
   const uint32_t last = game.tickCount();
   // The final state is compared even when the interval does not fall on it.
-  if (last % hashEvery_ != 0) myHash(last, game.stateHash());
+  if (last % hashEvery_ != 0) myHash(game);
   send(Bye{"the game is over after " + std::to_string(last) + " ticks"});
+  byeSent_ = true;
   waitFor([&] { return peerSaidBye_; }, "the end of its game");
   if (lastPeerHash_ != int64_t(last)) {
     fail(SessionError::Kind::PeerLost,
@@ -160,25 +170,62 @@ void LockstepSession::finish(const Game& game) {
              std::to_string(last) + ": both must play the same number of ticks",
          "");
   }
-  transport_.close(1.0);
+  // Until the peer has this side's Bye (and everything before it), or it waits for it in vain and takes
+  // this side for lost; a lossy link may need a few resends. Done as soon as the peer has it.
+  transport_.close(config_.peerTimeoutSeconds);
 }
 
-void LockstepSession::myHash(uint32_t tick, uint64_t hash) {
-  send(Hash{tick, hash});
-  if (auto it = peerHashes_.find(tick); it != peerHashes_.end()) {
-    const uint64_t theirs = it->second;
-    peerHashes_.erase(it);
-    compare(tick, hash, theirs);
-  } else {
-    myHashes_[tick] = hash;
+void LockstepSession::myHash(const Game& game) {
+  const uint32_t tick = game.tickCount();
+  SideState mine{game.stateHash(), game.worldHash(), {}};
+  send(Hash{tick, mine.stateHash});
+  auto it = peerHashes_.find(tick);
+  // The state is taken only while it may still be needed: the game moves on before the peer's hash
+  // comes, and a desync's report compares the states of the tick whose hashes differ.
+  if (it == peerHashes_.end() || it->second != mine.stateHash) mine.state = replay::snapshotOf(game);
+  if (it == peerHashes_.end()) {
+    myHashes_[tick] = std::move(mine);
+    return;
   }
+  const uint64_t theirs = it->second;
+  peerHashes_.erase(it);
+  compare(tick, std::move(mine), theirs);
 }
 
-void LockstepSession::compare(uint32_t tick, uint64_t mine, uint64_t theirs) {
+void LockstepSession::compare(uint32_t tick, SideState mine, uint64_t theirs) {
   ++hashesCompared_;
-  if (mine == theirs) return;
-  const std::string line = "desync at tick " + std::to_string(tick) + ": mine " + hex(mine) + ", theirs " + hex(theirs);
-  fail(SessionError::Kind::Desync, line, "desync at tick " + std::to_string(tick));
+  if (mine.stateHash != theirs) desync(tick, std::move(mine), theirs);
+}
+
+void LockstepSession::desync(uint32_t tick, SideState mine, uint64_t theirs) {
+  desyncTick_ = tick;
+  const std::string t = std::to_string(tick);
+  const std::string line = "desync at tick " + t + ": mine " + hex(mine.stateHash) + ", theirs " + hex(theirs);
+  // Both sides get here (each sent its hash before it could know the other's), and each sends first and
+  // then waits, so neither waits for the other's waiting.
+  try {
+    send(Snapshot{tick, mine.worldHash, mine.state});
+  } catch (const std::invalid_argument&) {
+    // Over a packet (a very large game): the peer learns that no state is coming rather than waiting.
+    try {
+      send(Snapshot{tick, mine.worldHash, std::nullopt});
+    } catch (const std::exception&) {
+    }
+  } catch (const std::exception&) {  // ENet refused it: the peer's wait ends with its timeout
+  }
+  try {
+    waitFor([&] { return peerState_.has_value(); }, "its state at tick " + t + " (to explain the desync)");
+  } catch (const SessionError& e) {
+    // The wait has already told the peer and closed; what ended the game is still the desync.
+    throw SessionError(SessionError::Kind::Desync, line,
+                       "  the peer's state at tick " + t + " did not come: " + e.what() + "\n");
+  }
+  peerState_->stateHash = theirs;
+  const std::string details = desyncDetails(tick, mine, *peerState_, *game_, hashEvery_);
+  // The peer may still be receiving this side's state: linger for it as long as for a silent peer.
+  std::optional<Message> lastWord;
+  if (!byeSent_) lastWord = Bye{"desync at tick " + t};
+  leave(lastWord, config_.peerTimeoutSeconds, SessionError(SessionError::Kind::Desync, line, details));
 }
 
 std::string LockstepSession::silentFor(Clock::time_point now) const {
@@ -192,7 +239,11 @@ void LockstepSession::waitFor(const std::function<bool()>& ready, const std::str
   Clock::time_point nextReport = start + std::chrono::milliseconds(500);
   while (!ready()) {
     const Clock::time_point now = Clock::now();
-    if (peerGone_) fail(SessionError::Kind::PeerLost, peerGoneWhy_ + " while this side waited for " + what, "");
+    // A side that said Bye before it found the desync (its game was over) still sends its state after.
+    const bool stateMayFollow = desyncTick_ && peerSaidBye_ && !peerDisconnected_;
+    if (peerGone_ && !stateMayFollow) {
+      fail(SessionError::Kind::PeerLost, peerGoneWhy_ + " while this side waited for " + what, "");
+    }
     if (now - lastHeard_ >= timeout) {
       fail(SessionError::Kind::PeerLost,
            "the peer has been silent for " + silentFor(now) + " s (the limit is " +
@@ -208,7 +259,11 @@ void LockstepSession::waitFor(const std::function<bool()>& ready, const std::str
         nextReport - now, std::chrono::duration_cast<Clock::duration>(lastHeard_ + timeout - now));
     handle(transport_.poll(std::clamp(std::chrono::duration<double>(slice).count(), 0.001, 0.25), context_));
   }
-  if (handshaken_) waited_ += std::chrono::duration<double>(Clock::now() - start).count();
+  if (handshaken_) {
+    const double waited = std::chrono::duration<double>(Clock::now() - start).count();
+    waited_ += waited;
+    longestWait_ = std::max(longestWait_, waited);
+  }
 }
 
 void LockstepSession::handle(TransportEvent event) {
@@ -220,7 +275,7 @@ void LockstepSession::handle(TransportEvent event) {
       return;
     case TransportEvent::Kind::Disconnected:
       if (!peerGone_) peerGoneWhy_ = "the peer disconnected";
-      peerGone_ = true;
+      peerGone_ = peerDisconnected_ = true;
       return;
     case TransportEvent::Kind::Garbage:
       fail(SessionError::Kind::Protocol, "the peer sent garbage: " + event.error, "you sent garbage: " + event.error);
@@ -235,8 +290,11 @@ void LockstepSession::handleMessage(Message& message) {
   auto outOfTurn = [&](const std::string& why) {
     fail(SessionError::Kind::Protocol, "the peer broke the protocol: " + why, "you broke the protocol: " + why);
   };
-  // Bye is a peer's last word; more after it would only keep this side reading.
-  if (peerSaidBye_) outOfTurn(std::string(messageName(message)) + " after its Bye");
+  // Bye is a peer's last word; more after it would only keep this side reading. But for its state: the
+  // hashes of the last ticks may be compared only after a side has said Bye.
+  if (peerSaidBye_ && !(desyncTick_ && std::holds_alternative<Snapshot>(message))) {
+    outOfTurn(std::string(messageName(message)) + " after its Bye");
+  }
   if (auto* hello = std::get_if<Hello>(&message)) {
     if (!peerHello_ || peerHello_->has_value()) outOfTurn("a second Hello");
     *peerHello_ = std::move(*hello);
@@ -255,6 +313,8 @@ void LockstepSession::handleMessage(Message& message) {
     receiveCommands(*commands);
   } else if (auto* hash = std::get_if<Hash>(&message)) {
     receiveHash(*hash);
+  } else if (auto* snapshot = std::get_if<Snapshot>(&message)) {
+    receiveSnapshot(*snapshot);
   }
 }
 
@@ -266,6 +326,14 @@ void LockstepSession::receiveCommands(Commands& m) {
   };
   if (m.team != peerTeam_) why("it plays " + peerName());
   if (m.tick != nextPeerCommands_) why("expected tick " + std::to_string(nextPeerCommands_) + " next");
+  // A side sends its hash of tick t before its commands for t + d (it plays t before it asks its source
+  // for t + d). Without the hash, the peer would make this side keep its states (for a desync's report)
+  // for ever. Checked before the next rule: it depends on the peer's messages alone.
+  if (m.tick >= delay_ && int64_t(nextPeerHash_) <= int64_t(m.tick) - int64_t(delay_) && !peerFinalHash_) {
+    why("its hash for tick " + std::to_string(nextPeerHash_) +
+        " has not come (a side sends its hash of tick t before "
+        "its commands for tick t + the input delay)");
+  }
   // It cannot be further ahead: it would have played ticks this side has not sent it commands for.
   // This also bounds what a hostile peer can make this side keep.
   if (int64_t(m.tick) > sentThrough_ + 1 + int64_t(delay_)) {
@@ -291,13 +359,26 @@ void LockstepSession::receiveHash(const Hash& h) {
     why("expected tick " + std::to_string(nextPeerHash_) + " next");
   }
   lastPeerHash_ = h.tick;
+  if (desyncTick_) return;  // only the peer's state is awaited now
   if (auto it = myHashes_.find(h.tick); it != myHashes_.end()) {
-    const uint64_t mine = it->second;
+    SideState mine = std::move(it->second);
     myHashes_.erase(it);
-    compare(h.tick, mine, h.stateHash);
+    compare(h.tick, std::move(mine), h.stateHash);
   } else {
     peerHashes_[h.tick] = h.stateHash;
   }
+}
+
+void LockstepSession::receiveSnapshot(Snapshot& m) {
+  const auto why = [&](const std::string& text) {
+    const std::string line = "Snapshot for tick " + std::to_string(m.tick) + ": " + text;
+    fail(SessionError::Kind::Protocol, "the peer broke the protocol: " + line, "you broke the protocol: " + line);
+  };
+  // The peer's hash of the tick comes before its state, so this side has found the desync first.
+  if (!desyncTick_) why("no desync was found");
+  if (m.tick != *desyncTick_) why("the desync is at tick " + std::to_string(*desyncTick_));
+  if (peerState_) why("a second one");
+  peerState_ = SideState{0, m.worldHash, std::move(m.state)};
 }
 
 }  // namespace rts::net

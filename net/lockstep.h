@@ -12,6 +12,11 @@
 //
 // Every way a session ends early is a SessionError of one kind with one line saying why. Before it is
 // thrown the other side is told (a Refuse or a Bye) and the connection is closed, so neither hangs.
+//
+// A desync is also explained: each side keeps its state (replay::snapshotOf) at every hashed tick until
+// the peer's hash for it has come, so that when the two differ each can send the other its state at that
+// very tick (a Snapshot message), though it may have played a few ticks further. Both then name the
+// bodies and fields that differ with the code rattle-replay verify uses (net/desync_report.h).
 #pragma once
 
 #include <chrono>
@@ -25,6 +30,7 @@
 
 #include "game/commands.h"
 #include "net/delayed_source.h"
+#include "net/desync_report.h"
 #include "net/protocol.h"
 #include "net/transport.h"
 
@@ -34,15 +40,20 @@ class SessionError : public std::runtime_error {
  public:
   enum class Kind {
     Refused,   ///< the handshake failed on this side or the other ("seed: mine 7, theirs 8")
-    Desync,    ///< the two states differ ("desync at tick T: mine H1, theirs H2")
+    Desync,    ///< the two states differ ("desync at tick T: mine H1, theirs H2"), details() says how
     PeerLost,  ///< the peer could not be reached, disconnected, went silent, or left before the end
     Protocol,  ///< the peer sent garbage or a message out of turn
   };
-  SessionError(Kind kind, const std::string& line) : std::runtime_error(line), kind_(kind) {}
+  SessionError(Kind kind, const std::string& line, std::string details = "")
+      : std::runtime_error(line), kind_(kind), details_(std::move(details)) {}
   Kind kind() const { return kind_; }
+  /// More lines under what(), each indented and ended by a newline; empty but for a desync, where they
+  /// are the report (net/desync_report.h) or why the peer's state did not come.
+  const std::string& details() const { return details_; }
 
  private:
   Kind kind_;
+  std::string details_;
 };
 
 struct LockstepConfig {
@@ -82,6 +93,8 @@ class LockstepSession : public CommandSource {
 
   /// Seconds spent waiting for the peer during the game (the handshake not counted).
   double waitedSeconds() const { return waited_; }
+  /// The longest single wait among those: the worst stall.
+  double longestWaitSeconds() const { return longestWait_; }
   /// State hashes compared with the peer's so far.
   uint32_t hashesCompared() const { return hashesCompared_; }
   uint8_t team() const { return config_.hello.team; }
@@ -97,11 +110,20 @@ class LockstepSession : public CommandSource {
   void handleMessage(Message& message);
   void receiveCommands(Commands& message);
   void receiveHash(const Hash& hash);
-  void compare(uint32_t tick, uint64_t mine, uint64_t theirs);
-  void myHash(uint32_t tick, uint64_t hash);
+  void receiveSnapshot(Snapshot& message);
+  /// Sends this side's hash of the game's tick and compares it, or keeps it (with the state) for the
+  /// peer's.
+  void myHash(const class Game& game);
+  void compare(uint32_t tick, SideState mine, uint64_t theirs);
+  /// The hashes of `tick` differ: sends this side's state, waits for the peer's, throws Desync with the
+  /// report.
+  [[noreturn]] void desync(uint32_t tick, SideState mine, uint64_t theirs);
   /// Tells the peer (a Refuse when `refuse`, else a Bye with `toPeer`), closes, throws.
   [[noreturn]] void fail(SessionError::Kind kind, const std::string& line, const std::string& toPeer,
                          bool refuse = false);
+  /// Says `lastWord` when there is one, lingers up to `lingerSeconds` for the peer to have everything
+  /// sent, closes, throws `error`.
+  [[noreturn]] void leave(const std::optional<Message>& lastWord, double lingerSeconds, const SessionError& error);
   void say(const std::string& line) const;
   std::string peerName() const;
   std::string silentFor(Clock::time_point now) const;
@@ -120,17 +142,26 @@ class LockstepSession : public CommandSource {
   int64_t sentThrough_ = -1;       // this side's sets are with the peer up to this tick (the first d free)
   uint32_t nextPeerCommands_ = 0;  // the tick of the peer's next Commands message
   std::map<uint32_t, std::vector<Command>> peerCommands_;
-  uint32_t nextPeerHash_ = 0;                           // the tick of the peer's next Hash on the interval
-  int64_t lastPeerHash_ = -1;                           // the tick of the peer's last Hash
-  bool peerFinalHash_ = false;                          // the peer sent a hash off the interval: its game is over
-  std::map<uint32_t, uint64_t> myHashes_, peerHashes_;  // not yet compared, by tick
+  uint32_t nextPeerHash_ = 0;   // the tick of the peer's next Hash on the interval
+  int64_t lastPeerHash_ = -1;   // the tick of the peer's last Hash
+  bool peerFinalHash_ = false;  // the peer sent a hash off the interval: its game is over
+  // Not yet compared, by tick. This side's come with its state, for a desync's report; there are at most
+  // about d + 2 of them, since the peer's commands for a tick come after its hashes of d ticks earlier.
+  std::map<uint32_t, SideState> myHashes_;
+  std::map<uint32_t, uint64_t> peerHashes_;
   uint32_t hashesCompared_ = 0;
+  const class Game* game_ = nullptr;    // the game of the handshake: names bodies in a desync's report
+  std::optional<uint32_t> desyncTick_;  // hashes differed here: only the peer's state is awaited
+  std::optional<SideState> peerState_;  // its Snapshot of that tick
+  bool byeSent_ = false;                // this side's last Bye has gone: no other one follows
 
   bool peerGone_ = false;  // Bye or a disconnect: nothing more will come
   bool peerSaidBye_ = false;
+  bool peerDisconnected_ = false;
   std::string peerGoneWhy_;
   Clock::time_point lastHeard_;
   double waited_ = 0;
+  double longestWait_ = 0;
 };
 
 }  // namespace rts::net

@@ -10,6 +10,7 @@
 #include "format/byte_writer.h"
 #include "format/command_codec.h"
 #include "format/limits.h"
+#include "format/snapshot_codec.h"
 
 namespace rts::net {
 namespace {
@@ -54,6 +55,8 @@ const char* nameOf(MessageType t) {
       return "Hash";
     case MessageType::Bye:
       return "Bye";
+    case MessageType::Snapshot:
+      return "Snapshot";
   }
   return nullptr;
 }
@@ -62,6 +65,7 @@ const char* nameOf(const Refuse&) { return "Refuse"; }
 const char* nameOf(const Commands&) { return "Commands"; }
 const char* nameOf(const Hash&) { return "Hash"; }
 const char* nameOf(const Bye&) { return "Bye"; }
+const char* nameOf(const Snapshot&) { return "Snapshot"; }
 
 // ---- The rules, shared by decode (as it reads) and encode (before it writes) ----
 
@@ -214,6 +218,39 @@ void write(ByteWriter& out, const Bye& b) {
   writeText(out, b.reason);
 }
 
+// The sizes a state has, as decodeSnapshot needs them.
+replay::ReplayConfig shapeOf(const replay::Snapshot& s) {
+  replay::ReplayConfig c;
+  c.unitCount = uint32_t(s.units.size());
+  c.gateCount = uint32_t(s.gates.size());
+  c.doorwayCount = uint32_t(s.counters.doorwayCrossings.size());
+  c.roomCount = uint32_t(s.counters.roomHolders.size());
+  return c;
+}
+
+void write(ByteWriter& out, const Snapshot& m) {
+  out.u8(uint8_t(MessageType::Snapshot));
+  out.u32(m.tick);
+  out.u64(m.worldHash);
+  out.u8(m.state ? 1 : 0);
+  if (!m.state) return;
+  const size_t start = out.size();
+  replay::encodeSnapshot(out, *m.state);
+  const size_t n = out.size() - start;
+  if (n > kMaxSnapshotStateBytes) {
+    refuse("Snapshot.state: " + str(n) + " bytes exceeds the limit " + str(kMaxSnapshotStateBytes));
+  }
+  // The keyframe codec's decoder has rules of its own (finite doubles, ascending shot ids, room holders
+  // in range): read the bytes back with it rather than restate them here, so that nothing is sent that
+  // the peer would refuse. Once a game, after a desync: the cost does not matter.
+  replay::ByteReader back(std::string_view(out.data()).substr(start), start);
+  try {
+    replay::decodeSnapshot(back, shapeOf(*m.state), "Snapshot.state");
+  } catch (const FormatError& e) {
+    refuse(e.field() + ": " + e.what());
+  }
+}
+
 // ---- Decoding ----
 
 // Reads one packet. Fixed-width fields are checked for length here, so that truncations read the same
@@ -224,6 +261,8 @@ class Decoder {
       : in_(std::string_view(reinterpret_cast<const char*>(data), size), 0), size_(size) {
     config_.unitCount = context.unitCount;
     config_.gateCount = context.gateCount;
+    config_.doorwayCount = context.doorwayCount;
+    config_.roomCount = context.roomCount;
   }
 
   Message run() {
@@ -231,7 +270,7 @@ class Decoder {
     const uint8_t type = in_.u8("message type");
     name_ = nameOf(MessageType(type));
     if (name_ == nullptr)
-      refuse("message type " + str(type) + " is unknown (1 Hello, 2 Refuse, 3 Commands, 4 Hash, 5 Bye)");
+      refuse("message type " + str(type) + " is unknown (1 Hello, 2 Refuse, 3 Commands, 4 Hash, 5 Bye, 6 Snapshot)");
     if (size_ > kMaxPacketBytes) refuse(packetTooLarge(name_, size_));
     try {
       Message m = body(MessageType(type));
@@ -265,6 +304,8 @@ class Decoder {
       }
       case MessageType::Bye:
         return Bye{text("Bye.reason", kMaxReasonBytes)};
+      case MessageType::Snapshot:
+        return snapshot();
     }
     refuse("message type " + str(uint8_t(type)) + " is unknown");
   }
@@ -308,6 +349,20 @@ class Decoder {
       checkCommandTeam(i, m.commands.back().team, m.team);
     }
     return m;
+  }
+
+  // The state runs to the end of the packet, in the keyframe codec's bytes, for this game's sizes: its
+  // decoder checks every count against the bytes left before allocating, as it does in a replay file.
+  Snapshot snapshot() {
+    Snapshot s;
+    s.tick = u32("Snapshot.tick");
+    s.worldHash = u64("Snapshot.worldHash");
+    const uint8_t hasState = u8("Snapshot.hasState");
+    if (hasState > 1) {
+      refuse("Snapshot.hasState = " + str(hasState) + ": expected 0 (the state did not fit a packet) or 1");
+    }
+    if (hasState == 1) s.state = replay::decodeSnapshot(in_, config_, "Snapshot.state");
+    return s;
   }
 
   void need(const std::string& field, size_t n) {

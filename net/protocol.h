@@ -16,13 +16,15 @@
 #include <variant>
 #include <vector>
 
+#include "format/replay.h"
 #include "game/commands.h"
 
 namespace rts::net {
 
 /// Bumped on any change to the bytes below. Both sides send it in Hello, and handshakeMismatch refuses
 /// a peer whose version differs, so a newer build never misreads an older one's commands.
-inline constexpr uint32_t kProtocolVersion = 1;
+/// Version 2 added Snapshot (type 6), the state each side sends the other after a desync.
+inline constexpr uint32_t kProtocolVersion = 2;
 
 // ---- Limits (decode refuses anything beyond them, encode throws) ----
 
@@ -44,11 +46,19 @@ inline constexpr size_t kMaxCommandsPerMessage = 1024;
 /// peer buffers up to this many ticks of the other side's commands, so it bounds that buffer.
 inline constexpr uint16_t kMaxInputDelayTicks = 300;
 // Hello.unitsPerTeam is 1 to rts::replay::kMaxUnitsPerTeam (replay/format/limits.h), as a replay's.
+/// Snapshot's fields before the state: type, tick, worldHash, hasState.
+inline constexpr size_t kSnapshotHeaderBytes = 14;
+/// Snapshot.state: what is left of one packet. A live unit with an order takes about 56 bytes and a
+/// shot about 45, so this holds the state of a game of some 8,000 units a team with thousands of shots
+/// in flight (the demo plays 100 by default); a larger game's state is not sent (a Snapshot without
+/// one), and the desync report says so. One packet, not parts: a peer never makes the other assemble
+/// more than a packet.
+inline constexpr size_t kMaxSnapshotStateBytes = kMaxPacketBytes - kSnapshotHeaderBytes;
 
 // ---- Messages ----
 
 /// The first byte of every packet. The numbers are stable: changing one takes a new kProtocolVersion.
-enum class MessageType : uint8_t { Hello = 1, Refuse = 2, Commands = 3, Hash = 4, Bye = 5 };
+enum class MessageType : uint8_t { Hello = 1, Refuse = 2, Commands = 3, Hash = 4, Bye = 5, Snapshot = 6 };
 
 enum class Role : uint8_t { Player = 0, Spectator = 1 };
 
@@ -92,9 +102,20 @@ struct Bye {
   std::string reason;
 };
 
-using Message = std::variant<Hello, Refuse, Commands, Hash, Bye>;
+/// After a desync at `tick`, each side sends the other its state at that tick, so that both can name the
+/// bodies and fields that differ with the code rattle-replay verify uses (replay/tool/divergence.h).
+/// Sent once, only after hashes for `tick` differed.
+struct Snapshot {
+  uint32_t tick = 0;
+  uint64_t worldHash = 0;  ///< Game::worldHash() after `tick`: the engine's part of the state hash
+  /// Every body, exactly, as a replay's keyframe holds it. Empty when it would not fit a packet
+  /// (kMaxSnapshotStateBytes): the peer then learns that none is coming rather than waiting for it.
+  std::optional<rts::replay::Snapshot> state;
+};
 
-/// "Hello", "Refuse", "Commands", "Hash", "Bye": how errors and logs name a message.
+using Message = std::variant<Hello, Refuse, Commands, Hash, Bye, Snapshot>;
+
+/// "Hello", "Refuse", "Commands", "Hash", "Bye", "Snapshot": how errors and logs name a message.
 const char* messageName(const Message& m);
 
 // ---- Bytes ----
@@ -102,17 +123,21 @@ const char* messageName(const Message& m);
 /// One message's bytes: the type, then its fields, little-endian, fixed width; strings as a u8 length
 /// and the bytes; commands as the replay's command codec writes them (FORMAT.md, "Commands").
 /// Throws std::invalid_argument, naming the field as decode would, when the message breaks a rule
-/// decode enforces, except the commands' unit ids and gates, which need the game's sizes (the receiver
-/// checks those). Never sends what the other side would refuse for any other reason.
+/// decode enforces, except the commands' unit ids and gates and a snapshot's sizes, which need the
+/// game's (the receiver checks those). Never sends what the other side would refuse for any other
+/// reason. A Snapshot's state is written as a replay's keyframe (format/snapshot_codec.h).
 std::vector<uint8_t> encode(const Message& m);
 
-/// What decoding commands needs to know about the game: unit ids must be below unitCount and gates
-/// below gateCount (as rts::replay::decodeCommand checks them). Before the handshake, when the game is
-/// not built yet, the default (no units, no gates) decodes every message except Commands that name a
-/// unit or a gate.
+/// What decoding needs to know about the game: unit ids must be below unitCount and gates below
+/// gateCount (as rts::replay::decodeCommand checks them), and a Snapshot holds exactly this many units,
+/// gates, doorways and rooms (as a replay's keyframe). Before the handshake, when the game is not built
+/// yet, the default (nothing) decodes every message except Commands that name a unit or a gate and
+/// Snapshots of a game with anything in it.
 struct DecodeContext {
-  uint32_t unitCount = 0;  ///< Game::units().size(): both teams
-  uint32_t gateCount = 0;  ///< the map's gates
+  uint32_t unitCount = 0;     ///< Game::units().size(): both teams
+  uint32_t gateCount = 0;     ///< the map's gates
+  uint32_t doorwayCount = 0;  ///< Game::doorways().size()
+  uint32_t roomCount = 0;     ///< Game::rooms().size()
 };
 
 /// A decoded packet: the message, or why the bytes are not one.
@@ -127,8 +152,9 @@ struct Decoded {
 
 /// Decodes one packet of `size` bytes (data may be null when size is 0). Refuses packets over
 /// kMaxPacketBytes, unknown message types, any field out of range or over its limit, non-printable
-/// strings, commands the game's sizes forbid or that are not the message's team's, and any byte after
-/// a complete message. Never throws, never reads outside the bytes, allocates at most a small multiple
+/// strings, commands the game's sizes forbid or that are not the message's team's, snapshots of a game
+/// of other sizes or with a value a replay's keyframe may not hold, and any byte after a complete
+/// message. Never throws, never reads outside the bytes, allocates at most a small multiple
 /// of `size`.
 Decoded decode(const uint8_t* data, size_t size, const DecodeContext& context) noexcept;
 

@@ -1,6 +1,7 @@
 #include "net/transport.h"
 
 #include <enet/enet.h>
+#include <enet/time.h>
 
 #include <algorithm>
 #include <chrono>
@@ -34,6 +35,46 @@ void limit(ENetHost* host) {
   host->maximumWaitingData = 8 * kMaxPacketBytes;
 }
 
+// ENet doubles a reliable packet's resend timeout each time it resends it, with no ceiling but the
+// disconnect. On a link that loses one datagram in ten, one packet in some ten thousand is lost four
+// times running, and then 1 + 2 + 4 + 8 times the first timeout pass before it arrives: the faulty
+// relay's test (net/tests/test_net_relay.cpp) saw stalls of 15 s, and a peer taken for silent. Every
+// message of a lockstep game is awaited, and on one channel in order, so a late resend stalls the game
+// for that long: the timeout is held to twice the first one (ENet's round trip plus four deviations),
+// within these bounds. It changes when a packet is resent, never what arrives.
+constexpr enet_uint32 kMinResendCapMs = 200;
+constexpr enet_uint32 kMaxResendCapMs = 2000;
+
+// The fields are ENet's public ones (enet.h), as close() below reads; ENet reads them back when it next
+// checks for lost packets.
+void capResendTimeouts(ENetPeer* peer) {
+  const enet_uint32 cap = std::clamp<enet_uint32>(2 * (peer->roundTripTime + 4 * peer->roundTripTimeVariance),
+                                                  kMinResendCapMs, kMaxResendCapMs);
+  for (ENetList* list : {&peer->sentReliableCommands, &peer->outgoingCommands}) {
+    for (ENetListIterator i = enet_list_begin(list); i != enet_list_end(list); i = enet_list_next(i)) {
+      auto* command = reinterpret_cast<ENetOutgoingCommand*>(i);
+      if (command->roundTripTimeout > cap) command->roundTripTimeout = cap;
+    }
+  }
+  // ENet looks for lost packets only once its next timeout has come, set from the oldest packet sent.
+  if (!enet_list_empty(&peer->sentReliableCommands)) {
+    const auto* oldest = reinterpret_cast<const ENetOutgoingCommand*>(enet_list_begin(&peer->sentReliableCommands));
+    const enet_uint32 due = oldest->sentTime + oldest->roundTripTimeout;
+    if (ENET_TIME_LESS(due, peer->nextTimeout)) peer->nextTimeout = due;
+  }
+}
+
+// Whether a message sent to the peer is still unacknowledged (or unsent). Only commands that carry a
+// packet count: ENet's own pings, sent every half second, would keep a lossy link busy for ever.
+bool messagesInFlight(ENetPeer* peer) {
+  for (ENetList* list : {&peer->sentReliableCommands, &peer->outgoingCommands}) {
+    for (ENetListIterator i = enet_list_begin(list); i != enet_list_end(list); i = enet_list_next(i)) {
+      if (reinterpret_cast<const ENetOutgoingCommand*>(i)->packet != nullptr) return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 struct Transport::Impl {
@@ -62,6 +103,11 @@ struct Transport::Impl {
     }
     // Out now rather than at the next poll: the peer may be waiting for exactly this.
     enet_host_flush(host);
+    capResends();
+  }
+
+  void capResends() {
+    if (peer && connected) capResendTimeouts(peer);
   }
 };
 
@@ -127,6 +173,7 @@ TransportEvent Transport::poll(double timeoutSeconds, const DecodeContext& conte
     ENetEvent event{};
     const int got = enet_host_service(m.host, &event, milliseconds(left));
     if (got < 0) throw TransportError("the network failed while waiting for packets");
+    m.capResends();
     if (got == 0) return out;
     switch (event.type) {
       case ENET_EVENT_TYPE_CONNECT:
@@ -180,16 +227,17 @@ void Transport::close(double lingerSeconds) {
   Impl& m = *impl_;
   if (!m.peer) return;
   if (m.connected) {
-    // Linger until the peer has acknowledged everything sent (the last Bye or Refuse), then leave at
+    // Linger until the peer has acknowledged every message sent (the last Bye or Refuse), then leave at
     // once. Not ENet's polite disconnect: a side in it stops acknowledging, so when both sides close
     // together each can wait for the other until the linger runs out.
     const auto deadline = Clock::now() + std::chrono::duration<double>(std::max(0.0, lingerSeconds));
-    while (!enet_list_empty(&m.peer->sentReliableCommands) || !enet_list_empty(&m.peer->outgoingCommands)) {
+    while (messagesInFlight(m.peer)) {
       const double left = std::chrono::duration<double>(deadline - Clock::now()).count();
       if (left <= 0) break;
       ENetEvent event{};
       const int got = enet_host_service(m.host, &event, milliseconds(std::min(left, 0.01)));
       if (got < 0) break;
+      m.capResends();
       if (got > 0 && event.type == ENET_EVENT_TYPE_RECEIVE) enet_packet_destroy(event.packet);
       if (got > 0 && event.type == ENET_EVENT_TYPE_DISCONNECT && event.peer == m.peer) {
         m.peer = nullptr;

@@ -73,7 +73,7 @@ class Transport {
   /// decoded with `context`. A second peer connecting to a host is turned away and not reported.
   TransportEvent poll(double timeoutSeconds, const DecodeContext& context);
 
-  /// Leaves: waits up to `lingerSeconds` for the peer to acknowledge what was sent (the last Bye or
+  /// Leaves: waits up to `lingerSeconds` for the peer to acknowledge every message sent (the last Bye or
   /// Refuse must reach it), then disconnects at once. Packets that arrive meanwhile are dropped.
   void close(double lingerSeconds);
 

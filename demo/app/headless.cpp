@@ -68,6 +68,12 @@ int exitStatus(net::SessionError::Kind kind) {
   return 1;
 }
 
+// Why a networked game ended early: the line, and under it a desync's report (the bodies and fields that
+// differ, as rattle-replay verify names them; net/desync_report.h).
+void printSessionError(const net::SessionError& e) {
+  std::fprintf(stderr, "rattle-demo: %s\n%s", e.what(), e.details().c_str());
+}
+
 // The network side of a headless run: the transport and the session, once the handshake has passed.
 struct Network {
   std::unique_ptr<net::Transport> transport;
@@ -127,7 +133,7 @@ int runHeadless(Game& game, const Options& o, const std::string& mapJson, replay
     try {
       network = connect(game, o, mapJson, opponent);
     } catch (const net::SessionError& e) {
-      std::fprintf(stderr, "rattle-demo: %s\n", e.what());
+      printSessionError(e);
       return exitStatus(e.kind());
     }
     loop.add(*network.session);
@@ -171,7 +177,7 @@ int runHeadless(Game& game, const Options& o, const std::string& mapJson, replay
     if (network.session) network.session->finish(game);
   } catch (const net::SessionError& e) {
     if (!o.quiet) progress(game, o.ticks, true);
-    std::fprintf(stderr, "rattle-demo: %s\n", e.what());
+    printSessionError(e);
     // The ticks played so far replay as they were: after a desync, what to compare with the peer's.
     if (recorder) {
       recorder->finish(game);
@@ -190,8 +196,11 @@ int runHeadless(Game& game, const Options& o, const std::string& mapJson, replay
     // The same line on both sides (a test compares them); the waiting differs, so it goes elsewhere.
     std::printf("Network game over after %u ticks: final state hash %016llx, the same on both sides.\n",
                 game.tickCount(), static_cast<unsigned long long>(game.stateHash()));
-    std::fprintf(stderr, "rattle-demo: %u state hashes compared with the peer's; waited %.2f s for %s in all\n",
-                 network.session->hashesCompared(), network.session->waitedSeconds(), teamName(1 - o.team()));
+    std::fprintf(stderr,
+                 "rattle-demo: %u state hashes compared with the peer's; waited %.2f s for %s in all, at most "
+                 "%.2f s at once\n",
+                 network.session->hashesCompared(), network.session->waitedSeconds(), teamName(1 - o.team()),
+                 network.session->longestWaitSeconds());
   }
   return 0;
 }

@@ -15,6 +15,7 @@
 #include "game/opponent.h"
 #include "game/tick_loop.h"
 #include "map/map_loader.h"
+#include "net/delayed_source.h"
 #include "net/hello.h"
 #include "net/lockstep.h"
 #include "net/transport.h"
@@ -68,13 +69,16 @@ inline std::unique_ptr<rts::Game> makeGame(const GameSettings& s, const std::str
 struct SideResult {
   bool finished = false;  ///< played every tick and finish() passed
   rts::net::SessionError::Kind kind = rts::net::SessionError::Kind::PeerLost;
-  std::string error;  ///< the SessionError's line, when not finished
+  std::string error;    ///< the SessionError's line, when not finished
+  std::string details;  ///< the SessionError's details: a desync's report
   uint64_t finalHash = 0;
   uint32_t ticksPlayed = 0;
   uint32_t hashesCompared = 0;
   std::vector<rts::Command> applied;  ///< every command applied, in order (tick stamped)
   std::vector<std::string> log;       ///< the session's lines for a person
   double seconds = 0;                 ///< from the handshake's start to the end
+  double waited = 0;                  ///< the session's waitedSeconds()
+  double longestWait = 0;             ///< its longestWaitSeconds()
 };
 
 /// One side of a networked game on `transport`: the scripted opponent for its team, through a TickLoop
@@ -106,12 +110,55 @@ inline SideResult playSide(rts::net::Transport& transport, uint8_t team, const G
   } catch (const rts::net::SessionError& e) {
     r.kind = e.kind();
     r.error = e.what();
+    r.details = e.details();
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   r.finalHash = game->stateHash();
   r.ticksPlayed = game->tickCount();
   r.hashesCompared = session.hashesCompared();
+  r.waited = session.waitedSeconds();
+  r.longestWait = session.longestWaitSeconds();
   return r;
+}
+
+inline std::string describe(const SideResult& r) {
+  std::string s = r.finished ? "finished" : "ended: " + r.error + "\n" + r.details;
+  for (const std::string& l : r.log) s += "\n  " + l;
+  return s;
+}
+
+/// The game without a network, played by one TickLoop with sources in the given order.
+struct LocalGame {
+  uint64_t finalHash = 0;
+  std::vector<rts::Command> applied;
+};
+
+inline LocalGame playLocal(const GameSettings& s, const std::vector<rts::CommandSource*>& sources) {
+  const std::string mapJson = readFile(sourcePath(s.mapFile));
+  std::unique_ptr<rts::Game> game = makeGame(s, mapJson);
+  rts::TickLoop loop(*game);
+  for (rts::CommandSource* source : sources) loop.add(*source);
+  LocalGame g;
+  for (uint32_t t = 0; t < s.ticks; ++t) {
+    const std::vector<rts::Command>& commands = loop.tick();
+    g.applied.insert(g.applied.end(), commands.begin(), commands.end());
+  }
+  g.finalHash = game->stateHash();
+  return g;
+}
+
+/// The networked game of `s` as one loop plays it: each team's scripted opponent behind the input delay,
+/// team 0's first (test_net_lockstep.cpp shows the two are the same game).
+inline LocalGame playDelayedLocal(const GameSettings& s) {
+  rts::ScriptedOpponent blue(s.seed, 1), red(s.seed, 2);
+  rts::net::DelayedSource blueLater(blue, s.inputDelay), redLater(red, s.inputDelay);
+  return playLocal(s, {&blueLater, &redLater});
+}
+
+/// What the session decodes the peer's packets with in `game`.
+inline rts::net::DecodeContext contextOf(const rts::Game& game) {
+  return {uint32_t(game.units().size()), uint32_t(game.map().gates.size()), uint32_t(game.doorways().size()),
+          uint32_t(game.rooms().size())};
 }
 
 /// Polls a bare transport until `kind` comes (or `seconds` pass); returns what came last.

@@ -11,7 +11,9 @@
 #include <utility>
 #include <vector>
 
+#include "format/byte_writer.h"
 #include "format/limits.h"
+#include "format/snapshot_codec.h"
 #include "net/protocol.h"
 
 namespace net_test {
@@ -21,8 +23,13 @@ using namespace rts::net;
 /// Before the handshake: no game yet.
 inline DecodeContext noGame() { return {}; }
 /// The largest game a replay allows: every unit id and gate a command may name. The fuzzer decodes
-/// with these two contexts too.
-inline DecodeContext largestGame() { return {2 * rts::replay::kMaxUnitsPerTeam, rts::replay::kMaxGates}; }
+/// with these contexts too.
+inline DecodeContext largestGame() {
+  return {2 * rts::replay::kMaxUnitsPerTeam, rts::replay::kMaxGates, rts::replay::kMaxDoorways, rts::replay::kMaxRooms};
+}
+/// The game of the sample Snapshot: 3 units, 1 gate, 2 doorways, 2 rooms. A Snapshot decodes only in a
+/// game of its own sizes; fuzz/net_packet.cpp decodes with this context as well, for the seeds'.
+inline DecodeContext snapshotGame() { return {3, 1, 2, 2}; }
 
 inline std::vector<uint8_t> bytesOf(const std::string& s) { return std::vector<uint8_t>(s.begin(), s.end()); }
 inline std::string textOf(const std::vector<uint8_t>& b) { return std::string(b.begin(), b.end()); }
@@ -87,6 +94,68 @@ inline Commands everyCommandType() {
   return m;
 }
 
+/// Every kind of body a state holds, with awkward values: a live unit with an order (a target of -0.0
+/// and the smallest subnormal), one without, a dead one; two shots (an id of two varint bytes); a gate;
+/// doorway counts and room holders at the ends of their ranges. The game is snapshotGame().
+inline rts::replay::Snapshot sampleState() {
+  rts::replay::Snapshot s;
+  s.counters.shotsFired = 12;
+  s.counters.wallHits = 3;
+  s.counters.unitHits = 4;
+  s.counters.crossings = 1;
+  s.counters.losses[0] = 1;
+  s.counters.losses[1] = 0;
+  s.counters.doorwayCrossings = {{0, 1}, {UINT32_MAX, 7}};
+  s.counters.roomHolders = {-1, 2};
+  rts::replay::UnitState moving;
+  moving.alive = moving.orderActive = true;
+  moving.hitPoints = 100;
+  moving.reloadTicks = -2;
+  moving.bodyIndex = 4;
+  moving.bodyGeneration = 1;
+  moving.motion = {10.5, -3.25, 0.1, -0.0};
+  moving.targetX = -0.0;
+  moving.targetY = std::numeric_limits<double>::denorm_min();
+  rts::replay::UnitState still = moving;
+  still.orderActive = false;
+  still.targetX = still.targetY = 0;
+  still.bodyIndex = 200;
+  still.bodyGeneration = 3;
+  rts::replay::UnitState dead;
+  dead.hitPoints = -5;
+  s.units = {moving, still, dead};
+  rts::replay::ShotState shot;
+  shot.id = 5;
+  shot.team = 1;
+  shot.shooter = 1;
+  shot.ticksLeft = 30;
+  shot.bodyIndex = 9;
+  shot.bodyGeneration = 2;
+  shot.motion = {1, 2, 300, -400};
+  rts::replay::ShotState later = shot;
+  later.id = 300;
+  later.team = 0;
+  later.shooter = 0;
+  s.shots = {shot, later};
+  rts::replay::GateBodyState gate;
+  gate.wantOpen = true;
+  gate.openness = 0.5;
+  gate.motion = {7, 8, 0, 0.25};
+  s.gates = {gate};
+  return s;
+}
+
+inline Snapshot sampleSnapshot() { return Snapshot{101, 0x0102030405060708ull, sampleState()}; }
+
+/// The decode context a sample message decodes in: a Snapshot's own game, or the largest game.
+inline DecodeContext contextFor(const Message& m) {
+  if (const auto* s = std::get_if<Snapshot>(&m); s && s->state) {
+    return {uint32_t(s->state->units.size()), uint32_t(s->state->gates.size()),
+            uint32_t(s->state->counters.doorwayCrossings.size()), uint32_t(s->state->counters.roomHolders.size())};
+  }
+  return largestGame();
+}
+
 inline Commands fullCommands() {
   Commands m;
   m.tick = 9;
@@ -110,6 +179,11 @@ inline std::vector<std::pair<std::string, Message>> sampleMessages() {
       {"hash", Hash{UINT32_MAX, 0x8000000000000001ull}},
       {"bye", Bye{"the game is over"}},
       {"bye-empty", Bye{""}},
+      {"snapshot", sampleSnapshot()},
+      // A game with nothing in it: what the context before the handshake decodes.
+      {"snapshot-empty-game", Snapshot{0, 0, rts::replay::Snapshot{}}},
+      // A state too large for a packet is not sent, but the message is.
+      {"snapshot-without-state", Snapshot{UINT32_MAX, UINT64_MAX, std::nullopt}},
   };
 }
 
@@ -155,6 +229,20 @@ inline void expectSame(const Message& a, const Message& b, const std::string& wh
     EXPECT_EQ(x->stateHash, std::get<Hash>(b).stateHash) << where;
   } else if (const auto* x = std::get_if<Bye>(&a)) {
     EXPECT_EQ(x->reason, std::get<Bye>(b).reason) << where;
+  } else if (const auto* x = std::get_if<Snapshot>(&a)) {
+    const Snapshot& y = std::get<Snapshot>(b);
+    EXPECT_EQ(x->tick, y.tick) << where;
+    EXPECT_EQ(x->worldHash, y.worldHash) << where;
+    ASSERT_EQ(x->state.has_value(), y.state.has_value()) << where;
+    if (!x->state) return;
+    // Every field by its bits: the keyframe codec writes them all exactly.
+    rts::replay::ByteWriter p, q;
+    rts::replay::encodeSnapshot(p, *x->state);
+    rts::replay::encodeSnapshot(q, *y.state);
+    EXPECT_EQ(p.data(), q.data()) << where;
+    EXPECT_EQ(x->state->units.size(), y.state->units.size()) << where;
+    EXPECT_EQ(x->state->shots.size(), y.state->shots.size()) << where;
+    EXPECT_EQ(x->state->gates.size(), y.state->gates.size()) << where;
   }
 }
 
@@ -164,17 +252,17 @@ inline void expectCleanError(const std::vector<uint8_t>& input, const std::strin
   EXPECT_FALSE(error.empty()) << where;
   EXPECT_EQ(error.find('\n'), std::string::npos) << where << ": " << error;
   EXPECT_LE(error.size(), 400u) << where << ": " << error;
-  static const char* const names[] = {"Hello", "Refuse", "Commands", "Hash", "Bye"};
+  static const char* const names[] = {"Hello", "Refuse", "Commands", "Hash", "Bye", "Snapshot"};
   if (input.empty()) {
     EXPECT_EQ(error, "empty packet: no message type") << where;
-  } else if (input[0] >= 1 && input[0] <= 5) {
+  } else if (input[0] >= 1 && input[0] <= 6) {
     const std::string name = names[input[0] - 1];
     EXPECT_EQ(error.rfind(name, 0), 0u) << where << ": " << error;
     const char next = error.size() > name.size() ? error[name.size()] : '\0';
     EXPECT_TRUE(next == '.' || next == ':') << where << ": " << error;
   } else {
-    EXPECT_EQ(error,
-              "message type " + std::to_string(input[0]) + " is unknown (1 Hello, 2 Refuse, 3 Commands, 4 Hash, 5 Bye)")
+    EXPECT_EQ(error, "message type " + std::to_string(input[0]) +
+                         " is unknown (1 Hello, 2 Refuse, 3 Commands, 4 Hash, 5 Bye, 6 Snapshot)")
         << where;
   }
 }

@@ -54,14 +54,14 @@ TEST(NetPacketFuzzInputs, TheSeedsAreTheSampleMessagesEncoded) {
         << (kSeeds / name) << " is missing; write the seeds again (see the top of this file)";
     EXPECT_EQ(readFile(kSeeds / name), encode(message))
         << name << ": the seed is out of date; write the seeds again (see the top of this file)";
-    const Decoded d = decodeBytes(readFile(kSeeds / name), largestGame());
+    const Decoded d = decodeBytes(readFile(kSeeds / name), contextFor(message));
     ASSERT_TRUE(d.ok()) << name << ": " << d.error;
     expectSame(message, *d.message, name);
   }
 }
 
 // The kept findings (none yet: a finding is kept by copying it into fuzz/regressions/net_packet/), the
-// seeds, and every seed cut short or with a byte more, under both contexts the fuzzer uses.
+// seeds, and every seed cut short or with a byte more, under the three contexts the fuzzer uses.
 TEST(NetPacketFuzzInputs, EveryInputIsRefusedCleanlyOrRoundTrips) {
   std::vector<std::pair<std::string, std::vector<uint8_t>>> inputs;
   for (const auto& file : inputsIn(kRegressions)) inputs.push_back({file.filename().string(), readFile(file)});
@@ -80,11 +80,12 @@ TEST(NetPacketFuzzInputs, EveryInputIsRefusedCleanlyOrRoundTrips) {
   }
   int decoded = 0, refused = 0;
   for (const auto& [name, bytes] : inputs) {
-    for (const DecodeContext& context : {noGame(), largestGame()}) {
+    for (const DecodeContext& context : {noGame(), largestGame(), snapshotGame()}) {
       (expectRefusedCleanlyOrRoundTrips(bytes, context, name) ? decoded : refused)++;
     }
   }
-  // Every seed decodes under the largest game (the test above checks their values); no cut one does.
+  // Every seed decodes under the largest game or its own (the test above checks their values); no cut
+  // one does.
   EXPECT_GE(decoded, int(seeds.size()));
   EXPECT_GT(refused, 500);
 }

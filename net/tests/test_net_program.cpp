@@ -1,6 +1,7 @@
 // rattle-demo --host and --join as programs: two processes play one game headless and print the same
-// final hash line, both record replays that verify and hold the same commands, a mismatch is refused
-// with exit status 3 on both sides, and the options are checked.
+// final hash line, both record replays that verify and hold the same commands, the same through the
+// faulty relay, a mismatch is refused with exit status 3 on both sides, and the options are checked;
+// rattle-relay says how to use it.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -12,6 +13,7 @@
 
 #include "format/replay_reader.h"
 #include "lockstep_test_support.h"
+#include "net/faulty_relay.h"
 
 namespace {
 
@@ -144,6 +146,66 @@ TEST(NetProgram, TwoProcessesPlayOneGameAndRecordTheSameCommands) {
   EXPECT_GT(commands, 0u);
   // The first three ticks (the input delay) have none.
   for (size_t t = 0; t < 3; ++t) EXPECT_TRUE(a.replay->ticks[t].commands.empty()) << t;
+}
+
+/// The seconds a side says it waited for the other in all ("waited 1.23 s for ..."), or -1.
+double waitedIn(const std::string& output) {
+  const size_t at = output.find("; waited ");
+  return at == std::string::npos ? -1 : std::atof(output.c_str() + at + std::strlen("; waited "));
+}
+
+// The joiner connects to the relay (in this process), which forwards to the host with 10% of the
+// datagrams lost, 5% doubled, 5% held back and 50-200 ms of delay. An input delay of 30 ticks: see
+// test_net_relay.cpp for why; 120 ticks take a few seconds.
+TEST(NetProgram, TwoProcessesPlayOneGameThroughTheFaultyRelay) {
+  const std::string game = kGame + " --seed 9 --input-delay 30 --peer-timeout 15";
+  HostProcess host(game);
+  ASSERT_GT(host.port(), 0) << host.finish().output;
+  rts::net::FaultyRelay relay(0, "127.0.0.1", uint16_t(host.port()), rts::net::FaultModel{});
+  relay.start();
+  const Outcome joiner = run(RATTLE_DEMO_BINARY, "--join 127.0.0.1:" + std::to_string(relay.port()) + " " + game);
+  const Outcome hosted = host.finish();
+  relay.stop();
+  ASSERT_EQ(hosted.status, 0) << hosted.output;
+  ASSERT_EQ(joiner.status, 0) << joiner.output;
+  const std::string line = finalLine(hosted.output);
+  EXPECT_EQ(line.rfind("Network game over after 120 ticks: final state hash ", 0), 0u) << hosted.output;
+  EXPECT_EQ(finalLine(joiner.output), line);
+  // Both say how long they waited, and through this network they did.
+  EXPECT_GT(waitedIn(hosted.output), 0) << hosted.output;
+  EXPECT_GT(waitedIn(joiner.output), 0) << joiner.output;
+  std::printf("[ relay    ] waited: host %.2f s, joiner %.2f s\n", waitedIn(hosted.output), waitedIn(joiner.output));
+  EXPECT_GT(relay.towardsHost().dropped + relay.towardsJoiner().dropped, 0u);
+}
+
+TEST(NetProgram, TheRelayProgramSaysHowToUseIt) {
+  const Outcome help = run(RATTLE_RELAY_BINARY, "--help");
+  EXPECT_EQ(help.status, 0);
+  for (const char* part : {"--to HOST:PORT", "--listen PORT", "--seed N", "(default 26)", "--drop P", "(default 0.10)",
+                           "--duplicate P", "(default 0.05)", "--reorder P", "--delay MIN-MAX", "(default 50-200)"}) {
+    EXPECT_TRUE(has(help, part)) << part;
+  }
+  struct Case {
+    const char* arguments;
+    const char* message;
+  };
+  for (const Case& c : {
+           Case{"", "rattle-relay: --to HOST:PORT is required"},
+           Case{"--to localhost", "rattle-relay: --to localhost: expected HOST:PORT"},
+           Case{"--to localhost:0", "rattle-relay: --to localhost:0: expected a port from 1 to 65535"},
+           Case{"--to localhost:9 --listen 1.5", "rattle-relay: --listen 1.5: expected a port from 0 to 65535"},
+           Case{"--to localhost:9 --drop 1.5", "rattle-relay: --drop 1.5: expected a probability from 0 to 1"},
+           Case{"--to localhost:9 --delay 200-50", "rattle-relay: --delay 200-50: MIN is above MAX"},
+           Case{"--to localhost:9 --frobnicate 1", "rattle-relay: --frobnicate: unknown option"},
+       }) {
+    const Outcome o = run(RATTLE_RELAY_BINARY, c.arguments);
+    EXPECT_EQ(o.status, 2) << c.arguments << ": " << o.output;
+    EXPECT_TRUE(has(o, c.message)) << c.arguments << ": " << o.output;
+  }
+  const Outcome unresolved = run(RATTLE_RELAY_BINARY, "--to no-such-host.invalid:9 --seconds 1");
+  EXPECT_EQ(unresolved.status, 1) << unresolved.output;
+  EXPECT_TRUE(has(unresolved, "rattle-relay: cannot resolve the host name 'no-such-host.invalid'"))
+      << unresolved.output;
 }
 
 TEST(NetProgram, AMismatchIsRefusedOnBothSidesWithStatus3) {
