@@ -114,9 +114,9 @@ void forEachPiece(const Geometry& g, Vec2 position, Vec2 p, Found&& found) {
     const detail::Closest c = detail::closestOnSegment(a, b, q, endsCollide);
     if (!c.collidable) return;
     const Vec2 r = q - c.point;
-    const double distance = length(r);
+    const double near = 1e-6 * std::max({1.0, std::fabs(p.x), std::fabs(p.y)});
     const bool inner = !(c.point.x == a.x && c.point.y == a.y) && !(c.point.x == b.x && c.point.y == b.y);
-    if (inner && distance < 1e-6 * std::max({1.0, std::fabs(p.x), std::fabs(p.y)})) {
+    if (inner && dot(r, r) < near * near) {  // no square root for the far pieces, nearly all of them
       const Vec2 d = b - a;
       const Vec2 left = Vec2{-d.y, d.x} * (1.0 / length(d));
       const double side = dot(left, q - a);

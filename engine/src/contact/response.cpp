@@ -77,20 +77,20 @@ struct FaceHold {
   double inverseSum() const { return effectiveA + effectiveB; }
 };
 
-FaceHold holdOnFaces(const BodySlot& a, double inverseA, bool pointA, const BodySlot& b, double inverseB, bool pointB,
-                     Vec2 n) {
+// The geometries are looked at only for a sliding body: most contacts have none.
+FaceHold holdOnFaces(const BodySlot& a, double inverseA, const Geometry& ga, const BodySlot& b, double inverseB,
+                     const Geometry& gb, Vec2 n) {
   FaceHold h{n, n, inverseA, inverseB};
-  auto hold = [&](const BodySlot& s, double inverse, bool point, double otherInverse, double side, Vec2& direction,
-                  double& effective, bool& held) {
-    if (!point || !s.sliding || !(inverse > 0) || !(otherInverse > 0) || !(side * dot(n, s.support.normal) < 0)) {
-      return;
-    }
+  auto hold = [&](const BodySlot& s, double inverse, const Geometry& g, double otherInverse, double side,
+                  Vec2& direction, double& effective, bool& held) {
+    if (!s.sliding || !(inverse > 0) || !(otherInverse > 0) || !(side * dot(n, s.support.normal) < 0)) return;
+    if (!detail::isPoint(g)) return;
     direction = n - s.support.normal * dot(n, s.support.normal);
     effective = inverse * dot(direction, n);
     held = true;
   };
-  hold(a, inverseA, pointA, inverseB, 1.0, h.directionA, h.effectiveA, h.heldA);
-  hold(b, inverseB, pointB, inverseA, -1.0, h.directionB, h.effectiveB, h.heldB);
+  hold(a, inverseA, ga, inverseB, 1.0, h.directionA, h.effectiveA, h.heldA);
+  hold(b, inverseB, gb, inverseA, -1.0, h.directionB, h.effectiveB, h.heldB);
   // Pushed straight into both faces, neither can take the impulse along them: left to the faces' own
   // contacts as before.
   if (!(h.inverseSum() > 0)) h = FaceHold{n, n, inverseA, inverseB};
@@ -107,7 +107,7 @@ void detail::WorldState::absorb(const PredictedContact& c, double vn) {
   const double inverseA = a.asleep ? 0.0 : a.inverseMass;
   const double inverseB = b.asleep ? 0.0 : b.inverseMass;
   if (!(inverseA + inverseB > 0)) return;
-  const FaceHold hold = holdOnFaces(a, inverseA, detail::isPoint(fixtures[c.a].geometry), b, inverseB, detail::isPoint(fixtures[c.b].geometry), c.normal);
+  const FaceHold hold = holdOnFaces(a, inverseA, fixtures[c.a].geometry, b, inverseB, fixtures[c.b].geometry, c.normal);
   const double j = -vn / hold.inverseSum();
   a.velocity += hold.directionA * (j * inverseA);
   b.velocity -= hold.directionB * (j * inverseB);
@@ -195,7 +195,7 @@ void detail::WorldState::resolve(const PredictedContact& c, std::vector<uint32_t
       collapsing || now - a.lastContactTime < def.collapseTime || now - b.lastContactTime < def.collapseTime;
   const double e = rapid ? 1.0 : std::max(fixtures[c.a].restitution, fixtures[c.b].restitution);
   double separation = -e * vn;
-  const FaceHold hold = holdOnFaces(a, inverseA, detail::isPoint(fixtures[c.a].geometry), b, inverseB, detail::isPoint(fixtures[c.b].geometry), n);
+  const FaceHold hold = holdOnFaces(a, inverseA, fixtures[c.a].geometry, b, inverseB, fixtures[c.b].geometry, n);
   double j = (separation - vn) / hold.inverseSum();
   a.velocity += hold.directionA * (j * inverseA);
   b.velocity -= hold.directionB * (j * inverseB);
