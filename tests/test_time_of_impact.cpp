@@ -643,6 +643,19 @@ TEST(TimeOfImpactPointOnALine, AlongABottomEdgeIntoTheNextEdgeAtItsEnd) {
                {1.0, -1.0}, {1.0, 0.0}, 1);
 }
 
+TEST(TimeOfImpactPointOnALine, AnUlpBelowABoxsFloorIntoAWallThatIsABareSegment) {
+  // A box of four bare segments: its right wall x = 1 runs up from the corner (1, -1), where the floor
+  // y = -1 ends. A point sliding right an ulp below the floor's line (where round-off leaves it) crosses
+  // the wall's line an ulp beyond the wall's end, at t = (1 - -3) / 4 = 1: that ulp is round-off, so it
+  // meets the wall's face there, pushed back along -x. Without it the point left the box through its
+  // corner. A point passing a bare segment's end by more than round-off still meets nothing.
+  const double below = std::nextafter(-1.0, -2.0);
+  const rattle::Segment wall{{1.0, -1.0}, {1.0, 1.0}};
+  expectImpact(rattle::timeOfImpactCircleSegment({{-3.0, below}, 0.0}, Vec2{4.0, 0.0}, wall, 10.0), 1.0,
+               {1.0, -1.0}, {-1.0, 0.0}, 0);
+  expectNone(rattle::timeOfImpactCircleSegment({{-3.0, -1.0 - 1e-9}, 0.0}, Vec2{4.0, 0.0}, wall, 10.0));
+}
+
 TEST(TimeOfImpactPointOnALine, AnUlpInsideAPolygonFaceAndPressedIntoItIsAContactNow) {
   // At rest an ulp inside the top face y = 1 (s0 = -ulp), gravity pressing it in: touching and
   // approaching, so now, with the face's normal. A circle of radius 0 has no overlap to tell it is still
