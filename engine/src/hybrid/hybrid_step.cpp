@@ -197,7 +197,7 @@ void detail::WorldState::advance(BodySlot& b, double t) {
   moveTo(b, t);
 }
 
-bool detail::WorldState::joinsIsland(const PredictedContact& c) const {
+bool detail::WorldState::joinsIsland(const PredictedContact& c, double stepEnd) const {
   if (!(def.restingSpeed > 0)) return false;
   const BodySlot& a = bodyOf(c.a);
   const BodySlot& b = bodyOf(c.b);
@@ -209,7 +209,7 @@ bool detail::WorldState::joinsIsland(const PredictedContact& c) const {
   // Pressed together by gravity, or one of them already held by an island that pushes it into the other.
   if (!a.stepped && !b.stepped && !(dot(a.acceleration - b.acceleration, c.normal) < 0)) return false;
   // The bounce resolve() would give (Newton's law with the TC model's exception), against restingSpeed.
-  const double vn = std::min(dot(velocityAt(a, c.time) - velocityAt(b, c.time), c.normal), 0.0);
+  const double vn = std::min(impactNormalVelocity(a, b, c.normal, c.time, stepEnd), 0.0);
   const double now = time + c.time;
   const bool rapid = now - a.lastContactTime < def.collapseTime || now - b.lastContactTime < def.collapseTime;
   const double e = rapid ? 1.0 : std::max(fixtures[c.a].restitution, fixtures[c.b].restitution);
@@ -518,7 +518,7 @@ void detail::WorldState::collide(const PredictedContact& c, double dt, std::vect
     return;
   }
   const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
-  if (joinsIsland(c)) {
+  if (joinsIsland(c, dt)) {
     // It would bounce off slower than restingSpeed from a body that moves: the two rest on each
     // other from now on, in a stepped island (island.cpp), instead of bouncing ever lower.
     const std::vector<uint32_t> pair{ia, ib};
@@ -534,7 +534,7 @@ void detail::WorldState::collide(const PredictedContact& c, double dt, std::vect
   }
   woken.clear();
   const bool aAsleep = bodies[ia].asleep, bAsleep = bodies[ib].asleep;
-  resolve(c, woken);
+  resolve(c, woken, false, dt);
   ++stats.eventsProcessed;
   // A body that has just gone to sleep holds its stepped neighbours from now on: the islands' solve
   // did not see it as fixed, so they keep clear of it for the rest of the step.

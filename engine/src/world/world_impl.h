@@ -363,11 +363,27 @@ struct WorldState {
     b.velocity = velocityAt(b, t);
     b.localTime = t;
   }
-  void resolve(const detail::PredictedContact& c, std::vector<uint32_t>& woken, bool zenoGuard = false);
+  /// stepEnd: where the hybrid step's stepped bodies end their straight paths (time since the step's
+  /// start); negative where no body is stepped (the predictive mode).
+  void resolve(const detail::PredictedContact& c, std::vector<uint32_t>& woken, bool zenoGuard = false,
+               double stepEnd = -1);
   void absorb(const detail::PredictedContact& c, double vn);
   /// Whether a contact would leave two bodies that both move (awake, not static) bouncing off each other
   /// slower than restingSpeed while gravity presses them together: they join a stepped island.
-  bool joinsIsland(const detail::PredictedContact& c) const;
+  /// stepEnd as for resolve.
+  bool joinsIsland(const detail::PredictedContact& c, double stepEnd) const;
+  /// The relative normal velocity (a's minus b's along n, which points from b toward a) that a contact's
+  /// impulse is computed from at time t: where one of the two is stepped and the other is not, the
+  /// slower approach of the straight path's and of the parabola's it stands in for, ending at stepEnd
+  /// (response.cpp says why). stepEnd < 0 (no stepped bodies): the straight one.
+  double impactNormalVelocity(const detail::BodySlot& a, const detail::BodySlot& b, Vec2 n, double t,
+                              double stepEnd) const {
+    const double straight = dot(velocityAt(a, t) - velocityAt(b, t), n);
+    if (stepEnd < 0 || a.stepped == b.stepped) return straight;
+    const Vec2 g = def.gravity * (stepEnd - t);  // what the stepped one has taken ahead of its parabola
+    const double parabola = straight + dot(a.stepped ? -g : g, n);
+    return std::max(straight, parabola);
+  }
 
   // island.cpp: stepped islands.
   struct IslandContact {
