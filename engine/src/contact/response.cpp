@@ -2,13 +2,14 @@
 // just resolved (the round-off guard, LastContact), the inelastic absorb of a round-off approach, the
 // resolution of a collision (Newton's law with restitution, the round-off clean-up, resting: sleep,
 // slide or a bounce at restingSpeed, the collapse guard and the TC model), and the ContactEvent every
-// mode reports. The discrete step and the predictive mode's plain disks (predictive/plain_collision.h)
-// keep copies of the arithmetic of resolve() on their own data.
+// mode reports. The arithmetic of an impulse and of the event is contact/impulse.h's, which the discrete
+// step and the predictive mode's plain disks (predictive/plain_collision.h) call on their own data.
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "collision/closest_point.h"
+#include "contact/impulse.h"
 #include "world/world_impl.h"
 
 namespace rattle {
@@ -71,16 +72,14 @@ namespace {
 // move (a corner) a point's slide ends as before (leavesCorner). The impulse j >= 0 pushes a along n and
 // b against it.
 struct FaceHold {
-  Vec2 directionA, directionB;
-  double effectiveA, effectiveB;
+  detail::PairImpulse impulse;
   bool heldA = false, heldB = false;
-  double inverseSum() const { return effectiveA + effectiveB; }
 };
 
 // The geometries are looked at only for a sliding body: most contacts have none.
 FaceHold holdOnFaces(const BodySlot& a, double inverseA, const Geometry& ga, const BodySlot& b, double inverseB,
                      const Geometry& gb, Vec2 n) {
-  FaceHold h{n, n, inverseA, inverseB};
+  FaceHold h{detail::PairImpulse::alongNormal(n, inverseA, inverseB)};
   auto hold = [&](const BodySlot& s, double inverse, const Geometry& g, double otherInverse, double side,
                   Vec2& direction, double& effective, bool& held) {
     if (!s.sliding || !(inverse > 0) || !(otherInverse > 0) || !(side * dot(n, s.support.normal) < 0)) return;
@@ -89,11 +88,11 @@ FaceHold holdOnFaces(const BodySlot& a, double inverseA, const Geometry& ga, con
     effective = inverse * dot(direction, n);
     held = true;
   };
-  hold(a, inverseA, ga, inverseB, 1.0, h.directionA, h.effectiveA, h.heldA);
-  hold(b, inverseB, gb, inverseA, -1.0, h.directionB, h.effectiveB, h.heldB);
+  hold(a, inverseA, ga, inverseB, 1.0, h.impulse.directionA, h.impulse.effectiveA, h.heldA);
+  hold(b, inverseB, gb, inverseA, -1.0, h.impulse.directionB, h.impulse.effectiveB, h.heldB);
   // Pushed straight into both faces, neither can take the impulse along them: left to the faces' own
   // contacts as before.
-  if (!(h.inverseSum() > 0)) h = FaceHold{n, n, inverseA, inverseB};
+  if (!(h.impulse.inverseSum() > 0)) h = FaceHold{detail::PairImpulse::alongNormal(n, inverseA, inverseB)};
   return h;
 }
 
@@ -108,9 +107,7 @@ void detail::WorldState::absorb(const PredictedContact& c, double vn) {
   const double inverseB = b.asleep ? 0.0 : b.inverseMass;
   if (!(inverseA + inverseB > 0)) return;
   const FaceHold hold = holdOnFaces(a, inverseA, fixtures[c.a].geometry, b, inverseB, fixtures[c.b].geometry, c.normal);
-  const double j = -vn / hold.inverseSum();
-  a.velocity += hold.directionA * (j * inverseA);
-  b.velocity -= hold.directionB * (j * inverseB);
+  hold.impulse.apply(a.velocity, b.velocity, -vn / hold.impulse.inverseSum());
   const detail::LastContact last{std::min(c.a, c.b), std::max(c.a, c.b), c.feature, c.time};
   for (BodySlot* s : {&a, &b}) {
     if (s->type != BodyType::Dynamic) continue;
@@ -131,19 +128,11 @@ void detail::WorldState::rememberFace(const PredictedContact& c) {
 
 ContactEvent detail::WorldState::contactEventOf(uint32_t a, uint32_t b, double time, Vec2 point, Vec2 normal,
                                                 double impulse) const {
-  // A is the fixture with the lower index; `normal` points from b toward a, the event's from A toward B.
-  const bool aIsLower = a < b;
-  const uint32_t fa = aIsLower ? a : b, fb = aIsLower ? b : a;
-  ContactEvent event;
-  event.time = time;
-  event.point = point;
-  event.impulse = impulse;
-  event.fixtureA = {fa, fixtures[fa].generation};
-  event.fixtureB = {fb, fixtures[fb].generation};
-  event.bodyA = {fixtures[fa].body, bodies[fixtures[fa].body].generation};
-  event.bodyB = {fixtures[fb].body, bodies[fixtures[fb].body].generation};
-  event.normal = aIsLower ? -normal : normal;
-  return event;
+  auto side = [&](uint32_t f) {
+    const uint32_t body = fixtures[f].body;
+    return detail::ContactSide{f, fixtures[f].generation, body, bodies[body].generation};
+  };
+  return detail::makeContactEvent(time, point, normal, impulse, side(a), side(b));
 }
 
 void detail::WorldState::resolve(const PredictedContact& c, std::vector<uint32_t>& woken, bool zenoGuard,
@@ -208,9 +197,7 @@ void detail::WorldState::resolve(const PredictedContact& c, std::vector<uint32_t
   const double e = rapid ? 1.0 : std::max(fixtures[c.a].restitution, fixtures[c.b].restitution);
   double separation = -e * vn;
   const FaceHold hold = holdOnFaces(a, inverseA, fixtures[c.a].geometry, b, inverseB, fixtures[c.b].geometry, n);
-  double j = (separation - vn) / hold.inverseSum();
-  a.velocity += hold.directionA * (j * inverseA);
-  b.velocity -= hold.directionB * (j * inverseB);
+  double j = hold.impulse.bounce(a.velocity, b.velocity, vn, e);
 
   // Resting (resting.cpp): only when gravity presses the two together, so that a slow bounce would
   // turn into a Zeno sequence.
@@ -232,24 +219,14 @@ void detail::WorldState::resolve(const PredictedContact& c, std::vector<uint32_t
       j = -vn / inverseSum;
     } else {
       // Bounce off at restingSpeed at least: bounded bounce rate instead of a Zeno sequence.
-      const double extra = (restingSpeed - separation) / hold.inverseSum();
-      a.velocity += hold.directionA * (extra * inverseA);
-      b.velocity -= hold.directionB * (extra * inverseB);
+      const double extra = (restingSpeed - separation) / hold.impulse.inverseSum();
+      hold.impulse.apply(a.velocity, b.velocity, extra);
       j += extra;
       separation = restingSpeed;
     }
   }
 
-  // With restitution 0 the normal speed after is zero only up to round-off; make sure it is not left
-  // approaching, since the pair is now taken to be separating (LastContact) until something changes.
-  for (int k = 0; k < 3; ++k) {
-    const double after = dot(a.velocity - b.velocity, n);
-    if (!(after < 0)) break;
-    const double extra = -after / hold.inverseSum();
-    a.velocity += hold.directionA * (extra * inverseA);
-    b.velocity -= hold.directionB * (extra * inverseB);
-    j += extra;
-  }
+  hold.impulse.keepSeparating(a.velocity, b.velocity, n, j);
 
   const detail::LastContact last{std::min(c.a, c.b), std::max(c.a, c.b), c.feature, c.time};
   for (BodySlot* s : {&a, &b}) {

@@ -10,6 +10,7 @@
 #include <span>
 
 #include "collision/closest_point.h"
+#include "contact/impulse.h"
 #include "contact/tolerances.h"
 #include "world/world_impl.h"
 
@@ -259,25 +260,15 @@ void DiscreteStepper::reflect(uint32_t own, uint32_t other, const Penetration& p
   detail::WorldState& w = w_;
   BodySlot& body = w.bodyOf(own);
   BodySlot& partner = w.bodyOf(other);
-  const double inverseSum = inverseA + inverseB;
   const double vn = dot(body.velocity - partner.velocity, pen.normal);
   // Only an approach is a collision; an overlap that is already separating, or approaching no faster
   // than round-off of the speeds involved, is just pushed apart.
   const double roundOff = detail::kApproachRoundOff * (length(body.velocity) + length(partner.velocity));
   if (!(vn < -roundOff)) return;
   const double e = std::max(w.fixtures[own].restitution, w.fixtures[other].restitution);
-  double j = -(1 + e) * vn / inverseSum;
-  body.velocity += pen.normal * (j * inverseA);
-  partner.velocity -= pen.normal * (j * inverseB);
-  // As in the hybrid step: with restitution 0, leave the pair separating, not approaching by round-off.
-  for (int k = 0; k < 3; ++k) {
-    const double after = dot(body.velocity - partner.velocity, pen.normal);
-    if (!(after < 0)) break;
-    const double extra = -after / inverseSum;
-    body.velocity += pen.normal * (extra * inverseA);
-    partner.velocity -= pen.normal * (extra * inverseB);
-    j += extra;
-  }
+  const detail::PairImpulse impulse = detail::PairImpulse::alongNormal(pen.normal, inverseA, inverseB);
+  double j = impulse.bounce(body.velocity, partner.velocity, vn, e);
+  impulse.keepSeparating(body.velocity, partner.velocity, pen.normal, j);
   ++w.stats.eventsProcessed;
   // Where the two touch once pushed apart: on the circle, opposite its normal.
   const Vec2 point = body.position + detail::circleCentre(w.fixtures[own].geometry) -

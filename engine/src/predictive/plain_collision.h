@@ -2,10 +2,11 @@
 // default filter), resolved on the compact copies (HotBody, ColdBody) instead of the two
 // BodySlots and FixtureSlots, which are written back later (the engine's attach()).
 //
-// It is detail::WorldState::resolve() (hybrid_step.cpp) for the case the predictive mode takes it in when the
-// world has no gravity, no sensors and nobody asleep: no wake-ups, no Zeno guard (it counts only under
-// gravity), no resting rules (they need gravity pressing the pair together), no slides. What is left is
-// the same arithmetic in the same order, so the same bits: Newton's law along the normal with
+// It is detail::WorldState::resolve() (contact/response.cpp) for the case the predictive mode takes it in
+// when the world has no gravity, no sensors and nobody asleep: no wake-ups, no Zeno guard (it counts only
+// under gravity), no resting rules (they need gravity pressing the pair together), no slides. What is
+// left is the same arithmetic (contact/impulse.h, which both call), so the same bits: Newton's law along
+// the normal with
 // e = max of the two restitutions, or e = 1 within WorldDef::collapseTime of either body's last collision
 // (the TC model, Luding & McNamara, Granular Matter 1, 113, 1998); the round-off clean-up that leaves
 // the pair not approaching; the LastContact guard.
@@ -13,6 +14,7 @@
 
 #include <algorithm>
 
+#include "contact/impulse.h"
 #include "predictive/predictive_step.h"
 #include "rattle/types.h"
 
@@ -72,19 +74,9 @@ inline PlainOutcome resolvePlainDisks(PlainDisk a, PlainDisk b, const Predictive
   const bool rapid = aCollapsing || bCollapsing || now - a.cold.lastContactTime < collapseTime ||
                      now - b.cold.lastContactTime < collapseTime;
   const double e = rapid ? 1.0 : std::max(a.cold.restitution, b.cold.restitution);
-  const double separation = -e * vn;
-  double j = (separation - vn) / inverseSum;
-  va += n * (j * inverseA);
-  vb -= n * (j * inverseB);
-  // As resolve(): with restitution 0 the normal speed after is zero only up to round-off.
-  for (int k = 0; k < 3; ++k) {
-    const double after = dot(va - vb, n);
-    if (!(after < 0)) break;
-    const double extra = -after / inverseSum;
-    va += n * (extra * inverseA);
-    vb -= n * (extra * inverseB);
-    j += extra;
-  }
+  const PairImpulse impulse = PairImpulse::alongNormal(n, inverseA, inverseB);
+  double j = impulse.bounce(va, vb, vn, e);
+  impulse.keepSeparating(va, vb, n, j);
   const uint32_t low = std::min(c.a, c.b), high = std::max(c.a, c.b);
   for (PlainDisk* d : {&a, &b}) {
     ++d->hot.collisionCount;

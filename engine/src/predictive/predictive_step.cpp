@@ -128,17 +128,11 @@ void Engine::collidePlain(uint32_t i, uint32_t j, const PredictiveEvent& c, doub
     }
   }
   if (!out.resolved) return;
-  const bool aIsLower = c.a < c.b;
-  const uint32_t lower = aIsLower ? i : j, upper = aIsLower ? j : i;
-  ContactEvent event;
-  event.time = c.time;
-  event.point = c.point;
-  event.impulse = out.impulse;
-  event.fixtureA = {s_.hot[lower].fixture, s_.cold[lower].fixtureGeneration};
-  event.fixtureB = {s_.hot[upper].fixture, s_.cold[upper].fixtureGeneration};
-  event.bodyA = {s_.bodyOfSlot[lower], s_.cold[lower].bodyGeneration};
-  event.bodyB = {s_.bodyOfSlot[upper], s_.cold[upper].bodyGeneration};
-  event.normal = aIsLower ? -c.normal : c.normal;  // c.normal points from c.b toward c.a
+  auto side = [&](uint32_t k) {
+    return detail::ContactSide{s_.hot[k].fixture, s_.cold[k].fixtureGeneration, s_.bodyOfSlot[k],
+                               s_.cold[k].bodyGeneration};
+  };
+  const ContactEvent event = detail::makeContactEvent(c.time, c.point, c.normal, out.impulse, side(i), side(j));
   std::vector<ContactEvent>& events = w_.contactEvents;
   if (events.size() == events.capacity()) {
     // Room for as many as this step is on course for (a quarter more), rather than doubling: a long step

@@ -1,0 +1,84 @@
+// The arithmetic of one collision that every mode shares: Newton's restitution impulse along the contact
+// normal, the round-off clean-up after it, and the ContactEvent that reports it. resolve() (response.cpp),
+// the predictive mode's plain-disk fast path (plain_collision.h) and the discrete mode's reflection
+// (discrete_step.cpp) call these instead of writing them out, so the modes cannot drift apart, and the
+// fast path stays bit for bit what resolve() would do.
+#pragma once
+
+#include <cstdint>
+
+#include "rattle/types.h"
+#include "rattle/vec2.h"
+
+namespace rattle::detail {
+
+/// Where an impulse j along a contact's normal n (from b toward a) acts: a takes +j along directionA and
+/// b takes -j along directionB, each scaled by its inverse mass. The directions are n, except for a
+/// sliding point held on its face, which takes the impulse along the face (a bead on a wire): then
+/// effectiveA (or B) is its inverse mass times directionA . n, and the pair's inverse mass along n is
+/// their sum.
+struct PairImpulse {
+  Vec2 directionA, directionB;
+  double inverseA = 0, inverseB = 0;
+  double effectiveA = 0, effectiveB = 0;
+
+  /// Both along n: the plain case.
+  static PairImpulse alongNormal(Vec2 n, double inverseA, double inverseB) {
+    return {n, n, inverseA, inverseB, inverseA, inverseB};
+  }
+  double inverseSum() const { return effectiveA + effectiveB; }
+
+  void apply(Vec2& va, Vec2& vb, double j) const {
+    va += directionA * (j * inverseA);
+    vb -= directionB * (j * inverseB);
+  }
+
+  /// Newton's law: the impulse that turns the normal velocity vn (< 0: approaching) into a separation of
+  /// -e vn, applied to va and vb. Returns it.
+  double bounce(Vec2& va, Vec2& vb, double vn, double e) const {
+    const double separation = -e * vn;
+    const double j = (separation - vn) / inverseSum();
+    apply(va, vb, j);
+    return j;
+  }
+
+  /// With restitution 0 the normal speed after an impulse is zero only up to round-off; the pair is taken
+  /// to be separating from then on (LastContact), so it must not be left approaching: up to three more
+  /// impulses, each taking out what round-off left, added to j one by one.
+  void keepSeparating(Vec2& va, Vec2& vb, Vec2 n, double& j) const {
+    for (int k = 0; k < 3; ++k) {
+      const double after = dot(va - vb, n);
+      if (!(after < 0)) break;
+      const double extra = -after / inverseSum();
+      apply(va, vb, extra);
+      j += extra;
+    }
+  }
+};
+
+/// One side of a reported contact: its fixture and body, with their generations at the time.
+struct ContactSide {
+  uint32_t fixture = 0, fixtureGeneration = 0;
+  uint32_t body = 0, bodyGeneration = 0;
+};
+
+/// The ContactEvent of a contact between a and b whose normal points from b toward a: A is the side with
+/// the lower fixture index, and the event's normal points from A toward B.
+inline ContactEvent makeContactEvent(double time, Vec2 point, Vec2 normal, double impulse, const ContactSide& a,
+                                     const ContactSide& b) {
+  const bool aIsLower = a.fixture < b.fixture;
+  const ContactSide& lower = aIsLower ? a : b;
+  const ContactSide& upper = aIsLower ? b : a;
+  ContactEvent event;
+  event.time = time;
+  event.point = point;
+  event.impulse = impulse;
+  event.fixtureA = {lower.fixture, lower.fixtureGeneration};
+  event.fixtureB = {upper.fixture, upper.fixtureGeneration};
+  event.bodyA = {lower.body, lower.bodyGeneration};
+  event.bodyB = {upper.body, upper.bodyGeneration};
+  event.normal = aIsLower ? -normal : normal;
+  return event;
+}
+
+}  // namespace rattle::detail
