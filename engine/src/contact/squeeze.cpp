@@ -60,9 +60,14 @@ bool detail::WorldState::squeezeAt(const detail::PredictedContact& c) {
     // other at one instant without end. Only such bounces, at the instant of its last collision, count
     // here; a fast body crossing a small box does not. It stops moving into this one.
     if (a.last.time != c.time) return false;
+    // Not moving into it, only pressed into it by gravity (a point at rest in a box's corner): there is
+    // no bounce to stop, and stopping nothing found the same contact again at the same instant without
+    // end (fuzz/regressions/world_api/budget-predictive-points-in-a-corner). resolve()'s resting rules
+    // hold a pressed body: it sleeps or slides.
+    if (!(dot(velocityAt(a, c.time), c.normal) < 0)) return false;
     advance(a, c.time);
     const double vn = dot(a.velocity, c.normal);
-    if (vn < 0) a.velocity -= c.normal * vn;
+    a.velocity -= c.normal * vn;
     ++a.collisionCount;
     a.setLast(detail::LastContact{std::min(c.a, c.b), std::max(c.a, c.b), c.feature, c.time});
     ++stats.squeezes;
