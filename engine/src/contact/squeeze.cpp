@@ -70,6 +70,11 @@ bool detail::WorldState::squeezeAt(const detail::PredictedContact& c) {
     a.velocity -= c.normal * vn;
     ++a.collisionCount;
     a.setLast(detail::LastContact{std::min(c.a, c.b), std::max(c.a, c.b), c.feature, c.time});
+    // Pressed into a flat face by gravity, it slides on it, as resolve()'s resting rules would have it:
+    // stopped on the face with gravity still pulling it in, it was taken as leaving the face it had just
+    // been resolved against and fell through the floor of a box
+    // (fuzz/regressions/world_api/escape-predictive-disk-squeezed-on-a-floor).
+    if (dot(a.acceleration, c.normal) < 0 && isFlatFeature(c.b, c.feature)) startSliding(ia, c.b, c.feature, c.normal);
     ++stats.squeezes;
     return true;
   }
