@@ -247,15 +247,18 @@ TEST(NetProgram, OptionsAreChecked) {
            Case{"--host --window", "--host with --window: not yet; network play is headless for now"},
            Case{"--join localhost --window", "--join with --window: not yet"},
            Case{"--host 70000", "--host 70000: expected a port from 0 to 65535"},
-           Case{"--host --join localhost", "--join: a side either hosts or joins, once"},
+           Case{"--host --join localhost", "--join: a side either hosts, joins or watches, once"},
+           Case{"--join localhost --watch localhost", "--watch: a side either hosts, joins or watches, once"},
+           Case{"--watch", "--watch (missing): expected HOST or HOST:PORT"},
+           Case{"--watch localhost:0", "--watch localhost:0: the port after ':' must be a whole number from 1 to 65535"},
+           Case{"--watch localhost --window", "--watch with --window: not yet"},
            Case{"--join", "--join (missing): expected HOST or HOST:PORT"},
            Case{"--join a:b:c", "--join a:b:c: expected HOST or HOST:PORT"},
            Case{"--join localhost:0", "--join localhost:0: the port after ':' must be a whole number from 1 to 65535"},
-           Case{"--input-delay 3", "--input-delay needs --host or --join"},
+           Case{"--input-delay 3", "--input-delay needs --host, --join or --watch"},
            Case{"--host --input-delay 301", "--input-delay 301: expected a whole number from 0 to 300"},
            Case{"--host --hash-every 0", "--hash-every 0: expected a whole number from 1 to 65535"},
            Case{"--join x --peer-timeout 0", "--peer-timeout 0: expected seconds from 0.1 to 3600"},
-           Case{"--host --steering naive", "--steering naive cannot go with --host"},
        }) {
     const Outcome o = run(RATTLE_DEMO_BINARY, c.arguments);
     EXPECT_EQ(o.status, 2) << c.arguments << ": " << o.output;
@@ -263,7 +266,7 @@ TEST(NetProgram, OptionsAreChecked) {
   }
   const Outcome help = run(RATTLE_DEMO_BINARY, "--help");
   for (const char* part :
-       {"--host [PORT]", "default 47800", "--join HOST[:PORT]", "--input-delay N", "(default 3", "--hash-every K",
+       {"--host [PORT]", "default 47800", "--join HOST[:PORT]", "--watch HOST[:PORT]", "--input-delay N", "(default 3", "--hash-every K",
         "(default 1)", "--peer-timeout S", "(default 10)", "3 the handshake refused", "4 desync",
         "5 the peer could not be", "6 the peer sent garbage"}) {
     EXPECT_TRUE(has(help, part)) << part;
