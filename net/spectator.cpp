@@ -53,12 +53,14 @@ void SpectatorSession::fail(SessionError::Kind kind, const std::string& line, co
   throw SessionError(kind, line);
 }
 
-void SpectatorSession::desync(uint32_t tick, SideState mine, SideState host, const std::string& note) {
-  const std::string line = "desync at tick " + std::to_string(tick) + ": mine " + hex(mine.stateHash) +
-                           ", the host's " + hex(host.stateHash);
+void SpectatorSession::desync(uint32_t tick, uint64_t mine, uint64_t theirs, uint32_t stateTick,
+                              const SideState& mineThen, const SideState& hostThen, const std::string& note) {
+  const std::string line =
+      "desync at tick " + std::to_string(tick) + ": mine " + hex(mine) + ", the host's " + hex(theirs);
   std::string details = note;
-  if (host.state || !note.empty()) {
-    details += desyncDetails(tick, mine, host, *game_, std::max<uint32_t>(1, config_.hello.hashIntervalTicks));
+  if (hostThen.state) {
+    details += desyncDetails(stateTick, mineThen, hostThen, *game_,
+                             std::max<uint32_t>(1, config_.hello.hashIntervalTicks));
   }
   if (transport_.connected()) {
     try {
@@ -133,10 +135,12 @@ void SpectatorSession::afterTick(const Game& game) {
     dueHash_.reset();
     if (tick == checkpointTick_) checkpointHash_ = theirs;
     ++hashesCompared_;
-    if (mine != theirs && tick != checkpointTick_) {
-      desync(tick, SideState{mine, game.worldHash(), replay::snapshotOf(game)}, SideState{theirs, 0, std::nullopt},
+    if (mine != theirs && tick < checkpointTick_) {
+      if (!firstMismatch_) firstMismatch_ = Mismatch{tick, mine, theirs};
+    } else if (mine != theirs && tick > checkpointTick_) {
+      desync(tick, mine, theirs, tick, SideState{}, SideState{},
              "  the host sends a spectator its state only at the tick it joined (" + std::to_string(checkpointTick_) +
-                 "): there is nothing to compare body by body\n");
+                 "), where the two matched: there is nothing to compare body by body\n");
     }
   }
   if (tick == checkpointTick_ && !checkpointChecked_) {
@@ -144,10 +148,15 @@ void SpectatorSession::afterTick(const Game& game) {
     SideState mine{game.stateHash(), game.worldHash(), replay::snapshotOf(game)};
     const bool same = mine.worldHash == checkpoint_->worldHash &&
                       (!checkpoint_->state || *checkpoint_->state == *mine.state) &&
-                      (!checkpointHash_ || *checkpointHash_ == mine.stateHash);
+                      (!checkpointHash_ || *checkpointHash_ == mine.stateHash) && !firstMismatch_;
     if (!same) {
-      SideState host{checkpointHash_.value_or(0), checkpoint_->worldHash, std::move(checkpoint_->state)};
-      desync(tick, std::move(mine), std::move(host), "");
+      const SideState host{checkpointHash_.value_or(0), checkpoint_->worldHash, std::move(checkpoint_->state)};
+      if (firstMismatch_) {
+        desync(firstMismatch_->tick, firstMismatch_->mine, firstMismatch_->theirs, tick, mine, host,
+               "  the host's state is known at tick " + std::to_string(tick) +
+                   ", where the spectator joined: the report is of that tick (differences may have spread)\n");
+      }
+      desync(tick, mine.stateHash, host.stateHash, tick, mine, host, "");
     }
     checkpoint_->state.reset();  // compared: no longer needed
   }

@@ -56,7 +56,10 @@ class SpectatorSession : public CommandSource {
   void receiveTicks(Ticks& m);
   [[noreturn]] void fail(SessionError::Kind kind, const std::string& line, const std::string& toPeer,
                          bool refuse = false);
-  [[noreturn]] void desync(uint32_t tick, SideState mine, SideState host, const std::string& note);
+  /// Ends the game as a desync: the line names `tick` and the two hashes there; the report compares the
+  /// two states at `stateTick` when the host's is known (`host.state`), after `note`.
+  [[noreturn]] void desync(uint32_t tick, uint64_t mine, uint64_t theirs, uint32_t stateTick, const SideState& mineThen,
+                           const SideState& hostThen, const std::string& note);
   void say(const std::string& line) const;
 
   Transport& transport_;
@@ -69,6 +72,13 @@ class SpectatorSession : public CommandSource {
   uint32_t checkpointTick_ = 0;
   std::optional<uint64_t> checkpointHash_;  // the host's hash of the checkpoint's tick, when it sent one
   bool checkpointChecked_ = false;
+  struct Mismatch {
+    uint32_t tick;
+    uint64_t mine, theirs;
+  };
+  // The first hash that differed while the game so far was played: reported at the checkpoint, where
+  // the host's state is known and the fields that differ can be named.
+  std::optional<Mismatch> firstMismatch_;
   std::deque<Ticks::Entry> ticks_;  // received, not yet played: ticks_[0] is of tick nextPlay_
   uint32_t nextPlay_ = 0;           // the tick commandsFor gives next
   uint32_t nextReceive_ = 0;        // the tick the host's next Ticks message must start at

@@ -85,7 +85,7 @@ struct Network {
 };
 
 std::string perSecond(uint64_t bytes, uint64_t packets, double seconds, const char* unit) {
-  char text[160];
+  char text[200];
   std::snprintf(text, sizeof text, "%llu bytes in %llu %s (%.0f bytes/s, %.1f %s/s)",
                 static_cast<unsigned long long>(bytes), static_cast<unsigned long long>(packets), unit,
                 bytes / seconds, packets / seconds, unit);
@@ -94,24 +94,28 @@ std::string perSecond(uint64_t bytes, uint64_t packets, double seconds, const ch
 
 // What the game cost the network, for net/README.md's figures: the protocol's messages to and from each
 // connection, and what the socket carried with ENet's own traffic (headers, acknowledgements, pings and
-// resends, to and from every connection). From the handshake's end to the game's.
-void printTraffic(const Network& n, const char* peerName) {
-  const double seconds =
-      std::max(1e-3, std::chrono::duration<double>(std::chrono::steady_clock::now() - n.start).count());
+// resends, to and from every connection). From the handshake's end to the game's, per second of game
+// time (30 ticks): a headless game plays as fast as the peer allows, a game in a window at 30 ticks a
+// second, so rates by the wall clock would say nothing about the latter.
+void printTraffic(const Network& n, const char* peerName, uint32_t ticks) {
+  const double gameSeconds = std::max(1u, ticks) * Game::kTickSeconds;
+  const double wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - n.start).count();
   const net::LinkCounts& p = n.transport->peerCounts();
-  std::printf("Network traffic over %.1f s: messages to %s %s; from %s %s.\n", seconds, peerName,
-              perSecond(p.bytesSent, p.messagesSent, seconds, "messages").c_str(), peerName,
-              perSecond(p.bytesReceived, p.messagesReceived, seconds, "messages").c_str());
+  std::printf("Network traffic over %u ticks (%.1f s of game time; %.1f s by the clock), per second of game time: "
+              "messages to %s %s; from %s %s.\n",
+              ticks, gameSeconds, wallSeconds, peerName,
+              perSecond(p.bytesSent, p.messagesSent, gameSeconds, "messages").c_str(), peerName,
+              perSecond(p.bytesReceived, p.messagesReceived, gameSeconds, "messages").c_str());
   if (n.session && n.session->spectatorsServed() > 0) {
     const net::LinkCounts& w = n.transport->spectatorCounts();
-    std::printf("Network traffic to the spectator (%u served): %s; from it %s.\n", n.session->spectatorsServed(),
-                perSecond(w.bytesSent, w.messagesSent, seconds, "messages").c_str(),
-                perSecond(w.bytesReceived, w.messagesReceived, seconds, "messages").c_str());
+    std::printf("To the spectator (%u served): %s; from it %s.\n", n.session->spectatorsServed(),
+                perSecond(w.bytesSent, w.messagesSent, gameSeconds, "messages").c_str(),
+                perSecond(w.bytesReceived, w.messagesReceived, gameSeconds, "messages").c_str());
   }
   const net::SocketCounts u = n.transport->socketCounts();
   std::printf("UDP socket, ENet's headers, acknowledgements, pings and resends included: sent %s; received %s.\n",
-              perSecond(u.bytesSent, u.datagramsSent, seconds, "datagrams").c_str(),
-              perSecond(u.bytesReceived, u.datagramsReceived, seconds, "datagrams").c_str());
+              perSecond(u.bytesSent, u.datagramsSent, gameSeconds, "datagrams").c_str(),
+              perSecond(u.bytesReceived, u.datagramsReceived, gameSeconds, "datagrams").c_str());
 }
 
 Network connect(const Game& game, const Options& o, const std::string& mapJson, CommandSource& opponent) {
@@ -252,7 +256,7 @@ int runHeadless(Game& game, const Options& o, const std::string& mapJson, replay
                  "%.2f s at once\n",
                  network.session->hashesCompared(), network.session->waitedSeconds(), teamName(1 - o.team()),
                  network.session->longestWaitSeconds());
-    printTraffic(network, "the peer");
+    printTraffic(network, "the peer", game.tickCount());
   }
   if (network.spectator) {
     std::printf("Network game over after %u ticks: final state hash %016llx, the same as the host's.\n",
@@ -262,7 +266,7 @@ int runHeadless(Game& game, const Options& o, const std::string& mapJson, replay
                  "with the host's; waited %.2f s for the host in all\n",
                  network.spectator->joinedAt(), network.spectator->hashesCompared(),
                  network.spectator->waitedSeconds());
-    printTraffic(network, "the host");
+    printTraffic(network, "the host", game.tickCount());
   }
   return 0;
 }

@@ -156,6 +156,7 @@ inline SideResult watchSide(rts::net::Transport& transport, const GameSettings& 
       const std::vector<rts::Command>& commands = loop.tick();
       r.applied.insert(r.applied.end(), commands.begin(), commands.end());
       session.afterTick(*game);
+      if (game->tickCount() == s.perturbAfter) game->apply(perturbation(*game, 0));
       if (leaveAfter != 0 && game->tickCount() == leaveAfter) {
         transport.close(0);
         r.error = "left on purpose";

@@ -121,6 +121,46 @@ TEST(NetSpectator, ASpectatorOfAnotherGameIsRefusedOnBothSidesAndThePlayersGoOn)
   EXPECT_EQ(t.host.finalHash, t.joiner.finalHash);
 }
 
+// A spectator whose game parts from the players' (it orders a unit itself, outside the game) ends as a
+// player's desync does, at the first hash that differs; the players go on.
+TEST(NetSpectator, ASpectatorsDesyncAfterItJoinedIsFoundAtTheFirstTickThatDiffers) {
+  const GameSettings s = pacedGame();
+  GameSettings mine = s;
+  mine.perturbAfter = 200;
+  const Trio t = playWithSpectator(s, 60, 0, &mine);
+  ASSERT_LT(t.joinedAt, 200u);
+  EXPECT_EQ(t.spectator.kind, SessionError::Kind::Desync) << describe(t.spectator);
+  EXPECT_EQ(t.spectator.error.rfind("desync at tick 201: mine ", 0), 0u) << describe(t.spectator);
+  EXPECT_NE(t.spectator.error.find(", the host's "), std::string::npos) << describe(t.spectator);
+  EXPECT_NE(t.spectator.details.find("the host sends a spectator its state only at the tick it joined"),
+            std::string::npos)
+      << t.spectator.details;
+  EXPECT_EQ(t.spectator.ticksPlayed, 201u);
+  ASSERT_TRUE(t.host.finished) << describe(t.host);
+  ASSERT_TRUE(t.joiner.finished) << describe(t.joiner);
+  EXPECT_EQ(t.host.finalHash, t.joiner.finalHash);
+}
+
+// Parted before it joined: found at the first hash of the game so far that differs, and explained with
+// the host's state at the tick it joined, body by body, as rattle-replay verify would.
+TEST(NetSpectator, ASpectatorsDesyncBeforeItJoinedIsExplainedAtTheJoinTick) {
+  const GameSettings s = pacedGame();
+  GameSettings mine = s;
+  mine.perturbAfter = 90;
+  const Trio t = playWithSpectator(s, 100, 0, &mine);
+  EXPECT_EQ(t.spectator.kind, SessionError::Kind::Desync) << describe(t.spectator);
+  EXPECT_EQ(t.spectator.error.rfind("desync at tick 91: mine ", 0), 0u) << describe(t.spectator);
+  const std::string j = std::to_string(t.joinedAt);
+  EXPECT_NE(t.spectator.details.find("the host's state is known at tick " + j), std::string::npos)
+      << t.spectator.details;
+  EXPECT_NE(t.spectator.details.find("bodies that differ at tick " + j), std::string::npos) << t.spectator.details;
+  EXPECT_NE(t.spectator.details.find("unit 0 (blue) position.x: mine "), std::string::npos)
+      << t.spectator.details;
+  EXPECT_EQ(t.spectator.ticksPlayed, t.joinedAt);
+  ASSERT_TRUE(t.host.finished) << describe(t.host);
+  ASSERT_TRUE(t.joiner.finished) << describe(t.joiner);
+}
+
 // The spectator's link drops 10% of the datagrams each way, doubles 5%, holds 5% back and delays every
 // one by 50 to 200 ms; the players play directly. It still ends with their final hash; the players do
 // not wait for it (the host lingers at the very end, after the game, until the spectator has it all).
@@ -138,6 +178,35 @@ TEST(NetSpectator, ASpectatorThroughTheFaultyRelayEndsWithTheSameFinalHash) {
   EXPECT_GT(t.joinedAt, 0u);
   std::printf("[ watch    ] through the relay: joined at tick %u; spectator %.2f s, waited %.2f s\n", t.joinedAt,
               t.spectator.seconds, t.spectator.waited);
+}
+
+}  // namespace
+
+namespace {
+
+// A spectator that comes before the second player has no game to watch: the host turns it away and
+// waits on for its player, and the game is played as without it.
+TEST(NetSpectator, ASpectatorBeforeThePlayerIsTurnedAwayAndTheHostWaitsOn) {
+  GameSettings s;
+  s.units = 6;
+  s.ticks = 60;
+  std::unique_ptr<Transport> host = Transport::host(0, true);
+  const uint16_t port = host->localPort();
+  std::future<SideResult> hostSide = std::async(std::launch::async, [&] { return playSide(*host, 0, s); });
+  std::unique_ptr<Transport> early = Transport::join("127.0.0.1", port);
+  const SideResult watcher = watchSide(*early, s);
+  EXPECT_EQ(watcher.kind, SessionError::Kind::Refused) << describe(watcher);
+  EXPECT_EQ(watcher.error,
+            "the host refused the spectator, saying: no game to watch yet: a player has not joined (watch once the "
+            "game has started)");
+  std::unique_ptr<Transport> joiner = Transport::join("127.0.0.1", port);
+  const SideResult red = playSide(*joiner, 1, s);
+  const SideResult blue = hostSide.get();
+  ASSERT_TRUE(blue.finished) << describe(blue);
+  ASSERT_TRUE(red.finished) << describe(red);
+  EXPECT_EQ(blue.finalHash, red.finalHash);
+  EXPECT_EQ(blue.finalHash, playDelayedLocal(s).finalHash);
+  EXPECT_TRUE(contains(blue.log, "a spectator came before a player joined: it is turned away")) << describe(blue);
 }
 
 }  // namespace
