@@ -452,10 +452,14 @@ class Decoder {
       Ticks::Entry& e = m.entries.emplace_back();
       const uint16_t n = u16(field + " count");
       checkEntryCount(i, n);
-      if (n > in_.remaining() / kMinCommandBytes) {
+      // Its hash flag and the ticks after it need bytes too: counting them keeps what the commands
+      // reserve, with what the ticks reserved, within a small multiple of the packet.
+      const size_t later = (size_t(count) - i - 1) * kMinEntryBytes + 1;
+      const size_t room = in_.remaining() > later ? in_.remaining() - later : 0;
+      if (n > room / kMinCommandBytes) {
         refuse(field + " count = " + str(n) + ": truncated at byte " + str(in_.offset()) + " of " + str(size_) +
                " (" + str(n) + (n == 1 ? " command needs" : " commands need") + " at least " +
-               str(size_t(n) * kMinCommandBytes) + " bytes, " + str(in_.remaining()) + " left)");
+               str(size_t(n) * kMinCommandBytes) + " bytes, " + str(room) + " left for them)");
       }
       e.commands.reserve(n);
       uint8_t previous = 0;

@@ -67,8 +67,8 @@ const char* kUsage =
     "  With --host, --join or --watch, frames go to out/demo-host, out/demo-join or out/demo-watch and show\n"
     "  this side's fog (a spectator's: none) unless --frames and --fog say otherwise. Exit status: 0 the\n"
     "  game was played to the end with equal hashes, 3 the handshake refused the game, 4 desync (the state\n"
-    "  hashes differ), 5 the peer (a spectator's: the host) could not be reached, disconnected, went silent\n"
-    "  or left early, 6 the peer sent garbage or broke the protocol.\n"
+    "  hashes differ), 5 the peer could not be reached, disconnected, went silent or left early (a\n"
+    "  spectator's peer is the host), 6 the peer sent garbage or broke the protocol.\n"
     "\n"
     "Exit status: 0 done, 1 an error (a bad map, a file that cannot be written), 2 bad options; with\n"
     "--host, --join or --watch also 3 to 6 (above).\n";

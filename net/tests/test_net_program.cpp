@@ -219,7 +219,7 @@ std::string hashIn(const std::string& line) {
 // so far and follows it, and ends with their final hash; all three print what the game cost the network.
 TEST(NetProgram, AThirdProcessWatchesAGameUnderWay) {
   const std::string game =
-      "--map " + sourcePath("assets/maps/small.json") + " --units 6 --ticks 6000 --no-render --quiet --seed 3";
+      "--map " + sourcePath("assets/maps/small.json") + " --units 6 --ticks 9000 --no-render --quiet --seed 3";
   HostProcess host(game);
   ASSERT_GT(host.port(), 0) << host.finish().output;
   const std::string at = "127.0.0.1:" + std::to_string(host.port());
@@ -234,21 +234,21 @@ TEST(NetProgram, AThirdProcessWatchesAGameUnderWay) {
   const std::string line = finalLine(hosted.output);
   EXPECT_EQ(finalLine(joined.output), line);
   EXPECT_EQ(finalLine(watcher.output),
-            "Network game over after 6000 ticks: final state hash " + hashIn(line) + ", the same as the host's.");
+            "Network game over after 9000 ticks: final state hash " + hashIn(line) + ", the same as the host's.");
   const size_t joinedAt = watcher.output.find("joined at tick ");
   ASSERT_NE(joinedAt, std::string::npos) << watcher.output;
   const long tick = std::atol(watcher.output.c_str() + joinedAt + std::strlen("joined at tick "));
   EXPECT_GT(tick, 0) << watcher.output;
   EXPECT_TRUE(has(hosted, "rattle-demo: a spectator is watching from tick " + std::to_string(tick))) << hosted.output;
   for (const Outcome* o : {&hosted, &joined, &watcher}) {
-    EXPECT_TRUE(has(*o, "Network traffic over 6000 ticks (200.0 s of game time;")) << o->output;
+    EXPECT_TRUE(has(*o, "Network traffic over 9000 ticks (300.0 s of game time;")) << o->output;
     EXPECT_TRUE(has(*o, "UDP socket, ENet's headers, acknowledgements, pings and resends included: sent ")) << o->output;
   }
   EXPECT_TRUE(has(hosted, "To the spectator (1 served): ")) << hosted.output;
   // The spectator's replay is of the whole game, and verifies.
   const Outcome verified = run(RATTLE_REPLAY_BINARY, "verify " + scratch("watch.replay"));
   EXPECT_EQ(verified.status, 0) << verified.output;
-  EXPECT_TRUE(has(verified, "all 6000 ticks match")) << verified.output;
+  EXPECT_TRUE(has(verified, "all 9000 ticks match")) << verified.output;
 }
 
 TEST(NetProgram, TheRelayProgramSaysHowToUseIt) {

@@ -636,7 +636,7 @@ TEST(NetProtocol, TicksFieldsOneOverTheirLimitsAreErrors) {
   cut.u8(0);
   cut.u8(0);
   EXPECT_EQ(errorOf(bytesOf(cut.data()), small),
-            "Ticks.entries[0] count = 5: truncated at byte 9 of 11 (5 commands need at least 15 bytes, 2 left)");
+            "Ticks.entries[0] count = 5: truncated at byte 9 of 11 (5 commands need at least 15 bytes, 1 left for them)");
   // Team 1's before team 0's: not the order the players applied them in.
   ByteWriter order = rawTicksHeader(3, 1);
   order.u16(2);
