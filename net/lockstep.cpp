@@ -253,10 +253,16 @@ void LockstepSession::handleSpectator(TransportEvent& event) {
   // commands) and compares its state at this tick with this one.
   Snapshot checkpoint{game_->tickCount(), game_->worldHash(), replay::snapshotOf(*game_)};
   try {
-    transport_.sendToSpectator(checkpoint);
-  } catch (const std::invalid_argument&) {
-    checkpoint.state.reset();  // over a packet: the hashes still check the game
-    transport_.sendToSpectator(checkpoint);
+    try {
+      transport_.sendToSpectator(checkpoint);
+    } catch (const std::invalid_argument&) {
+      checkpoint.state.reset();  // over a packet: the hashes still check the game
+      transport_.sendToSpectator(checkpoint);
+    }
+  } catch (const std::exception& e) {
+    dropSpectator(std::string("cannot send the spectator this side's state (") + e.what() + "); it is dropped", "",
+                  false);
+    return;
   }
   spectator_ = SpectatorState::Watching;
   spectatorNext_ = 0;

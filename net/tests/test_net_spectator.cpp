@@ -210,3 +210,43 @@ TEST(NetSpectator, ASpectatorBeforeThePlayerIsTurnedAwayAndTheHostWaitsOn) {
 }
 
 }  // namespace
+
+namespace {
+
+// A spectator that says its Hello and then reads nothing (its ENet is never serviced, so nothing the host
+// sends it is acknowledged) is dropped once it is kMaxSpectatorBacklog messages behind; the players go
+// on, and the host keeps nothing more for it.
+TEST(NetSpectator, ASpectatorThatFallsBehindIsDroppedAndThePlayersGoOn) {
+  GameSettings s;
+  s.units = 6;
+  s.ticks = 1500;
+  std::unique_ptr<Transport> host = Transport::host(0, true);
+  const uint16_t port = host->localPort();
+  std::atomic<uint32_t> hostTicks{0};
+  std::future<SideResult> hostSide =
+      std::async(std::launch::async, [&] { return playSide(*host, 0, s, &hostTicks); });
+  std::future<SideResult> joinerSide = std::async(std::launch::async, [&] {
+    std::unique_ptr<Transport> joiner = Transport::join("127.0.0.1", port);
+    return playSide(*joiner, 1, s);
+  });
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (hostTicks.load() < 10 && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  std::unique_ptr<Transport> stalled = Transport::join("127.0.0.1", port);
+  ASSERT_EQ(pollFor(*stalled, rts::net::TransportEvent::Kind::Connected, 10).kind,
+            rts::net::TransportEvent::Kind::Connected);
+  const std::string mapJson = readFile(sourcePath(s.mapFile));
+  stalled->send(rts::net::spectatorHello(*makeGame(s, mapJson), mapJson, s.seed, s.inputDelay, s.hashEvery, s.ticks));
+  const SideResult red = joinerSide.get();
+  const SideResult blue = hostSide.get();
+  ASSERT_TRUE(blue.finished) << describe(blue);
+  ASSERT_TRUE(red.finished) << describe(red);
+  EXPECT_TRUE(contains(blue.log, "a spectator is watching from tick ")) << describe(blue);
+  EXPECT_TRUE(contains(blue.log, "the spectator fell behind (1025 messages not acknowledged); it is dropped")) << describe(blue);
+  EXPECT_EQ(blue.finalHash, red.finalHash);
+  EXPECT_EQ(blue.finalHash, playDelayedLocal(s).finalHash);
+  EXPECT_LT(blue.longestWait, 2.0) << describe(blue);
+}
+
+}  // namespace
