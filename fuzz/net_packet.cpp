@@ -26,13 +26,13 @@ constexpr size_t kHeapPerByte = 32;
 constexpr size_t kHeapAllowance = 64 << 10;
 constexpr size_t kMaxMessageBytes = 2048;
 
-const char* const kNames[] = {"Hello", "Refuse", "Commands", "Hash", "Bye", "Snapshot"};
+const char* const kNames[] = {"Hello", "Refuse", "Commands", "Hash", "Bye", "Snapshot", "Ticks"};
 
 void checkError(const uint8_t* data, size_t size, const std::string& error) {
   RATTLE_FUZZ_CHECK(!error.empty(), "the error says nothing");
   RATTLE_FUZZ_CHECK(error.size() <= kMaxMessageBytes, "the error is unreasonably long");
   RATTLE_FUZZ_CHECK(error.find('\n') == std::string::npos, "the error is more than one line");
-  if (size > 0 && data[0] >= 1 && data[0] <= 6) {
+  if (size > 0 && data[0] >= 1 && data[0] <= 7) {
     const char* name = kNames[data[0] - 1];
     const size_t n = std::strlen(name);
     RATTLE_FUZZ_CHECK(error.compare(0, n, name) == 0 && error.size() > n && (error[n] == '.' || error[n] == ':'),

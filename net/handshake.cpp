@@ -26,6 +26,16 @@ std::string stepModeName(rattle::StepMode m) {
   return "step mode " + std::to_string(uint8_t(m));
 }
 
+std::string steeringName(Steering s) {
+  switch (s) {
+    case Steering::KeepApart:
+      return "keep-apart";
+    case Steering::Naive:
+      return "naive";
+  }
+  return "steering " + std::to_string(uint8_t(s));
+}
+
 std::string teamName(uint8_t team) { return team == 0 ? "0 (blue)" : team == 1 ? "1 (red)" : std::to_string(team); }
 
 class Differences {
@@ -56,6 +66,8 @@ std::optional<std::string> handshakeMismatch(const Hello& mine, const Hello& the
   d.add("seed", to_string(mine.seed), to_string(theirs.seed));
   d.add("units a team", to_string(mine.unitsPerTeam), to_string(theirs.unitsPerTeam));
   d.add("step mode", stepModeName(mine.stepMode), stepModeName(theirs.stepMode));
+  d.add("steering", steeringName(mine.steering), steeringName(theirs.steering));
+  d.add("ticks", to_string(mine.ticks), to_string(theirs.ticks));
   d.add("input delay", to_string(mine.inputDelayTicks) + " ticks", to_string(theirs.inputDelayTicks) + " ticks");
   d.add("hash interval", to_string(mine.hashIntervalTicks) + " ticks", to_string(theirs.hashIntervalTicks) + " ticks");
   if (mine.role == Role::Player && theirs.role == Role::Player && mine.team == theirs.team) {

@@ -16,10 +16,13 @@ namespace rts::net {
 /// "rattle 0.1.0": the engine's version, as a replay's `engine` build fact says it.
 std::string engineVersion();
 
-/// A player's Hello for `game`, built from the map file `mapJson` (its bytes: the digest is theirs)
-/// with `seed`. The game's steering must be the default one: the handshake does not compare it, so a
-/// game with another would desync; throws std::invalid_argument then.
+/// A player's Hello for `game` of `ticks` ticks, built from the map file `mapJson` (its bytes: the
+/// digest is theirs) with `seed`; the steering is the game's.
 Hello playerHello(const Game& game, std::string_view mapJson, uint64_t seed, uint8_t team, uint16_t inputDelayTicks,
-                  uint16_t hashIntervalTicks);
+                  uint16_t hashIntervalTicks, uint32_t ticks);
+
+/// A spectator's Hello: the same fields, role spectator, team 0.
+Hello spectatorHello(const Game& game, std::string_view mapJson, uint64_t seed, uint16_t inputDelayTicks,
+                     uint16_t hashIntervalTicks, uint32_t ticks);
 
 }  // namespace rts::net

@@ -64,6 +64,13 @@ void LockstepSession::fail(SessionError::Kind kind, const std::string& line, con
 }
 
 void LockstepSession::leave(const std::optional<Message>& lastWord, double lingerSeconds, const SessionError& error) {
+  if (transport_.spectatorConnected()) {
+    try {
+      transport_.sendToSpectator(Bye{reasonText(std::string("the game ended early: ") + error.what())});
+    } catch (const std::exception&) {
+    }
+    transport_.closeSpectator(1.0);
+  }
   if (transport_.connected()) {
     try {
       if (lastWord) send(*lastWord);
@@ -86,28 +93,51 @@ void LockstepSession::handshake(const Game& game) {
   transport_.setPeerTimeout(config_.peerTimeoutSeconds + 1);
 
   const Clock::time_point start = Clock::now();
-  while (!transport_.connected()) {
-    const double waited = std::chrono::duration<double>(Clock::now() - start).count();
-    if (config_.joinWaitSeconds > 0 && waited >= config_.joinWaitSeconds) {
-      fail(SessionError::Kind::PeerLost, "no player joined within " + seconds(config_.joinWaitSeconds) + " s", "");
-    }
-    const TransportEvent event = transport_.poll(0.25, context_);
-    if (event.kind == TransportEvent::Kind::Disconnected) {
-      fail(SessionError::Kind::PeerLost,
-           "cannot connect: no answer after " + seconds(std::chrono::duration<double>(Clock::now() - start).count()) +
-               " s (is a host running there, on that port?)",
-           "");
-    }
-  }
-  lastHeard_ = Clock::now();
-  send(config_.hello);
-
   std::optional<Hello> theirs;
-  peerHello_ = &theirs;
-  waitFor([&] { return theirs.has_value(); }, "its Hello");
-  peerHello_ = nullptr;
+  for (;;) {
+    while (!transport_.connected()) {
+      const double waited = std::chrono::duration<double>(Clock::now() - start).count();
+      if (config_.joinWaitSeconds > 0 && waited >= config_.joinWaitSeconds) {
+        fail(SessionError::Kind::PeerLost, "no player joined within " + seconds(config_.joinWaitSeconds) + " s", "");
+      }
+      const TransportEvent event = transport_.poll(0.25, context_);
+      if (event.kind == TransportEvent::Kind::Disconnected && !event.spectator) {
+        fail(SessionError::Kind::PeerLost,
+             "cannot connect: no answer after " +
+                 seconds(std::chrono::duration<double>(Clock::now() - start).count()) +
+                 " s (is a host running there, on that port?)",
+             "");
+      }
+    }
+    lastHeard_ = Clock::now();
+    send(config_.hello);
+
+    peerHello_ = &theirs;
+    waitFor([&] { return theirs.has_value(); }, "its Hello");
+    peerHello_ = nullptr;
+    // A spectator that comes before the second player has no game to watch yet: it is turned away and
+    // the host waits on for its player.
+    if (theirs->role == Role::Spectator && config_.acceptSpectator && config_.hello.role == Role::Player) {
+      say("a spectator came before a player joined: it is turned away (watch once the game has started)");
+      try {
+        send(Refuse{"no game to watch yet: a player has not joined (watch once the game has started)"});
+      } catch (const std::exception&) {
+      }
+      transport_.close(1.0);
+      transport_.acceptAnotherPeer();
+      theirs.reset();
+      peerGone_ = peerSaidBye_ = peerDisconnected_ = false;
+      peerGoneWhy_.clear();
+      continue;
+    }
+    break;
+  }
   if (const std::optional<std::string> mismatch = handshakeMismatch(config_.hello, *theirs)) {
     fail(SessionError::Kind::Refused, "the handshake failed: " + *mismatch, *mismatch, true);
+  }
+  if (theirs->role != Role::Player) {
+    fail(SessionError::Kind::Refused, "the handshake failed: the peer is a spectator; this side needs a player",
+         "this side plays; it takes a spectator only once its game has started", true);
   }
   handshaken_ = true;
   myHash(game);
@@ -131,6 +161,7 @@ void LockstepSession::commandsFor(uint32_t tick, const Game& game, std::vector<C
   }
   send(mine);
   sentThrough_ = int64_t(mine.tick);
+  const size_t before = out.size();
 
   // Whatever has come meanwhile, so that acknowledgements go out even when nothing is missing.
   for (;;) {
@@ -150,11 +181,147 @@ void LockstepSession::commandsFor(uint32_t tick, const Game& game, std::vector<C
   if (team() == 0) local_.takeDue(tick, out);
   for (Command& c : theirs) out.push_back(std::move(c));
   if (team() != 0) local_.takeDue(tick, out);
+  if (config_.acceptSpectator) applying_.assign(out.begin() + std::ptrdiff_t(before), out.end());
   ++nextTick_;
 }
 
 void LockstepSession::afterTick(const Game& game) {
+  if (config_.acceptSpectator) {
+    Ticks::Entry entry;
+    entry.commands = std::move(applying_);
+    applying_.clear();
+    if (game.tickCount() % hashEvery_ == 0 || game.tickCount() == config_.hello.ticks) {
+      entry.stateHash = game.stateHash();
+    }
+    history_.push_back(std::move(entry));
+    feedSpectator();
+  }
   if (game.tickCount() % hashEvery_ == 0) myHash(game);
+}
+
+void LockstepSession::handleSpectator(TransportEvent& event) {
+  switch (event.kind) {
+    case TransportEvent::Kind::None:
+      return;
+    case TransportEvent::Kind::Connected:
+      if (!config_.acceptSpectator || !game_) {
+        dropSpectator("a spectator connected; this side does not take spectators", "", false);
+        return;
+      }
+      spectator_ = SpectatorState::AwaitingHello;
+      say("a spectator connected");
+      try {
+        transport_.sendToSpectator(config_.hello);
+      } catch (const std::exception&) {
+      }
+      return;
+    case TransportEvent::Kind::Disconnected:
+      if (spectator_ != SpectatorState::None) say("the spectator left; the game goes on");
+      spectator_ = SpectatorState::None;
+      return;
+    case TransportEvent::Kind::Garbage:
+      dropSpectator("the spectator sent garbage (" + event.error + "); it is dropped, the game goes on",
+                    "you sent garbage: " + event.error, false);
+      return;
+    case TransportEvent::Kind::Received:
+      break;
+  }
+  Message& m = *event.message;
+  const Hello* hello = std::get_if<Hello>(&m);
+  if (spectator_ != SpectatorState::AwaitingHello || !hello) {
+    // A spectator only ever says Hello, and Bye when it leaves.
+    if (std::holds_alternative<Bye>(m) || std::holds_alternative<Refuse>(m)) {
+      dropSpectator("the spectator left; the game goes on", "", false);
+    } else {
+      const std::string why = std::string("a spectator sends nothing but its Hello (it sent ") + messageName(m) + ")";
+      dropSpectator("the spectator broke the protocol: " + why + "; it is dropped, the game goes on",
+                    "you broke the protocol: " + why, false);
+    }
+    return;
+  }
+  if (hello->role != Role::Spectator) {
+    dropSpectator("a third player was turned away: the game has its two players",
+                  "the game has its two players (join with --watch to watch it)", true);
+    return;
+  }
+  if (const std::optional<std::string> mismatch = handshakeMismatch(config_.hello, *hello)) {
+    dropSpectator("a spectator was refused: " + *mismatch, *mismatch, true);
+    return;
+  }
+  // Where the spectator's own game will be checked in full: this side's state now, after the ticks in
+  // history_. The spectator plays those ticks from the start (a game is its map, its settings and its
+  // commands) and compares its state at this tick with this one.
+  Snapshot checkpoint{game_->tickCount(), game_->worldHash(), replay::snapshotOf(*game_)};
+  try {
+    try {
+      transport_.sendToSpectator(checkpoint);
+    } catch (const std::invalid_argument&) {
+      checkpoint.state.reset();  // over a packet: the hashes still check the game
+      transport_.sendToSpectator(checkpoint);
+    }
+  } catch (const std::exception& e) {
+    dropSpectator(std::string("cannot send the spectator this side's state (") + e.what() + "); it is dropped", "",
+                  false);
+    return;
+  }
+  spectator_ = SpectatorState::Watching;
+  spectatorNext_ = 0;
+  ++spectatorsServed_;
+  say("a spectator is watching from tick " + std::to_string(game_->tickCount()));
+  feedSpectator();
+}
+
+void LockstepSession::feedSpectator() {
+  if (spectator_ != SpectatorState::Watching) return;
+  if (!transport_.spectatorConnected()) {
+    spectator_ = SpectatorState::None;
+    return;
+  }
+  const size_t backlog = transport_.spectatorBacklog();
+  if (backlog > kMaxSpectatorBacklog) {
+    dropSpectator("the spectator fell behind (" + std::to_string(backlog) +
+                      " messages not acknowledged); it is dropped, the game goes on",
+                  "you fell behind the game", false);
+    return;
+  }
+  while (spectatorNext_ < history_.size()) {
+    Ticks m;
+    m.firstTick = uint32_t(spectatorNext_);
+    size_t bytes = 7;
+    while (spectatorNext_ < history_.size() && m.entries.size() < kMaxTicksPerMessage) {
+      const Ticks::Entry& e = history_[spectatorNext_];
+      // A move is at most a few bytes a unit: a generous bound, so that a message stays under a packet.
+      size_t entryBytes = 11;
+      for (const Command& c : e.commands) entryBytes += 32 + 5 * c.units.size();
+      if (!m.entries.empty() && bytes + entryBytes > kTicksMessageBudget) break;
+      bytes += entryBytes;
+      m.entries.push_back(e);
+      ++spectatorNext_;
+    }
+    try {
+      transport_.sendToSpectator(m);
+    } catch (const std::exception& e) {
+      dropSpectator(std::string("cannot send the spectator its ticks (") + e.what() + "); it is dropped", "", false);
+      return;
+    }
+  }
+}
+
+void LockstepSession::dropSpectator(const std::string& line, const std::string& toSpectator, bool refuse) {
+  say(line);
+  if (transport_.spectatorConnected() && !toSpectator.empty()) {
+    try {
+      if (refuse) {
+        transport_.sendToSpectator(Refuse{reasonText(toSpectator)});
+      } else {
+        transport_.sendToSpectator(Bye{reasonText(toSpectator)});
+      }
+    } catch (const std::exception&) {
+    }
+  }
+  // A short linger for the last word: the players are not kept waiting for a spectator.
+  transport_.closeSpectator(0.2);
+  spectator_ = SpectatorState::None;
 }
 
 void LockstepSession::finish(const Game& game) {
@@ -173,6 +340,17 @@ void LockstepSession::finish(const Game& game) {
   // Until the peer has this side's Bye (and everything before it), or it waits for it in vain and takes
   // this side for lost; a lossy link may need a few resends. Done as soon as the peer has it.
   transport_.close(config_.peerTimeoutSeconds);
+  // The game is over for the players; the spectator gets the rest of it and the end, as the peer did.
+  feedSpectator();
+  if (spectator_ == SpectatorState::Watching && transport_.spectatorConnected()) {
+    try {
+      transport_.sendToSpectator(Bye{"the game is over after " + std::to_string(last) + " ticks"});
+    } catch (const std::exception&) {
+    }
+    transport_.closeSpectator(config_.peerTimeoutSeconds);
+  } else if (transport_.spectatorConnected()) {
+    transport_.closeSpectator(0.2);
+  }
 }
 
 void LockstepSession::myHash(const Game& game) {
@@ -267,6 +445,10 @@ void LockstepSession::waitFor(const std::function<bool()>& ready, const std::str
 }
 
 void LockstepSession::handle(TransportEvent event) {
+  if (event.spectator) {
+    handleSpectator(event);
+    return;
+  }
   switch (event.kind) {
     case TransportEvent::Kind::None:
       return;

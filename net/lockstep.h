@@ -66,7 +66,18 @@ struct LockstepConfig {
   double joinWaitSeconds = 0;
   /// Where lines for a person go (waiting, why it ended): one line each, no newline. May be empty.
   std::function<void(const std::string&)> log;
+  /// A host on a transport with a spectator slot: a spectator that connects is sent the game so far and
+  /// then every tick as it is played (net/README.md, "Spectators"). It is never waited for.
+  bool acceptSpectator = false;
 };
+
+/// A spectator more messages than this behind (sent and not acknowledged) is dropped: the players go
+/// on, and the host keeps no more for it. Some 30 s of play at one message a tick; the game so far goes
+/// in messages of up to kMaxTicksPerMessage ticks.
+inline constexpr size_t kMaxSpectatorBacklog = 1024;
+/// A Ticks message the host sends is kept under this many bytes (and kMaxTicksPerMessage ticks), so
+/// that the game so far goes in pieces a lossy link resends cheaply.
+inline constexpr size_t kTicksMessageBudget = 64 * 1024;
 
 class LockstepSession : public CommandSource {
  public:
@@ -98,8 +109,17 @@ class LockstepSession : public CommandSource {
   /// State hashes compared with the peer's so far.
   uint32_t hashesCompared() const { return hashesCompared_; }
   uint8_t team() const { return config_.hello.team; }
+  /// Spectators that were sent the game (one at a time), and the last one's fate, for the summary.
+  uint32_t spectatorsServed() const { return spectatorsServed_; }
 
  private:
+  enum class SpectatorState { None, AwaitingHello, Watching };
+  void handleSpectator(TransportEvent& event);
+  /// Sends the spectator the ticks played that it has not had yet, or drops it when it is too far behind.
+  void feedSpectator();
+  /// Tells the spectator why (a Refuse or a Bye), closes its connection; the game goes on.
+  void dropSpectator(const std::string& line, const std::string& toSpectator, bool refuse);
+
   using Clock = std::chrono::steady_clock;
 
   void send(const Message& message);
@@ -162,6 +182,14 @@ class LockstepSession : public CommandSource {
   Clock::time_point lastHeard_;
   double waited_ = 0;
   double longestWait_ = 0;
+
+  // What a spectator is sent: every tick played, with the commands applied before it and the hash after
+  // it when one is due (the interval, the last tick).
+  std::vector<Ticks::Entry> history_;
+  std::vector<Command> applying_;  // the commands of the tick being played, for history_
+  SpectatorState spectator_ = SpectatorState::None;
+  size_t spectatorNext_ = 0;  // the first tick of history_ the spectator has not been sent
+  uint32_t spectatorsServed_ = 0;
 };
 
 }  // namespace rts::net

@@ -57,6 +57,8 @@ const char* nameOf(MessageType t) {
       return "Bye";
     case MessageType::Snapshot:
       return "Snapshot";
+    case MessageType::Ticks:
+      return "Ticks";
   }
   return nullptr;
 }
@@ -66,6 +68,7 @@ const char* nameOf(const Commands&) { return "Commands"; }
 const char* nameOf(const Hash&) { return "Hash"; }
 const char* nameOf(const Bye&) { return "Bye"; }
 const char* nameOf(const Snapshot&) { return "Snapshot"; }
+const char* nameOf(const Ticks&) { return "Ticks"; }
 
 // ---- The rules, shared by decode (as it reads) and encode (before it writes) ----
 
@@ -110,6 +113,16 @@ void checkRoleAndTeam(Role role, uint8_t team) {
   }
 }
 
+void checkTicks(uint32_t v) {
+  if (v > kMaxGameTicks) refuse("Hello.ticks = " + str(v) + " exceeds the limit " + str(kMaxGameTicks));
+}
+
+void checkSteering(Steering s) {
+  if (uint8_t(s) > uint8_t(Steering::Naive)) {
+    refuse("Hello.steering = " + str(uint8_t(s)) + " is not a steering (0 keep-apart, 1 naive)");
+  }
+}
+
 void checkHello(const Hello& h) {
   checkText("Hello.engineVersion", h.engineVersion, kMaxEngineVersionBytes);
   checkUnitsPerTeam(h.unitsPerTeam);
@@ -117,6 +130,8 @@ void checkHello(const Hello& h) {
   checkInputDelay(h.inputDelayTicks);
   checkHashInterval(h.hashIntervalTicks);
   checkRoleAndTeam(h.role, h.team);
+  checkTicks(h.ticks);
+  checkSteering(h.steering);
 }
 
 void checkMessageTeam(uint8_t team) {
@@ -141,14 +156,14 @@ void checkCommandTeam(size_t i, uint8_t commandTeam, uint8_t messageTeam) {
 
 // What the command codec's decoder refuses on its own; encode checks it so as never to send it. The
 // words are the codec's.
-void checkCommandFields(size_t i, const Command& c) {
+void checkCommandFields(const std::string& field, const Command& c) {
   const uint8_t type = uint8_t(c.type);
   if (type < uint8_t(CommandType::Move) || type > uint8_t(CommandType::ToggleGate)) {
-    refuse(commandField(i) + " type: unknown command type " + str(type) + " (1 move, 2 stop, 3 toggle gate)");
+    refuse(field + " type: unknown command type " + str(type) + " (1 move, 2 stop, 3 toggle gate)");
   }
   if (c.type == CommandType::Move) {
-    if (!std::isfinite(c.target.x)) refuse(commandField(i) + " target.x: not a finite number");
-    if (!std::isfinite(c.target.y)) refuse(commandField(i) + " target.y: not a finite number");
+    if (!std::isfinite(c.target.x)) refuse(field + " target.x: not a finite number");
+    if (!std::isfinite(c.target.y)) refuse(field + " target.y: not a finite number");
   }
 }
 
@@ -156,8 +171,52 @@ void checkCommands(const Commands& m) {
   checkMessageTeam(m.team);
   checkCount(m.commands.size());
   for (size_t i = 0; i < m.commands.size(); ++i) {
-    checkCommandFields(i, m.commands[i]);
+    checkCommandFields(commandField(i), m.commands[i]);
     checkCommandTeam(i, m.commands[i].team, m.team);
+  }
+}
+
+std::string entryField(size_t i) { return "Ticks.entries[" + str(i) + "]"; }
+
+void checkTickCount(size_t n) {
+  if (n < 1) refuse("Ticks.count = 0 is below the minimum 1");
+  if (n > kMaxTicksPerMessage) refuse("Ticks.count = " + str(n) + " exceeds the limit " + str(kMaxTicksPerMessage));
+}
+
+void checkFirstTick(uint32_t first, size_t n) {
+  if (uint64_t(first) + n > kMaxGameTicks) {
+    refuse("Ticks.firstTick = " + str(first) + ": its " + str(n) + " ticks run past the limit " + str(kMaxGameTicks));
+  }
+}
+
+void checkEntryCount(size_t i, size_t n) {
+  if (n > kMaxCommandsPerTick) {
+    refuse(entryField(i) + " count = " + str(n) + " exceeds the limit " + str(kMaxCommandsPerTick));
+  }
+}
+
+// Both teams' commands of a tick, team 0's first: the order both players applied them in, which the
+// spectator must apply them in too.
+void checkEntryOrder(size_t i, size_t j, uint8_t previousTeam, uint8_t team) {
+  if (team > 1) refuse(entryField(i) + " commands[" + str(j) + "] team = " + str(team) + ": expected 0 or 1");
+  if (team < previousTeam) {
+    refuse(entryField(i) + " commands[" + str(j) + "] team = " + str(team) +
+           " after team " + str(previousTeam) + " (team 0's commands come first)");
+  }
+}
+
+void checkTicksMessage(const Ticks& m) {
+  checkTickCount(m.entries.size());
+  checkFirstTick(m.firstTick, m.entries.size());
+  for (size_t i = 0; i < m.entries.size(); ++i) {
+    const Ticks::Entry& e = m.entries[i];
+    checkEntryCount(i, e.commands.size());
+    uint8_t previous = 0;
+    for (size_t j = 0; j < e.commands.size(); ++j) {
+      checkCommandFields(entryField(i) + " commands[" + str(j) + "]", e.commands[j]);
+      checkEntryOrder(i, j, previous, e.commands[j].team);
+      previous = e.commands[j].team;
+    }
   }
 }
 
@@ -185,6 +244,8 @@ void write(ByteWriter& out, const Hello& h) {
   out.u16(h.hashIntervalTicks);
   out.u8(uint8_t(h.role));
   out.u8(h.team);
+  out.u32(h.ticks);
+  out.u8(uint8_t(h.steering));
 }
 
 void write(ByteWriter& out, const Refuse& r) {
@@ -251,6 +312,20 @@ void write(ByteWriter& out, const Snapshot& m) {
   }
 }
 
+void write(ByteWriter& out, const Ticks& m) {
+  checkTicksMessage(m);
+  out.u8(uint8_t(MessageType::Ticks));
+  out.u32(m.firstTick);
+  out.u16(uint16_t(m.entries.size()));
+  for (const Ticks::Entry& e : m.entries) {
+    out.u16(uint16_t(e.commands.size()));
+    for (const Command& c : e.commands) replay::encodeCommand(out, c);
+    out.u8(e.stateHash ? 1 : 0);
+    if (e.stateHash) out.u64(*e.stateHash);
+    if (out.size() > kMaxPacketBytes) throw Refusal(packetTooLarge("Ticks", out.size()));
+  }
+}
+
 // ---- Decoding ----
 
 // Reads one packet. Fixed-width fields are checked for length here, so that truncations read the same
@@ -270,7 +345,7 @@ class Decoder {
     const uint8_t type = in_.u8("message type");
     name_ = nameOf(MessageType(type));
     if (name_ == nullptr)
-      refuse("message type " + str(type) + " is unknown (1 Hello, 2 Refuse, 3 Commands, 4 Hash, 5 Bye, 6 Snapshot)");
+      refuse("message type " + str(type) + " is unknown (1 Hello, 2 Refuse, 3 Commands, 4 Hash, 5 Bye, 6 Snapshot, 7 Ticks)");
     if (size_ > kMaxPacketBytes) refuse(packetTooLarge(name_, size_));
     try {
       Message m = body(MessageType(type));
@@ -306,6 +381,8 @@ class Decoder {
         return Bye{text("Bye.reason", kMaxReasonBytes)};
       case MessageType::Snapshot:
         return snapshot();
+      case MessageType::Ticks:
+        return ticks();
     }
     refuse("message type " + str(uint8_t(type)) + " is unknown");
   }
@@ -328,6 +405,10 @@ class Decoder {
     h.role = Role(u8("Hello.role"));
     h.team = u8("Hello.team");
     checkRoleAndTeam(h.role, h.team);
+    h.ticks = u32("Hello.ticks");
+    checkTicks(h.ticks);
+    h.steering = Steering(u8("Hello.steering"));
+    checkSteering(h.steering);
     return h;
   }
 
@@ -347,6 +428,50 @@ class Decoder {
     for (size_t i = 0; i < count; ++i) {
       m.commands.push_back(replay::decodeCommand(in_, config_, m.tick, commandField(i)));
       checkCommandTeam(i, m.commands.back().team, m.team);
+    }
+    return m;
+  }
+
+  // Every count is checked against the bytes left before anything is allocated for it: an entry takes
+  // at least 3 bytes (its count and its hash flag), a command kMinCommandBytes.
+  Ticks ticks() {
+    Ticks m;
+    m.firstTick = u32("Ticks.firstTick");
+    const uint16_t count = u16("Ticks.count");
+    checkTickCount(count);
+    checkFirstTick(m.firstTick, count);
+    constexpr size_t kMinEntryBytes = 3;
+    if (count > in_.remaining() / kMinEntryBytes) {
+      refuse("Ticks.count = " + str(count) + ": truncated at byte " + str(in_.offset()) + " of " + str(size_) + " (" +
+             str(count) + (count == 1 ? " tick needs" : " ticks need") + " at least " +
+             str(size_t(count) * kMinEntryBytes) + " bytes, " + str(in_.remaining()) + " left)");
+    }
+    m.entries.reserve(count);
+    for (size_t i = 0; i < count; ++i) {
+      const std::string field = entryField(i);
+      Ticks::Entry& e = m.entries.emplace_back();
+      const uint16_t n = u16(field + " count");
+      checkEntryCount(i, n);
+      // Its hash flag and the ticks after it need bytes too: counting them keeps what the commands
+      // reserve, with what the ticks reserved, within a small multiple of the packet.
+      const size_t later = (size_t(count) - i - 1) * kMinEntryBytes + 1;
+      const size_t room = in_.remaining() > later ? in_.remaining() - later : 0;
+      if (n > room / kMinCommandBytes) {
+        refuse(field + " count = " + str(n) + ": truncated at byte " + str(in_.offset()) + " of " + str(size_) +
+               " (" + str(n) + (n == 1 ? " command needs" : " commands need") + " at least " +
+               str(size_t(n) * kMinCommandBytes) + " bytes, " + str(room) + " left for them)");
+      }
+      e.commands.reserve(n);
+      uint8_t previous = 0;
+      for (size_t j = 0; j < n; ++j) {
+        e.commands.push_back(
+            replay::decodeCommand(in_, config_, uint32_t(m.firstTick + i), field + " commands[" + str(j) + "]"));
+        checkEntryOrder(i, j, previous, e.commands.back().team);
+        previous = e.commands.back().team;
+      }
+      const uint8_t hashed = u8(field + " hasHash");
+      if (hashed > 1) refuse(field + " hasHash = " + str(hashed) + ": expected 0 or 1");
+      if (hashed == 1) e.stateHash = u64(field + " stateHash");
     }
     return m;
   }

@@ -18,13 +18,16 @@
 
 #include "format/replay.h"
 #include "game/commands.h"
+#include "game/steering.h"
 
 namespace rts::net {
 
 /// Bumped on any change to the bytes below. Both sides send it in Hello, and handshakeMismatch refuses
 /// a peer whose version differs, so a newer build never misreads an older one's commands.
-/// Version 2 added Snapshot (type 6), the state each side sends the other after a desync.
-inline constexpr uint32_t kProtocolVersion = 2;
+/// Version 2 added Snapshot (type 6), the state each side sends the other after a desync. Version 3
+/// added Hello.ticks and Hello.steering (the handshake compares them) and Ticks (type 7), what a host
+/// sends a spectator.
+inline constexpr uint32_t kProtocolVersion = 3;
 
 // ---- Limits (decode refuses anything beyond them, encode throws) ----
 
@@ -54,11 +57,20 @@ inline constexpr size_t kSnapshotHeaderBytes = 14;
 /// one), and the desync report says so. One packet, not parts: a peer never makes the other assemble
 /// more than a packet.
 inline constexpr size_t kMaxSnapshotStateBytes = kMaxPacketBytes - kSnapshotHeaderBytes;
+/// Hello.ticks: rattle-demo's --ticks limit. A game is that many ticks long; two sides that would stop at
+/// different ticks do not play one game.
+inline constexpr uint32_t kMaxGameTicks = 100'000'000;
+/// Ticks.count: ticks in one Ticks message. A host sends a spectator the game so far in messages of at
+/// most this many ticks (and well under a packet); an entry takes at least 3 bytes, so this also caps
+/// what one message decodes to.
+inline constexpr size_t kMaxTicksPerMessage = 4096;
+/// Ticks entry's command count: both teams' commands of one tick.
+inline constexpr size_t kMaxCommandsPerTick = 2 * kMaxCommandsPerMessage;
 
 // ---- Messages ----
 
 /// The first byte of every packet. The numbers are stable: changing one takes a new kProtocolVersion.
-enum class MessageType : uint8_t { Hello = 1, Refuse = 2, Commands = 3, Hash = 4, Bye = 5, Snapshot = 6 };
+enum class MessageType : uint8_t { Hello = 1, Refuse = 2, Commands = 3, Hash = 4, Bye = 5, Snapshot = 6, Ticks = 7 };
 
 enum class Role : uint8_t { Player = 0, Spectator = 1 };
 
@@ -75,6 +87,8 @@ struct Hello {
   uint16_t hashIntervalTicks = 1;  ///< state hashes are exchanged every this many ticks (at least 1)
   Role role = Role::Player;
   uint8_t team = 0;  ///< a player's team, 0 (blue) or 1 (red); 0 for a spectator
+  uint32_t ticks = 0;  ///< the game's length in ticks (rattle-demo --ticks), 0 to kMaxGameTicks
+  Steering steering = Steering::KeepApart;  ///< GameConfig::steering: it changes the game
 };
 
 /// Sent instead of play when the handshake fails (or the game is full); the connection then closes.
@@ -113,9 +127,22 @@ struct Snapshot {
   std::optional<rts::replay::Snapshot> state;
 };
 
-using Message = std::variant<Hello, Refuse, Commands, Hash, Bye, Snapshot>;
+/// What a host sends its spectator: the ticks played, in order, each with the commands both teams applied
+/// before it (team 0's first, as the players apply them) and, on the hash interval and at the game's last
+/// tick, the host's state hash after it. The spectator plays them and compares the hashes.
+struct Ticks {
+  struct Entry {
+    /// Each one's `tick` is not sent: decode sets it to the entry's tick.
+    std::vector<rts::Command> commands;
+    std::optional<uint64_t> stateHash;  ///< Game::stateHash() once the tick is played (tickCount = tick + 1)
+  };
+  uint32_t firstTick = 0;  ///< the tick of entries[0]; entries[i] is of firstTick + i
+  std::vector<Entry> entries;  ///< 1 to kMaxTicksPerMessage
+};
 
-/// "Hello", "Refuse", "Commands", "Hash", "Bye", "Snapshot": how errors and logs name a message.
+using Message = std::variant<Hello, Refuse, Commands, Hash, Bye, Snapshot, Ticks>;
+
+/// "Hello", "Refuse", "Commands", "Hash", "Bye", "Snapshot", "Ticks": how errors and logs name a message.
 const char* messageName(const Message& m);
 
 // ---- Bytes ----
@@ -163,8 +190,8 @@ Decoded decode(const uint8_t* data, size_t size, const DecodeContext& context) n
 /// Whether two sides may play together, from the Hello each sent. nullopt when they may; otherwise one
 /// line naming every difference with both values, mine first, e.g.
 ///   seed: mine 7, theirs 8; step mode: mine hybrid, theirs discrete
-/// Compared: protocol version, engine version, map digest, seed, units a team, step mode, input delay,
-/// hash interval. Two players on the same team do not go together either, nor do two spectators.
+/// Compared: protocol version, engine version, map digest, seed, units a team, step mode, steering,
+/// ticks, input delay, hash interval. Two players on the same team do not go together either, nor do two spectators.
 std::optional<std::string> handshakeMismatch(const Hello& mine, const Hello& theirs);
 
 }  // namespace rts::net

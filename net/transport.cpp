@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <deque>
 
 namespace rts::net {
 namespace {
@@ -75,52 +76,83 @@ bool messagesInFlight(ENetPeer* peer) {
   return false;
 }
 
+size_t countMessagesInFlight(ENetPeer* peer) {
+  size_t n = 0;
+  for (ENetList* list : {&peer->sentReliableCommands, &peer->outgoingCommands}) {
+    for (ENetListIterator i = enet_list_begin(list); i != enet_list_end(list); i = enet_list_next(i)) {
+      if (reinterpret_cast<const ENetOutgoingCommand*>(i)->packet != nullptr) ++n;
+    }
+  }
+  return n;
+}
+
 }  // namespace
 
 struct Transport::Impl {
   ENetHost* host = nullptr;
   ENetPeer* peer = nullptr;  // the one peer, once connected (joiner: from the start, while connecting)
   bool connected = false;
-  bool hadPeer = false;       // a host takes one peer in its life: a later one is turned away
+  bool hadPeer = false;       // a host takes one player in its life: a later one is turned away
   enet_uint32 timeoutMs = 0;  // 0: ENet's own defaults
+  bool spectatorSlot = false;
+  ENetPeer* spectator = nullptr;  // the spectator, once connected; the slot is free again when it leaves
+  LinkCounts peerCounts, spectatorCounts;
+  // What closeSpectator() saw of everything else while it lingered: the player's packets must not be
+  // lost for it. poll() hands them out first, in order.
+  std::deque<ENetEvent> deferred;
 
   ~Impl() {
+    for (ENetEvent& e : deferred) {
+      if (e.type == ENET_EVENT_TYPE_RECEIVE) enet_packet_destroy(e.packet);
+    }
     if (peer && connected) enet_peer_disconnect_now(peer, 0);
+    if (spectator) enet_peer_disconnect_now(spectator, 0);
     if (host) enet_host_destroy(host);
   }
 
+  void applyTimeout(ENetPeer* p) {
+    if (p && timeoutMs) enet_peer_timeout(p, 0, timeoutMs, timeoutMs);
+  }
   void applyTimeout() {
-    if (peer && timeoutMs) enet_peer_timeout(peer, 0, timeoutMs, timeoutMs);
+    applyTimeout(peer);
+    applyTimeout(spectator);
   }
 
-  void sendPacket(const uint8_t* data, size_t size) {
-    if (!peer || !connected) return;
+  void sendPacket(ENetPeer* to, LinkCounts& counts, const uint8_t* data, size_t size) {
     ENetPacket* packet = enet_packet_create(data, size, ENET_PACKET_FLAG_RELIABLE);
     if (!packet) throw TransportError("out of memory for a packet of " + std::to_string(size) + " bytes");
-    if (enet_peer_send(peer, 0, packet) < 0) {
+    if (enet_peer_send(to, 0, packet) < 0) {
       enet_packet_destroy(packet);
       throw TransportError("ENet refused a packet of " + std::to_string(size) + " bytes");
     }
+    ++counts.messagesSent;
+    counts.bytesSent += size;
     // Out now rather than at the next poll: the peer may be waiting for exactly this.
     enet_host_flush(host);
     capResends();
   }
+  void sendPacket(const uint8_t* data, size_t size) {
+    if (!peer || !connected) return;
+    sendPacket(peer, peerCounts, data, size);
+  }
 
   void capResends() {
     if (peer && connected) capResendTimeouts(peer);
+    if (spectator) capResendTimeouts(spectator);
   }
 };
 
 Transport::Transport(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Transport::~Transport() = default;
 
-std::unique_ptr<Transport> Transport::host(uint16_t port) {
+std::unique_ptr<Transport> Transport::host(uint16_t port, bool spectatorSlot) {
   initializeEnet();
   ENetAddress address{};
   address.host = ENET_HOST_ANY;
   address.port = port;
   auto impl = std::make_unique<Impl>();
-  impl->host = enet_host_create(&address, 1, 1, 0, 0);
+  impl->spectatorSlot = spectatorSlot;
+  impl->host = enet_host_create(&address, spectatorSlot ? 2 : 1, 1, 0, 0);
   if (!impl->host) throw TransportError("cannot listen on UDP port " + std::to_string(port) + " (is it in use?)");
   limit(impl->host);
   return std::unique_ptr<Transport>(new Transport(std::move(impl)));
@@ -171,10 +203,17 @@ TransportEvent Transport::poll(double timeoutSeconds, const DecodeContext& conte
   for (;;) {
     const double left = std::chrono::duration<double>(deadline - Clock::now()).count();
     ENetEvent event{};
-    const int got = enet_host_service(m.host, &event, milliseconds(left));
-    if (got < 0) throw TransportError("the network failed while waiting for packets");
-    m.capResends();
-    if (got == 0) return out;
+    int got = 0;
+    if (!m.deferred.empty()) {
+      event = m.deferred.front();
+      m.deferred.pop_front();
+      got = 1;
+    } else {
+      got = enet_host_service(m.host, &event, milliseconds(left));
+      if (got < 0) throw TransportError("the network failed while waiting for packets");
+      m.capResends();
+      if (got == 0) return out;
+    }
     switch (event.type) {
       case ENET_EVENT_TYPE_CONNECT:
         if (m.peer == event.peer && !m.connected) {  // the joiner's attempt succeeded
@@ -182,18 +221,31 @@ TransportEvent Transport::poll(double timeoutSeconds, const DecodeContext& conte
           out.kind = TransportEvent::Kind::Connected;
           return out;
         }
-        if (!m.hadPeer) {  // the host's first and only peer
+        if (!m.hadPeer) {  // the host's first peer: the player
           m.peer = event.peer;
           m.hadPeer = m.connected = true;
-          m.applyTimeout();
+          m.applyTimeout(m.peer);
           out.kind = TransportEvent::Kind::Connected;
+          return out;
+        }
+        // A spectator watches a game under way: only once the player is here, and one at a time.
+        if (m.spectatorSlot && m.connected && !m.spectator) {
+          m.spectator = event.peer;
+          m.applyTimeout(m.spectator);
+          out.kind = TransportEvent::Kind::Connected;
+          out.spectator = true;
           return out;
         }
         enet_peer_disconnect_now(event.peer, 0);
         break;
       case ENET_EVENT_TYPE_RECEIVE: {
-        const bool ours = m.connected && event.peer == m.peer;
+        const bool fromSpectator = m.spectator && event.peer == m.spectator;
+        const bool ours = (m.connected && event.peer == m.peer) || fromSpectator;
         if (ours) {
+          LinkCounts& counts = fromSpectator ? m.spectatorCounts : m.peerCounts;
+          ++counts.messagesReceived;
+          counts.bytesReceived += event.packet->dataLength;
+          out.spectator = fromSpectator;
           Decoded decoded = decode(event.packet->data, event.packet->dataLength, context);
           if (decoded.ok()) {
             out.kind = TransportEvent::Kind::Received;
@@ -208,6 +260,12 @@ TransportEvent Transport::poll(double timeoutSeconds, const DecodeContext& conte
         break;
       }
       case ENET_EVENT_TYPE_DISCONNECT:
+        if (m.spectator && event.peer == m.spectator) {
+          m.spectator = nullptr;
+          out.kind = TransportEvent::Kind::Disconnected;
+          out.spectator = true;
+          return out;
+        }
         if (event.peer == m.peer) {
           m.peer = nullptr;
           m.connected = false;
@@ -239,6 +297,9 @@ void Transport::close(double lingerSeconds) {
       if (got < 0) break;
       m.capResends();
       if (got > 0 && event.type == ENET_EVENT_TYPE_RECEIVE) enet_packet_destroy(event.packet);
+      if (got > 0 && event.type == ENET_EVENT_TYPE_DISCONNECT && m.spectator && event.peer == m.spectator) {
+        m.spectator = nullptr;
+      }
       if (got > 0 && event.type == ENET_EVENT_TYPE_DISCONNECT && event.peer == m.peer) {
         m.peer = nullptr;
         m.connected = false;
@@ -251,6 +312,57 @@ void Transport::close(double lingerSeconds) {
   }
   m.peer = nullptr;
   m.connected = false;
+}
+
+void Transport::acceptAnotherPeer() {
+  if (!impl_->connected) impl_->hadPeer = false;
+}
+
+bool Transport::spectatorConnected() const { return impl_->spectator != nullptr; }
+
+void Transport::sendToSpectator(const Message& message) {
+  if (!impl_->spectator) return;
+  const std::vector<uint8_t> bytes = encode(message);
+  impl_->sendPacket(impl_->spectator, impl_->spectatorCounts, bytes.data(), bytes.size());
+}
+
+size_t Transport::spectatorBacklog() const {
+  return impl_->spectator ? countMessagesInFlight(impl_->spectator) : 0;
+}
+
+void Transport::closeSpectator(double lingerSeconds) {
+  using Clock = std::chrono::steady_clock;
+  Impl& m = *impl_;
+  if (!m.spectator) return;
+  // As close(): until the spectator has everything sent, then at once. The player's packets that come
+  // meanwhile are kept for poll(): the game goes on, and every one of them is awaited.
+  const auto deadline = Clock::now() + std::chrono::duration<double>(std::max(0.0, lingerSeconds));
+  while (m.spectator && messagesInFlight(m.spectator)) {
+    const double left = std::chrono::duration<double>(deadline - Clock::now()).count();
+    if (left <= 0) break;
+    ENetEvent event{};
+    const int got = enet_host_service(m.host, &event, milliseconds(std::min(left, 0.01)));
+    if (got < 0) break;
+    m.capResends();
+    if (got == 0) continue;
+    if (event.peer == m.spectator) {
+      // The spectator's last words are not waited for; its leaving ends the linger.
+      if (event.type == ENET_EVENT_TYPE_RECEIVE) enet_packet_destroy(event.packet);
+      if (event.type == ENET_EVENT_TYPE_DISCONNECT) m.spectator = nullptr;
+    } else {
+      m.deferred.push_back(event);  // the player's, for poll()
+    }
+  }
+  if (m.spectator) enet_peer_disconnect_now(m.spectator, 0);
+  m.spectator = nullptr;
+}
+
+const LinkCounts& Transport::peerCounts() const { return impl_->peerCounts; }
+const LinkCounts& Transport::spectatorCounts() const { return impl_->spectatorCounts; }
+
+SocketCounts Transport::socketCounts() const {
+  const ENetHost* h = impl_->host;
+  return {h->totalSentPackets, h->totalSentData, h->totalReceivedPackets, h->totalReceivedData};
 }
 
 }  // namespace rts::net

@@ -38,13 +38,32 @@ struct TransportEvent {
   Kind kind = Kind::None;
   std::optional<Message> message;
   std::string error;
+  /// A host's second connection, the spectator's, rather than the player's (Transport::host with a
+  /// spectator slot). Connected, Received, Garbage and Disconnected come for it too.
+  bool spectator = false;
+};
+
+/// What went over one connection: the protocol's messages (a packet each) and their bytes, as the
+/// session sent and received them (ENet's headers, acknowledgements and resends not counted).
+struct LinkCounts {
+  uint64_t messagesSent = 0, bytesSent = 0;
+  uint64_t messagesReceived = 0, bytesReceived = 0;
+};
+
+/// What this process's UDP socket carried: every datagram ENet sent and received, its headers,
+/// acknowledgements, pings and resends included, to and from every peer.
+struct SocketCounts {
+  uint64_t datagramsSent = 0, bytesSent = 0;
+  uint64_t datagramsReceived = 0, bytesReceived = 0;
 };
 
 class Transport {
  public:
-  /// Listens on `port` (0: a free one, see localPort()) on every interface, for one peer.
-  /// Throws TransportError naming the port when it cannot.
-  static std::unique_ptr<Transport> host(uint16_t port);
+  /// Listens on `port` (0: a free one, see localPort()) on every interface, for one peer, and with
+  /// `spectatorSlot` for one more while the first is connected: the spectator's (its events come with
+  /// `spectator` set). A connection beyond those is turned away. Throws TransportError naming the port
+  /// when it cannot.
+  static std::unique_ptr<Transport> host(uint16_t port, bool spectatorSlot = false);
   /// Starts connecting to hostName:port; poll() reports Connected or Disconnected. Throws
   /// TransportError when the name does not resolve.
   static std::unique_ptr<Transport> join(const std::string& hostName, uint16_t port);
@@ -74,8 +93,29 @@ class Transport {
   TransportEvent poll(double timeoutSeconds, const DecodeContext& context);
 
   /// Leaves: waits up to `lingerSeconds` for the peer to acknowledge every message sent (the last Bye or
-  /// Refuse must reach it), then disconnects at once. Packets that arrive meanwhile are dropped.
+  /// Refuse must reach it), then disconnects at once. Packets that arrive meanwhile are dropped. The
+  /// spectator, when there is one, stays connected (closeSpectator).
   void close(double lingerSeconds);
+
+  /// A host whose first peer turned out not to be a player (a spectator that came too early): after
+  /// close(), takes the next one that connects as its peer.
+  void acceptAnotherPeer();
+
+  // ---- The spectator's connection (a host with a spectator slot) ----
+
+  bool spectatorConnected() const;
+  /// Sends a message to the spectator reliably; nothing happens without one.
+  void sendToSpectator(const Message& message);
+  /// Messages sent to the spectator and not yet acknowledged: how far behind it is.
+  size_t spectatorBacklog() const;
+  /// As close(), for the spectator's connection only; the slot is then free for another.
+  void closeSpectator(double lingerSeconds);
+
+  // ---- Counts, for the bandwidth a game takes ----
+
+  const LinkCounts& peerCounts() const;       ///< the player's connection (a joiner's, the host's)
+  const LinkCounts& spectatorCounts() const;  ///< every spectator's connection so far, summed
+  SocketCounts socketCounts() const;
 
  private:
   struct Impl;

@@ -14,6 +14,7 @@
 #include "game/tick_loop.h"
 #include "net/hello.h"
 #include "net/lockstep.h"
+#include "net/spectator.h"
 #include "net/transport.h"
 #include "render/offscreen.h"
 #include "render/png.h"
@@ -74,11 +75,48 @@ void printSessionError(const net::SessionError& e) {
   std::fprintf(stderr, "rattle-demo: %s\n%s", e.what(), e.details().c_str());
 }
 
-// The network side of a headless run: the transport and the session, once the handshake has passed.
+// The network side of a headless run: the transport and the session (a player's or a spectator's),
+// once the handshake has passed.
 struct Network {
   std::unique_ptr<net::Transport> transport;
   std::unique_ptr<net::LockstepSession> session;
+  std::unique_ptr<net::SpectatorSession> spectator;
+  std::chrono::steady_clock::time_point start;  // the handshake passed: the game's traffic from here on
 };
+
+std::string perSecond(uint64_t bytes, uint64_t packets, double seconds, const char* unit) {
+  char text[200];
+  std::snprintf(text, sizeof text, "%llu bytes in %llu %s (%.0f bytes/s, %.1f %s/s)",
+                static_cast<unsigned long long>(bytes), static_cast<unsigned long long>(packets), unit,
+                bytes / seconds, packets / seconds, unit);
+  return text;
+}
+
+// What the game cost the network, for net/README.md's figures: the protocol's messages to and from each
+// connection, and what the socket carried with ENet's own traffic (headers, acknowledgements, pings and
+// resends, to and from every connection). From the handshake's end to the game's, per second of game
+// time (30 ticks): a headless game plays as fast as the peer allows, a game in a window at 30 ticks a
+// second, so rates by the wall clock would say nothing about the latter.
+void printTraffic(const Network& n, const char* peerName, uint32_t ticks) {
+  const double gameSeconds = std::max(1u, ticks) * Game::kTickSeconds;
+  const double wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - n.start).count();
+  const net::LinkCounts& p = n.transport->peerCounts();
+  std::printf("Network traffic over %u ticks (%.1f s of game time; %.1f s by the clock), per second of game time: "
+              "messages to %s %s; from %s %s.\n",
+              ticks, gameSeconds, wallSeconds, peerName,
+              perSecond(p.bytesSent, p.messagesSent, gameSeconds, "messages").c_str(), peerName,
+              perSecond(p.bytesReceived, p.messagesReceived, gameSeconds, "messages").c_str());
+  if (n.session && n.session->spectatorsServed() > 0) {
+    const net::LinkCounts& w = n.transport->spectatorCounts();
+    std::printf("To the spectator (%u served): %s; from it %s.\n", n.session->spectatorsServed(),
+                perSecond(w.bytesSent, w.messagesSent, gameSeconds, "messages").c_str(),
+                perSecond(w.bytesReceived, w.messagesReceived, gameSeconds, "messages").c_str());
+  }
+  const net::SocketCounts u = n.transport->socketCounts();
+  std::printf("UDP socket, ENet's headers, acknowledgements, pings and resends included: sent %s; received %s.\n",
+              perSecond(u.bytesSent, u.datagramsSent, gameSeconds, "datagrams").c_str(),
+              perSecond(u.bytesReceived, u.datagramsReceived, gameSeconds, "datagrams").c_str());
+}
 
 Network connect(const Game& game, const Options& o, const std::string& mapJson, CommandSource& opponent) {
   // A line in the middle of the progress line would be lost at its end: start a line of its own.
@@ -88,21 +126,32 @@ Network connect(const Game& game, const Options& o, const std::string& mapJson, 
   };
   Network n;
   if (o.network == Options::Network::Host) {
-    n.transport = net::Transport::host(o.port);
+    n.transport = net::Transport::host(o.port, true);
     say("hosting on UDP port " + std::to_string(n.transport->localPort()) +
         ", waiting for a player to join (rattle-demo --join THIS-HOST:" + std::to_string(n.transport->localPort()) +
         " with the same options)");
   } else {
     n.transport = net::Transport::join(o.joinHost, o.port);
-    say("joining " + o.joinHost + ":" + std::to_string(o.port));
+    say(std::string(o.network == Options::Network::Watch ? "watching " : "joining ") + o.joinHost + ":" +
+        std::to_string(o.port));
   }
   net::LockstepConfig config;
-  config.hello =
-      net::playerHello(game, mapJson, o.seed, uint8_t(o.team()), uint16_t(o.inputDelay), uint16_t(o.hashEvery));
   config.peerTimeoutSeconds = o.peerTimeout;
   config.log = say;
+  if (o.network == Options::Network::Watch) {
+    config.hello = net::spectatorHello(game, mapJson, o.seed, uint16_t(o.inputDelay), uint16_t(o.hashEvery),
+                                       uint32_t(o.ticks));
+    n.spectator = std::make_unique<net::SpectatorSession>(*n.transport, std::move(config));
+    n.spectator->handshake(game);
+    n.start = std::chrono::steady_clock::now();
+    return n;
+  }
+  config.hello = net::playerHello(game, mapJson, o.seed, uint8_t(o.team()), uint16_t(o.inputDelay),
+                                  uint16_t(o.hashEvery), uint32_t(o.ticks));
+  config.acceptSpectator = o.network == Options::Network::Host;
   n.session = std::make_unique<net::LockstepSession>(*n.transport, opponent, std::move(config));
   n.session->handshake(game);
+  n.start = std::chrono::steady_clock::now();
   say(std::string("playing ") + teamName(o.team()) + " against " + teamName(1 - o.team()) + ": input delay " +
       std::to_string(o.inputDelay) + " ticks, state hashes compared every " +
       (o.hashEvery == 1 ? std::string("tick") : std::to_string(o.hashEvery) + " ticks"));
@@ -126,7 +175,7 @@ int runHeadless(Game& game, const Options& o, const std::string& mapJson, replay
   const bool networked = o.network != Options::Network::None;
   // Networked, each side's opponent plays its own team only; its commands reach the game through the
   // session, which applies both teams' in one order on both sides.
-  ScriptedOpponent opponent(o.seed, networked ? 1u << o.team() : 3u);
+  ScriptedOpponent opponent(o.seed, networked ? 1u << o.team() : 3u);  // not asked when watching
   TickLoop loop(game);
   Network network;
   if (networked) {
@@ -136,7 +185,11 @@ int runHeadless(Game& game, const Options& o, const std::string& mapJson, replay
       printSessionError(e);
       return exitStatus(e.kind());
     }
-    loop.add(*network.session);
+    if (network.session) {
+      loop.add(*network.session);
+    } else {
+      loop.add(*network.spectator);
+    }
   } else {
     loop.add(opponent);
   }
@@ -171,10 +224,12 @@ int runHeadless(Game& game, const Options& o, const std::string& mapJson, replay
       // Recorded before the hashes are compared: a desync's replay holds the tick that differs.
       if (recorder) recorder->afterTick(game, commands);
       if (network.session) network.session->afterTick(game);
+      if (network.spectator) network.spectator->afterTick(game);
       if (renderer && game.tickCount() % unsigned(o.every) == 0 && !frame()) return 1;
       if (!o.quiet) progress(game, o.ticks, false);
     }
     if (network.session) network.session->finish(game);
+    if (network.spectator) network.spectator->finish(game);
   } catch (const net::SessionError& e) {
     if (!o.quiet) progress(game, o.ticks, true);
     printSessionError(e);
@@ -201,6 +256,17 @@ int runHeadless(Game& game, const Options& o, const std::string& mapJson, replay
                  "%.2f s at once\n",
                  network.session->hashesCompared(), network.session->waitedSeconds(), teamName(1 - o.team()),
                  network.session->longestWaitSeconds());
+    printTraffic(network, "the peer", game.tickCount());
+  }
+  if (network.spectator) {
+    std::printf("Network game over after %u ticks: final state hash %016llx, the same as the host's.\n",
+                game.tickCount(), static_cast<unsigned long long>(game.stateHash()));
+    std::fprintf(stderr,
+                 "rattle-demo: joined at tick %u (the state compared in full there), %u state hashes compared "
+                 "with the host's; waited %.2f s for the host in all\n",
+                 network.spectator->joinedAt(), network.spectator->hashesCompared(),
+                 network.spectator->waitedSeconds());
+    printTraffic(network, "the host", game.tickCount());
   }
   return 0;
 }

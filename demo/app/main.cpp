@@ -43,11 +43,16 @@ int main(int argc, char** argv) {
       info.mapJson = mapJson;
       info.seed = o.seed;
       // Networked, this side's opponent plays its own team; the other team's commands came from the peer.
-      info.opponentTeams = o.network != rts::Options::Network::None ? uint8_t(1u << o.team()) : o.window ? 2 : 3;
+      // A spectator's commands all came from the host.
+      info.opponentTeams = o.network == rts::Options::Network::Watch  ? 0
+                           : o.network != rts::Options::Network::None ? uint8_t(1u << o.team())
+                           : o.window                                 ? 2
+                                                                      : 3;
       info.keyframeEvery = uint32_t(o.keyframeEvery);
       info.recordedBy = o.window                                   ? "rattle-demo --window"
                         : o.network == rts::Options::Network::Host ? "rattle-demo --host"
                         : o.network == rts::Options::Network::Join ? "rattle-demo --join"
+                        : o.network == rts::Options::Network::Watch ? "rattle-demo --watch"
                                                                    : "rattle-demo";
       recorder = std::make_unique<rts::replay::Recorder>(o.record, info, game);
     }

@@ -50,24 +50,28 @@ const char* kUsage =
     "  --help          this text\n"
     "\n"
     "Network play (headless only for now; demo/README.md, \"Network play\"): two rattle-demo processes play\n"
-    "one game in lockstep over ENet, each side's scripted opponent playing its own team. Both must be given\n"
-    "the same --map, --seed, --units, --mode, --ticks, --input-delay and --hash-every (the handshake\n"
-    "compares all but --ticks and refuses a difference).\n"
+    "one game in lockstep over ENet, each side's scripted opponent playing its own team, and a third may\n"
+    "watch. All must be given the same --map, --seed, --units, --mode, --steering, --ticks, --input-delay\n"
+    "and --hash-every: the handshake compares them and refuses a difference.\n"
     "  --host [PORT]   host the game on UDP port PORT (default 47800; 0: any free port, printed) and play\n"
-    "                  blue (team 0); waits for a player to join\n"
+    "                  blue (team 0); waits for a player to join, then takes one spectator at a time\n"
     "  --join HOST[:PORT]  join the game hosted at HOST (a name or an IPv4 address; port default 47800)\n"
     "                  and play red (team 1)\n"
+    "  --watch HOST[:PORT]  watch the game hosted at HOST, from any tick once a player has joined: the game\n"
+    "                  so far is played from the start, then followed; sends no commands, is never waited\n"
+    "                  for, and checks its state hashes against the host's\n"
     "  --input-delay N ticks between issuing a command and applying it, 0 to 300 (default 3: 100 ms of\n"
     "                  round trip at 30 ticks a second)\n"
     "  --hash-every K  compare the state hash with the peer's every K ticks, 1 to 65535 (default 1)\n"
     "  --peer-timeout S  give up on a peer silent for S seconds, 0.1 to 3600 (default 10)\n"
-    "  With --host or --join, frames go to out/demo-host or out/demo-join and show this side's fog unless\n"
-    "  --frames and --fog say otherwise. Exit status: 0 the game was played to the end with equal hashes,\n"
-    "  3 the handshake refused the game, 4 desync (the state hashes differ), 5 the peer could not be\n"
-    "  reached, disconnected, went silent or left early, 6 the peer sent garbage or broke the protocol.\n"
+    "  With --host, --join or --watch, frames go to out/demo-host, out/demo-join or out/demo-watch and show\n"
+    "  this side's fog (a spectator's: none) unless --frames and --fog say otherwise. Exit status: 0 the\n"
+    "  game was played to the end with equal hashes, 3 the handshake refused the game, 4 desync (the state\n"
+    "  hashes differ), 5 the peer could not be reached, disconnected, went silent or left early (a\n"
+    "  spectator's peer is the host), 6 the peer sent garbage or broke the protocol.\n"
     "\n"
     "Exit status: 0 done, 1 an error (a bad map, a file that cannot be written), 2 bad options; with\n"
-    "--host or --join also 3 to 6 (above).\n";
+    "--host, --join or --watch also 3 to 6 (above).\n";
 
 bool parseLong(const char* text, long lo, long hi, long& out) {
   if (!text || !*text) return false;
@@ -212,27 +216,29 @@ ParseResult parseOptions(int argc, char** argv) {
       o.keyframeEvery = int(n);
       keyframeGiven = true;
     } else if (arg == "--host") {
-      if (o.network != Options::Network::None) return fail("--host: a side either hosts or joins, once");
+      if (o.network != Options::Network::None) return fail("--host: a side either hosts, joins or watches, once");
       o.network = Options::Network::Host;
       if (i + 1 < argc && argv[i + 1][0] != '-') {
         if (!number(0, 65535, n)) return fail(std::string("--host ") + lastValue + ": expected a port from 0 to 65535");
         o.port = uint16_t(n);
       }
-    } else if (arg == "--join") {
-      if (o.network != Options::Network::None) return fail("--join: a side either hosts or joins, once");
-      o.network = Options::Network::Join;
+    } else if (arg == "--join" || arg == "--watch") {
+      if (o.network != Options::Network::None) {
+        return fail(std::string(arg) + ": a side either hosts, joins or watches, once");
+      }
+      o.network = arg == "--join" ? Options::Network::Join : Options::Network::Watch;
       const char* v = value();
       const std::string_view text = v ? v : "";
       const size_t colon = text.find(':');
       o.joinHost = std::string(text.substr(0, colon));
       if (o.joinHost.empty() ||
           (colon != std::string_view::npos && text.find(':', colon + 1) != std::string_view::npos)) {
-        return fail(std::string("--join ") + (v ? v : "(missing)") +
+        return fail(std::string(arg) + " " + (v ? v : "(missing)") +
                     ": expected HOST or HOST:PORT (a name or an IPv4 address)");
       }
       if (colon != std::string_view::npos) {
         if (!parseLong(std::string(text.substr(colon + 1)).c_str(), 1, 65535, n)) {
-          return fail(std::string("--join ") + v + ": the port after ':' must be a whole number from 1 to 65535");
+          return fail(std::string(arg) + " " + v + ": the port after ':' must be a whole number from 1 to 65535");
         }
         o.port = uint16_t(n);
       }
@@ -270,19 +276,21 @@ ParseResult parseOptions(int argc, char** argv) {
                 "with the default (keep-apart)");
   }
   if (o.network != Options::Network::None) {
-    const char* side = o.network == Options::Network::Host ? "--host" : "--join";
+    const char* side = o.network == Options::Network::Host   ? "--host"
+                       : o.network == Options::Network::Join ? "--join"
+                                                             : "--watch";
     if (o.window) {
       return fail(std::string(side) + " with --window: not yet; network play is headless for now (issue 26)");
     }
-    if (o.steering != Steering::KeepApart) {
-      return fail(std::string("--steering naive cannot go with ") + side +
-                  ": the handshake does not compare the steering, so two sides could play different games");
-    }
     // Two sides on one machine would otherwise write over each other's frames.
-    if (!o.framesGiven) o.framesDir = o.network == Options::Network::Host ? "out/demo-host" : "out/demo-join";
-    if (!o.fogGiven) o.fogTeam = o.team();
+    if (!o.framesGiven) {
+      o.framesDir = o.network == Options::Network::Host   ? "out/demo-host"
+                    : o.network == Options::Network::Join ? "out/demo-join"
+                                                          : "out/demo-watch";
+    }
+    if (!o.fogGiven) o.fogTeam = o.network == Options::Network::Watch ? -1 : o.team();
   } else if (!networkOption.empty()) {
-    return fail(networkOption + " needs --host or --join");
+    return fail(networkOption + " needs --host, --join or --watch");
   }
   return r;
 }

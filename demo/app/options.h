@@ -37,13 +37,13 @@ struct Options {
   bool framesGiven = false, fogGiven = false;
 
   // Network play (headless only for now; demo/README.md, "Network play").
-  enum class Network { None, Host, Join } network = Network::None;
-  uint16_t port = net::kDefaultPort;  ///< --host: the port to listen on (0: any free one); --join: the host's
-  std::string joinHost;       ///< --join: the host's name or address
+  enum class Network { None, Host, Join, Watch } network = Network::None;
+  uint16_t port = net::kDefaultPort;  ///< --host: the port to listen on (0: any free one); --join, --watch: the host's
+  std::string joinHost;       ///< --join, --watch: the host's name or address
   int inputDelay = 3;         ///< ticks between issuing a command and applying it
   int hashEvery = 1;          ///< ticks between state hash comparisons
   double peerTimeout = 10;    ///< seconds of silence after which the peer is given up on
-  /// The team this side plays: the host blue (0), the joiner red (1).
+  /// The team this side plays: the host blue (0), the joiner red (1); a spectator plays none (0).
   int team() const { return network == Network::Join ? 1 : 0; }
 };
 

@@ -4,11 +4,13 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <fstream>
 #include <iterator>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "game/game.h"
@@ -18,6 +20,7 @@
 #include "net/delayed_source.h"
 #include "net/hello.h"
 #include "net/lockstep.h"
+#include "net/spectator.h"
 #include "net/transport.h"
 
 namespace net_test {
@@ -41,6 +44,10 @@ struct GameSettings {
   /// The test's hook for a desync: after this many ticks the side orders one of its units somewhere
   /// itself, outside the lockstep (0: never).
   uint32_t perturbAfter = 0;
+  rts::Steering steering = rts::Steering::KeepApart;
+  /// A player sleeps this long after each tick (0: none, as rattle-demo headless): a game that lasts
+  /// long enough for a spectator to join it under way.
+  double tickSeconds = 0;
 };
 
 /// The order that perturbs a game: the team's first unit, sent to the middle of the map.
@@ -62,6 +69,7 @@ inline rts::Command perturbation(const rts::Game& game, uint8_t team) {
 inline std::unique_ptr<rts::Game> makeGame(const GameSettings& s, const std::string& mapJson) {
   rts::GameConfig config;
   config.unitsPerTeam = s.units;
+  config.steering = s.steering;
   return std::make_unique<rts::Game>(rts::parseMap(mapJson, s.mapFile), config);
 }
 
@@ -83,13 +91,15 @@ struct SideResult {
 
 /// One side of a networked game on `transport`: the scripted opponent for its team, through a TickLoop
 /// with the session as its only source, as rattle-demo plays it.
-inline SideResult playSide(rts::net::Transport& transport, uint8_t team, const GameSettings& s) {
+inline SideResult playSide(rts::net::Transport& transport, uint8_t team, const GameSettings& s,
+                           std::atomic<uint32_t>* ticksDone = nullptr) {
   const std::string mapJson = readFile(sourcePath(s.mapFile));
   std::unique_ptr<rts::Game> game = makeGame(s, mapJson);
   rts::ScriptedOpponent opponent(s.seed, 1u << team);
   SideResult r;
   rts::net::LockstepConfig config;
-  config.hello = rts::net::playerHello(*game, mapJson, s.seed, team, s.inputDelay, s.hashEvery);
+  config.hello = rts::net::playerHello(*game, mapJson, s.seed, team, s.inputDelay, s.hashEvery, s.ticks);
+  config.acceptSpectator = team == 0;
   config.peerTimeoutSeconds = s.peerTimeout;
   config.joinWaitSeconds = 30;  // a test never waits for ever
   config.log = [&r](const std::string& line) { r.log.push_back(line); };
@@ -104,6 +114,8 @@ inline SideResult playSide(rts::net::Transport& transport, uint8_t team, const G
       r.applied.insert(r.applied.end(), commands.begin(), commands.end());
       session.afterTick(*game);
       if (game->tickCount() == s.perturbAfter) game->apply(perturbation(*game, team));
+      if (ticksDone) ticksDone->store(game->tickCount());
+      if (s.tickSeconds > 0) std::this_thread::sleep_for(std::chrono::duration<double>(s.tickSeconds));
     }
     session.finish(*game);
     r.finished = true;
@@ -118,6 +130,53 @@ inline SideResult playSide(rts::net::Transport& transport, uint8_t team, const G
   r.hashesCompared = session.hashesCompared();
   r.waited = session.waitedSeconds();
   r.longestWait = session.longestWaitSeconds();
+  return r;
+}
+
+/// A spectator of the game of `s` on `transport` (a joiner's, to the host), as rattle-demo --watch
+/// plays it: the host's ticks through a TickLoop with the session as its only source. `leaveAfter`
+/// (0: never): the spectator disconnects, without a word, once it has played that many ticks.
+inline SideResult watchSide(rts::net::Transport& transport, const GameSettings& s, uint32_t leaveAfter = 0,
+                            uint32_t* joinedAt = nullptr) {
+  const std::string mapJson = readFile(sourcePath(s.mapFile));
+  std::unique_ptr<rts::Game> game = makeGame(s, mapJson);
+  SideResult r;
+  rts::net::LockstepConfig config;
+  config.hello = rts::net::spectatorHello(*game, mapJson, s.seed, s.inputDelay, s.hashEvery, s.ticks);
+  config.peerTimeoutSeconds = s.peerTimeout;
+  config.log = [&r](const std::string& line) { r.log.push_back(line); };
+  rts::net::SpectatorSession session(transport, config);
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    session.handshake(*game);
+    if (joinedAt) *joinedAt = session.joinedAt();
+    rts::TickLoop loop(*game);
+    loop.add(session);
+    for (uint32_t t = 0; t < s.ticks; ++t) {
+      const std::vector<rts::Command>& commands = loop.tick();
+      r.applied.insert(r.applied.end(), commands.begin(), commands.end());
+      session.afterTick(*game);
+      if (game->tickCount() == s.perturbAfter) game->apply(perturbation(*game, 0));
+      if (leaveAfter != 0 && game->tickCount() == leaveAfter) {
+        transport.close(0);
+        r.error = "left on purpose";
+        break;
+      }
+    }
+    if (r.error.empty()) {
+      session.finish(*game);
+      r.finished = true;
+    }
+  } catch (const rts::net::SessionError& e) {
+    r.kind = e.kind();
+    r.error = e.what();
+    r.details = e.details();
+  }
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.finalHash = game->stateHash();
+  r.ticksPlayed = game->tickCount();
+  r.hashesCompared = session.hashesCompared();
+  r.waited = session.waitedSeconds();
   return r;
 }
 

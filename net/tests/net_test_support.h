@@ -61,6 +61,8 @@ inline Hello playerHello() {
   h.hashIntervalTicks = 30;
   h.role = Role::Player;
   h.team = 1;
+  h.ticks = 600;
+  h.steering = rts::Steering::KeepApart;
   return h;
 }
 
@@ -77,7 +79,23 @@ inline Hello spectatorHello() {
   h.hashIntervalTicks = UINT16_MAX;
   h.role = Role::Spectator;
   h.team = 0;
+  h.ticks = kMaxGameTicks;
+  h.steering = rts::Steering::Naive;
   return h;
+}
+
+/// Ticks as a host sends them to a spectator: empty ticks, both teams' commands in one (team 0's
+/// first), hashes on some, the last tick a game may have.
+inline Ticks sampleTicks() {
+  Ticks m;
+  m.firstTick = 30;
+  m.entries.resize(4);
+  m.entries[1].commands.push_back(command(31, 0, rts::CommandType::Move, {0, 2, 128}, {12.5, -0.0}));
+  m.entries[1].commands.push_back(command(31, 0, rts::CommandType::ToggleGate, {}, {}, 0));
+  m.entries[1].commands.push_back(command(31, 1, rts::CommandType::Stop, {1, 399999}));
+  m.entries[1].stateHash = 0x8000000000000001ull;
+  m.entries[3].stateHash = 0;
+  return m;
 }
 
 /// One command of each type, unit ids at every varint length, targets a double's awkward values.
@@ -184,6 +202,8 @@ inline std::vector<std::pair<std::string, Message>> sampleMessages() {
       {"snapshot-empty-game", Snapshot{0, 0, rts::replay::Snapshot{}}},
       // A state too large for a packet is not sent, but the message is.
       {"snapshot-without-state", Snapshot{UINT32_MAX, UINT64_MAX, std::nullopt}},
+      {"ticks", sampleTicks()},
+      {"ticks-one-empty", Ticks{kMaxGameTicks - 1, std::vector<Ticks::Entry>(1)}},
   };
 }
 
@@ -214,6 +234,20 @@ inline void expectSame(const Message& a, const Message& b, const std::string& wh
     EXPECT_EQ(x->hashIntervalTicks, y.hashIntervalTicks) << where;
     EXPECT_EQ(x->role, y.role) << where;
     EXPECT_EQ(x->team, y.team) << where;
+    EXPECT_EQ(x->ticks, y.ticks) << where;
+    EXPECT_EQ(x->steering, y.steering) << where;
+  } else if (const auto* x = std::get_if<Ticks>(&a)) {
+    const Ticks& y = std::get<Ticks>(b);
+    EXPECT_EQ(x->firstTick, y.firstTick) << where;
+    ASSERT_EQ(x->entries.size(), y.entries.size()) << where;
+    for (size_t i = 0; i < x->entries.size(); ++i) {
+      const std::string at = where + " entry " + std::to_string(i);
+      EXPECT_EQ(x->entries[i].stateHash, y.entries[i].stateHash) << at;
+      ASSERT_EQ(x->entries[i].commands.size(), y.entries[i].commands.size()) << at;
+      for (size_t j = 0; j < x->entries[i].commands.size(); ++j) {
+        expectSameCommand(x->entries[i].commands[j], y.entries[i].commands[j], at + " command " + std::to_string(j));
+      }
+    }
   } else if (const auto* x = std::get_if<Refuse>(&a)) {
     EXPECT_EQ(x->reason, std::get<Refuse>(b).reason) << where;
   } else if (const auto* x = std::get_if<Commands>(&a)) {
@@ -252,17 +286,17 @@ inline void expectCleanError(const std::vector<uint8_t>& input, const std::strin
   EXPECT_FALSE(error.empty()) << where;
   EXPECT_EQ(error.find('\n'), std::string::npos) << where << ": " << error;
   EXPECT_LE(error.size(), 400u) << where << ": " << error;
-  static const char* const names[] = {"Hello", "Refuse", "Commands", "Hash", "Bye", "Snapshot"};
+  static const char* const names[] = {"Hello", "Refuse", "Commands", "Hash", "Bye", "Snapshot", "Ticks"};
   if (input.empty()) {
     EXPECT_EQ(error, "empty packet: no message type") << where;
-  } else if (input[0] >= 1 && input[0] <= 6) {
+  } else if (input[0] >= 1 && input[0] <= 7) {
     const std::string name = names[input[0] - 1];
     EXPECT_EQ(error.rfind(name, 0), 0u) << where << ": " << error;
     const char next = error.size() > name.size() ? error[name.size()] : '\0';
     EXPECT_TRUE(next == '.' || next == ':') << where << ": " << error;
   } else {
     EXPECT_EQ(error, "message type " + std::to_string(input[0]) +
-                         " is unknown (1 Hello, 2 Refuse, 3 Commands, 4 Hash, 5 Bye, 6 Snapshot)")
+                         " is unknown (1 Hello, 2 Refuse, 3 Commands, 4 Hash, 5 Bye, 6 Snapshot, 7 Ticks)")
         << where;
   }
 }

@@ -230,20 +230,49 @@ TEST(NetLockstep, ADifferentSeedIsRefusedOnBothSidesNamingIt) {
   EXPECT_EQ(p.joiner.ticksPlayed, 0u);
 }
 
-TEST(NetLockstep, DifferentTickCountsEndBothSidesAsPeerLost) {
+// The game's length and its steering change the game: the handshake compares them (issue 9), as the
+// seed, and refuses on both sides before a tick is played.
+TEST(NetLockstep, DifferentTickCountsAreRefusedOnBothSides) {
   GameSettings host, joiner;
   host.units = joiner.units = 4;
   host.ticks = 30;
   joiner.ticks = 31;
   const Pair p = playPair(host, joiner);
-  EXPECT_EQ(p.host.kind, SessionError::Kind::PeerLost) << describe(p.host);
-  EXPECT_EQ(p.joiner.kind, SessionError::Kind::PeerLost) << describe(p.joiner);
-  EXPECT_EQ(
-      p.host.error,
-      "the peer's game ended after tick 31 and this side's after tick 30: both must play the same number of ticks");
-  EXPECT_EQ(
-      p.joiner.error,
-      "the peer's game ended after tick 30 and this side's after tick 31: both must play the same number of ticks");
+  EXPECT_EQ(p.host.kind, SessionError::Kind::Refused) << describe(p.host);
+  EXPECT_EQ(p.joiner.kind, SessionError::Kind::Refused) << describe(p.joiner);
+  EXPECT_EQ(p.host.error, "the handshake failed: ticks: mine 30, theirs 31");
+  EXPECT_EQ(p.joiner.error, "the handshake failed: ticks: mine 31, theirs 30");
+  EXPECT_EQ(p.host.ticksPlayed, 0u);
+  EXPECT_EQ(p.joiner.ticksPlayed, 0u);
+}
+
+TEST(NetLockstep, DifferentSteeringIsRefusedOnBothSides) {
+  GameSettings host, joiner;
+  host.units = joiner.units = 4;
+  joiner.steering = rts::Steering::Naive;
+  const Pair p = playPair(host, joiner);
+  EXPECT_EQ(p.host.kind, SessionError::Kind::Refused) << describe(p.host);
+  EXPECT_EQ(p.joiner.kind, SessionError::Kind::Refused) << describe(p.joiner);
+  EXPECT_EQ(p.host.error, "the handshake failed: steering: mine keep-apart, theirs naive");
+  EXPECT_EQ(p.joiner.error, "the handshake failed: steering: mine naive, theirs keep-apart");
+  EXPECT_EQ(p.host.ticksPlayed, 0u);
+}
+
+// Both naive: now that the handshake compares the steering, a networked game may be played with it,
+// and it is the same game as one loop plays.
+TEST(NetLockstep, TwoSidesWithNaiveSteeringPlayTheSameGame) {
+  GameSettings s;
+  s.units = 10;
+  s.ticks = 120;
+  s.steering = rts::Steering::Naive;
+  const Pair p = playPair(s, s);
+  ASSERT_TRUE(p.host.finished) << describe(p.host);
+  ASSERT_TRUE(p.joiner.finished) << describe(p.joiner);
+  EXPECT_EQ(p.host.finalHash, p.joiner.finalHash);
+  EXPECT_EQ(p.host.finalHash, playDelayedLocal(s).finalHash);
+  GameSettings keepApart = s;
+  keepApart.steering = rts::Steering::KeepApart;
+  EXPECT_NE(p.host.finalHash, playDelayedLocal(keepApart).finalHash);
 }
 
 // A hand-made joiner: connects, says a matching Hello, then does what the test says.
@@ -253,7 +282,8 @@ struct BarePeer {
   void helloFor(const GameSettings& s) {
     ASSERT_EQ(pollFor(*transport, TransportEvent::Kind::Connected, 10).kind, TransportEvent::Kind::Connected);
     const std::string mapJson = readFile(sourcePath(s.mapFile));
-    transport->send(rts::net::playerHello(*makeGame(s, mapJson), mapJson, s.seed, 1, s.inputDelay, s.hashEvery));
+    transport->send(
+        rts::net::playerHello(*makeGame(s, mapJson), mapJson, s.seed, 1, s.inputDelay, s.hashEvery, s.ticks));
   }
   /// Keeps ENet going (acknowledging what comes, showing each message to `seen`) until the other side
   /// says Bye or leaves; returns the Bye's reason, or "" when there was none.

@@ -64,6 +64,16 @@ class HostProcess {
 
   int port() const { return port_; }
 
+  /// Reads the output until a line holds `text` (or the output ends); whether one did.
+  bool readUntil(const std::string& text) {
+    char line[4096];
+    while (pipe_ && std::fgets(line, sizeof line, pipe_)) {
+      output_ += line;
+      if (std::strstr(line, text.c_str())) return true;
+    }
+    return false;
+  }
+
   /// Reads the rest of the output and waits for the process.
   Outcome finish() {
     if (pipe_) {
@@ -178,6 +188,69 @@ TEST(NetProgram, TwoProcessesPlayOneGameThroughTheFaultyRelay) {
   EXPECT_GT(relay.towardsHost().dropped + relay.towardsJoiner().dropped, 0u);
 }
 
+/// A process in the background (its output to a file), waited for by finish().
+class Background {
+ public:
+  Background(const std::string& arguments, const std::string& log) : log_(log) {
+    const std::string command = "timeout 120 " RATTLE_DEMO_BINARY " " + arguments + " > " + log + " 2>&1";
+    pipe_ = popen(command.c_str(), "r");
+  }
+  ~Background() { finish(); }
+  Outcome finish() {
+    if (pipe_) {
+      status_ = statusOf(pclose(pipe_));
+      pipe_ = nullptr;
+    }
+    return {status_, readFile(log_)};
+  }
+
+ private:
+  std::string log_;
+  FILE* pipe_ = nullptr;
+  int status_ = -1;
+};
+
+std::string hashIn(const std::string& line) {
+  const size_t at = line.find("final state hash ");
+  return at == std::string::npos ? "none" : line.substr(at + 17, 16);
+}
+
+// A third process watches a game under way: it comes in once the players have started, plays the game
+// so far and follows it, and ends with their final hash; all three print what the game cost the network.
+TEST(NetProgram, AThirdProcessWatchesAGameUnderWay) {
+  const std::string game =
+      "--map " + sourcePath("assets/maps/small.json") + " --units 6 --ticks 9000 --no-render --quiet --seed 3";
+  HostProcess host(game);
+  ASSERT_GT(host.port(), 0) << host.finish().output;
+  const std::string at = "127.0.0.1:" + std::to_string(host.port());
+  Background joiner("--join " + at + " " + game, scratch("join.log"));
+  ASSERT_TRUE(host.readUntil("playing blue (team 0) against red (team 1)")) << host.finish().output;
+  const Outcome watcher = run(RATTLE_DEMO_BINARY, "--watch " + at + " " + game + " --record " + scratch("watch.replay"));
+  const Outcome joined = joiner.finish();
+  const Outcome hosted = host.finish();
+  ASSERT_EQ(hosted.status, 0) << hosted.output;
+  ASSERT_EQ(joined.status, 0) << joined.output;
+  ASSERT_EQ(watcher.status, 0) << watcher.output;
+  const std::string line = finalLine(hosted.output);
+  EXPECT_EQ(finalLine(joined.output), line);
+  EXPECT_EQ(finalLine(watcher.output),
+            "Network game over after 9000 ticks: final state hash " + hashIn(line) + ", the same as the host's.");
+  const size_t joinedAt = watcher.output.find("joined at tick ");
+  ASSERT_NE(joinedAt, std::string::npos) << watcher.output;
+  const long tick = std::atol(watcher.output.c_str() + joinedAt + std::strlen("joined at tick "));
+  EXPECT_GT(tick, 0) << watcher.output;
+  EXPECT_TRUE(has(hosted, "rattle-demo: a spectator is watching from tick " + std::to_string(tick))) << hosted.output;
+  for (const Outcome* o : {&hosted, &joined, &watcher}) {
+    EXPECT_TRUE(has(*o, "Network traffic over 9000 ticks (300.0 s of game time;")) << o->output;
+    EXPECT_TRUE(has(*o, "UDP socket, ENet's headers, acknowledgements, pings and resends included: sent ")) << o->output;
+  }
+  EXPECT_TRUE(has(hosted, "To the spectator (1 served): ")) << hosted.output;
+  // The spectator's replay is of the whole game, and verifies.
+  const Outcome verified = run(RATTLE_REPLAY_BINARY, "verify " + scratch("watch.replay"));
+  EXPECT_EQ(verified.status, 0) << verified.output;
+  EXPECT_TRUE(has(verified, "all 9000 ticks match")) << verified.output;
+}
+
 TEST(NetProgram, TheRelayProgramSaysHowToUseIt) {
   const Outcome help = run(RATTLE_RELAY_BINARY, "--help");
   EXPECT_EQ(help.status, 0);
@@ -247,15 +320,18 @@ TEST(NetProgram, OptionsAreChecked) {
            Case{"--host --window", "--host with --window: not yet; network play is headless for now"},
            Case{"--join localhost --window", "--join with --window: not yet"},
            Case{"--host 70000", "--host 70000: expected a port from 0 to 65535"},
-           Case{"--host --join localhost", "--join: a side either hosts or joins, once"},
+           Case{"--host --join localhost", "--join: a side either hosts, joins or watches, once"},
+           Case{"--join localhost --watch localhost", "--watch: a side either hosts, joins or watches, once"},
+           Case{"--watch", "--watch (missing): expected HOST or HOST:PORT"},
+           Case{"--watch localhost:0", "--watch localhost:0: the port after ':' must be a whole number from 1 to 65535"},
+           Case{"--watch localhost --window", "--watch with --window: not yet"},
            Case{"--join", "--join (missing): expected HOST or HOST:PORT"},
            Case{"--join a:b:c", "--join a:b:c: expected HOST or HOST:PORT"},
            Case{"--join localhost:0", "--join localhost:0: the port after ':' must be a whole number from 1 to 65535"},
-           Case{"--input-delay 3", "--input-delay needs --host or --join"},
+           Case{"--input-delay 3", "--input-delay needs --host, --join or --watch"},
            Case{"--host --input-delay 301", "--input-delay 301: expected a whole number from 0 to 300"},
            Case{"--host --hash-every 0", "--hash-every 0: expected a whole number from 1 to 65535"},
            Case{"--join x --peer-timeout 0", "--peer-timeout 0: expected seconds from 0.1 to 3600"},
-           Case{"--host --steering naive", "--steering naive cannot go with --host"},
        }) {
     const Outcome o = run(RATTLE_DEMO_BINARY, c.arguments);
     EXPECT_EQ(o.status, 2) << c.arguments << ": " << o.output;
@@ -263,7 +339,7 @@ TEST(NetProgram, OptionsAreChecked) {
   }
   const Outcome help = run(RATTLE_DEMO_BINARY, "--help");
   for (const char* part :
-       {"--host [PORT]", "default 47800", "--join HOST[:PORT]", "--input-delay N", "(default 3", "--hash-every K",
+       {"--host [PORT]", "default 47800", "--join HOST[:PORT]", "--watch HOST[:PORT]", "--input-delay N", "(default 3", "--hash-every K",
         "(default 1)", "--peer-timeout S", "(default 10)", "3 the handshake refused", "4 desync",
         "5 the peer could not be", "6 the peer sent garbage"}) {
     EXPECT_TRUE(has(help, part)) << part;

@@ -31,6 +31,8 @@ struct RawHello {
   uint8_t stepMode = 0;
   uint16_t delay = 4, interval = 1;
   uint8_t role = 0, team = 0;
+  uint32_t ticks = 600;
+  uint8_t steering = 0;
 };
 
 std::vector<uint8_t> raw(const RawHello& h) {
@@ -47,7 +49,18 @@ std::vector<uint8_t> raw(const RawHello& h) {
   w.u16(h.interval);
   w.u8(h.role);
   w.u8(h.team);
+  w.u32(h.ticks);
+  w.u8(h.steering);
   return bytesOf(w.data());
+}
+
+// A Ticks header; the entries are appended by the caller.
+ByteWriter rawTicksHeader(uint32_t firstTick, uint16_t count) {
+  ByteWriter w;
+  w.u8(7);
+  w.u32(firstTick);
+  w.u16(count);
+  return w;
 }
 
 std::vector<uint8_t> rawText(uint8_t type, const std::string& s) {
@@ -111,7 +124,7 @@ TEST(NetProtocol, EveryMessageRoundTripsBitForBit) {
 
 TEST(NetProtocol, MessagesWithoutCommandsDecodeBeforeTheHandshake) {
   for (const auto& [name, message] : sampleMessages()) {
-    if (name == "commands-every-type" || name == "snapshot") continue;
+    if (name == "commands-every-type" || name == "snapshot" || name == "ticks") continue;
     const Decoded d = decodeBytes(encode(message), noGame());
     ASSERT_TRUE(d.ok()) << name << ": " << d.error;
     expectSame(message, *d.message, name);
@@ -136,7 +149,22 @@ TEST(NetProtocol, TheBytesAreTheDocumentedLayout) {
   r.role = 0;
   r.team = 1;
   EXPECT_EQ(encode(h), raw(r));
-  EXPECT_EQ(encode(h).size(), 45u);
+  EXPECT_EQ(encode(h).size(), 50u);
+  h.steering = rts::Steering::Naive;
+  h.ticks = 0x01020304;
+  r.steering = 1;
+  r.ticks = 0x01020304;
+  EXPECT_EQ(encode(h), raw(r));
+
+  // Ticks: the header, then each tick's count, its commands (the replay's codec) and its hash flag.
+  Ticks ticks;
+  ticks.firstTick = 0x010b0c0d;
+  ticks.entries.resize(2);
+  ticks.entries[0].commands.push_back(command(0x010b0c0d, 1, CommandType::Stop, {5}));
+  ticks.entries[1].stateHash = 0x8000000000000001ull;
+  const std::vector<uint8_t> ticksBytes = {7,    0x0d, 0x0c, 0x0b, 0x01, 2, 0, 1,    0, 2, 1, 1, 5, 0,
+                                           0,    0,    1,    0x01, 0,    0, 0, 0,    0, 0, 0x80};
+  EXPECT_EQ(encode(ticks), ticksBytes);
 
   const std::vector<uint8_t> hash = {4, 0x78, 0x56, 0x34, 0x12, 0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x80};
   EXPECT_EQ(encode(Hash{0x12345678, 0x8000000000000001ull}), hash);
@@ -328,9 +356,9 @@ TEST(NetProtocol, AByteAfterTheMessageIsAnError) {
 }
 
 TEST(NetProtocol, UnknownMessageTypesAreErrors) {
-  for (const uint8_t type : {0, 7, 8, 127, 255}) {
+  for (const uint8_t type : {0, 8, 9, 127, 255}) {
     const std::string line = "message type " + std::to_string(type) +
-                             " is unknown (1 Hello, 2 Refuse, 3 Commands, 4 Hash, 5 Bye, 6 Snapshot)";
+                             " is unknown (1 Hello, 2 Refuse, 3 Commands, 4 Hash, 5 Bye, 6 Snapshot, 7 Ticks)";
     EXPECT_EQ(errorOf({type, 1, 2, 3}), line);
     EXPECT_EQ(errorOf({type}), line);
   }
@@ -388,7 +416,7 @@ TEST(NetProtocol, HelloFieldsOneOverTheirLimitsAreErrors) {
 }
 
 TEST(NetProtocol, AnotherProtocolVersionDecodesAndItsErrorsSaySo) {
-  ASSERT_EQ(kProtocolVersion, 2u);
+  ASSERT_EQ(kProtocolVersion, 3u);
   RawHello r;
   r.version = 1;  // a build from before Snapshot
   const Decoded d = decodeBytes(raw(r), largestGame());
@@ -397,7 +425,7 @@ TEST(NetProtocol, AnotherProtocolVersionDecodesAndItsErrorsSaySo) {
   r.stepMode = 9;
   EXPECT_EQ(errorOf(raw(r)),
             "Hello.stepMode = 9 is not a step mode (0 hybrid, 1 discrete, 2 predictive) "
-            "(the peer speaks protocol version 1; this build speaks 2)");
+            "(the peer speaks protocol version 1; this build speaks 3)");
 }
 
 TEST(NetProtocol, ReasonsOneOverTheirLimitsAreErrors) {
@@ -552,6 +580,102 @@ TEST(NetProtocol, EncodeRefusesWhatDecodeWouldRefuseInTheSameWords) {
   EXPECT_EQ(encodeError(m), "Commands.commands[2] type: unknown command type 0 (1 move, 2 stop, 3 toggle gate)");
 }
 
+TEST(NetProtocol, HelloTicksAndSteeringOutOfRangeAreErrors) {
+  RawHello r;
+  r.ticks = kMaxGameTicks + 1;
+  EXPECT_EQ(errorOf(raw(r)), "Hello.ticks = 100000001 exceeds the limit 100000000");
+  r.ticks = kMaxGameTicks;
+  EXPECT_TRUE(decodeBytes(raw(r), largestGame()).ok());
+  r.steering = 2;
+  EXPECT_EQ(errorOf(raw(r)), "Hello.steering = 2 is not a steering (0 keep-apart, 1 naive)");
+  r.steering = 1;
+  EXPECT_TRUE(decodeBytes(raw(r), largestGame()).ok());
+  const std::vector<uint8_t> hello = encode(playerHello());
+  EXPECT_EQ(errorOf({hello.begin(), hello.begin() + 47}), "Hello.ticks: truncated at byte 45 of 47 (needs 4 bytes, 2 left)");
+  EXPECT_EQ(errorOf({hello.begin(), hello.begin() + 49}),
+            "Hello.steering: truncated at byte 49 of 49 (needs 1 byte, 0 left)");
+  Hello h = playerHello();
+  h.ticks = kMaxGameTicks + 1;
+  EXPECT_EQ(encodeError(h), "Hello.ticks = 100000001 exceeds the limit 100000000");
+  h = playerHello();
+  h.steering = rts::Steering(7);
+  EXPECT_EQ(encodeError(h), "Hello.steering = 7 is not a steering (0 keep-apart, 1 naive)");
+}
+
+TEST(NetProtocol, TicksFieldsOneOverTheirLimitsAreErrors) {
+  const DecodeContext small{200, 4};
+  // An empty tick: a count of 0 commands and no hash.
+  auto emptyTicks = [](uint32_t first, uint16_t count) {
+    ByteWriter w = rawTicksHeader(first, count);
+    for (uint16_t i = 0; i < count; ++i) {
+      w.u16(0);
+      w.u8(0);
+    }
+    return bytesOf(w.data());
+  };
+  EXPECT_TRUE(decodeBytes(emptyTicks(0, uint16_t(kMaxTicksPerMessage)), small).ok());
+  EXPECT_EQ(errorOf(emptyTicks(0, uint16_t(kMaxTicksPerMessage + 1)), small),
+            "Ticks.count = 4097 exceeds the limit 4096");
+  EXPECT_EQ(errorOf(emptyTicks(0, 0), small), "Ticks.count = 0 is below the minimum 1");
+  EXPECT_TRUE(decodeBytes(emptyTicks(kMaxGameTicks - 2, 2), small).ok());
+  EXPECT_EQ(errorOf(emptyTicks(kMaxGameTicks - 1, 2), small),
+            "Ticks.firstTick = 99999999: its 2 ticks run past the limit 100000000");
+  // A count of more ticks than the bytes left could hold, refused before anything is allocated.
+  ByteWriter shortOne = rawTicksHeader(0, 1000);
+  shortOne.u16(0);
+  shortOne.u8(0);
+  EXPECT_EQ(errorOf(bytesOf(shortOne.data()), small),
+            "Ticks.count = 1000: truncated at byte 7 of 10 (1000 ticks need at least 3000 bytes, 3 left)");
+  // An entry's command count: over the limit, and more than the bytes left.
+  ByteWriter tooMany = rawTicksHeader(0, 1);
+  tooMany.u16(uint16_t(kMaxCommandsPerTick + 1));
+  tooMany.u8(0);
+  EXPECT_EQ(errorOf(bytesOf(tooMany.data()), small), "Ticks.entries[0] count = 2049 exceeds the limit 2048");
+  ByteWriter cut = rawTicksHeader(0, 1);
+  cut.u16(5);
+  cut.u8(0);
+  cut.u8(0);
+  EXPECT_EQ(errorOf(bytesOf(cut.data()), small),
+            "Ticks.entries[0] count = 5: truncated at byte 9 of 11 (5 commands need at least 15 bytes, 1 left for them)");
+  // Team 1's before team 0's: not the order the players applied them in.
+  ByteWriter order = rawTicksHeader(3, 1);
+  order.u16(2);
+  rts::replay::encodeCommand(order, command(3, 1, CommandType::Stop, {1}));
+  rts::replay::encodeCommand(order, command(3, 0, CommandType::Stop, {0}));
+  order.u8(0);
+  EXPECT_EQ(errorOf(bytesOf(order.data()), small),
+            "Ticks.entries[0] commands[1] team = 0 after team 1 (team 0's commands come first)");
+  // A unit the game does not have, in the codec's words with this message's field.
+  ByteWriter unit = rawTicksHeader(3, 1);
+  unit.u16(1);
+  rts::replay::encodeCommand(unit, command(3, 0, CommandType::Stop, {200}));
+  unit.u8(0);
+  EXPECT_EQ(errorOf(bytesOf(unit.data()), small).rfind("Ticks.entries[0] commands[0] unit", 0), 0u)
+      << errorOf(bytesOf(unit.data()), small);
+  // The hash flag.
+  ByteWriter flag = rawTicksHeader(3, 1);
+  flag.u16(0);
+  flag.u8(2);
+  EXPECT_EQ(errorOf(bytesOf(flag.data()), small), "Ticks.entries[0] hasHash = 2: expected 0 or 1");
+  ByteWriter hash = rawTicksHeader(3, 1);
+  hash.u16(0);
+  hash.u8(1);
+  hash.u32(0);
+  EXPECT_EQ(errorOf(bytesOf(hash.data()), small),
+            "Ticks.entries[0] stateHash: truncated at byte 10 of 14 (needs 8 bytes, 4 left)");
+  // Encode refuses the same.
+  Ticks m;
+  EXPECT_EQ(encodeError(m), "Ticks.count = 0 is below the minimum 1");
+  m.entries.resize(1);
+  m.entries[0].commands.push_back(command(0, 1, CommandType::Stop, {1}));
+  m.entries[0].commands.push_back(command(0, 0, CommandType::Stop, {0}));
+  EXPECT_EQ(encodeError(m), "Ticks.entries[0] commands[1] team = 0 after team 1 (team 0's commands come first)");
+  m.entries[0].commands.resize(1);
+  m.entries[0].commands[0].target.x = NAN;
+  m.entries[0].commands[0].type = CommandType::Move;
+  EXPECT_EQ(encodeError(m), "Ticks.entries[0] commands[0] target.x: not a finite number");
+}
+
 // ---- The handshake ----
 
 TEST(NetProtocol, HandshakeAcceptsTheSameGame) {
@@ -579,13 +703,15 @@ TEST(NetProtocol, HandshakeNamesEachDifferenceWithBothValues) {
     std::string expected;
   };
   const Case cases[] = {
-      {[](Hello& h) { h.protocolVersion = 1; }, "protocol version: mine 2, theirs 1"},
+      {[](Hello& h) { h.protocolVersion = 1; }, "protocol version: mine 3, theirs 1"},
       {[](Hello& h) { h.engineVersion = "rattle 0.2.0"; },
        "engine version: mine \"rattle 0.1.0\", theirs \"rattle 0.2.0\""},
       {[](Hello& h) { h.mapDigest = 0xab; }, "map digest: mine 0x0123456789abcdef, theirs 0x00000000000000ab"},
       {[](Hello& h) { h.seed = 8; }, "seed: mine 18364758544493064720, theirs 8"},
       {[](Hello& h) { h.unitsPerTeam = 5000; }, "units a team: mine 100, theirs 5000"},
       {[](Hello& h) { h.stepMode = rattle::StepMode::Hybrid; }, "step mode: mine predictive, theirs hybrid"},
+      {[](Hello& h) { h.steering = rts::Steering::Naive; }, "steering: mine keep-apart, theirs naive"},
+      {[](Hello& h) { h.ticks = 601; }, "ticks: mine 600, theirs 601"},
       {[](Hello& h) { h.inputDelayTicks = 6; }, "input delay: mine 4 ticks, theirs 6 ticks"},
       {[](Hello& h) { h.hashIntervalTicks = 1; }, "hash interval: mine 30 ticks, theirs 1 ticks"},
       {[](Hello& h) { h.team = 0; }, "team: both players are on team 0 (blue)"},
@@ -621,7 +747,7 @@ TEST(NetProtocol, RandomBytesAreRefusedCleanlyOrRoundTrip) {
     std::vector<uint8_t> bytes(rng() % 49);
     for (uint8_t& b : bytes) b = uint8_t(rng());
     // Half of them start with a known type, so that they get past the first byte.
-    if (!bytes.empty() && rng() % 2 == 0) bytes[0] = uint8_t(1 + rng() % 6);
+    if (!bytes.empty() && rng() % 2 == 0) bytes[0] = uint8_t(1 + rng() % 7);
     const std::string where = "random input " + std::to_string(i);
     for (const DecodeContext& context : {noGame(), largestGame(), snapshotGame()}) {
       (expectRefusedCleanlyOrRoundTrips(bytes, context, where) ? decoded : refused)++;
@@ -661,7 +787,8 @@ TEST(NetProtocol, MutatedPacketsAreRefusedCleanlyOrRoundTrip) {
     // Fixed-width fields have one encoding each: what decodes encodes back to the very same bytes
     // (commands' and states' varints may have longer spellings than the shortest, which encode writes).
     const Decoded d = decodeBytes(bytes, contextFor(message));
-    if (!std::holds_alternative<Commands>(*d.message) && !std::holds_alternative<Snapshot>(*d.message)) {
+    if (!std::holds_alternative<Commands>(*d.message) && !std::holds_alternative<Snapshot>(*d.message) &&
+        !std::holds_alternative<Ticks>(*d.message)) {
       EXPECT_EQ(encode(*d.message), bytes) << where;
       ++exact;
     }

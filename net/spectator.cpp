@@ -1,0 +1,275 @@
+#include "net/spectator.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "game/game.h"
+#include "tool/snapshot.h"
+
+namespace rts::net {
+namespace {
+
+std::string hex(uint64_t v) {
+  char text[24];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(v));
+  return text;
+}
+
+std::string seconds(double s) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f", s);
+  return text;
+}
+
+std::string reasonText(const std::string& line) {
+  std::string out = line.substr(0, kMaxReasonBytes);
+  for (char& c : out) {
+    if (c < 0x20 || c > 0x7e) c = '?';
+  }
+  return out;
+}
+
+}  // namespace
+
+SpectatorSession::SpectatorSession(Transport& transport, LockstepConfig config)
+    : transport_(transport), config_(std::move(config)), lastHeard_(Clock::now()) {}
+
+void SpectatorSession::say(const std::string& line) const {
+  if (config_.log) config_.log(line);
+}
+
+void SpectatorSession::fail(SessionError::Kind kind, const std::string& line, const std::string& toPeer, bool refuse) {
+  if (transport_.connected()) {
+    try {
+      if (refuse) {
+        transport_.send(Refuse{reasonText(toPeer)});
+      } else if (!toPeer.empty()) {
+        transport_.send(Bye{reasonText(toPeer)});
+      }
+    } catch (const std::exception&) {
+    }
+    transport_.close(1.0);
+  }
+  throw SessionError(kind, line);
+}
+
+void SpectatorSession::desync(uint32_t tick, uint64_t mine, uint64_t theirs, uint32_t stateTick,
+                              const SideState& mineThen, const SideState& hostThen, const std::string& note) {
+  const std::string line =
+      "desync at tick " + std::to_string(tick) + ": mine " + hex(mine) + ", the host's " + hex(theirs);
+  std::string details = note;
+  if (hostThen.state) {
+    details += desyncDetails(stateTick, mineThen, hostThen, *game_,
+                             std::max<uint32_t>(1, config_.hello.hashIntervalTicks));
+  }
+  if (transport_.connected()) {
+    try {
+      transport_.send(Bye{reasonText("the spectator's game differs: " + line)});
+    } catch (const std::exception&) {
+    }
+    transport_.close(1.0);
+  }
+  throw SessionError(SessionError::Kind::Desync, line, details);
+}
+
+void SpectatorSession::handshake(const Game& game) {
+  if (handshaken_) throw std::logic_error("SpectatorSession: handshake() twice");
+  game_ = &game;
+  context_.unitCount = uint32_t(game.units().size());
+  context_.gateCount = uint32_t(game.map().gates.size());
+  context_.doorwayCount = uint32_t(game.doorways().size());
+  context_.roomCount = uint32_t(game.rooms().size());
+  transport_.setPeerTimeout(config_.peerTimeoutSeconds + 1);
+  const Clock::time_point start = Clock::now();
+  while (!transport_.connected()) {
+    const TransportEvent event = transport_.poll(0.25, context_);
+    if (event.kind == TransportEvent::Kind::Disconnected) {
+      fail(SessionError::Kind::PeerLost,
+           "cannot connect: no answer after " + seconds(std::chrono::duration<double>(Clock::now() - start).count()) +
+               " s (is a game hosted there, on that port, with a player joined? a host takes one spectator at a "
+               "time)",
+           "");
+    }
+  }
+  lastHeard_ = Clock::now();
+  transport_.send(config_.hello);
+  waitFor([&] { return hostHello_.has_value(); }, "its Hello");
+  if (hostHello_->role != Role::Player) {
+    fail(SessionError::Kind::Refused, "the handshake failed: the host is not a player", "you are not a player", true);
+  }
+  if (const std::optional<std::string> mismatch = handshakeMismatch(config_.hello, *hostHello_)) {
+    fail(SessionError::Kind::Refused, "the handshake failed: " + *mismatch, *mismatch, true);
+  }
+  handshaken_ = true;
+  waitFor([&] { return checkpoint_.has_value(); }, "its state (the game so far)");
+  checkpointTick_ = checkpoint_->tick;
+  say("watching: the host's game is at tick " + std::to_string(checkpointTick_) +
+      "; playing it from the start to there, then following it");
+  afterTick(game);  // a checkpoint at tick 0 is checked now
+}
+
+void SpectatorSession::commandsFor(uint32_t tick, const Game&, std::vector<Command>& out) {
+  if (!handshaken_) throw std::logic_error("SpectatorSession: commandsFor() before handshake()");
+  if (tick != nextPlay_) {
+    throw std::logic_error("SpectatorSession: commandsFor(" + std::to_string(tick) + "), expected tick " +
+                           std::to_string(nextPlay_));
+  }
+  for (;;) {
+    TransportEvent event = transport_.poll(0, context_);
+    if (event.kind == TransportEvent::Kind::None) break;
+    handle(std::move(event));
+  }
+  waitFor([&] { return !ticks_.empty(); }, "tick " + std::to_string(tick));
+  Ticks::Entry& e = ticks_.front();
+  for (Command& c : e.commands) out.push_back(std::move(c));
+  dueHash_ = e.stateHash;
+  ticks_.pop_front();
+  ++nextPlay_;
+}
+
+void SpectatorSession::afterTick(const Game& game) {
+  const uint32_t tick = game.tickCount();
+  if (dueHash_) {
+    const uint64_t mine = game.stateHash();
+    const uint64_t theirs = *dueHash_;
+    dueHash_.reset();
+    if (tick == checkpointTick_) checkpointHash_ = theirs;
+    ++hashesCompared_;
+    if (mine != theirs && tick < checkpointTick_) {
+      if (!firstMismatch_) firstMismatch_ = Mismatch{tick, mine, theirs};
+    } else if (mine != theirs && tick > checkpointTick_) {
+      desync(tick, mine, theirs, tick, SideState{}, SideState{},
+             "  the host sends a spectator its state only at the tick it joined (" + std::to_string(checkpointTick_) +
+                 "), where the two matched: there is nothing to compare body by body\n");
+    }
+  }
+  if (tick == checkpointTick_ && !checkpointChecked_) {
+    checkpointChecked_ = true;
+    SideState mine{game.stateHash(), game.worldHash(), replay::snapshotOf(game)};
+    const bool same = mine.worldHash == checkpoint_->worldHash &&
+                      (!checkpoint_->state || *checkpoint_->state == *mine.state) &&
+                      (!checkpointHash_ || *checkpointHash_ == mine.stateHash) && !firstMismatch_;
+    if (!same) {
+      const SideState host{checkpointHash_.value_or(0), checkpoint_->worldHash, std::move(checkpoint_->state)};
+      if (firstMismatch_) {
+        desync(firstMismatch_->tick, firstMismatch_->mine, firstMismatch_->theirs, tick, mine, host,
+               "  the host's state is known at tick " + std::to_string(tick) +
+                   ", where the spectator joined: the report is of that tick (differences may have spread)\n");
+      }
+      desync(tick, mine.stateHash, host.stateHash, tick, mine, host, "");
+    }
+    checkpoint_->state.reset();  // compared: no longer needed
+  }
+}
+
+void SpectatorSession::finish(const Game& game) {
+  waitFor([&] { return hostSaidBye_; }, "the end of its game");
+  if (!ticks_.empty() || nextReceive_ != game.tickCount()) {
+    fail(SessionError::Kind::PeerLost,
+         "the host's game ended after tick " + std::to_string(nextReceive_) + " and this side's after tick " +
+             std::to_string(game.tickCount()),
+         "");
+  }
+  transport_.close(1.0);
+}
+
+void SpectatorSession::waitFor(const std::function<bool()>& ready, const std::string& what) {
+  if (ready()) return;
+  const Clock::time_point start = Clock::now();
+  const auto timeout = std::chrono::duration<double>(config_.peerTimeoutSeconds);
+  Clock::time_point nextReport = start + std::chrono::milliseconds(500);
+  while (!ready()) {
+    const Clock::time_point now = Clock::now();
+    if (hostGone_) fail(SessionError::Kind::PeerLost, hostGoneWhy_ + " while this side waited for " + what, "");
+    if (now - lastHeard_ >= timeout) {
+      fail(SessionError::Kind::PeerLost,
+           "the host has been silent for " + seconds(std::chrono::duration<double>(now - lastHeard_).count()) +
+               " s (the limit is " + seconds(config_.peerTimeoutSeconds) + " s) while this side waited for " + what,
+           "you were silent");
+    }
+    if (now >= nextReport) {
+      say("waiting for the host: " + what + " (" + seconds(std::chrono::duration<double>(now - start).count()) +
+          " s so far)");
+      nextReport = now + std::chrono::seconds(1);
+    }
+    const auto slice = std::min<Clock::duration>(
+        nextReport - now, std::chrono::duration_cast<Clock::duration>(lastHeard_ + timeout - now));
+    handle(transport_.poll(std::clamp(std::chrono::duration<double>(slice).count(), 0.001, 0.25), context_));
+  }
+  if (handshaken_) waited_ += std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+void SpectatorSession::handle(TransportEvent event) {
+  switch (event.kind) {
+    case TransportEvent::Kind::None:
+      return;
+    case TransportEvent::Kind::Connected:
+      lastHeard_ = Clock::now();
+      return;
+    case TransportEvent::Kind::Disconnected:
+      if (!hostGone_) hostGoneWhy_ = "the host disconnected";
+      hostGone_ = true;
+      return;
+    case TransportEvent::Kind::Garbage:
+      fail(SessionError::Kind::Protocol, "the host sent garbage: " + event.error, "you sent garbage: " + event.error);
+    case TransportEvent::Kind::Received:
+      break;
+  }
+  lastHeard_ = Clock::now();
+  Message& m = *event.message;
+  auto outOfTurn = [&](const std::string& why) {
+    fail(SessionError::Kind::Protocol, "the host broke the protocol: " + why, "you broke the protocol: " + why);
+  };
+  if (hostSaidBye_) outOfTurn(std::string(messageName(m)) + " after its Bye");
+  if (auto* hello = std::get_if<Hello>(&m)) {
+    if (hostHello_) outOfTurn("a second Hello");
+    hostHello_ = std::move(*hello);
+  } else if (auto* refuse = std::get_if<Refuse>(&m)) {
+    fail(SessionError::Kind::Refused, "the host refused the spectator, saying: " + refuse->reason, "");
+  } else if (auto* bye = std::get_if<Bye>(&m)) {
+    hostSaidBye_ = true;
+    hostGoneWhy_ = "the host left (" + bye->reason + ")";
+    // The game's end comes after its last tick; a Bye before it is the game ending early.
+    if (nextReceive_ < config_.hello.ticks) hostGone_ = true;
+  } else if (!hostHello_) {
+    outOfTurn(std::string(messageName(m)) + " before its Hello");
+  } else if (auto* snapshot = std::get_if<Snapshot>(&m)) {
+    if (checkpoint_) outOfTurn("a second Snapshot (the host sends its state once, when the spectator joins)");
+    if (snapshot->tick > config_.hello.ticks) {
+      outOfTurn("Snapshot for tick " + std::to_string(snapshot->tick) + ", past the game's " +
+                std::to_string(config_.hello.ticks) + " ticks");
+    }
+    checkpoint_ = std::move(*snapshot);
+  } else if (auto* ticks = std::get_if<Ticks>(&m)) {
+    if (!checkpoint_) outOfTurn("Ticks before its state (a Snapshot)");
+    receiveTicks(*ticks);
+  } else {
+    outOfTurn(std::string(messageName(m)) + ": a host sends a spectator Hello, Snapshot, Ticks and Bye only");
+  }
+}
+
+void SpectatorSession::receiveTicks(Ticks& m) {
+  const auto why = [&](const std::string& text) {
+    const std::string line = "Ticks from tick " + std::to_string(m.firstTick) + ": " + text;
+    fail(SessionError::Kind::Protocol, "the host broke the protocol: " + line, "you broke the protocol: " + line);
+  };
+  if (m.firstTick != nextReceive_) why("expected tick " + std::to_string(nextReceive_) + " next");
+  // The game's length was agreed in the handshake: this also bounds what the host can make this side keep.
+  if (uint64_t(m.firstTick) + m.entries.size() > config_.hello.ticks) {
+    why("past the game's " + std::to_string(config_.hello.ticks) + " ticks");
+  }
+  const uint32_t hashEvery = std::max<uint32_t>(1, config_.hello.hashIntervalTicks);
+  for (size_t i = 0; i < m.entries.size(); ++i) {
+    const uint32_t after = m.firstTick + uint32_t(i) + 1;  // the tick count its hash is of
+    const bool due = after % hashEvery == 0 || after == config_.hello.ticks;
+    if (due != m.entries[i].stateHash.has_value()) {
+      why("tick " + std::to_string(after - 1) + (due ? " has no state hash (one is due after it)"
+                                                      : " has a state hash off the interval"));
+    }
+    for (Command& c : m.entries[i].commands) c.tick = after - 1;
+    ticks_.push_back(std::move(m.entries[i]));
+  }
+  nextReceive_ += uint32_t(m.entries.size());
+}
+
+}  // namespace rts::net
