@@ -5,6 +5,7 @@
 
 #include "format/snapshot_codec.h"
 #include "net/protocol.h"
+#include "net/text.h"
 #include "tool/divergence.h"
 
 namespace rts::net {
@@ -13,12 +14,6 @@ namespace {
 // As many as rattle-replay verify lists (replay/tool/verify.cpp): a report for a person, not a dump.
 constexpr size_t kMaxBodiesListed = 12;
 constexpr size_t kMaxFieldsListed = 40;
-
-std::string hex(uint64_t v) {
-  char text[24];
-  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(v));
-  return text;
-}
 
 // divergence.h names a shot only one side has from a replay's point of view; here the recording is
 // this side and the run is the peer.
@@ -45,7 +40,7 @@ std::string desyncDetails(uint32_t tick, const SideState& mine, const SideState&
            " matched, so the games parted at one of ticks " + std::to_string(matched + 1) + " to " + t + "\n";
   }
   out += mine.worldHash != theirs.worldHash
-             ? "  engine world hash: mine " + hex(mine.worldHash) + ", theirs " + hex(theirs.worldHash) + "\n"
+             ? "  engine world hash: mine " + hexHash(mine.worldHash) + ", theirs " + hexHash(theirs.worldHash) + "\n"
              : "  engine world hash: matches (the difference is in the game's own state)\n";
   if (!mine.state || !theirs.state) {
     out += std::string("  bodies and fields: ") + (theirs.state ? "this side's" : "the peer's") + " state at tick " +

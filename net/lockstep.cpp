@@ -4,33 +4,13 @@
 #include <cstdio>
 
 #include "game/game.h"
+#include "net/text.h"
 #include "tool/snapshot.h"
 
 namespace rts::net {
 namespace {
 
-std::string hex(uint64_t v) {
-  char text[24];
-  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(v));
-  return text;
-}
-
-std::string seconds(double s) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.1f", s);
-  return text;
-}
-
 std::string teamName(uint8_t team) { return "team " + std::to_string(team) + (team == 0 ? " (blue)" : " (red)"); }
-
-// A Refuse or Bye reason as the protocol allows it: printable ASCII, at most kMaxReasonBytes.
-std::string reasonText(const std::string& line) {
-  std::string out = line.substr(0, kMaxReasonBytes);
-  for (char& c : out) {
-    if (c < 0x20 || c > 0x7e) c = '?';
-  }
-  return out;
-}
 
 }  // namespace
 
@@ -98,13 +78,14 @@ void LockstepSession::handshake(const Game& game) {
     while (!transport_.connected()) {
       const double waited = std::chrono::duration<double>(Clock::now() - start).count();
       if (config_.joinWaitSeconds > 0 && waited >= config_.joinWaitSeconds) {
-        fail(SessionError::Kind::PeerLost, "no player joined within " + seconds(config_.joinWaitSeconds) + " s", "");
+        fail(SessionError::Kind::PeerLost, "no player joined within " + secondsText(config_.joinWaitSeconds) + " s",
+             "");
       }
       const TransportEvent event = transport_.poll(0.25, context_);
       if (event.kind == TransportEvent::Kind::Disconnected && !event.spectator) {
         fail(SessionError::Kind::PeerLost,
              "cannot connect: no answer after " +
-                 seconds(std::chrono::duration<double>(Clock::now() - start).count()) +
+                 secondsText(std::chrono::duration<double>(Clock::now() - start).count()) +
                  " s (is a host running there, on that port?)",
              "");
       }
@@ -378,7 +359,7 @@ void LockstepSession::compare(uint32_t tick, SideState mine, uint64_t theirs) {
 void LockstepSession::desync(uint32_t tick, SideState mine, uint64_t theirs) {
   desyncTick_ = tick;
   const std::string t = std::to_string(tick);
-  const std::string line = "desync at tick " + t + ": mine " + hex(mine.stateHash) + ", theirs " + hex(theirs);
+  const std::string line = "desync at tick " + t + ": mine " + hexHash(mine.stateHash) + ", theirs " + hexHash(theirs);
   // Both sides get here (each sent its hash before it could know the other's), and each sends first and
   // then waits, so neither waits for the other's waiting.
   try {
@@ -407,7 +388,7 @@ void LockstepSession::desync(uint32_t tick, SideState mine, uint64_t theirs) {
 }
 
 std::string LockstepSession::silentFor(Clock::time_point now) const {
-  return seconds(std::chrono::duration<double>(now - lastHeard_).count());
+  return secondsText(std::chrono::duration<double>(now - lastHeard_).count());
 }
 
 void LockstepSession::waitFor(const std::function<bool()>& ready, const std::string& what) {
@@ -425,12 +406,12 @@ void LockstepSession::waitFor(const std::function<bool()>& ready, const std::str
     if (now - lastHeard_ >= timeout) {
       fail(SessionError::Kind::PeerLost,
            "the peer has been silent for " + silentFor(now) + " s (the limit is " +
-               seconds(config_.peerTimeoutSeconds) + " s) while this side waited for " + what,
+               secondsText(config_.peerTimeoutSeconds) + " s) while this side waited for " + what,
            "you were silent for " + silentFor(now) + " s");
     }
     if (now >= nextReport) {
       say("waiting for " + peerName() + ": " + what + " (" +
-          seconds(std::chrono::duration<double>(now - start).count()) + " s so far)");
+          secondsText(std::chrono::duration<double>(now - start).count()) + " s so far)");
       nextReport = now + std::chrono::seconds(1);
     }
     const auto slice = std::min<Clock::duration>(

@@ -4,32 +4,11 @@
 #include <cstdio>
 
 #include "game/game.h"
+#include "net/text.h"
 #include "tool/snapshot.h"
 
 namespace rts::net {
-namespace {
-
-std::string hex(uint64_t v) {
-  char text[24];
-  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(v));
-  return text;
-}
-
-std::string seconds(double s) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.1f", s);
-  return text;
-}
-
-std::string reasonText(const std::string& line) {
-  std::string out = line.substr(0, kMaxReasonBytes);
-  for (char& c : out) {
-    if (c < 0x20 || c > 0x7e) c = '?';
-  }
-  return out;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 SpectatorSession::SpectatorSession(Transport& transport, LockstepConfig config)
     : transport_(transport), config_(std::move(config)), lastHeard_(Clock::now()) {}
@@ -56,11 +35,11 @@ void SpectatorSession::fail(SessionError::Kind kind, const std::string& line, co
 void SpectatorSession::desync(uint32_t tick, uint64_t mine, uint64_t theirs, uint32_t stateTick,
                               const SideState& mineThen, const SideState& hostThen, const std::string& note) {
   const std::string line =
-      "desync at tick " + std::to_string(tick) + ": mine " + hex(mine) + ", the host's " + hex(theirs);
+      "desync at tick " + std::to_string(tick) + ": mine " + hexHash(mine) + ", the host's " + hexHash(theirs);
   std::string details = note;
   if (hostThen.state) {
-    details += desyncDetails(stateTick, mineThen, hostThen, *game_,
-                             std::max<uint32_t>(1, config_.hello.hashIntervalTicks));
+    details +=
+        desyncDetails(stateTick, mineThen, hostThen, *game_, std::max<uint32_t>(1, config_.hello.hashIntervalTicks));
   }
   if (transport_.connected()) {
     try {
@@ -85,7 +64,8 @@ void SpectatorSession::handshake(const Game& game) {
     const TransportEvent event = transport_.poll(0.25, context_);
     if (event.kind == TransportEvent::Kind::Disconnected) {
       fail(SessionError::Kind::PeerLost,
-           "cannot connect: no answer after " + seconds(std::chrono::duration<double>(Clock::now() - start).count()) +
+           "cannot connect: no answer after " +
+               secondsText(std::chrono::duration<double>(Clock::now() - start).count()) +
                " s (is a game hosted there, on that port, with a player joined? a host takes one spectator at a "
                "time)",
            "");
@@ -183,12 +163,12 @@ void SpectatorSession::waitFor(const std::function<bool()>& ready, const std::st
     if (hostGone_) fail(SessionError::Kind::PeerLost, hostGoneWhy_ + " while this side waited for " + what, "");
     if (now - lastHeard_ >= timeout) {
       fail(SessionError::Kind::PeerLost,
-           "the host has been silent for " + seconds(std::chrono::duration<double>(now - lastHeard_).count()) +
-               " s (the limit is " + seconds(config_.peerTimeoutSeconds) + " s) while this side waited for " + what,
+           "the host has been silent for " + secondsText(std::chrono::duration<double>(now - lastHeard_).count()) +
+               " s (the limit is " + secondsText(config_.peerTimeoutSeconds) + " s) while this side waited for " + what,
            "you were silent");
     }
     if (now >= nextReport) {
-      say("waiting for the host: " + what + " (" + seconds(std::chrono::duration<double>(now - start).count()) +
+      say("waiting for the host: " + what + " (" + secondsText(std::chrono::duration<double>(now - start).count()) +
           " s so far)");
       nextReport = now + std::chrono::seconds(1);
     }
@@ -263,8 +243,8 @@ void SpectatorSession::receiveTicks(Ticks& m) {
     const uint32_t after = m.firstTick + uint32_t(i) + 1;  // the tick count its hash is of
     const bool due = after % hashEvery == 0 || after == config_.hello.ticks;
     if (due != m.entries[i].stateHash.has_value()) {
-      why("tick " + std::to_string(after - 1) + (due ? " has no state hash (one is due after it)"
-                                                      : " has a state hash off the interval"));
+      why("tick " + std::to_string(after - 1) +
+          (due ? " has no state hash (one is due after it)" : " has a state hash off the interval"));
     }
     for (Command& c : m.entries[i].commands) c.tick = after - 1;
     ticks_.push_back(std::move(m.entries[i]));
