@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages listed in scripts/packages.txt (or in the list file given as the one
-# argument, e.g. scripts/packages-bench.txt) that are missing.
+# argument, e.g. scripts/packages-bench.txt) that are missing. A package named NAME:ARCH (libenet-dev:arm64)
+# is another architecture's build (Debian multiarch): that architecture is added to dpkg first.
 # Quiet when everything is present; needs root (or sudo) only when something must be installed.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -23,6 +24,13 @@ if [[ "$(id -u)" -ne 0 ]]; then
   fi
 fi
 export DEBIAN_FRONTEND=noninteractive
+# apt only fetches the package lists of the architectures dpkg knows, so add the foreign ones before the update.
+for arch in $(printf '%s\n' "${missing[@]}" | sed -n 's/^[^:]*:\([a-z0-9]*\)$/\1/p' | sort -u); do
+  if [[ "$arch" != "$(dpkg --print-architecture)" ]] && ! dpkg --print-foreign-architectures | grep -qx "$arch"; then
+    echo "install-deps: adding the $arch architecture to dpkg (multiarch)" >&2
+    "${sudo_cmd[@]}" dpkg --add-architecture "$arch"
+  fi
+done
 # Another apt run (a second checkout installing its own list) holds the dpkg lock: wait for it.
 "${sudo_cmd[@]}" apt-get -o DPkg::Lock::Timeout=600 update -qq
 "${sudo_cmd[@]}" apt-get -o DPkg::Lock::Timeout=600 install -y -qq --no-install-recommends "${missing[@]}"
