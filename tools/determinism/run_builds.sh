@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # make test-determinism: builds the code the checks need with several compilers and optimisation levels,
 # each in its own build directory, runs the same checks in every build and shows that they agree bit for
-# bit; one build is for aarch64 (Debian's cross compiler), its programs run here under qemu-user. Exits 1 when a build disagrees (naming the first differing scene and tick) or a check fails,
-# 2 on a usage error. See tools/determinism/README.md.
+# bit; one build is for aarch64 (Debian's cross compiler), its programs run here under qemu-user. Exits 1
+# when a build disagrees (naming the first differing scene and tick) or a check fails, 2 on a usage
+# error. See tools/determinism/README.md.
 set -euo pipefail
 
 # The builds: name, C++ compiler, CMake build type, compiler flags. "None" makes CMake add no flags of its
@@ -16,8 +17,9 @@ builds=(
   "clang-O2  clang++  None            -O2 -DNDEBUG"
   "aarch64   aarch64-linux-gnu-g++  None  -O2 -DNDEBUG"
 )
-# Builds for another processor: the CMake toolchain file that names their compiler, and the command that
-# runs their programs on this machine ({run} in the checks; nothing for the others).
+# Builds for another processor: the CMake toolchain file (it names the compiler; the column above is for
+# the summary), and the command that runs their programs on this machine ({run} in the checks; nothing
+# for the others).
 declare -A toolchains=([aarch64]="cmake/aarch64-linux-gnu.cmake")
 declare -A runners=([aarch64]="qemu-aarch64 -L /usr/aarch64-linux-gnu")
 # What each build compiles: only what the checks run.
@@ -45,6 +47,7 @@ and compares the outputs: every build must print the same bytes as the first. Th
 between the first build's rattle-demo (host) and this build's (joiner) ends without a desync
 (tools/determinism/net_game.sh). On a difference it names the first differing line, "<scene>/<mode>
 <tick> <hash>" for the trace. Every compile command of every build must carry -ffp-contract=off.
+The aarch64 build needs scripts/packages-aarch64.txt (make test-determinism installs it).
 
   --out DIR           where the builds go, one directory each (default: build-determinism)
   --sanitize-dir DIR  the ASan+UBSan build directory to reuse (default: build-sanitize, as make test-sanitize)
@@ -106,7 +109,10 @@ build_one() {
   local unflagged
   [[ -r "$dir/compile_commands.json" ]] || { echo "no $dir/compile_commands.json to check the flags in" >> "$log"; return 1; }
   unflagged="$(grep '"command"' "$dir/compile_commands.json" | grep -v -c -e '-ffp-contract=off' || true)"
-  if [[ "$unflagged" != 0 ]]; then
+  if ! grep -q '"command"' "$dir/compile_commands.json"; then
+    echo "$dir/compile_commands.json lists no compile command to check the flags of" >> "$log"
+    return 1
+  elif [[ "$unflagged" != 0 ]]; then
     echo "$unflagged compile command(s) in $dir/compile_commands.json lack -ffp-contract=off" >> "$log"
     return 1
   fi
