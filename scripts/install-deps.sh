@@ -11,9 +11,14 @@ if [[ ! -r "$list" ]]; then
 fi
 mapfile -t wanted < <(grep -v -E '^\s*(#|$)' "$list")
 missing=()
+native="$(dpkg --print-architecture)"
 for pkg in "${wanted[@]}"; do
-  status="$(dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null || true)"
-  [[ "$status" == "install ok installed" ]] || missing+=("$pkg")
+  # Once dpkg knows a second architecture, a plain name matches both builds of a package; a plain name in
+  # a list means this machine's own (or an Architecture: all one).
+  arches="$native|all"
+  [[ "$pkg" == *:* ]] && arches="${pkg##*:}"
+  dpkg-query -W -f='${Architecture} ${Status}\n' "$pkg" 2>/dev/null | grep -q -x -E "($arches) install ok installed" ||
+    missing+=("$pkg")
 done
 [[ ${#missing[@]} -eq 0 ]] && exit 0
 echo "install-deps: installing missing Debian packages: ${missing[*]}" >&2
@@ -26,7 +31,7 @@ fi
 export DEBIAN_FRONTEND=noninteractive
 # apt only fetches the package lists of the architectures dpkg knows, so add the foreign ones before the update.
 for arch in $(printf '%s\n' "${missing[@]}" | sed -n 's/^[^:]*:\([a-z0-9]*\)$/\1/p' | sort -u); do
-  if [[ "$arch" != "$(dpkg --print-architecture)" ]] && ! dpkg --print-foreign-architectures | grep -qx "$arch"; then
+  if [[ "$arch" != "$native" ]] && ! dpkg --print-foreign-architectures | grep -qx "$arch"; then
     echo "install-deps: adding the $arch architecture to dpkg (multiarch)" >&2
     "${sudo_cmd[@]}" dpkg --add-architecture "$arch"
   fi
