@@ -26,8 +26,10 @@ help:
 	@echo "                    replacing the frame_NNNNNN.png files of an earlier run there)"
 	@echo "make test           build and run every test"
 	@echo "make test-sanitize  the same tests built with ASan+UBSan in $(SANITIZE_DIR)/"
-	@echo "make test-determinism  build rattle-trace with g++ -O0/-O2/-O3, ASan+UBSan and clang++ -O2 and"
-	@echo "                    check that every build prints the same per-tick state hashes"
+	@echo "make test-determinism  build rattle-trace, rattle-replay and rattle-demo with g++ -O0/-O2/-O3,"
+	@echo "                    ASan+UBSan, clang++ -O2 and for aarch64 (run under qemu-user); check that every"
+	@echo "                    build prints the same per-tick state hashes, verifies the replays and plays a"
+	@echo "                    networked game against the g++ -O2 build without a desync"
 	@echo "make fuzz           build the libFuzzer targets with clang++ in $(FUZZ_DIR)/ and run each for"
 	@echo "                    FUZZ_SECONDS (default 60) seconds; fails on any finding (fuzz/README.md)"
 	@echo "make soak           rattle-soak: every mode on the pile, crowd, piston and gas scenes for 3 simulated"
@@ -71,10 +73,13 @@ test-sanitize: deps
 	@cd $(SANITIZE_DIR) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  ctest --output-on-failure -j $(JOBS)
 
-# rattle-trace built with g++ -O0/-O2/-O3, g++ ASan+UBSan (in $(SANITIZE_DIR)) and clang++ -O2, one
-# build directory each under $(DETERMINISM_DIR)/; fails unless every build prints the same trace.
+# rattle-trace, rattle-replay and rattle-demo built with g++ -O0/-O2/-O3, g++ ASan+UBSan (in
+# $(SANITIZE_DIR)), clang++ -O2 and aarch64-linux-gnu-g++ (run under qemu-user), one build directory each
+# under $(DETERMINISM_DIR)/; fails unless every build prints the same trace, verifies every replay and
+# plays a networked game against the g++ -O2 build to the same final hash (tools/determinism/README.md).
 test-determinism: deps
 	@bash scripts/install-deps.sh scripts/packages-clang.txt
+	@bash scripts/install-deps.sh scripts/packages-aarch64.txt
 	@CMAKE_FLAGS="$(CMAKE_FLAGS)" bash tools/determinism/run_builds.sh --out $(DETERMINISM_DIR) \
 	  --sanitize-dir $(SANITIZE_DIR) --jobs $(JOBS)
 

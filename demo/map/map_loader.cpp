@@ -301,14 +301,20 @@ void requireConvex(const Place& at, const std::vector<Vec2>& pts, const char* fi
            " (split it into convex pieces, or use a polyline for a wall)");
     }
   }
-  // Same-sign turns can still wind twice (a pentagram): count how often the edge angle wraps around.
+  // Same-sign turns can still wind twice (a pentagram): count how often the edge direction, turning
+  // counterclockwise (mirrored when the turns are clockwise), wraps around: passes from the upper half
+  // plane (angles 0 to pi) to the lower one (-pi to 0) across the negative x axis. That is where its angle
+  // in (-pi, pi] would drop, but the test is on signs alone, so it is exact and the same on every
+  // machine: std::atan2 is libm's and its last bit may differ between x86-64 and aarch64, which could
+  // accept a map on one and refuse it on the other (tools/determinism/README.md, "libm").
+  const auto below = [&](size_t i) {
+    const Vec2 e = pts[(i + 1) % n] - pts[i % n];
+    const double y = sign > 0 ? e.y : -e.y;
+    return y < 0 || (y == 0 && std::signbit(y) && e.x < 0);  // atan2(-0, x < 0) is -pi
+  };
   int wraps = 0;
-  double previous = 0;
-  for (size_t i = 0; i <= n; ++i) {
-    Vec2 e = pts[(i + 1) % n] - pts[i % n];
-    double angle = std::atan2(sign > 0 ? e.y : -e.y, e.x);
-    if (i > 0 && angle < previous) ++wraps;
-    previous = angle;
+  for (size_t i = 1; i <= n; ++i) {
+    if (below(i % n) && !below(i - 1)) ++wraps;
   }
   if (wraps > 1) fail(at.str() + ": " + field + " winds around more than once; it is not a simple convex polygon");
 }

@@ -124,7 +124,26 @@ TEST(DemoMaps, PolygonThatWindsTwice) {
   // A pentagram: every corner turns the same way, but it goes round twice.
   expectError(mapWith(object(13, "building", R"("x": 32, "y": 16, "polygon": [{"x": 0, "y": -10}, {"x": 6, "y": 8},
                                                    {"x": -9.5, "y": -3}, {"x": 9.5, "y": -3}, {"x": -6, "y": 8}])")),
-              {"object 13", "polygon"});
+              {"object 13", "polygon", "winds around more than once"});
+}
+
+TEST(DemoMaps, ConvexPolygonsWindOnceEitherWayRound) {
+  // The winding count works on the signs of the edges alone (no atan2): edges along the axes, whose
+  // mirrored y is -0 when the turns are clockwise, and a start on either side of the axis, wind once.
+  const char* polygons[] = {
+      R"([{"x": 0, "y": 0}, {"x": 8, "y": 0}, {"x": 8, "y": 8}, {"x": 0, "y": 8}])",  // counterclockwise
+      R"([{"x": 0, "y": 0}, {"x": 0, "y": 8}, {"x": 8, "y": 8}, {"x": 8, "y": 0}])",  // clockwise
+      R"([{"x": 8, "y": 8}, {"x": 0, "y": 8}, {"x": 0, "y": 0}, {"x": 8, "y": 0}])",
+      R"([{"x": 0, "y": 8}, {"x": 8, "y": 8}, {"x": 8, "y": 0}, {"x": 0, "y": 0}])",
+      R"([{"x": 0, "y": 0}, {"x": 8, "y": 4}, {"x": 0, "y": 8}])",
+      R"([{"x": 0, "y": 0}, {"x": 0, "y": 8}, {"x": 8, "y": 4}])",
+      R"([{"x": 4, "y": 0}, {"x": 8, "y": 4}, {"x": 4, "y": 8}, {"x": 0, "y": 4}])",
+      R"([{"x": 4, "y": 0}, {"x": 0, "y": 4}, {"x": 4, "y": 8}, {"x": 8, "y": 4}])",
+  };
+  for (const char* polygon : polygons) {
+    EXPECT_EQ(errorOf(mapWith(object(14, "building", std::string(R"("x": 24, "y": 8, "polygon": )") + polygon))), "")
+        << polygon;
+  }
 }
 
 TEST(DemoMaps, MissingTeamOnSpawn) {

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # make test-determinism: builds the code the checks need with several compilers and optimisation levels,
 # each in its own build directory, runs the same checks in every build and shows that they agree bit for
-# bit. Exits 1 when a build disagrees (naming the first differing scene and tick) or a check fails,
-# 2 on a usage error. See tools/determinism/README.md.
+# bit; one build is for aarch64 (Debian's cross compiler), its programs run here under qemu-user. Exits 1
+# when a build disagrees (naming the first differing scene and tick) or a check fails, 2 on a usage
+# error. See tools/determinism/README.md.
 set -euo pipefail
 
 # The builds: name, C++ compiler, CMake build type, compiler flags. "None" makes CMake add no flags of its
@@ -14,24 +15,39 @@ builds=(
   "gcc-O3    g++      None            -O3 -DNDEBUG"
   "gcc-asan  g++      RelWithDebInfo  sanitize"
   "clang-O2  clang++  None            -O2 -DNDEBUG"
+  "aarch64   aarch64-linux-gnu-g++  None  -O2 -DNDEBUG"
 )
+# Builds for another processor: the CMake toolchain file (it names the compiler; the column above is for
+# the summary), and the command that runs their programs on this machine ({run} in the checks; nothing
+# for the others).
+declare -A toolchains=([aarch64]="cmake/aarch64-linux-gnu.cmake")
+declare -A runners=([aarch64]="qemu-aarch64 -L /usr/aarch64-linux-gnu")
 # What each build compiles: only what the checks run.
-targets=(rattle-trace rattle-replay)
+targets=(rattle-trace rattle-replay rattle-demo)
 # What runs in every build. "same NAME COMMAND": COMMAND's stdout must be byte-identical in every build
 # (the first build is the reference); "pass NAME COMMAND": COMMAND must exit 0 in every build.
-# {bin} is the build's bin/ directory, {src} the source tree.
+# {bin} is the build's bin/ directory, {ref} the reference build's, {run} the build's runner (qemu-user for
+# aarch64, else nothing), {src} the source tree. The network check plays the reference build's
+# rattle-demo (host) against this build's (joiner) in lockstep: both must end with the same final hash,
+# and it must be the reference build's own.
 checks=(
-  "same trace {bin}/rattle-trace"
-  "pass replays for r in {src}/assets/replays/*.replay; do {bin}/rattle-replay verify --quiet \"\$r\" || exit 1; done"
+  "same trace {run} {bin}/rattle-trace"
+  "pass replays for r in {src}/assets/replays/*.replay; do {run} {bin}/rattle-replay verify --quiet \"\$r\" || exit 1; done"
+  "same net {src}/tools/determinism/net_game.sh --timeout 600 --map {src}/assets/maps/arena.json --host {ref}/rattle-demo --join '{run} {bin}/rattle-demo'"
 )
 
 usage() {
   cat <<'EOF'
 usage: tools/determinism/run_builds.sh [--out DIR] [--sanitize-dir DIR] [--only NAME] [--jobs N]
 
-Builds the determinism checks (rattle-trace, rattle-replay) with g++ -O2, -O0, -O3, g++ with ASan+UBSan and clang++ -O2,
-runs them in each build, and compares the outputs: every build must print the same bytes as the first.
-On a difference it names the first differing line, "<scene>/<mode> <tick> <hash>" for the trace.
+Builds the determinism checks (rattle-trace, rattle-replay, rattle-demo) with g++ -O2, -O0, -O3, g++ with
+ASan+UBSan, clang++ -O2 and aarch64-linux-gnu-g++ -O2 (run under qemu-aarch64), runs them in each build,
+and compares the outputs: every build must print the same bytes as the first. The checks: the trace
+(rattle-trace), every replay in assets/replays/ verifies (rattle-replay verify), and a networked game
+between the first build's rattle-demo (host) and this build's (joiner) ends without a desync
+(tools/determinism/net_game.sh). On a difference it names the first differing line, "<scene>/<mode>
+<tick> <hash>" for the trace. Every compile command of every build must carry -ffp-contract=off.
+The aarch64 build needs scripts/packages-aarch64.txt (make test-determinism installs it).
 
   --out DIR           where the builds go, one directory each (default: build-determinism)
   --sanitize-dir DIR  the ASan+UBSan build directory to reuse (default: build-sanitize, as make test-sanitize)
@@ -82,10 +98,24 @@ build_one() {
     cmake -S "$root" -B "$dir" -DCMAKE_BUILD_TYPE="$type" -DRATTLE_SANITIZE=ON "${extra[@]}" > "$log" 2>&1 || return 1
   else
     dir="$out/$name"
-    cmake -S "$root" -B "$dir" -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_TYPE="$type" -DCMAKE_CXX_FLAGS="$flags" \
+    local compiler=(-DCMAKE_CXX_COMPILER="$cxx")
+    [[ -n "${toolchains[$name]:-}" ]] && compiler=(-DCMAKE_TOOLCHAIN_FILE="$root/${toolchains[$name]}")
+    cmake -S "$root" -B "$dir" "${compiler[@]}" -DCMAKE_BUILD_TYPE="$type" -DCMAKE_CXX_FLAGS="$flags" \
       -DRATTLE_BUILD_TESTS=OFF -DRATTLE_BUILD_EXAMPLES=OFF "${extra[@]}" > "$log" 2>&1 || return 1
   fi
   cmake --build "$dir" --target "${targets[@]}" -j "$jobs" >> "$log" 2>&1 || return 1
+  # The project's -ffp-contract=off must reach every compile (a cross compiler, a toolchain file or
+  # CMAKE_FLAGS could lose it; aarch64 g++ fuses a*b+c into an fma without it).
+  local unflagged
+  [[ -r "$dir/compile_commands.json" ]] || { echo "no $dir/compile_commands.json to check the flags in" >> "$log"; return 1; }
+  unflagged="$(grep '"command"' "$dir/compile_commands.json" | grep -v -c -e '-ffp-contract=off' || true)"
+  if ! grep -q '"command"' "$dir/compile_commands.json"; then
+    echo "$dir/compile_commands.json lists no compile command to check the flags of" >> "$log"
+    return 1
+  elif [[ "$unflagged" != 0 ]]; then
+    echo "$unflagged compile command(s) in $dir/compile_commands.json lack -ffp-contract=off" >> "$log"
+    return 1
+  fi
   echo "$dir"
 }
 
@@ -114,8 +144,11 @@ for b in "${builds[@]}"; do
   built=$((SECONDS - start))
   start=$SECONDS
   result="agrees"
+  [[ -z "$reference" ]] && reference_bin="$dir/bin"
   for c in "${checks[@]}"; do
     read -r kind check command <<< "$c"
+    command="${command//\{run\}/${runners[$name]:-}}"
+    command="${command//\{ref\}/$reference_bin}"
     command="${command//\{bin\}/$dir/bin}"
     command="${command//\{src\}/$root}"
     output="$out/$name/$check.out"
@@ -141,7 +174,7 @@ for b in "${builds[@]}"; do
     fi
   done
   [[ -z "$reference" ]] && reference="$name" && result="reference"
-  summary+=("$(printf '%-9s %-8s built in %3d s, checks in %3d s: %s' "$name" "$cxx" "$built" $((SECONDS - start)) "$result")")
+  summary+=("$(printf '%-9s %-21s built in %3d s, checks in %3d s: %s' "$name" "$cxx" "$built" $((SECONDS - start)) "$result")")
 done
 
 echo "determinism: summary" >&2
