@@ -63,7 +63,6 @@ class DiscreteStepper {
   std::vector<Moved> pushed_;  // in the order first pushed; WorldState::jamSlot maps a body to its entry
   std::vector<uint32_t> nearStatic_;  // bodies in a pair with a static body, sorted
   std::vector<uint32_t> walls_;       // scratch of putBack
-  std::vector<uint32_t> pushedBodies_;  // scratch of putBackAcrossStatics: pushed_'s bodies, sorted
 };
 
 // How far a circle (centre c, radius r) overlaps a placed geometry, if it does.
@@ -291,38 +290,9 @@ void DiscreteStepper::putBackAcrossStatics() {
     nearStatic_.push_back(w.bodies[ba].type == BodyType::Static ? bb : ba);
   }
   std::sort(nearStatic_.begin(), nearStatic_.end());
-  nearStatic_.erase(std::unique(nearStatic_.begin(), nearStatic_.end()), nearStatic_.end());
-  // A body that started the step overlapping a wall (pushed there by a disk in the step before) can
-  // carry its centre across that wall by its own motion alone, however slow: a disk 0.054 inside a
-  // wall it overlapped by 0.57 of its radius, moving 0.26 a step, crossed it, and the wall's push then
-  // drove it out of the box (fuzz/regressions/world_api/escape-discrete-disk-pushed-onto-a-wall). So a
-  // body near a static fixture whose own travel is less than its radius is checked from where it
-  // started the step; a faster one is left to tunnel, as documented, and checked from where its own
-  // motion took it, as before.
-  auto startIfSlow = [&](uint32_t body, Vec2 afterOwnMotion) {
-    const Vec2 start = w.stepStart.motion[body].first;
-    const BodySlot& b = w.bodies[body];
-    for (uint32_t f : b.fixtures) {
-      if (w.fixtures[f].sensor) continue;
-      return length(afterOwnMotion - start) < detail::circleRadius(w.fixtures[f].geometry) ? start : afterOwnMotion;
-    }
-    return afterOwnMotion;
-  };
-  pushedBodies_.clear();
-  for (Moved& m : pushed_) {
+  for (const Moved& m : pushed_) {
     w.jamSlot[m.body] = -1;
-    pushedBodies_.push_back(m.body);
-    m.position = startIfSlow(m.body, m.position);
     putBack(m);
-  }
-  std::sort(pushedBodies_.begin(), pushedBodies_.end());
-  for (uint32_t body : nearStatic_) {
-    const BodySlot& b = w.bodies[body];
-    if (b.type != BodyType::Dynamic || b.asleep) continue;
-    if (std::binary_search(pushedBodies_.begin(), pushedBodies_.end(), body)) continue;
-    const Vec2 start = startIfSlow(body, b.position);
-    if (start == b.position) continue;
-    putBack({body, start, false});
   }
   pushed_.clear();
 }
