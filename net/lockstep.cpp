@@ -62,13 +62,19 @@ void LockstepSession::leave(const std::optional<Message>& lastWord, double linge
   throw error;
 }
 
+DecodeContext decodeContextOf(const Game& game) {
+  DecodeContext context;
+  context.unitCount = uint32_t(game.units().size());
+  context.gateCount = uint32_t(game.map().gates.size());
+  context.doorwayCount = uint32_t(game.doorways().size());
+  context.roomCount = uint32_t(game.rooms().size());
+  return context;
+}
+
 void LockstepSession::handshake(const Game& game) {
   if (handshaken_) throw std::logic_error("LockstepSession: handshake() twice");
   game_ = &game;
-  context_.unitCount = uint32_t(game.units().size());
-  context_.gateCount = uint32_t(game.map().gates.size());
-  context_.doorwayCount = uint32_t(game.doorways().size());
-  context_.roomCount = uint32_t(game.rooms().size());
+  context_ = decodeContextOf(game);
   // ENet gives up a second after this side would: the silence is then reported as silence.
   transport_.setPeerTimeout(config_.peerTimeoutSeconds + 1);
 

@@ -56,6 +56,10 @@ class SessionError : public std::runtime_error {
   std::string details_;
 };
 
+/// The limits a packet is decoded against, read off the game both sides play (its units, gates, doorways
+/// and rooms): a player and a spectator take them the same way.
+DecodeContext decodeContextOf(const class Game& game);
+
 struct LockstepConfig {
   /// This side's Hello: its team, the input delay and the hash interval are the session's.
   Hello hello;

@@ -54,10 +54,7 @@ void SpectatorSession::desync(uint32_t tick, uint64_t mine, uint64_t theirs, uin
 void SpectatorSession::handshake(const Game& game) {
   if (handshaken_) throw std::logic_error("SpectatorSession: handshake() twice");
   game_ = &game;
-  context_.unitCount = uint32_t(game.units().size());
-  context_.gateCount = uint32_t(game.map().gates.size());
-  context_.doorwayCount = uint32_t(game.doorways().size());
-  context_.roomCount = uint32_t(game.rooms().size());
+  context_ = decodeContextOf(game);
   transport_.setPeerTimeout(config_.peerTimeoutSeconds + 1);
   const Clock::time_point start = Clock::now();
   while (!transport_.connected()) {
