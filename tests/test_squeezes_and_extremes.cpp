@@ -197,6 +197,29 @@ TEST(DiscreteContainer, APileStaysInsideAClosedBox) {
 // of the floor, it went into the ceiling: its centre ended 0.1 radii inside that wall
 // (fuzz/regressions/world_api/inside-discrete-disk-wider-than-its-slot). It overlaps, but its centre
 // never enters a wall.
+// A disk that begins a step deep against a wall (pushed there by another in the step before; here made
+// there) needs only a little motion of its own to carry its centre across the wall's line. The wall's
+// push, measured from the far side, used to drive it on out of its box
+// (fuzz/regressions/world_api/escape-discrete-disk-pushed-onto-a-wall).
+TEST(DiscreteContainer, ASlowDiskThatBeginsDeepAgainstABareSegmentStaysOnItsSide) {
+  World w(defOf(StepMode::Discrete));
+  const BodyId box = w.createBody({.type = BodyType::Static});
+  for (const auto& [a, b] : std::vector<std::pair<Vec2, Vec2>>{
+           {{0, -5}, {10, -5}}, {{10, -5}, {10, 5}}, {{10, 5}, {0, 5}}, {{0, 5}, {0, -5}}}) {
+    w.createFixture(box, {.geometry = Segment{a, b}});
+  }
+  const double r = 0.5, dt = 1.0 / 30;
+  const BodyId d = disk(w, {0.05, 0}, {-3, 0}, r);  // travels 0.1 a step, a fifth of its radius
+  w.step(dt);
+  // Its centre crossed x = 0 at t = dt / 2; put back on its side, a radius out, not moving into the wall.
+  EXPECT_DOUBLE_EQ(w.position(d).x, r);
+  EXPECT_GE(w.velocity(d).x, 0);
+  for (int i = 0; i < 30; ++i) {
+    w.step(dt);
+    EXPECT_GT(w.position(d).x, 0) << "step " << i;
+  }
+}
+
 TEST(DiscreteContainer, ADiskWiderThanItsSlotNeverHasItsCentreInAWall) {
   World w(defOf(StepMode::Discrete));
   const BodyId d = disk(w, {0, 0}, {-40.9, -1.05}, 2.33, 0.4);

@@ -51,11 +51,12 @@ class DiscreteStepper {
   void findOverlappingPairs();
   void pushApartAndReflect(double dt);
   void reflect(uint32_t own, uint32_t other, const Penetration& pen, double inverseA, double inverseB, double dt);
+  std::optional<Vec2> crossedSurface(uint32_t body, Vec2 centre, double radius, uint32_t wall, Penetration& pen);
   void putBackAcrossStatics();
   void putBack(const Moved& m);
   void senseOverlaps(double dt);
   void pushOutOf(detail::BodySlot& b, Vec2 centre, double radius, std::span<const uint32_t> statics);
-  void keepCentreOut(detail::BodySlot& b, uint32_t own, Vec2 centre);
+  void keepCentreOut(detail::BodySlot& b, uint32_t own, Vec2 centre, Vec2 from);
   void notePush(uint32_t body, Vec2 before, bool byKinematic);
 
   detail::WorldState& w_;
@@ -217,10 +218,15 @@ void DiscreteStepper::pushApartAndReflect(double dt) {
     BodySlot& body = w.bodyOf(own);
     BodySlot& partner = w.bodyOf(other);
     ++w.stats.timeOfImpactTests;
-    const auto pen =
-        penetration(body.position + detail::circleCentre(w.fixtures[own].geometry),
-                    detail::circleRadius(w.fixtures[own].geometry), w.fixtures[other].geometry, partner.position);
+    const Vec2 centre = detail::circleCentre(w.fixtures[own].geometry);
+    const double radius = detail::circleRadius(w.fixtures[own].geometry);
+    auto pen = penetration(body.position + centre, radius, w.fixtures[other].geometry, partner.position);
     if (!pen) continue;
+    const uint32_t ownBody = w.fixtures[own].body;
+    std::optional<Vec2> crossedFrom;
+    if (partner.type == BodyType::Static && !body.asleep) {
+      crossedFrom = crossedSurface(ownBody, centre, radius, other, *pen);
+    }
     if (w.stats.eventsProcessed >= w.def.maxEventsPerStep) {
       w.stats.eventBudgetReached = true;
       break;
@@ -229,7 +235,6 @@ void DiscreteStepper::pushApartAndReflect(double dt) {
     const double inverseB = (partner.type == BodyType::Dynamic && !partner.asleep) ? partner.inverseMass : 0.0;
     const double inverseSum = inverseA + inverseB;
     if (!(inverseSum > 0)) continue;
-    const uint32_t ownBody = w.fixtures[own].body;
     if (partner.type != BodyType::Static) {
       notePush(ownBody, body.position, partner.type == BodyType::Kinematic);
       if (inverseB > 0) notePush(w.fixtures[other].body, partner.position, false);
@@ -242,16 +247,41 @@ void DiscreteStepper::pushApartAndReflect(double dt) {
       // Out of one static fixture it may be pushed across another (a slot narrower than the disk).
       notePush(ownBody, body.position, false);
     }
+    // Put back on the side it came from, the push-back check (3b) looks from there: from where its
+    // own motion took it, it would see the push back across the surface as a crossing.
+    if (crossedFrom) pushed_[pushedSlot[ownBody]].position = *crossedFrom;
     body.position += pen->normal * (pen->depth * inverseA / inverseSum);
     partner.position -= pen->normal * (pen->depth * inverseB / inverseSum);
     if (partner.type == BodyType::Static) {
       // A polyline or polygon can overlap the circle at more than one feature (a corner of a box): out of
       // each in turn (the impulse below is the pair's one).
-      pushOutOf(body, detail::circleCentre(w.fixtures[own].geometry), detail::circleRadius(w.fixtures[own].geometry),
-                std::span<const uint32_t>(&other, 1));
+      pushOutOf(body, centre, radius, std::span<const uint32_t>(&other, 1));
     }
     reflect(own, other, *pen, inverseA, inverseB, dt);
   }
+}
+
+// A slow body (travel under its radius since the step began) that overlaps static fixture `wall` may
+// have carried its centre across the wall's surface this step: a disk pushed deep onto a wall in the
+// step before needs only a little motion of its own to cross it
+// (fuzz/regressions/world_api/escape-discrete-disk-pushed-onto-a-wall). The overlap measured from the far
+// side would then push it on out of its container. If the path from where its centre began the step
+// crosses the surface, `pen` becomes the push that puts the centre a radius out on the side it came
+// from, and the result is where the body began the step. A faster body may pass a wall, as documented,
+// and is pushed out wherever it ended.
+std::optional<Vec2> DiscreteStepper::crossedSurface(uint32_t body, Vec2 centre, double radius, uint32_t wall,
+                                                    Penetration& pen) {
+  detail::WorldState& w = w_;
+  const BodySlot& b = w.bodies[body];
+  const Vec2 start = w.stepStart.motion[body].first;
+  const Vec2 travel = b.position - start;
+  if (!(length(travel) < radius)) return std::nullopt;
+  const auto hit = rayCast(w.fixtures[wall].geometry, w.bodyOf(wall).position, start + centre, travel);
+  // None, or the centre began the step on the surface or inside the fixture: the overlap stands.
+  if (!hit || !(hit->fraction > 0)) return std::nullopt;
+  // The push along the surface's normal at the crossing that leaves the centre a radius out of it.
+  pen = Penetration{hit->normal, radius - dot(hit->normal, b.position + centre - hit->point)};
+  return start;
 }
 
 // The restitution impulse of a pair just pushed apart, and its ContactEvent.
@@ -300,8 +330,7 @@ void DiscreteStepper::putBackAcrossStatics() {
 void DiscreteStepper::putBack(const Moved& m) {
   detail::WorldState& w = w_;
   BodySlot& b = w.bodies[m.body];
-  const Vec2 travel = b.position - m.position;
-  if (travel == Vec2{}) return;
+  if (b.position == m.position) return;
   uint32_t own = 0;
   bool physical = false;
   for (uint32_t f : b.fixtures) {
@@ -313,9 +342,17 @@ void DiscreteStepper::putBack(const Moved& m) {
   }
   if (!physical) return;
   const double radius = detail::circleRadius(w.fixtures[own].geometry);
-  if (length(travel) < radius && !std::binary_search(nearStatic_.begin(), nearStatic_.end(), m.body)) return;
+  if (length(b.position - m.position) < radius && !std::binary_search(nearStatic_.begin(), nearStatic_.end(), m.body)) {
+    return;
+  }
+  // A slow body is looked at from where it began the step: its own motion may have carried its centre
+  // across a surface it began the step deep against (crossedSurface) before a push carried it on. (Its
+  // start and end both lie within its radius of m.position, so the test above still holds.)
+  const Vec2 start = w.stepStart.motion[m.body].first;
+  const Vec2 origin = length(m.position - start) < radius ? start : m.position;
+  const Vec2 travel = b.position - origin;
   const Vec2 centre = detail::circleCentre(w.fixtures[own].geometry);
-  const Vec2 from = m.position + centre;
+  const Vec2 from = origin + centre;
   Box path{{std::min(from.x, from.x + travel.x), std::min(from.y, from.y + travel.y)},
            {std::max(from.x, from.x + travel.x), std::max(from.y, from.y + travel.y)}};
   std::optional<RayCastHit> first;
@@ -332,7 +369,7 @@ void DiscreteStepper::putBack(const Moved& m) {
     }
   });
   if (!first) {
-    keepCentreOut(b, own, centre);
+    keepCentreOut(b, own, centre, from);
     return;
   }
   b.position = first->point + first->normal * radius - centre;
@@ -341,13 +378,15 @@ void DiscreteStepper::putBack(const Moved& m) {
   // Put back on its side, it may overlap another wall there (a corner): out of those too.
   std::sort(walls_.begin(), walls_.end());
   pushOutOf(b, centre, radius, walls_);
-  keepCentreOut(b, own, centre);
+  keepCentreOut(b, own, centre, from);
 }
 
 // A disk wider than the gap between two walls cannot be clear of both: pushed out of one it went into
 // the other (fuzz/regressions/world_api/inside-discrete-disk-wider-than-its-slot). It may overlap them,
-// but its centre goes no further in than the surface, and stops moving into it.
-void DiscreteStepper::keepCentreOut(BodySlot& b, uint32_t own, Vec2 centre) {
+// but its centre goes no further in than the surface, and stops moving into it. A centre inside a
+// static fixture goes back out where its path from `from` (outside, where it was before this step's
+// pushes) went in; the nearest surface of a wall thinner than the disk may be its far side.
+void DiscreteStepper::keepCentreOut(BodySlot& b, uint32_t own, Vec2 centre, Vec2 from) {
   detail::WorldState& w = w_;
   const Vec2 at = b.position + centre;
   walls_.clear();
@@ -356,8 +395,16 @@ void DiscreteStepper::keepCentreOut(BodySlot& b, uint32_t own, Vec2 centre) {
   });
   std::sort(walls_.begin(), walls_.end());
   for (uint32_t g : walls_) {
-    const auto pen = penetration(b.position + centre, 0.0, w.fixtures[g].geometry, w.bodyOf(g).position);
+    const Geometry& wall = w.fixtures[g].geometry;
+    const Vec2 wallAt = w.bodyOf(g).position;
+    auto pen = penetration(b.position + centre, 0.0, wall, wallAt);
     if (!pen || !(pen->depth > 0)) continue;
+    const auto before = penetration(from, 0.0, wall, wallAt);
+    if (!before || !(before->depth > 0)) {
+      if (const auto entry = rayCast(wall, wallAt, from, b.position + centre - from)) {
+        pen = Penetration{entry->normal, dot(entry->normal, entry->point - (b.position + centre))};
+      }
+    }
     b.position += pen->normal * pen->depth;
     const double vn = dot(b.velocity, pen->normal);
     if (vn < 0) b.velocity -= pen->normal * vn;
