@@ -437,6 +437,7 @@ FixtureId World::createFixture(BodyId bodyId, const FixtureDef& def) {
     f.filter = def.filter;
     body.fixtures.push_back(index);
     body.diskShapeKnown = false;
+    if (body.sliding) w.stopSliding(body);  // as in destroyFixture
     w.recomputeMass(body);
     w.changes.structureChanged = true;
     w.changes.staticsChanged(body.type);
@@ -460,6 +461,10 @@ void World::destroyFixture(FixtureId id) {
   });
   body.fixtures.erase(std::find(body.fixtures.begin(), body.fixtures.end(), id.index));
   body.diskShapeKnown = false;
+  // A slide is the motion of the body's circle along a face: with the circle gone (or another left),
+  // the next step finds its contacts again (fuzz/regressions/world_api/ub-predictive-slide-of-a-body-
+  // without-fixtures).
+  if (body.sliding) w.stopSliding(body);
   w.broadPhase.remove(id.index);
   if (f.sensor) --w.liveSensors;
   w.changes.structureChanged = true;
