@@ -57,7 +57,8 @@ void addRoots(const Polynomial& p, double maxTime, std::vector<double>& times) {
 void circleBoundaryTimes(const Circle& circle, const Motion& m, const Geometry& b, double maxTime,
                          std::vector<double>& times) {
   const Vec2 v = m.velocity, acc = m.acceleration;
-  std::vector<Vec2> corners;
+  thread_local std::vector<Vec2> corners;  // kept from call to call, as timeOfOverlapChange's times
+  corners.clear();
   if (const auto* s = std::get_if<Circle>(&b)) {
     corners.push_back(s->center);
   } else {
@@ -71,7 +72,8 @@ void circleBoundaryTimes(const Circle& circle, const Motion& m, const Geometry& 
     f.c = {dot(r, r) - reach * reach, 2 * dot(r, v), dot(v, v) + dot(r, acc), dot(v, acc), 0.25 * dot(acc, acc)};
     addRoots(f, maxTime, times);
   }
-  std::vector<std::pair<Vec2, Vec2>> edges;
+  thread_local std::vector<std::pair<Vec2, Vec2>> edges;
+  edges.clear();
   edgesOf(b, edges);
   for (auto [a, e] : edges) {
     const Vec2 d = e - a;
@@ -89,9 +91,11 @@ void circleBoundaryTimes(const Circle& circle, const Motion& m, const Geometry& 
 // first moving with velocity v relative to the second.
 void cornerEdgeTimes(const Geometry& moving, Vec2 offset, const Geometry& resting, Vec2 v, double maxTime,
                      std::vector<double>& times) {
-  std::vector<Vec2> corners;
+  thread_local std::vector<Vec2> corners;
+  thread_local std::vector<std::pair<Vec2, Vec2>> edges;
+  corners.clear();
+  edges.clear();
   cornersOf(moving, corners);
-  std::vector<std::pair<Vec2, Vec2>> edges;
   edgesOf(resting, edges);
   for (Vec2 p : corners) {
     for (auto [a, e] : edges) {
@@ -108,7 +112,10 @@ void cornerEdgeTimes(const Geometry& moving, Vec2 offset, const Geometry& restin
 
 std::optional<double> timeOfOverlapChange(const Geometry& a, Vec2 positionA, const Geometry& b, Vec2 positionB,
                                           const Motion& m, double maxTime, bool overlappingNow) {
-  std::vector<double> times;
+  // Kept from call to call (one list per thread): a step asks this of every sensor pair along every
+  // piece of its paths, and growing a fresh list each time was most of a sensed step's allocations.
+  thread_local std::vector<double> times;
+  times.clear();
   const Vec2 offset = positionA - positionB;  // A in B's frame at time 0
   if (circleLike(a)) {
     Circle c = asCircle(a);

@@ -179,12 +179,12 @@ double projectedSweep(const Contacts& contacts, std::vector<Vec2>& x, double ome
 
 }  // namespace
 
-std::vector<uint32_t> detail::WorldState::islandOf(const std::vector<uint32_t>& seeds, int hops) {
+void detail::WorldState::islandOf(std::span<const uint32_t> seeds, int hops, std::vector<uint32_t>& members) {
   // Stepped bodies reached from the seeds through candidate pairs, breadth first (so in a deterministic
   // order, seeds first): with hops < 0 everything a change of their motion can push within the step.
   std::vector<int>& slot = jamSlot;
   if (slot.size() < bodies.size()) slot.resize(bodies.size(), -1);
-  std::vector<uint32_t> members;
+  members.clear();
   for (uint32_t i : seeds) {
     if (slot[i] >= 0 || !bodies[i].stepped) continue;
     slot[i] = 0;
@@ -204,10 +204,9 @@ std::vector<uint32_t> detail::WorldState::islandOf(const std::vector<uint32_t>& 
     }
   }
   for (uint32_t i : members) slot[i] = -1;
-  return members;
 }
 
-int detail::WorldState::settleAround(const std::vector<uint32_t>& seeds, int hops, double now, double dt,
+int detail::WorldState::settleAround(std::span<const uint32_t> seeds, int hops, double now, double dt,
                                      uint64_t reportPair) {
   // The seeds and the stepped bodies within `hops` candidate pairs of them move; the rest of the island
   // keeps its paths. That part's edge may push it like a moving wall (a stepped body coming at it) and
@@ -215,15 +214,17 @@ int detail::WorldState::settleAround(const std::vector<uint32_t>& seeds, int hop
   // body caught between two such paths. Then the solve is undone and tried again on a part four times
   // as deep (without gravity, again), and at last on the whole island, which holds no moving walls but
   // kinematic ones.
-  std::vector<uint32_t> members;
-  std::vector<Vec2> before;
-  std::vector<uint32_t> counts;
-  std::vector<detail::LastContact> lasts;
+  if (settleScratch.size() <= settleDepth) settleScratch.resize(settleDepth + 1);
+  SettleScratch& scratch = settleScratch[settleDepth];
+  std::vector<uint32_t>& members = scratch.members;
+  std::vector<Vec2>& before = scratch.before;
+  std::vector<uint32_t>& counts = scratch.counts;
+  std::vector<detail::LastContact>& lasts = scratch.lasts;
   IslandSolve solve{0, false};
   const int attempts = def.gravity == Vec2{} ? kSettleAttemptsWithoutGravity : kSettleAttemptsUnderGravity;
   for (int attempt = 0, depth = hops; attempt < attempts; ++attempt, depth *= 4) {
     const bool whole = attempt == attempts - 1;
-    members = islandOf(seeds, whole ? -1 : depth);
+    islandOf(seeds, whole ? -1 : depth, members);
     before.resize(members.size());
     counts.resize(members.size());
     lasts.resize(members.size());
@@ -263,7 +264,9 @@ int detail::WorldState::settleAround(const std::vector<uint32_t>& seeds, int hop
     if (k >= seedCount && same) continue;
     repredict(members[k], now, dt);
   }
+  ++settleDepth;
   settleUnsolvedIslandPairs(now, dt);
+  --settleDepth;
   return solve.reported;
 }
 
@@ -274,7 +277,9 @@ void detail::WorldState::settleUnsolvedIslandPairs(double now, double dt) {
   if (settlingUnsolved) return;
   settlingUnsolved = true;
   for (int round = 0; round < 4 && !unsolvedIslandPairs.empty(); ++round) {
-    std::vector<uint32_t> seeds;
+    // Swapped with a kept list, so that both keep their room from one round (and step) to the next.
+    std::vector<uint32_t>& seeds = unsolvedSeeds;
+    seeds.clear();
     seeds.swap(unsolvedIslandPairs);
     std::sort(seeds.begin(), seeds.end());
     seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
@@ -284,7 +289,7 @@ void detail::WorldState::settleUnsolvedIslandPairs(double now, double dt) {
   settlingUnsolved = false;
 }
 
-void detail::WorldState::joinIslands(const std::vector<uint32_t>& joining, double now, double dt) {
+void detail::WorldState::joinIslands(std::span<const uint32_t> joining, double now, double dt) {
   for (uint32_t i : joining) {
     BodySlot& b = bodies[i];
     if (b.stepped) continue;
@@ -412,7 +417,8 @@ detail::WorldState::IslandSolve detail::WorldState::solveIsland(const std::vecto
   const double speed = gatherIslandContacts(members, now, h);
   std::vector<IslandContact>& contacts = islandScratch;
 
-  std::vector<Vec2> v(members.size());
+  std::vector<Vec2>& v = islandVelocities;
+  v.resize(members.size());
   for (size_t k = 0; k < members.size(); ++k) v[k] = bodies[members[k]].velocity;
   // The approach of each contact before the solve, for what is reported as a collision.
   for (IslandContact& c : contacts) {
@@ -529,8 +535,12 @@ void detail::WorldState::separateIsland(const std::vector<uint32_t>& members, co
   // step. Projected Gauss-Seidel on d in the metric of the masses, as the velocity solve; then the
   // contacts with what cannot move are met exactly, as in the velocity solve.
   std::vector<IslandContact>& contacts = islandScratch;
-  std::vector<Vec2> d(members.size());
-  std::vector<double> lower(contacts.size()), mu(contacts.size(), 0.0);
+  std::vector<Vec2>& d = separateScratch.displacements;
+  std::vector<double>& lower = separateScratch.lower;
+  std::vector<double>& mu = separateScratch.multipliers;
+  d.assign(members.size(), Vec2{});
+  lower.resize(contacts.size());
+  mu.assign(contacts.size(), 0.0);
   bool any = false;
   for (size_t i = 0; i < contacts.size(); ++i) {
     const IslandContact& c = contacts[i];

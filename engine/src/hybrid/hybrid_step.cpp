@@ -26,6 +26,7 @@
 //
 // Within a step each body keeps its position at its own local time (the time of its last collision), so
 // bodies that do not collide are moved once per step and times stay in [0, dt] where they are precise.
+#include <array>
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -521,7 +522,7 @@ void detail::WorldState::collide(const PredictedContact& c, double dt, std::vect
   if (joinsIsland(c, dt)) {
     // It would bounce off slower than restingSpeed from a body that moves: the two rest on each
     // other from now on, in a stepped island (island.cpp), instead of bouncing ever lower.
-    const std::vector<uint32_t> pair{ia, ib};
+    const std::array<uint32_t, 2> pair{ia, ib};
     joinIslands(pair, c.time, dt);
     for (uint32_t body : pair) {
       BodySlot& s = bodies[body];
@@ -543,14 +544,14 @@ void detail::WorldState::collide(const PredictedContact& c, double dt, std::vect
     for (const auto& p : pairsOfBody[body]) {
       const uint32_t other = fixtures[p.other].body;
       if (!bodies[other].stepped) continue;
-      settleAround({other}, 1, c.time, dt);
+      settleAround(std::span(&other, 1), 1, c.time, dt);
     }
   }
   // A stepped body hit by a free one moves its island for the rest of the step.
   for (uint32_t body : {ia, ib}) {
     if (!bodies[body].stepped) continue;
     // Its neighbours move with it; beyond them the island keeps its paths.
-    settleAround({body}, 1, c.time, dt);
+    settleAround(std::span(&body, 1), 1, c.time, dt);
   }
   for (uint32_t w : woken) {
     if (w != ia && w != ib) repredict(w, c.time, dt, true);

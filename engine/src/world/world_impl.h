@@ -9,6 +9,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <span>
 #include <unordered_map>
 #include <vector>
 
@@ -405,6 +406,13 @@ struct WorldState {
   std::vector<uint32_t> stepped;         // this step's stepped bodies at its start
   std::vector<uint32_t> steppedCounts;   // their collision counters after the start's solve
   std::vector<IslandContact> islandScratch, islandScratchStart;
+  // solveIsland's velocities and separateIsland's lists, kept so that a step's many solves do not
+  // allocate (neither is called from within itself or the other's use of them).
+  std::vector<Vec2> islandVelocities;
+  struct SeparateScratch {
+    std::vector<Vec2> displacements;
+    std::vector<double> lower, multipliers;
+  } separateScratch;
   /// Without gravity, at a step's start: moves the members (advanced to the step's start, their
   /// velocities solved) apart where they overlap, without touching a velocity (island.cpp).
   void separateIsland(const std::vector<uint32_t>& members, const std::vector<Vec2>& v, double h);
@@ -424,10 +432,15 @@ struct WorldState {
     return (a.stepped && !free(b)) || (b.stepped && !free(a));
   }
   /// The stepped bodies within `hops` candidate pairs of the seeds, seeds first; hops < 0: all that a
-  /// change of the seeds' motion can reach (their island).
-  std::vector<uint32_t> islandOf(const std::vector<uint32_t>& seeds, int hops = -1);
+  /// change of the seeds' motion can reach (their island). Into `members`, which it clears first.
+  void islandOf(std::span<const uint32_t> seeds, int hops, std::vector<uint32_t>& members);
+  std::vector<uint32_t> islandOf(std::span<const uint32_t> seeds) {
+    std::vector<uint32_t> members;
+    islandOf(seeds, -1, members);
+    return members;
+  }
   /// Makes free bodies stepped at `now`: the rest of the step's gravity as an impulse, straight paths.
-  void joinIslands(const std::vector<uint32_t>& joining, double now, double dt);
+  void joinIslands(std::span<const uint32_t> joining, double now, double dt);
   struct IslandSolve {
     int reported;  // contact events it reported
     bool met;      // its constraints hold (to the solve's tolerance)
@@ -448,11 +461,21 @@ struct WorldState {
   /// Moves the seeds' part of their island after their motion changed at `now` (a hit, a join): the
   /// stepped bodies within `hops` pairs of them, or the whole island when that part cannot keep clear of
   /// the rest; predicts again every body whose motion changed. Returns the events it reported.
-  int settleAround(const std::vector<uint32_t>& seeds, int hops, double now, double dt,
+  int settleAround(std::span<const uint32_t> seeds, int hops, double now, double dt,
                    uint64_t reportPair = ~uint64_t{0});
+  /// settleAround's lists, kept between calls so that a step's many settles do not allocate; one set
+  /// for each level of settleAround's nesting (settleUnsolvedIslandPairs calls it again, once).
+  struct SettleScratch {
+    std::vector<uint32_t> members;
+    std::vector<Vec2> before;
+    std::vector<uint32_t> counts;
+    std::vector<detail::LastContact> lasts;
+  };
+  std::vector<SettleScratch> settleScratch;
+  size_t settleDepth = 0;
   /// Bodies whose broad-phase query (repredict) found a contact an island holds after their island's
   /// solve; settleUnsolvedIslandPairs solves them again.
-  std::vector<uint32_t> unsolvedIslandPairs;
+  std::vector<uint32_t> unsolvedIslandPairs, unsolvedSeeds;
   bool settlingUnsolved = false;
   void settleUnsolvedIslandPairs(double now, double dt);
   /// The start of a hybrid step, after the sweep: gravity and the solve for every stepped body; a
