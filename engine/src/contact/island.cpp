@@ -220,6 +220,7 @@ int detail::WorldState::settleAround(std::span<const uint32_t> seeds, int hops, 
   std::vector<Vec2>& before = scratch.before;
   std::vector<uint32_t>& counts = scratch.counts;
   std::vector<detail::LastContact>& lasts = scratch.lasts;
+  std::vector<double>& allowances = scratch.allowances;
   IslandSolve solve{0, false};
   const int attempts = def.gravity == Vec2{} ? kSettleAttemptsWithoutGravity : kSettleAttemptsUnderGravity;
   for (int attempt = 0, depth = hops; attempt < attempts; ++attempt, depth *= 4) {
@@ -228,6 +229,7 @@ int detail::WorldState::settleAround(std::span<const uint32_t> seeds, int hops, 
     before.resize(members.size());
     counts.resize(members.size());
     lasts.resize(members.size());
+    allowances.resize(members.size());
     // The members' energy at the step's end along their straight paths, less what does not change (the
     // potential energy where they are now): twice sum m (|v|^2 / 2 - h g.v). Kinetic energy alone misses
     // a fall turned into a rise by a holder moving up (a neighbour that bounces): the same speed, higher.
@@ -239,6 +241,7 @@ int detail::WorldState::settleAround(std::span<const uint32_t> seeds, int hops, 
       before[k] = b.velocity;
       counts[k] = b.collisionCount;
       lasts[k] = b.last;
+      allowances[k] = gravityAllowance[members[k]];
       energy += endEnergy(b.velocity, b.mass);
       scale += b.mass * (dot(b.velocity, b.velocity) + 2 * h * std::fabs(dot(def.gravity, b.velocity)));
     }
@@ -253,6 +256,7 @@ int detail::WorldState::settleAround(std::span<const uint32_t> seeds, int hops, 
       b.velocity = before[k];
       b.collisionCount = counts[k];
       b.setLast(lasts[k]);
+      gravityAllowance[members[k]] = allowances[k];
     }
     contactEvents.resize(mark);
   }
@@ -290,6 +294,7 @@ void detail::WorldState::settleUnsolvedIslandPairs(double now, double dt) {
 }
 
 void detail::WorldState::joinIslands(std::span<const uint32_t> joining, double now, double dt) {
+  if (gravityAllowance.size() < bodies.size()) gravityAllowance.resize(bodies.size(), 0.0);
   for (uint32_t i : joining) {
     BodySlot& b = bodies[i];
     if (b.stepped) continue;
@@ -299,6 +304,7 @@ void detail::WorldState::joinIslands(std::span<const uint32_t> joining, double n
     b.acceleration = {};
     b.clearSupport();
     b.stepped = true;
+    gravityAllowance[i] = 0.5 * b.mass * dot(def.gravity, def.gravity) * (dt - now) * (dt - now);
   }
 }
 
@@ -359,37 +365,57 @@ double detail::WorldState::gatherIslandContacts(const std::vector<uint32_t>& mem
   return speed;
 }
 
-void detail::WorldState::keepIslandEnergy(const std::vector<uint32_t>& members, std::vector<Vec2>& v, double h) const {
-  // Energy never rises, by construction rather than by convergence. Before the solve each member had
-  // v0 - g h (v0 carries the rest of the step's gravity); after it, it moves along v for the rest of the
-  // step. Projecting never adds kinetic energy, but under gravity it can turn a fall into a rise: a wedge
-  // (a disk on two that part) lifts the disk on top, and along a straight path that lift costs nothing.
-  // Over-relaxed sweeps that stop short, or a warm start they stop short of undoing
-  // (fuzz/regressions/world_api/energy-hybrid-gravity-resting-row), can do the same. Scaling every
+void detail::WorldState::keepIslandEnergy(const std::vector<uint32_t>& members, std::vector<Vec2>& v, double h) {
+  // Energy never rises, by construction rather than by convergence. After the solve each member moves
+  // along v for the rest of the step, h. Projecting never adds kinetic energy, but under gravity it can
+  // turn a fall into a rise: a wedge (a disk on two that part) lifts the disk on top, and along a straight
+  // path that lift costs nothing. Over-relaxed sweeps that stop short, or a warm start they stop short of
+  // undoing (fuzz/regressions/world_api/energy-hybrid-gravity-resting-row), can do the same. Scaling every
   // velocity by s in [0, 1] keeps every contact met against holders at rest (every target is <= 0), and
-  // the energy at the step's end is then a s^2 + b s + c above the start: s = 0 never gains, so the
-  // largest s that does not is taken. Against moving holders (a kinematic body) the energy is not the
-  // island's to keep.
+  // the energy at the step's end is then a s^2 + b s + c above what the members were to have at the end
+  // of the paths they were on, plus what is left of their gravity allowance: the largest s that does not
+  // gain is taken.
+  //
+  // The allowance: a straight path that takes the rest of the step's gravity H at once ends lower than
+  // the parabola it stands in for, by g H^2 / 2, with the same velocity, so m g^2 H^2 / 2 less energy.
+  // Each stepped body is granted that when its straight path begins (startIslands, joinIslands), and the
+  // solves that hold it may spend it, once. Granted again at every solve, a pair that joined a moment
+  // after its island began gained 2.6e-2 (fuzz/regressions/world_api/energy-predictive-join-in-a-step).
+  // Against moving holders (a kinematic body) the energy is not the island's to keep.
   const std::vector<IslandContact>& contacts = islandScratch;
-  const bool noGravity = def.gravity.x == 0 && def.gravity.y == 0;
   bool holdersStill = true;
   for (const IslandContact& c : contacts) holdersStill = holdersStill && (c.kb >= 0 || c.holderVelocity == Vec2{});
-  if (holdersStill) {
-    double a = 0, b = 0, c = 0;
-    for (size_t k = 0; k < members.size(); ++k) {
-      const BodySlot& body = bodies[members[k]];
-      const Vec2 start = noGravity ? body.velocity : body.velocity - def.gravity * h;
-      a += 0.5 * body.mass * dot(v[k], v[k]);
-      b -= h * body.mass * dot(def.gravity, v[k]);
-      c -= 0.5 * body.mass * dot(start, start);
+  if (!holdersStill) return;
+  double a = 0, b = 0, planned = 0, allowance = 0;
+  for (size_t k = 0; k < members.size(); ++k) {
+    const BodySlot& body = bodies[members[k]];
+    a += 0.5 * body.mass * dot(v[k], v[k]);
+    b -= h * body.mass * dot(def.gravity, v[k]);
+    planned += 0.5 * body.mass * dot(body.velocity, body.velocity) - h * body.mass * dot(def.gravity, body.velocity);
+    allowance += gravityAllowance[members[k]];
+  }
+  const double c = -(planned + allowance);
+  double scale = 1;
+  // A body sliding on a floor keeps its energy to round-off, which is not scaled away step after step.
+  if (a + b + c > kEnergyRoundOff * (a + std::fabs(b) + std::fabs(c))) {
+    // The larger root of a s^2 + b s + c, below 1 (the energy at s = 1 is above); >= 0 when c <= 0. A
+    // path that was to sink slowly ends below where the body is now (c > 0), and stopping it gains: then
+    // the s of least energy, if no s in [0, 1] loses.
+    const double discriminant = b * b - 4 * a * c;
+    if (discriminant >= 0) {
+      const double root = std::sqrt(discriminant);
+      scale = b > 0 ? -2 * c / (b + root) : (root - b) / (2 * a);
+    } else {
+      scale = -b / (2 * a);
     }
-    // A body sliding on a floor keeps its energy to round-off, which is not scaled away step after step.
-    if (a + b + c > kEnergyRoundOff * (a + std::fabs(b) - c)) {
-      // The larger root of a s^2 + b s + c (c <= 0 <= a, so it is >= 0 and below 1).
-      const double root = std::sqrt(b * b - 4 * a * c);
-      const double scale = b > 0 ? -2 * c / (b + root) : (root - b) / (2 * a);
-      for (Vec2& velocity : v) velocity = velocity * std::clamp(scale, 0.0, 1.0);
-    }
+    scale = std::clamp(scale, 0.0, 1.0);
+    for (Vec2& velocity : v) velocity = velocity * scale;
+  }
+  // What the solve spent of the allowance is gone, from every member in proportion.
+  const double spent = std::clamp(a * scale * scale + b * scale - planned, 0.0, allowance);
+  if (spent > 0) {
+    const double left = (allowance - spent) / allowance;
+    for (uint32_t i : members) gravityAllowance[i] *= left;
   }
 }
 
@@ -612,11 +638,13 @@ void detail::WorldState::startIslands(double dt, std::vector<uint32_t>& freed) {
   std::sort(islandImpulses.begin(), islandImpulses.end());
   islandScratchStart.clear();
   freed.clear();
+  if (gravityAllowance.size() < bodies.size()) gravityAllowance.resize(bodies.size(), 0.0);
   for (uint32_t i : stepped) {  // gathered by the step's first pass over the bodies
     BodySlot& b = bodies[i];
     keep(b);
     b.velocity += def.gravity * dt;
     b.steppedHeld = false;
+    gravityAllowance[i] = 0.5 * b.mass * dot(def.gravity, def.gravity) * dt * dt;
   }
   if (stepped.empty()) return;
   // A contact is a collision when it closed faster than restingSpeed before the step's gravity; holding

@@ -456,7 +456,10 @@ struct WorldState {
                           int maxReports = std::numeric_limits<int>::max());
   // solveIsland's parts (island.cpp).
   double gatherIslandContacts(const std::vector<uint32_t>& members, double now, double h);
-  void keepIslandEnergy(const std::vector<uint32_t>& members, std::vector<Vec2>& v, double h) const;
+  void keepIslandEnergy(const std::vector<uint32_t>& members, std::vector<Vec2>& v, double h);
+  /// By body, for stepped bodies: the energy its island's solves may still give back of what its straight
+  /// path lost against the parabola it stands in for (keepIslandEnergy). Set when the path begins.
+  std::vector<double> gravityAllowance;
   int reportIslandContacts(double now, double reportAbove, uint64_t reportPair, int maxReports);
   /// Moves the seeds' part of their island after their motion changed at `now` (a hit, a join): the
   /// stepped bodies within `hops` pairs of them, or the whole island when that part cannot keep clear of
@@ -470,6 +473,7 @@ struct WorldState {
     std::vector<Vec2> before;
     std::vector<uint32_t> counts;
     std::vector<detail::LastContact> lasts;
+    std::vector<double> allowances;
   };
   std::vector<SettleScratch> settleScratch;
   size_t settleDepth = 0;
