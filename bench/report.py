@@ -615,11 +615,35 @@ def targets_issue24(rows):
                 rh, rc = int(num(h, "reached_goal")), int(num(c, "reached_goal"))
                 out.append("| same crowd, hybrid: at least as many disks through the doorway as Chipmunk lets through | "
                            "%d against Chipmunk's %d%s | %s |" % (rh, rc, note, yes(done and not stopped(c) and rh >= rc)))
+            out.append(doorway_capacity_row(big, num(h, "seconds")))
         else:
             out.append("| %s, hybrid | no hybrid row in this run | **no** |" % what)
     if len(out) == 2:
         out.append("| issue 24's rows (tables pile-target and crowd) | not in this run | - |")
     return "\n".join(out)
+
+
+def doorway_capacity_row(rows, seconds):
+    """What disks that never overlap can pass through the crowd's doorways, against each engine's count.
+
+    Disks of radius r packed as densely as disks can be (hexagonal: one per 2 sqrt(3) r^2 of area) moving
+    at the steering's full speed v straight through doorways of total width W carry about
+    v W T / (2 sqrt(3) r^2) of them across in T seconds; the flow of a real jam is slower (the centres keep
+    a radius from the jambs, the disks leave the doorway fanning out). An engine that counts more lets its
+    disks overlap or pass through the wall. The scene's sizes are scenes/scenes.h's: r 0.5, two doorways
+    4 wide, v 3 (rattle-bench --speed).
+    """
+    r, width, speed = 0.5, 2 * 4.0, 3.0
+    bound = speed * width * seconds / (2 * math.sqrt(3) * r * r)
+    counts = []
+    for engine in ["hybrid", "predictive", "discrete", "box2d", "chipmunk"]:
+        row = next((x for x in rows if x["engine"] == engine), None)
+        if not row or row.get("reached_goal", "") == "":
+            continue
+        counts.append("%s %d (max overlap %.2g radii, %d through a wall)" % (
+            engine, int(num(row, "reached_goal")), num(row, "max_overlap"), int(num(row, "tunnelled"))))
+    return ("| same crowd: what disks that never overlap can pass | densest packing at full speed through both "
+            "doorways: about %d in %g s; %s | - |" % (bound, seconds, "; ".join(counts)))
 
 
 # ---------------------------------------------------------------------------------------------------------
