@@ -397,7 +397,8 @@ void detail::WorldState::keepIslandEnergy(const std::vector<uint32_t>& members, 
   const double c = -(planned + allowance);
   double scale = 1;
   // A body sliding on a floor keeps its energy to round-off, which is not scaled away step after step.
-  if (a + b + c > kEnergyRoundOff * (a + std::fabs(b) + std::fabs(c))) {
+  // (a = 0: every velocity is zero already, and no scale changes the energy.)
+  if (a > 0 && a + b + c > kEnergyRoundOff * (a + std::fabs(b) + std::fabs(c))) {
     // The larger root of a s^2 + b s + c, below 1 (the energy at s = 1 is above); >= 0 when c <= 0. A
     // path that was to sink slowly ends below where the body is now (c > 0), and stopping it gains: then
     // the s of least energy, if no s in [0, 1] loses.
