@@ -166,6 +166,33 @@ TEST(Squeeze, ABodyWedgedBetweenStaticWallsStops) {
   }
 }
 
+// A disk around a small static polygon (the polygon wholly inside it, as setPosition can leave them):
+// every face of the polygon holds it at one instant, and the bounces between two faces whose normals
+// differ only take off the speed along each in turn, by the cosine of the angle between them. Stopped
+// against two such faces at one instant it stops; between parallel faces (the test above) it slides on.
+TEST(Squeeze, ADiskAroundASmallStaticPolygonStopsInBoundedWork) {
+  for (StepMode mode : kExactModes) {
+    SCOPED_TRACE(nameOf(mode));
+    WorldDef def = defOf(mode);
+    def.maxEventsPerStep = 20000;
+    World w(def);
+    const BodyId block = w.createBody({.type = BodyType::Static});
+    // A box 1 x 0.5 whose left edge bends by 0.03 at its middle: two faces 1.7 degrees apart.
+    w.createFixture(block, {.geometry = Polygon{{{-0.5, -0.5}, {0.5, -0.5}, {0.5, 0}, {-0.5, 0}, {-0.53, -0.25}}}});
+    const BodyId d = disk(w, {-0.8, -0.01}, {-49.8, 14.3}, 4.3, 0.55);
+    int squeezes = 0;
+    for (int i = 0; i < 10; ++i) {
+      w.step(1.0 / 30);
+      squeezes += w.stats().squeezes;
+      ASSERT_FALSE(w.stats().eventBudgetReached) << "step " << i;
+      ASSERT_LE(w.stats().eventsProcessed, 4 * kSqueezeCollisions) << "step " << i;
+    }
+    EXPECT_GE(squeezes, 1);
+    EXPECT_EQ(w.velocity(d).x, 0);
+    EXPECT_EQ(w.velocity(d).y, 0);
+  }
+}
+
 // ---- A closed container in the discrete mode ----------------------------------------------------------
 
 // The trial's soak, smaller: disks poured into a closed Polyline box under gravity, restitution 0.5. The

@@ -12,12 +12,18 @@
 // itself) bounces between them at one instant; past the same count it stops moving into the one it
 // meets. StepStats::squeezes counts both.
 #include <algorithm>
+#include <cmath>
 
 #include "world/world_impl.h"
 
 namespace rattle {
 
 using detail::BodySlot;
+
+namespace {
+// Two unit normals whose cross product is smaller than this are one face's to round-off.
+constexpr double kWedgeAngle = 1e-9;
+}  // namespace
 
 bool detail::WorldState::squeezeExempt(uint32_t fa, uint32_t fb) const {
   const uint64_t key = islandKey(fa, fb);
@@ -31,6 +37,7 @@ void detail::WorldState::refreshSqueezes() {
   // The counts start again each step (the predictive mode's step after a plain one does not reset them).
   for (uint32_t body : squeezeCounted) bodies[body].stepCollisions = 0;
   squeezeCounted.clear();
+  wedged.clear();
   if (squeezes.empty()) return;
   std::erase_if(squeezes, [&](const Squeeze& s) {
     const uint32_t fa = static_cast<uint32_t>(s.key >> 32), fb = static_cast<uint32_t>(s.key);
@@ -66,8 +73,25 @@ bool detail::WorldState::squeezeAt(const detail::PredictedContact& c) {
     // hold a pressed body: it sleeps or slides.
     if (!(dot(velocityAt(a, c.time), c.normal) < 0)) return false;
     advance(a, c.time);
-    const double vn = dot(a.velocity, c.normal);
-    a.velocity -= c.normal * vn;
+    // Stopped against two faces at one instant whose normals differ, it can move along neither: the
+    // bounces between them are alternating projections onto their two tangents, which meet only at rest,
+    // and converge there no faster than the cosine of the angle between the faces per pair. A disk
+    // around a small polygon, put there by setPosition, took 20,000 of them between two of its corners
+    // (fuzz/regressions/world_api/budget-hybrid-disk-around-a-static-polygon). Between parallel faces (a
+    // slot) it slides on.
+    const auto w = std::find_if(wedged.begin(), wedged.end(), [&](const Wedged& e) { return e.body == ia; });
+    const bool cornered =
+        w != wedged.end() && w->time == c.time && std::fabs(cross(w->normal, c.normal)) > kWedgeAngle;
+    if (cornered) {
+      a.velocity = Vec2{};
+    } else {
+      a.velocity -= c.normal * dot(a.velocity, c.normal);
+    }
+    if (w != wedged.end()) {
+      *w = {ia, c.time, c.normal};
+    } else {
+      wedged.push_back({ia, c.time, c.normal});
+    }
     ++a.collisionCount;
     a.setLast(detail::LastContact{std::min(c.a, c.b), std::max(c.a, c.b), c.feature, c.time});
     // Pressed into a flat face by gravity, it slides on it, as resolve()'s resting rules would have it:

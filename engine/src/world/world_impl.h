@@ -505,6 +505,14 @@ struct WorldState {
   };
   std::vector<Squeeze> squeezes;  // exempt pairs, in the order they were squeezed
   std::vector<uint32_t> squeezeCounted;  // bodies whose stepCollisions squeezeAt raised from 0 this step
+  /// Bodies wedged between static faces this step: the instant and the normal of the last face they were
+  /// stopped against (squeezeAt). Few: only bodies past kSqueezeCollisions.
+  struct Wedged {
+    uint32_t body;
+    double time;
+    Vec2 normal;
+  };
+  std::vector<Wedged> wedged;
   /// Whether the pair of fixtures is exempt from collisions because of a squeeze.
   bool squeezeExempt(uint32_t fa, uint32_t fb) const;
   /// At a step's start: forgets the squeezes whose pairs no longer overlap (or are gone), and starts the
