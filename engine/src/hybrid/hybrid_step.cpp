@@ -480,6 +480,7 @@ void detail::WorldState::dismissContact(const PredictedContact& c, double dt, do
     if (squeezeAt(c)) {
       ++stats.eventsProcessed;
       repredict(fixtures[c.a].body, c.time, dt);
+      if (bodyOf(c.b).type == BodyType::Dynamic) repredict(fixtures[c.b].body, c.time, dt);  // passesThrough
       return;
     }
     // Its approach is below round-off: leaving it moves the pair together by no more than the
@@ -516,6 +517,7 @@ void detail::WorldState::collide(const PredictedContact& c, double dt, std::vect
   if (squeezeAt(c)) {
     ++stats.eventsProcessed;
     repredict(fixtures[c.a].body, c.time, dt);
+    if (bodyOf(c.b).type == BodyType::Dynamic) repredict(fixtures[c.b].body, c.time, dt);  // passesThrough
     return;
   }
   const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;

@@ -159,13 +159,16 @@ void Engine::startPrediction(uint32_t i, double now, Prediction& q) const {
 void Engine::pairWith(Prediction& q, uint32_t j, double until) {
   const uint32_t i = q.p.slot;
   ++w_.stats.candidatePairs;
-  if (q.single && (s_.hot[j].flags & HotBody::kSingle)) {
+  // (A pair of dynamic bodies may be exempt, passing through each other: squeeze.cpp. Rare: the fast
+  // path below does not look.)
+  if (q.single && (s_.hot[j].flags & HotBody::kSingle) && w_.squeezes.empty()) {
     predictCircles(q.p, j, until, q.best);
     return;
   }
   forEachPhysical(i, [&](uint32_t f) {
     forEachPhysical(j, [&](uint32_t g) {
       if (!w_.canCollide(f, g) || (q.hasDismissals && isDismissed(i, f, g))) return;
+      if (!w_.squeezes.empty() && w_.squeezeExempt(f, g)) return;
       predictPair(f, g, q.p.now, until, q.best);
     });
   });

@@ -492,6 +492,12 @@ bool Engine::collideAt(uint32_t i, uint32_t j, const PredictiveEvent& c) {
     ++w_.stats.eventsProcessed;
     sync(i);
     predictBody(i, c.time);
+    // Two dynamic bodies that pass through each other (squeeze.cpp: passesThrough); either may have
+    // stopped moving into a wall.
+    if (j != PredictiveState::kNone && w_.bodies[s_.bodyOfSlot[j]].type == BodyType::Dynamic) {
+      sync(j);
+      predictBody(j, c.time);
+    }
     return true;
   }
   s_.woken.clear();

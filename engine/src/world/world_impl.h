@@ -513,6 +513,9 @@ struct WorldState {
     Vec2 normal;
   };
   std::vector<Wedged> wedged;
+  /// A contact of two dynamic bodies, one of them stopped against a static face at this instant and the
+  /// two overlapping deeply: they pass through each other (exempt, as a squeeze's pair). Else false.
+  bool passesThrough(const detail::PredictedContact& c);
   /// Whether the pair of fixtures is exempt from collisions because of a squeeze.
   bool squeezeExempt(uint32_t fa, uint32_t fb) const;
   /// At a step's start: forgets the squeezes whose pairs no longer overlap (or are gone), and starts the
