@@ -44,9 +44,15 @@ void LockstepSession::fail(SessionError::Kind kind, const std::string& line, con
 }
 
 void LockstepSession::leave(const std::optional<Message>& lastWord, double lingerSeconds, const SessionError& error) {
+  closeAll(lastWord, lingerSeconds, std::string("the game ended early: ") + error.what());
+  throw error;
+}
+
+void LockstepSession::closeAll(const std::optional<Message>& lastWord, double lingerSeconds,
+                               const std::string& toSpectator) {
   if (transport_.spectatorConnected()) {
     try {
-      transport_.sendToSpectator(Bye{reasonText(std::string("the game ended early: ") + error.what())});
+      transport_.sendToSpectator(Bye{reasonText(toSpectator)});
     } catch (const std::exception&) {
     }
     transport_.closeSpectator(1.0);
@@ -59,7 +65,29 @@ void LockstepSession::leave(const std::optional<Message>& lastWord, double linge
     }
     transport_.close(lingerSeconds);
   }
-  throw error;
+}
+
+void LockstepSession::quit() {
+  const std::string why = "the player quit at tick " + std::to_string(game_ ? game_->tickCount() : 0);
+  if (transport_.connected()) say("leaving the game: " + why + "; the peer is told");
+  std::optional<Message> lastWord;
+  // After this side's Bye (its game is over) the peer expects no other word.
+  if (!byeSent_) lastWord = Bye{reasonText(why)};
+  byeSent_ = true;
+  closeAll(lastWord, 1.0, "the game ended early: " + why);
+}
+
+double LockstepSession::roundSeconds(double limit) const {
+  return config_.whileWaiting ? std::min(limit, kWaitingRoundSeconds) : limit;
+}
+
+void LockstepSession::waitingRound(const std::string& what, Clock::time_point start) {
+  if (!config_.whileWaiting) return;
+  const std::string whom = handshaken_ || peerHello_ ? peerName() + ": " + what : what;
+  if (!config_.whileWaiting(whom, std::chrono::duration<double>(Clock::now() - start).count())) {
+    quit();
+    throw LeftGame("waiting for " + whom);
+  }
 }
 
 DecodeContext decodeContextOf(const Game& game) {
@@ -87,7 +115,8 @@ void LockstepSession::handshake(const Game& game) {
         fail(SessionError::Kind::PeerLost, "no player joined within " + secondsText(config_.joinWaitSeconds) + " s",
              "");
       }
-      const TransportEvent event = transport_.poll(0.25, context_);
+      waitingRound("the other player to connect", start);
+      const TransportEvent event = transport_.poll(roundSeconds(0.25), context_);
       if (event.kind == TransportEvent::Kind::Disconnected && !event.spectator) {
         fail(SessionError::Kind::PeerLost,
              "cannot connect: no answer after " +
@@ -384,6 +413,9 @@ void LockstepSession::desync(uint32_t tick, SideState mine, uint64_t theirs) {
     // The wait has already told the peer and closed; what ended the game is still the desync.
     throw SessionError(SessionError::Kind::Desync, line,
                        "  the peer's state at tick " + t + " did not come: " + e.what() + "\n");
+  } catch (const LeftGame&) {
+    throw SessionError(SessionError::Kind::Desync, line,
+                       "  the peer's state at tick " + t + " did not come: this side quit while it waited for it\n");
   }
   peerState_->stateHash = theirs;
   const std::string details = desyncDetails(tick, mine, *peerState_, *game_, hashEvery_);
@@ -420,9 +452,11 @@ void LockstepSession::waitFor(const std::function<bool()>& ready, const std::str
           secondsText(std::chrono::duration<double>(now - start).count()) + " s so far)");
       nextReport = now + std::chrono::seconds(1);
     }
+    waitingRound(what, start);
     const auto slice = std::min<Clock::duration>(
         nextReport - now, std::chrono::duration_cast<Clock::duration>(lastHeard_ + timeout - now));
-    handle(transport_.poll(std::clamp(std::chrono::duration<double>(slice).count(), 0.001, 0.25), context_));
+    handle(transport_.poll(std::clamp(std::chrono::duration<double>(slice).count(), 0.001, roundSeconds(0.25)),
+                           context_));
   }
   if (handshaken_) {
     const double waited = std::chrono::duration<double>(Clock::now() - start).count();

@@ -56,6 +56,14 @@ class SessionError : public std::runtime_error {
   std::string details_;
 };
 
+/// This side left the game while a wait was under way: LockstepConfig::whileWaiting returned false (a
+/// person closed the window). Not an error of the game: the peer has been told (a Bye, so it ends with
+/// "the peer left") and the connection is closed. what(): whom and what this side was waiting for.
+class LeftGame : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 /// The limits a packet is decoded against, read off the game both sides play (its units, gates, doorways
 /// and rooms): a player and a spectator take them the same way.
 DecodeContext decodeContextOf(const class Game& game);
@@ -73,7 +81,17 @@ struct LockstepConfig {
   /// A host on a transport with a spectator slot: a spectator that connects is sent the game so far and
   /// then every tick as it is played (net/README.md, "Spectators"). It is never waited for.
   bool acceptSpectator = false;
+  /// Called on every round of a wait for the peer, and for the peer to connect, with whom and what this
+  /// side waits for ("team 1 (red): its commands for tick 12", "the host: tick 40") and the seconds the
+  /// wait has lasted: a window handles its events and draws here, so it stays responsive. With it set a
+  /// round polls the network for at most kWaitingRoundSeconds. Returning false leaves the game: the
+  /// session quits (as quit() does) and the wait throws LeftGame. Empty: the waits only poll.
+  std::function<bool(const std::string& what, double seconds)> whileWaiting;
 };
+
+/// The longest a round of a wait polls the network when LockstepConfig::whileWaiting is set: a window
+/// then handles its events and draws some 60 times a second while it waits.
+inline constexpr double kWaitingRoundSeconds = 1.0 / 60;
 
 /// A spectator more messages than this behind (sent and not acknowledged) is dropped: the players go
 /// on, and the host keeps no more for it. Some 30 s of play at one message a tick; the game so far goes
@@ -105,6 +123,11 @@ class LockstepSession : public CommandSource {
   /// the peer's, comparing the hashes that are still to come. Throws SessionError when the peer's
   /// game ended at another tick, or as any wait does.
   void finish(const class Game& game);
+
+  /// This side leaves before the end (a person quit): tells the peer with a Bye (the peer ends with "the
+  /// peer left", never waiting for its timeout) and the spectator, lingers up to a second for them to
+  /// have it, and closes. Nothing else may be called after it. Says nothing to a peer not connected.
+  void quit();
 
   /// Seconds spent waiting for the peer during the game (the handshake not counted).
   double waitedSeconds() const { return waited_; }
@@ -148,6 +171,12 @@ class LockstepSession : public CommandSource {
   /// Says `lastWord` when there is one, lingers up to `lingerSeconds` for the peer to have everything
   /// sent, closes, throws `error`.
   [[noreturn]] void leave(const std::optional<Message>& lastWord, double lingerSeconds, const SessionError& error);
+  /// leave() without the throw: the spectator is sent a Bye with `toSpectator`.
+  void closeAll(const std::optional<Message>& lastWord, double lingerSeconds, const std::string& toSpectator);
+  /// One round of a wait for the person behind whileWaiting; throws LeftGame when it asks to leave.
+  void waitingRound(const std::string& what, Clock::time_point start);
+  /// How long a round of a wait may poll: `limit`, or less with whileWaiting set.
+  double roundSeconds(double limit) const;
   void say(const std::string& line) const;
   std::string peerName() const;
   std::string silentFor(Clock::time_point now) const;

@@ -58,7 +58,8 @@ void SpectatorSession::handshake(const Game& game) {
   transport_.setPeerTimeout(config_.peerTimeoutSeconds + 1);
   const Clock::time_point start = Clock::now();
   while (!transport_.connected()) {
-    const TransportEvent event = transport_.poll(0.25, context_);
+    waitingRound("the host to answer", start);
+    const TransportEvent event = transport_.poll(roundSeconds(0.25), context_);
     if (event.kind == TransportEvent::Kind::Disconnected) {
       fail(SessionError::Kind::PeerLost,
            "cannot connect: no answer after " +
@@ -150,6 +151,28 @@ void SpectatorSession::finish(const Game& game) {
   transport_.close(1.0);
 }
 
+void SpectatorSession::quit() {
+  if (!transport_.connected()) return;
+  say("leaving: the host is told");
+  try {
+    transport_.send(Bye{"the spectator quit"});
+  } catch (const std::exception&) {
+  }
+  transport_.close(1.0);
+}
+
+double SpectatorSession::roundSeconds(double limit) const {
+  return config_.whileWaiting ? std::min(limit, kWaitingRoundSeconds) : limit;
+}
+
+void SpectatorSession::waitingRound(const std::string& what, Clock::time_point start) {
+  if (!config_.whileWaiting) return;
+  if (!config_.whileWaiting(what, std::chrono::duration<double>(Clock::now() - start).count())) {
+    quit();
+    throw LeftGame("waiting for " + what);
+  }
+}
+
 void SpectatorSession::waitFor(const std::function<bool()>& ready, const std::string& what) {
   if (ready()) return;
   const Clock::time_point start = Clock::now();
@@ -169,9 +192,11 @@ void SpectatorSession::waitFor(const std::function<bool()>& ready, const std::st
           " s so far)");
       nextReport = now + std::chrono::seconds(1);
     }
+    waitingRound("the host: " + what, start);
     const auto slice = std::min<Clock::duration>(
         nextReport - now, std::chrono::duration_cast<Clock::duration>(lastHeard_ + timeout - now));
-    handle(transport_.poll(std::clamp(std::chrono::duration<double>(slice).count(), 0.001, 0.25), context_));
+    handle(transport_.poll(std::clamp(std::chrono::duration<double>(slice).count(), 0.001, roundSeconds(0.25)),
+                           context_));
   }
   if (handshaken_) waited_ += std::chrono::duration<double>(Clock::now() - start).count();
 }

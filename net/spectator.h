@@ -42,6 +42,13 @@ class SpectatorSession : public CommandSource {
   void afterTick(const class Game& game);
   /// After the last tick: waits for the host's Bye and leaves.
   void finish(const class Game& game);
+  /// This side leaves before the end (a person quit): tells the host with a Bye (it drops the spectator
+  /// and plays on) and closes. Nothing else may be called after it.
+  void quit();
+
+  /// Ticks the host has sent that this side has not played yet: how far behind it is, for a loop that
+  /// plays them faster to catch up (a window paced by the clock).
+  size_t ticksReceived() const { return ticks_.size(); }
 
   /// The tick the spectator joined at: the host's state of it was compared in full.
   uint32_t joinedAt() const { return checkpointTick_; }
@@ -52,6 +59,9 @@ class SpectatorSession : public CommandSource {
   using Clock = std::chrono::steady_clock;
 
   void waitFor(const std::function<bool()>& ready, const std::string& what);
+  /// One round of a wait for the person behind whileWaiting; throws LeftGame when it asks to leave.
+  void waitingRound(const std::string& what, Clock::time_point start);
+  double roundSeconds(double limit) const;
   void handle(TransportEvent event);
   void receiveTicks(Ticks& m);
   [[noreturn]] void fail(SessionError::Kind kind, const std::string& line, const std::string& toPeer,

@@ -26,7 +26,9 @@ int main(int argc, char** argv) {
   if (parsed.action == rts::ParseResult::Action::Exit) return parsed.exitCode;
   rts::Options& o = parsed.options;
   if (o.map.empty()) o.map = defaultMap();
-  if (o.window && !o.ticksGiven) o.ticks = 0;
+  // A network game's length is agreed in the handshake: a window plays the same 600 ticks as a headless
+  // side unless told otherwise.
+  if (o.window && !o.ticksGiven && o.network == rts::Options::Network::None) o.ticks = 0;
   if (o.window && !o.supersampleGiven) o.supersample = 1;  // frames per second over the last bit of polish
   try {
     rts::GameConfig config;
@@ -42,22 +44,25 @@ int main(int argc, char** argv) {
       info.mapName = std::filesystem::path(o.map).filename().string();
       info.mapJson = mapJson;
       info.seed = o.seed;
-      // Networked, this side's opponent plays its own team; the other team's commands came from the peer.
-      // A spectator's commands all came from the host.
+      // Networked, this side's opponent plays its own team (in a window the person does, and the opponent
+      // none); the other team's commands came from the peer. A spectator's commands all came from the host.
       info.opponentTeams = o.network == rts::Options::Network::Watch  ? 0
-                           : o.network != rts::Options::Network::None ? uint8_t(1u << o.team())
+                           : o.network != rts::Options::Network::None ? (o.window ? 0 : uint8_t(1u << o.team()))
                            : o.window                                 ? 2
                                                                       : 3;
       info.keyframeEvery = uint32_t(o.keyframeEvery);
-      info.recordedBy = o.window                                   ? "rattle-demo --window"
-                        : o.network == rts::Options::Network::Host ? "rattle-demo --host"
-                        : o.network == rts::Options::Network::Join ? "rattle-demo --join"
+      info.recordedBy = o.network == rts::Options::Network::Host    ? "rattle-demo --host"
+                        : o.network == rts::Options::Network::Join  ? "rattle-demo --join"
                         : o.network == rts::Options::Network::Watch ? "rattle-demo --watch"
-                                                                   : "rattle-demo";
+                                                                    : "rattle-demo";
+      if (o.window) {
+        info.recordedBy = o.network == rts::Options::Network::None ? "rattle-demo --window"
+                                                                   : info.recordedBy + " --window";
+      }
       recorder = std::make_unique<rts::replay::Recorder>(o.record, info, game);
     }
     const int status =
-        o.window ? rts::runWindow(game, o, recorder.get()) : rts::runHeadless(game, o, mapJson, recorder.get());
+        o.window ? rts::runWindow(game, o, mapJson, recorder.get()) : rts::runHeadless(game, o, mapJson, recorder.get());
     if (recorder && status == 0) std::fprintf(stderr, "rattle-demo: replay written to %s\n", o.record.c_str());
     return status;
   } catch (const rts::MapError& e) {

@@ -14,10 +14,12 @@ const char* kUsage =
     "\n"
     "An RTS arena on the rattle collision engine: two teams played by a scripted opponent from a seed,\n"
     "walls, buildings, doorways, a gate, sight sensors and projectiles. Headless by default: it writes PNG\n"
-    "frames drawn offscreen with OSMesa. With --window it opens an SDL2 window you can play team blue in.\n"
+    "frames drawn offscreen with OSMesa. With --window it opens an SDL2 window you can play in: blue against\n"
+    "the scripted opponent, or with --host or --join your side's team against another player.\n"
     "\n"
     "  --map FILE      Tiled JSON map (default: assets/maps/arena.json)\n"
-    "  --ticks N       ticks to run, 30 per second (default 600); with --window, quit after N (default: never)\n"
+    "  --ticks N       ticks to run, 30 per second (default 600); with --window, quit after N (default: never;\n"
+    "                  in a network game 600 as headless: both sides play the same number of ticks)\n"
     "  --seed N        seed of the scripted opponent, 0 to 2^64-1 (default 1)\n"
     "  --units N       units per team, 1 to 200000 (default 100)\n"
     "  --frames DIR    where frames go (default out/demo), as frame_NNNNNN.png by tick; the frame_NNNNNN.png\n"
@@ -37,8 +39,10 @@ const char* kUsage =
     "                  gaps; demo/README.md, \"Crowds\") or naive (every unit with an order goes at full speed\n"
     "                  toward its target and is pushed into whatever is in the way: a crowd the engine has to\n"
     "                  keep apart). Not with --record: a replay plays the default steering\n"
-    "  --window        open a window: left-drag selects blue units, right-click moves them, space pauses,\n"
-    "                  v toggles sight ranges, g works the first gate, f changes the fog, Esc quits\n"
+    "  --window        open a window: left-drag selects your units (blue, or your side's in a network game),\n"
+    "                  right-click moves them, space pauses (not a network game), v toggles sight ranges,\n"
+    "                  g works the first gate, f changes the fog, Esc or q quits (a network game: leaves it,\n"
+    "                  telling the peer)\n"
     "  --screenshot F  with --window: save the last frame shown as PNG file F when the window closes\n"
     "  --input FILE    with --window: play the scripted input events in FILE (see demo/README.md)\n"
     "  --record FILE   record the game as a replay in FILE (headless or --window): the map, the\n"
@@ -49,10 +53,11 @@ const char* kUsage =
     "  --quiet         no progress line\n"
     "  --help          this text\n"
     "\n"
-    "Network play (headless only for now; demo/README.md, \"Network play\"): two rattle-demo processes play\n"
-    "one game in lockstep over ENet, each side's scripted opponent playing its own team, and a third may\n"
-    "watch. All must be given the same --map, --seed, --units, --mode, --steering, --ticks, --input-delay\n"
-    "and --hash-every: the handshake compares them and refuses a difference.\n"
+    "Network play (demo/README.md, \"Network play\"): two rattle-demo processes play one game in lockstep\n"
+    "over ENet, each side's team played by its scripted opponent, or with --window by you, and a third\n"
+    "may watch (in a window too). All must be given the same --map, --seed, --units, --mode, --steering,\n"
+    "--ticks, --input-delay and --hash-every: the handshake compares them and refuses a difference. In a\n"
+    "window, while the game waits for the peer it says whom it waits for and how long.\n"
     "  --host [PORT]   host the game on UDP port PORT (default 47800; 0: any free port, printed) and play\n"
     "                  blue (team 0); waits for a player to join, then takes one spectator at a time\n"
     "  --join HOST[:PORT]  join the game hosted at HOST (a name or an IPv4 address; port default 47800)\n"
@@ -64,11 +69,12 @@ const char* kUsage =
     "                  round trip at 30 ticks a second)\n"
     "  --hash-every K  compare the state hash with the peer's every K ticks, 1 to 65535 (default 1)\n"
     "  --peer-timeout S  give up on a peer silent for S seconds, 0.1 to 3600 (default 10)\n"
-    "  With --host, --join or --watch, frames go to out/demo-host, out/demo-join or out/demo-watch and show\n"
-    "  this side's fog (a spectator's: none) unless --frames and --fog say otherwise. Exit status: 0 the\n"
-    "  game was played to the end with equal hashes, 3 the handshake refused the game, 4 desync (the state\n"
-    "  hashes differ), 5 the peer could not be reached, disconnected, went silent or left early (a\n"
-    "  spectator's peer is the host), 6 the peer sent garbage or broke the protocol.\n"
+    "  With --host, --join or --watch, frames go to out/demo-host, out/demo-join or out/demo-watch, and they\n"
+    "  and the window show this side's fog (a spectator's: none) unless --frames and --fog say otherwise.\n"
+    "  Exit status: 0 the game was played to the end with equal hashes, or you quit it in a window (the\n"
+    "  peer is told), 3 the handshake refused the game, 4 desync (the state hashes differ),\n"
+    "  5 the peer could not be reached, disconnected, went silent or left early (a spectator's peer is the\n"
+    "  host), 6 the peer sent garbage or broke the protocol.\n"
     "\n"
     "Exit status: 0 done, 1 an error (a bad map, a file that cannot be written), 2 bad options; with\n"
     "--host, --join or --watch also 3 to 6 (above).\n";
@@ -276,12 +282,6 @@ ParseResult parseOptions(int argc, char** argv) {
                 "with the default (keep-apart)");
   }
   if (o.network != Options::Network::None) {
-    const char* side = o.network == Options::Network::Host   ? "--host"
-                       : o.network == Options::Network::Join ? "--join"
-                                                             : "--watch";
-    if (o.window) {
-      return fail(std::string(side) + " with --window: not yet; network play is headless for now (issue 26)");
-    }
     // Two sides on one machine would otherwise write over each other's frames.
     if (!o.framesGiven) {
       o.framesDir = o.network == Options::Network::Host   ? "out/demo-host"

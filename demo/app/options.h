@@ -13,7 +13,7 @@ namespace rts {
 
 struct Options {
   std::string map;            ///< map file; empty: the default arena
-  long ticks = 600;           ///< headless: ticks to run; window: quit after this many (0: run until closed)
+  long ticks = 600;           ///< ticks to run; a window alone: quit after this many (0: run until closed)
   bool ticksGiven = false;
   uint64_t seed = 1;
   std::string framesDir = "out/demo";
@@ -36,7 +36,7 @@ struct Options {
   int keyframeEvery = 30;     ///< the replay's keyframe interval, in ticks
   bool framesGiven = false, fogGiven = false;
 
-  // Network play (headless only for now; demo/README.md, "Network play").
+  // Network play, headless or in the window (demo/README.md, "Network play").
   enum class Network { None, Host, Join, Watch } network = Network::None;
   uint16_t port = net::kDefaultPort;  ///< --host: the port to listen on (0: any free one); --join, --watch: the host's
   std::string joinHost;       ///< --join, --watch: the host's name or address

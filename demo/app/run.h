@@ -23,8 +23,11 @@ inline constexpr int kExitProtocol = 6;  ///< the peer sent garbage or broke the
 /// handshake compares their digest). Returns the exit status. `recorder` (may be null) is told every
 /// tick's commands and finished at the end (a networked game that ends early: with the ticks played).
 int runHeadless(Game& game, const Options& options, const std::string& mapJson, replay::Recorder* recorder);
-/// Opens an SDL2 window; the person plays team 0, the scripted opponent team 1. Returns the exit status.
-int runWindow(Game& game, const Options& options, replay::Recorder* recorder);
+/// Opens an SDL2 window; the person plays team 0 and the scripted opponent team 1, or with --host or
+/// --join the person plays this side's team against the peer's (with --watch: follows the host's
+/// game). Returns the exit status, as runHeadless does; a person who quits a network game leaves it
+/// (the peer is told) and the status is 0.
+int runWindow(Game& game, const Options& options, const std::string& mapJson, replay::Recorder* recorder);
 
 /// The closing paragraph: ticks, units left, shots, wall hits, crossings, median engine step time.
 /// `medianFrameSeconds`: to draw and write a frame; `medianDrawSeconds`: to draw it (scene and OSMesa).

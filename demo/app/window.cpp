@@ -1,14 +1,15 @@
 // The SDL2 window. The picture is the offscreen renderer's (the same pixels a PNG frame would have),
 // shown through an SDL texture, so the window needs no OpenGL of its own and looks exactly like the
-// headless frames. The person plays blue (team 0); the scripted opponent plays red.
+// headless frames. The person plays blue (team 0) against the scripted opponent's red; with --host or
+// --join this side's team against the peer's, with --watch nobody (demo/README.md, "Network play").
 //
-//   left-drag   select blue units (a click selects the nearest one)
+//   left-drag   select your units (a click selects the nearest one)
 //   right-click move the selection there
-//   space       pause / resume
+//   space       pause / resume (not in a network game: the peer would wait without knowing why)
 //   v           sight ranges on / off
 //   g           open / close the first gate
 //   f           fog of war: blue's view, red's view, none
-//   Esc, q      quit
+//   Esc, q      quit (in a network game: leave it, telling the peer)
 //
 // --input FILE plays scripted events through the same handlers (for the Xvfb test); each line is
 // "FRAME EVENT ARGS": `drag X0 Y0 X1 Y1`, `click X Y`, `rclick X Y`, `key NAME` (space, v, g, f, q,
@@ -25,6 +26,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "app/network_play.h"
 #include "app/run.h"
 #include "game/opponent.h"
 #include "game/tick_loop.h"
@@ -147,7 +149,7 @@ struct Sdl {
 
 }  // namespace
 
-int runWindow(Game& game, const Options& o, replay::Recorder* recorder) {
+int runWindow(Game& game, const Options& o, const std::string& mapJson, replay::Recorder* recorder) {
   // Software SDL rendering: the picture is already made; this only copies it to the window. No OpenGL
   // on SDL's side at all (not even to speed up the window surface): a second Mesa driver loaded next to
   // OSMesa would share its dispatch table and crash.
@@ -199,8 +201,12 @@ int runWindow(Game& game, const Options& o, replay::Recorder* recorder) {
     }
   }
 
+  using Clock = std::chrono::steady_clock;
+  const bool networked = o.network != Options::Network::None;
+  const bool watching = o.network == Options::Network::Watch;
+  const int team = o.team();  // the person's; a spectator gives no orders
   OffscreenRenderer offscreen(o.width, o.height, o.supersample);
-  ScriptedOpponent opponent(o.seed, 2);  // red only
+  ScriptedOpponent opponent(o.seed, 2);  // red, in a game without a network only
   const View view = fitView(game.map().width, game.map().height, o.width, o.height);
   SceneOptions sceneOptions;
   sceneOptions.fogTeam = o.fogTeam;
@@ -208,25 +214,30 @@ int runWindow(Game& game, const Options& o, replay::Recorder* recorder) {
   sceneOptions.showTimes = o.showTimes;
   PlayerOrders mine;
   TickLoop loop(game);
-  loop.add(opponent);  // red's orders first, then the person's
-  loop.add(mine);
   bool paused = false, quit = false, dragging = false;
   Vec2 dragFrom, dragTo;  // window pixels
   size_t nextScripted = 0;
   long frame = 0;
   double owed = 0;  // seconds of game time not yet run
-  auto last = std::chrono::steady_clock::now();
-  const std::vector<uint8_t>* pixels = nullptr;
+  auto last = Clock::now();
+  auto lastShown = last;
+  // The HUD's network line while nothing is awaited. Space does nothing in a network game: a pause here
+  // would only stall the peer, which could not tell it from a lost connection.
+  const std::string networkLine =
+      watching ? "watching the host's game: no orders; space does not pause it"
+               : std::string("network game: you play ") + teamName(team) + " against " + teamName(1 - team) +
+                     "; space does not pause it";
 
   auto select = [&](Vec2 a, Vec2 b) {
     sceneOptions.selected.assign(game.units().size(), 0);
+    if (watching) return;
     const Vec2 wa = view.toWorld(a), wb = view.toWorld(b);
     const Vec2 lo{std::min(wa.x, wb.x), std::min(wa.y, wb.y)}, hi{std::max(wa.x, wb.x), std::max(wa.y, wb.y)};
     const bool click = rattle::length(b - a) < 4;
     double best = 1.5;
     int nearest = -1;
     for (const Unit& u : game.units()) {
-      if (!u.alive || u.team != 0) continue;
+      if (!u.alive || u.team != team) continue;
       if (click) {
         const double d = rattle::length(u.position - wa);
         if (d < best) best = d, nearest = int(u.id);
@@ -237,91 +248,180 @@ int runWindow(Game& game, const Options& o, replay::Recorder* recorder) {
     if (nearest >= 0) sceneOptions.selected[size_t(nearest)] = 1;
   };
 
-  while (!quit) {
-    ++frame;
-    for (; nextScripted < script.size() && script[nextScripted].frame <= frame; ++nextScripted) {
-      for (int k = 0; k < script[nextScripted].count; ++k) SDL_PushEvent(&script[nextScripted].events[k]);
-    }
-    SDL_Event ev;
-    while (SDL_PollEvent(&ev)) {
-      if (ev.type == SDL_QUIT) {
-        quit = true;
-      } else if (ev.type == SDL_MOUSEBUTTONDOWN && ev.button.button == SDL_BUTTON_LEFT) {
-        dragging = true;
-        dragFrom = dragTo = {double(ev.button.x), double(ev.button.y)};
-      } else if (ev.type == SDL_MOUSEMOTION && dragging) {
-        dragTo = {double(ev.motion.x), double(ev.motion.y)};
-      } else if (ev.type == SDL_MOUSEBUTTONUP && ev.button.button == SDL_BUTTON_LEFT && dragging) {
-        dragging = false;
-        dragTo = {double(ev.button.x), double(ev.button.y)};
-        select(dragFrom, dragTo);
-      } else if (ev.type == SDL_MOUSEBUTTONDOWN && ev.button.button == SDL_BUTTON_RIGHT) {
-        Command c;
-        c.team = 0;
-        c.type = CommandType::Move;
-        c.target = view.toWorld({double(ev.button.x), double(ev.button.y)});
-        for (size_t id = 0; id < sceneOptions.selected.size(); ++id) {
-          if (sceneOptions.selected[id] && game.units()[id].alive) c.units.push_back(uint32_t(id));
-        }
-        if (!c.units.empty()) mine.push(std::move(c));
-      } else if (ev.type == SDL_KEYDOWN) {
-        switch (ev.key.keysym.sym) {
-          case SDLK_SPACE: paused = !paused; break;
-          case SDLK_v: sceneOptions.showSight = !sceneOptions.showSight; break;
-          case SDLK_f: sceneOptions.fogTeam = sceneOptions.fogTeam == 0 ? 1 : sceneOptions.fogTeam == 1 ? -1 : 0; break;
-          case SDLK_g:
-            if (!game.map().gates.empty()) {
-              Command c;
-              c.team = 0;
-              c.type = CommandType::ToggleGate;
-              mine.push(std::move(c));
-            }
-            break;
-          case SDLK_ESCAPE:
-          case SDLK_q: quit = true; break;
-          default: break;
-        }
+  // One event, in the main loop or while a network game waits for the peer: orders go onto `mine`, which
+  // gives them at the next tick it is asked for.
+  auto handle = [&](const SDL_Event& ev) {
+    if (ev.type == SDL_QUIT) {
+      quit = true;
+    } else if (ev.type == SDL_MOUSEBUTTONDOWN && ev.button.button == SDL_BUTTON_LEFT) {
+      dragging = true;
+      dragFrom = dragTo = {double(ev.button.x), double(ev.button.y)};
+    } else if (ev.type == SDL_MOUSEMOTION && dragging) {
+      dragTo = {double(ev.motion.x), double(ev.motion.y)};
+    } else if (ev.type == SDL_MOUSEBUTTONUP && ev.button.button == SDL_BUTTON_LEFT && dragging) {
+      dragging = false;
+      dragTo = {double(ev.button.x), double(ev.button.y)};
+      select(dragFrom, dragTo);
+    } else if (ev.type == SDL_MOUSEBUTTONDOWN && ev.button.button == SDL_BUTTON_RIGHT && !watching) {
+      Command c;
+      c.team = uint8_t(team);
+      c.type = CommandType::Move;
+      c.target = view.toWorld({double(ev.button.x), double(ev.button.y)});
+      for (size_t id = 0; id < sceneOptions.selected.size(); ++id) {
+        if (sceneOptions.selected[id] && game.units()[id].alive) c.units.push_back(uint32_t(id));
+      }
+      if (!c.units.empty()) mine.push(std::move(c));
+    } else if (ev.type == SDL_KEYDOWN) {
+      switch (ev.key.keysym.sym) {
+        case SDLK_SPACE:
+          if (!networked) paused = !paused;
+          break;
+        case SDLK_v: sceneOptions.showSight = !sceneOptions.showSight; break;
+        case SDLK_f: sceneOptions.fogTeam = sceneOptions.fogTeam == 0 ? 1 : sceneOptions.fogTeam == 1 ? -1 : 0; break;
+        case SDLK_g:
+          if (!game.map().gates.empty() && !watching) {
+            Command c;
+            c.team = uint8_t(team);
+            c.type = CommandType::ToggleGate;
+            mine.push(std::move(c));
+          }
+          break;
+        case SDLK_ESCAPE:
+        case SDLK_q: quit = true; break;
+        default: break;
       }
     }
+  };
+  auto handleEvents = [&]() {
+    SDL_Event ev;
+    while (SDL_PollEvent(&ev)) handle(ev);
+  };
 
-    // Fixed ticks: as many as real time owes (at most a few per frame), or one per frame under a script.
-    const auto now = std::chrono::steady_clock::now();
-    owed += std::chrono::duration<double>(now - last).count();
-    last = now;
-    int due = script.empty() ? std::min(4, int(owed / Game::kTickSeconds)) : 1;
-    owed = script.empty() ? std::min(owed - due * Game::kTickSeconds, Game::kTickSeconds) : 0;
-    if (paused) due = 0;
-    for (int t = 0; t < due && !quit; ++t) {
-      const std::vector<Command>& commands = loop.tick();
-      if (recorder) recorder->afterTick(game, commands);
-      if (o.ticks > 0 && game.tickCount() >= unsigned(o.ticks)) quit = true;
-    }
-
+  // Draws the game as it is now; `final`: the window's last picture, which --screenshot saves.
+  auto show = [&](bool final) -> bool {
     sceneOptions.paused = paused;
     sceneOptions.hasSelectionBox = dragging;
     sceneOptions.selectionA = view.toWorld(dragFrom);
     sceneOptions.selectionB = view.toWorld(dragTo);
-    pixels = &offscreen.render(buildScene(game, sceneOptions));
-    SDL_UpdateTexture(sdl.texture, nullptr, pixels->data(), o.width * 4);
+    const std::vector<uint8_t>& pixels = offscreen.render(buildScene(game, sceneOptions));
+    SDL_UpdateTexture(sdl.texture, nullptr, pixels.data(), o.width * 4);
     SDL_RenderClear(sdl.renderer);
     SDL_RenderCopy(sdl.renderer, sdl.texture, nullptr, nullptr);
-    if (quit && !o.screenshot.empty()) {
+    if (final && !o.screenshot.empty()) {
       // Read back what the window was given, not the offscreen buffer: this is the window's picture.
       std::vector<uint8_t> shot(size_t(o.width) * size_t(o.height) * 4);
       if (SDL_RenderReadPixels(sdl.renderer, nullptr, SDL_PIXELFORMAT_RGBA32, shot.data(), o.width * 4) != 0) {
         std::fprintf(stderr, "rattle-demo: cannot read the window back: %s\n", SDL_GetError());
-        return 1;
+        return false;
       }
       std::string error = writePng(o.screenshot, o.width, o.height, shot);
       if (!error.empty()) {
         std::fprintf(stderr, "rattle-demo: %s\n", error.c_str());
-        return 1;
+        return false;
       }
     }
     SDL_RenderPresent(sdl.renderer);
+    lastShown = Clock::now();
+    return true;
+  };
+
+  // While the session waits for the peer (or for it to connect): the window keeps handling events, and
+  // once the wait outlasts an ordinary round trip it shows whom it waits for and for how long, at some
+  // 30 frames a second. A quit leaves the game (the session tells the peer).
+  auto whileWaiting = [&](const std::string& what, double seconds) -> bool {
+    handleEvents();
+    if (quit) return false;
+    if (seconds >= 0.2 && Clock::now() - lastShown >= std::chrono::milliseconds(33)) {
+      char text[40];
+      std::snprintf(text, sizeof text, " (%.1f s)", seconds);
+      sceneOptions.banner = "waiting for " + what + text;
+      show(false);  // a screenshot is only ever of the last frame
+    }
+    return true;
+  };
+
+  Network network;
+  std::string leftWhile;  // set when the person left a network game: why, or what it waited for then
+  // The person quit while the session waited: the frame shown last was one of the wait's, so the
+  // window's last picture is drawn again for --screenshot.
+  auto leftWaiting = [&](const net::LeftGame& e) {
+    leftWhile = std::string("you quit while ") + e.what();
+    return o.screenshot.empty() || show(true);
+  };
+  if (networked) {
+    try {
+      network = connectNetwork(game, o, mapJson, mine, whileWaiting);
+    } catch (const net::LeftGame& e) {
+      if (!leftWaiting(e)) return 1;
+    } catch (const net::SessionError& e) {
+      printSessionError(e);
+      return exitStatus(e.kind());
+    }
+    if (network.session) loop.add(*network.session);
+    if (network.spectator) loop.add(*network.spectator);
+  } else {
+    loop.add(opponent);  // red's orders first, then the person's
+    loop.add(mine);
+  }
+
+  // A network game ends after its agreed ticks (0: at once, as headless); a window alone runs until
+  // closed unless --ticks says otherwise.
+  auto gameOver = [&] { return (networked || o.ticks > 0) && game.tickCount() >= unsigned(o.ticks); };
+  bool over = gameOver();
+  try {
+    while (leftWhile.empty() && !quit && !over) {
+      ++frame;
+      for (; nextScripted < script.size() && script[nextScripted].frame <= frame; ++nextScripted) {
+        for (int k = 0; k < script[nextScripted].count; ++k) SDL_PushEvent(&script[nextScripted].events[k]);
+      }
+      handleEvents();
+
+      // Fixed ticks: as many as real time owes (at most a few per frame), or one per frame under a script.
+      const auto now = Clock::now();
+      owed += std::chrono::duration<double>(now - last).count();
+      last = now;
+      int due = script.empty() ? std::min(4, int(owed / Game::kTickSeconds)) : 1;
+      owed = script.empty() ? std::min(owed - due * Game::kTickSeconds, Game::kTickSeconds) : 0;
+      if (paused) due = 0;
+      // A spectator that came in under way plays the game so far, and whatever the host sent while it
+      // was slow, faster than the clock until it has caught up; a frame still comes every 25 ms or so.
+      auto catchingUp = [&] {
+        return network.spectator && script.empty() && network.spectator->ticksReceived() > 2 &&
+               Clock::now() - now < std::chrono::milliseconds(25);
+      };
+      for (int t = 0; !quit && !over && (t < due || catchingUp()); ++t) {
+        const std::vector<Command>& commands = loop.tick();
+        // Recorded before the hashes are compared: a desync's replay holds the tick that differs.
+        if (recorder) recorder->afterTick(game, commands);
+        if (network.session) network.session->afterTick(game);
+        if (network.spectator) network.spectator->afterTick(game);
+        over = gameOver();
+      }
+      sceneOptions.banner = networked ? networkLine : "";
+      if (!show(quit || over)) return 1;
+    }
+    if (!leftWhile.empty()) {
+      // Left before the game began: nothing to finish.
+    } else if (networked && over) {
+      if (network.session) network.session->finish(game);
+      if (network.spectator) network.spectator->finish(game);
+    } else if (networked) {
+      if (network.session) network.session->quit();
+      if (network.spectator) network.spectator->quit();
+      leftWhile = "you quit";
+    }
+  } catch (const net::LeftGame& e) {
+    if (!leftWaiting(e)) return 1;
+  } catch (const net::SessionError& e) {
+    return endedEarly(e, game, o, recorder);
   }
   if (recorder) recorder->finish(game);
   printSummary(game, o, 0, 0, 0);
+  if (!leftWhile.empty()) {
+    std::printf("Network game left at tick %u: %s.\n", game.tickCount(), leftWhile.c_str());
+  } else if (networked) {
+    printNetworkEnd(network, game, o);
+  }
   return 0;
 }
 

@@ -108,6 +108,7 @@ Scene buildScene(const Game& game, const SceneOptions& options) {
   s.selectionA = options.selectionA;
   s.selectionB = options.selectionB;
   s.hud = hudLines(game, options.paused, options.showTimes);
+  if (!options.banner.empty()) s.hud.push_back(options.banner);
   return s;
 }
 

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "game/game.h"
@@ -17,6 +18,8 @@ struct SceneOptions {
   bool hasSelectionBox = false;
   Vec2 selectionA, selectionB;
   bool paused = false;
+  /// One more HUD line under the others when not empty: the window's network game (whom it waits for).
+  std::string banner;
   /// Show the measured engine step time in the HUD. It is a wall-clock measurement, so frames that
   /// must be reproducible byte for byte (tests, golden frames) turn it off.
   bool showTimes = true;

@@ -64,6 +64,24 @@ TEST(DemoRender, SameStateSameBytesAndNotBlank) {
   EXPECT_EQ(other.render(rts::buildScene(*again, options)), first);
 }
 
+// The window's network line (whom a network game waits for) is one more HUD line, drawn as the others;
+// without one the HUD and the frame are as they were.
+TEST(DemoRender, ABannerIsAThirdHudLine) {
+  std::unique_ptr<rts::Game> owned = playedGame(10);
+  rts::SceneOptions options;
+  options.showTimes = false;
+  const rts::Scene plain = rts::buildScene(*owned, options);
+  ASSERT_EQ(plain.hud.size(), 2u);
+  options.banner = "waiting for team 1 (red): its commands for tick 12 (1.5 s)";
+  const rts::Scene banner = rts::buildScene(*owned, options);
+  ASSERT_EQ(banner.hud.size(), 3u);
+  EXPECT_EQ(banner.hud[0], plain.hud[0]);
+  EXPECT_EQ(banner.hud[2], options.banner);
+  rts::OffscreenRenderer renderer(320, 180, 1);
+  const std::vector<uint8_t> without = renderer.render(plain);
+  EXPECT_NE(renderer.render(banner), without) << "the banner is drawn";
+}
+
 TEST(DemoRender, UnitsAreDrawnInTheirTeamColours) {
   std::unique_ptr<rts::Game> owned = playedGame(1);
   const rts::Game& game = *owned;

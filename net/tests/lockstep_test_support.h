@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <memory>
 #include <string>
@@ -48,6 +49,8 @@ struct GameSettings {
   /// A player sleeps this long after each tick (0: none, as rattle-demo headless): a game that lasts
   /// long enough for a spectator to join it under way.
   double tickSeconds = 0;
+  /// The session's LockstepConfig::whileWaiting (a window's hook): empty as headless.
+  std::function<bool(const std::string&, double)> whileWaiting;
 };
 
 /// The order that perturbs a game: the team's first unit, sent to the middle of the map.
@@ -87,6 +90,7 @@ struct SideResult {
   double seconds = 0;                 ///< from the handshake's start to the end
   double waited = 0;                  ///< the session's waitedSeconds()
   double longestWait = 0;             ///< its longestWaitSeconds()
+  std::string left;                   ///< LeftGame's what(), when whileWaiting asked to leave
 };
 
 /// One side of a networked game on `transport`: the scripted opponent for its team, through a TickLoop
@@ -103,6 +107,7 @@ inline SideResult playSide(rts::net::Transport& transport, uint8_t team, const G
   config.peerTimeoutSeconds = s.peerTimeout;
   config.joinWaitSeconds = 30;  // a test never waits for ever
   config.log = [&r](const std::string& line) { r.log.push_back(line); };
+  config.whileWaiting = s.whileWaiting;
   rts::net::LockstepSession session(transport, opponent, config);
   const auto start = std::chrono::steady_clock::now();
   try {
@@ -123,6 +128,8 @@ inline SideResult playSide(rts::net::Transport& transport, uint8_t team, const G
     r.kind = e.kind();
     r.error = e.what();
     r.details = e.details();
+  } catch (const rts::net::LeftGame& e) {
+    r.left = e.what();
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   r.finalHash = game->stateHash();

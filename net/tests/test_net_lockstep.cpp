@@ -583,3 +583,72 @@ TEST(NetLockstep, ADesyncWhoseStateDoesNotComeIsStillADesync) {
 }
 
 }  // namespace
+
+namespace {
+
+// A window's hook (LockstepConfig::whileWaiting): called on every round of a wait with whom and what,
+// and the person quitting there leaves the game with a Bye, so the peer ends at once with "the peer
+// left" instead of waiting out its timeout.
+TEST(NetLockstep, LeavingDuringAWaitTellsThePeerWhichEndsAtOnce) {
+  GameSettings hostSettings, joinerSettings;
+  hostSettings.units = joinerSettings.units = 4;
+  joinerSettings.tickSeconds = 0.5;  // a slow peer: the host waits half a second for every tick
+  std::vector<std::pair<std::string, double>> rounds;
+  hostSettings.whileWaiting = [&rounds](const std::string& what, double seconds) {
+    rounds.emplace_back(what, seconds);
+    // The handshake's waits are let pass; the first wait for the peer's commands to outlast 0.3 s is left.
+    return what.find("its commands for tick") == std::string::npos || seconds < 0.3;
+  };
+  const Pair p = playPair(hostSettings, joinerSettings);
+  EXPECT_FALSE(p.host.finished);
+  EXPECT_EQ(p.host.left.rfind("waiting for team 1 (red): its commands for tick ", 0), 0u) << describe(p.host);
+  EXPECT_TRUE(contains(p.host.log, "leaving the game: the player quit at tick ")) << describe(p.host);
+  // Called on every round of the wait, some 60 a second: a window drawing there stays responsive.
+  ASSERT_GE(rounds.size(), 10u);
+  EXPECT_EQ(rounds.back().first.rfind("team 1 (red): its commands for tick ", 0), 0u) << rounds.back().first;
+  EXPECT_GE(rounds.back().second, 0.3);
+  EXPECT_LT(rounds.back().second, 0.5);
+
+  EXPECT_FALSE(p.joiner.finished);
+  EXPECT_EQ(p.joiner.kind, SessionError::Kind::PeerLost);
+  EXPECT_EQ(p.joiner.error.rfind("the peer left (the player quit at tick " + std::to_string(p.host.ticksPlayed) + ")", 0),
+            0u)
+      << describe(p.joiner);
+  EXPECT_LT(p.joiner.seconds, hostSettings.peerTimeout) << "found by the Bye, not by the timeout";
+}
+
+TEST(NetLockstep, AHostLeftBeforeAPlayerJoinedEndsWithoutOne) {
+  GameSettings s;
+  s.units = 4;
+  s.whileWaiting = [](const std::string& what, double seconds) {
+    return what != "the other player to connect" || seconds < 0.2;
+  };
+  std::unique_ptr<Transport> host = Transport::host(0);
+  const SideResult r = playSide(*host, 0, s);
+  EXPECT_FALSE(r.finished);
+  EXPECT_EQ(r.left, "waiting for the other player to connect") << describe(r);
+  EXPECT_EQ(r.ticksPlayed, 0u);
+  EXPECT_LT(r.seconds, 2.0);
+}
+
+// Headless (no hook) the waits are as they were: the whole game plays through.
+TEST(NetLockstep, AHookThatLetsEveryWaitPassChangesNothing) {
+  GameSettings s;
+  s.units = 6;
+  s.ticks = 120;
+  s.seed = 4;
+  GameSettings hooked = s;
+  int calls = 0;
+  hooked.whileWaiting = [&calls](const std::string&, double) {
+    ++calls;
+    return true;
+  };
+  const Pair p = playPair(hooked, s);
+  ASSERT_TRUE(p.host.finished) << describe(p.host);
+  ASSERT_TRUE(p.joiner.finished) << describe(p.joiner);
+  EXPECT_EQ(p.host.finalHash, p.joiner.finalHash);
+  EXPECT_EQ(p.host.finalHash, playDelayedLocal(s).finalHash);
+  EXPECT_GT(calls, 0);
+}
+
+}  // namespace

@@ -1,7 +1,7 @@
 // rattle-demo --host and --join as programs: two processes play one game headless and print the same
 // final hash line, both record replays that verify and hold the same commands, the same through the
 // faulty relay, a mismatch is refused with exit status 3 on both sides, and the options are checked;
-// rattle-relay says how to use it.
+// rattle-relay says how to use it. One side in a window: test_net_window.cpp.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -14,91 +14,11 @@
 #include "format/replay_reader.h"
 #include "lockstep_test_support.h"
 #include "net/faulty_relay.h"
+#include "program_test_support.h"
 
 namespace {
 
-using net_test::readFile;
-using net_test::sourcePath;
-
-/// A per-test scratch path (ctest runs tests as parallel processes).
-std::string scratch(const std::string& name) {
-  const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-  return testing::TempDir() + "/rattle_net_" + info->test_suite_name() + "_" + info->name() + "_" + name;
-}
-
-struct Outcome {
-  int status = -1;
-  std::string output;  // stdout and stderr
-};
-
-int statusOf(int raw) { return raw != -1 && WIFEXITED(raw) ? WEXITSTATUS(raw) : -1; }
-
-Outcome run(const std::string& binary, const std::string& arguments) {
-  const std::string log = scratch("output.log");
-  const std::string command = binary + " " + arguments + " > " + log + " 2>&1";
-  Outcome r;
-  r.status = statusOf(std::system(command.c_str()));
-  r.output = readFile(log);
-  return r;
-}
-
-bool has(const Outcome& o, const std::string& text) { return o.output.find(text) != std::string::npos; }
-
-/// A host process, started first: its output is read through a pipe until it says which port the
-/// system gave it (--host 0), so two tests never race for one. `timeout` ends it should the joiner
-/// never come.
-class HostProcess {
- public:
-  explicit HostProcess(const std::string& arguments) {
-    const std::string command = "timeout 120 " RATTLE_DEMO_BINARY " --host 0 " + arguments + " 2>&1";
-    pipe_ = popen(command.c_str(), "r");
-    if (!pipe_) return;
-    char line[4096];
-    while (port_ == 0 && std::fgets(line, sizeof line, pipe_)) {
-      output_ += line;
-      const char* at = std::strstr(line, "hosting on UDP port ");
-      if (at) port_ = std::atoi(at + std::strlen("hosting on UDP port "));
-    }
-  }
-  ~HostProcess() { finish(); }
-
-  int port() const { return port_; }
-
-  /// Reads the output until a line holds `text` (or the output ends); whether one did.
-  bool readUntil(const std::string& text) {
-    char line[4096];
-    while (pipe_ && std::fgets(line, sizeof line, pipe_)) {
-      output_ += line;
-      if (std::strstr(line, text.c_str())) return true;
-    }
-    return false;
-  }
-
-  /// Reads the rest of the output and waits for the process.
-  Outcome finish() {
-    if (pipe_) {
-      char buffer[4096];
-      size_t n = 0;
-      while ((n = std::fread(buffer, 1, sizeof buffer, pipe_)) > 0) output_.append(buffer, n);
-      status_ = statusOf(pclose(pipe_));
-      pipe_ = nullptr;
-    }
-    return {status_, output_};
-  }
-
- private:
-  FILE* pipe_ = nullptr;
-  int port_ = 0;
-  int status_ = -1;
-  std::string output_;
-};
-
-/// The line both sides print at the end of a game, or "none".
-std::string finalLine(const std::string& output) {
-  const size_t at = output.find("Network game over after ");
-  if (at == std::string::npos) return "none";
-  return output.substr(at, output.find('\n', at) - at);
-}
+using namespace net_test;
 
 const std::string kGame =
     "--map " + sourcePath("assets/maps/small.json") + " --units 6 --ticks 120 --no-render --quiet";
@@ -186,33 +106,6 @@ TEST(NetProgram, TwoProcessesPlayOneGameThroughTheFaultyRelay) {
   EXPECT_GT(waitedIn(joiner.output), 0) << joiner.output;
   std::printf("[ relay    ] waited: host %.2f s, joiner %.2f s\n", waitedIn(hosted.output), waitedIn(joiner.output));
   EXPECT_GT(relay.towardsHost().dropped + relay.towardsJoiner().dropped, 0u);
-}
-
-/// A process in the background (its output to a file), waited for by finish().
-class Background {
- public:
-  Background(const std::string& arguments, const std::string& log) : log_(log) {
-    const std::string command = "timeout 120 " RATTLE_DEMO_BINARY " " + arguments + " > " + log + " 2>&1";
-    pipe_ = popen(command.c_str(), "r");
-  }
-  ~Background() { finish(); }
-  Outcome finish() {
-    if (pipe_) {
-      status_ = statusOf(pclose(pipe_));
-      pipe_ = nullptr;
-    }
-    return {status_, readFile(log_)};
-  }
-
- private:
-  std::string log_;
-  FILE* pipe_ = nullptr;
-  int status_ = -1;
-};
-
-std::string hashIn(const std::string& line) {
-  const size_t at = line.find("final state hash ");
-  return at == std::string::npos ? "none" : line.substr(at + 17, 16);
 }
 
 // A third process watches a game under way: it comes in once the players have started, plays the game
@@ -317,14 +210,12 @@ TEST(NetProgram, OptionsAreChecked) {
     const char* message;
   };
   for (const Case& c : {
-           Case{"--host --window", "--host with --window: not yet; network play is headless for now"},
-           Case{"--join localhost --window", "--join with --window: not yet"},
            Case{"--host 70000", "--host 70000: expected a port from 0 to 65535"},
            Case{"--host --join localhost", "--join: a side either hosts, joins or watches, once"},
            Case{"--join localhost --watch localhost", "--watch: a side either hosts, joins or watches, once"},
            Case{"--watch", "--watch (missing): expected HOST or HOST:PORT"},
            Case{"--watch localhost:0", "--watch localhost:0: the port after ':' must be a whole number from 1 to 65535"},
-           Case{"--watch localhost --window", "--watch with --window: not yet"},
+           Case{"--watch localhost --window --no-render", "--window and --no-render cannot go together"},
            Case{"--join", "--join (missing): expected HOST or HOST:PORT"},
            Case{"--join a:b:c", "--join a:b:c: expected HOST or HOST:PORT"},
            Case{"--join localhost:0", "--join localhost:0: the port after ':' must be a whole number from 1 to 65535"},
@@ -341,7 +232,8 @@ TEST(NetProgram, OptionsAreChecked) {
   for (const char* part :
        {"--host [PORT]", "default 47800", "--join HOST[:PORT]", "--watch HOST[:PORT]", "--input-delay N", "(default 3", "--hash-every K",
         "(default 1)", "--peer-timeout S", "(default 10)", "3 the handshake refused", "4 desync",
-        "5 the peer could not be", "6 the peer sent garbage"}) {
+        "5 the peer could not be", "6 the peer sent garbage", "or with --window by you",
+        "or you quit it in a window (the\n  peer is told)"}) {
     EXPECT_TRUE(has(help, part)) << part;
   }
   const Outcome unresolved = run(RATTLE_DEMO_BINARY, "--join no-such-host.invalid --no-render --ticks 1");
