@@ -11,6 +11,7 @@
 #include <cstring>
 #include <string>
 
+#include "game/commands.h"
 #include "lockstep_test_support.h"
 
 namespace net_test {
@@ -116,6 +117,15 @@ class Background {
   FILE* pipe_ = nullptr;
   int status_ = -1;
 };
+
+/// The same command recorded on both sides of a game: team, type, units and target.
+inline void expectSameCommand(const rts::Command& x, const rts::Command& y) {
+  EXPECT_EQ(x.team, y.team);
+  EXPECT_EQ(x.type, y.type);
+  EXPECT_EQ(x.units, y.units);
+  EXPECT_EQ(x.target.x, y.target.x);
+  EXPECT_EQ(x.target.y, y.target.y);
+}
 
 inline std::string hashIn(const std::string& line) {
   const size_t at = line.find("final state hash ");

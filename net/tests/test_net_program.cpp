@@ -60,11 +60,7 @@ TEST(NetProgram, TwoProcessesPlayOneGameAndRecordTheSameCommands) {
     EXPECT_EQ(x.stateHash, y.stateHash) << "tick " << x.tick;
     ASSERT_EQ(x.commands.size(), y.commands.size()) << "tick " << x.tick;
     for (size_t i = 0; i < x.commands.size(); ++i) {
-      EXPECT_EQ(x.commands[i].team, y.commands[i].team);
-      EXPECT_EQ(x.commands[i].type, y.commands[i].type);
-      EXPECT_EQ(x.commands[i].units, y.commands[i].units);
-      EXPECT_EQ(x.commands[i].target.x, y.commands[i].target.x);
-      EXPECT_EQ(x.commands[i].target.y, y.commands[i].target.y);
+      expectSameCommand(x.commands[i], y.commands[i]);
       EXPECT_EQ(x.commands[i].gate, y.commands[i].gate);
       // Team 0's before team 1's, on both sides.
       if (i > 0) {

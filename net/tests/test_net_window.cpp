@@ -82,11 +82,7 @@ TEST(NetWindow, APersonInAWindowPlaysRedAgainstAHeadlessHost) {
     EXPECT_EQ(x.stateHash, y.stateHash) << "tick " << x.tick;
     ASSERT_EQ(x.commands.size(), y.commands.size()) << "tick " << x.tick;
     for (size_t i = 0; i < x.commands.size(); ++i) {
-      EXPECT_EQ(x.commands[i].team, y.commands[i].team);
-      EXPECT_EQ(x.commands[i].type, y.commands[i].type);
-      EXPECT_EQ(x.commands[i].units, y.commands[i].units);
-      EXPECT_EQ(x.commands[i].target.x, y.commands[i].target.x);
-      EXPECT_EQ(x.commands[i].target.y, y.commands[i].target.y);
+      expectSameCommand(x.commands[i], y.commands[i]);
       if (x.commands[i].team == 1) {
         EXPECT_EQ(x.commands[i].type, rts::CommandType::Move);
         // Red's units (ids alternate between the teams: red's are odd), and nobody else's.

@@ -109,10 +109,14 @@ bool detail::WorldState::squeezeAt(const detail::PredictedContact& c) {
   ++a.collisionCount;
   a.last = detail::LastContact{};
   a.stepLocalsSet = true;
-  squeezes.push_back(
-      {islandKey(c.a, c.b), fixtures[std::min(c.a, c.b)].generation, fixtures[std::max(c.a, c.b)].generation});
-  ++stats.squeezes;
+  exemptFromCollisions(c.a, c.b);
   return true;
+}
+
+void detail::WorldState::exemptFromCollisions(uint32_t fa, uint32_t fb) {
+  squeezes.push_back(
+      {islandKey(fa, fb), fixtures[std::min(fa, fb)].generation, fixtures[std::max(fa, fb)].generation});
+  ++stats.squeezes;
 }
 
 bool detail::WorldState::passesThrough(const detail::PredictedContact& c) {
@@ -147,9 +151,7 @@ bool detail::WorldState::passesThrough(const detail::PredictedContact& c) {
     held.last = detail::LastContact{};
     held.stepLocalsSet = true;
   }
-  squeezes.push_back(
-      {islandKey(c.a, c.b), fixtures[std::min(c.a, c.b)].generation, fixtures[std::max(c.a, c.b)].generation});
-  ++stats.squeezes;
+  exemptFromCollisions(c.a, c.b);
   return true;
 }
 

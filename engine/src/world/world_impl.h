@@ -516,6 +516,9 @@ struct WorldState {
   /// A contact of two dynamic bodies, one of them stopped against a static face at this instant and the
   /// two overlapping deeply: they pass through each other (exempt, as a squeeze's pair). Else false.
   bool passesThrough(const detail::PredictedContact& c);
+  /// Exempts the pair of fixtures from collisions until they no longer overlap (refreshSqueezes), and
+  /// counts a squeeze.
+  void exemptFromCollisions(uint32_t fa, uint32_t fb);
   /// Whether the pair of fixtures is exempt from collisions because of a squeeze.
   bool squeezeExempt(uint32_t fa, uint32_t fb) const;
   /// At a step's start: forgets the squeezes whose pairs no longer overlap (or are gone), and starts the
