@@ -387,7 +387,8 @@ class Engine {
   void finishPlain(uint32_t slot, double now, Vec2 position, Vec2 velocity, double horizon, double h, int side,
                    double bestTime, const PlainImpact& impact);
   bool predictsPlain(uint32_t slot) const {
-    return plainWorld_ && isPlain(s_.hot[slot]) && !dismissals(slot) && isMoving(s_.hot[slot]);
+    return plainWorld_ && isPlain(s_.hot[slot]) && !dismissals(slot) && isMoving(s_.hot[slot]) &&
+           w_.squeezes.empty();
   }
   void crossingStraight(Vec2 centre, Vec2 velocity, const ColdBody& cell, double& h, int& side) const;
   void crossing(const Predicting& p, double& h, int& side) const;

@@ -135,7 +135,8 @@ void Engine::startPrediction(uint32_t i, double now, Prediction& q) const {
   q.moving = isMoving(hb);
   q.hasDismissals = dismissals(i);
   q.single = (hb.flags & HotBody::kSingle) != 0;
-  q.plain = isPlain(hb) && !q.hasDismissals;
+  // A pair exempt from collisions (squeeze.cpp) is skipped by pairWith() only: pairPlain() does not look.
+  q.plain = isPlain(hb) && !q.hasDismissals && w_.squeezes.empty();
   PredictiveEvent& best = q.best;
   best = PredictiveEvent{};
   best.time = kInf;
