@@ -40,6 +40,9 @@ constexpr double kStepRatioTarget = 10;  // worst step against the median
 // would fail it without the engine doing anything. A worst step under kStepFloorMs of CPU time meets it
 // whatever the median: at 60 Hz that is no hitch, and timer granularity dominates sub-millisecond steps.
 constexpr double kStepFloorMs = 1;
+// The first step is shown on its own (first_ms) and not judged: it does what a level's loading does, once
+// (the predictive mode's grid and every body's first prediction, the hybrid mode's first sort), before
+// the game's frames start. Every step after it is.
 
 const char* const kScenes[] = {"pile", "crowd", "piston", "gas"};
 const rattle::StepMode kModes[] = {rattle::StepMode::Hybrid, rattle::StepMode::Discrete, rattle::StepMode::Predictive};
@@ -70,7 +73,9 @@ void usage(FILE* out) {
       "predictive; discrete: below one radius against a wall, the bound the README gives, and between\n"
       "disks only with --discrete-overlap); no step at the event budget; worst step at most 10x the\n"
       "median, in the thread's CPU time (a worst step under 1 ms always passes; the columns show wall\n"
-      "clock). One line per scene and mode every simulated minute and at the end, then a table.\n"
+      "clock). The first step (the one-time setup a level's loading would do: the predictive mode's grid\n"
+      "and first predictions) is shown as first_ms and not judged. One line per scene and mode every\n"
+      "simulated minute and at the end, then a table.\n"
       "Exit status 0 when every target is met, 1 when not, 2 on a usage error.\n"
       "\n"
       "  --scene NAME     pile, crowd, piston, gas or all (default all); may be repeated\n"
@@ -301,8 +306,9 @@ struct Result {
   bool judgeEnergy = false;
   double diskOverlap = 0;  // radii
   double wallOverlap = 0;  // radii, against static walls
-  std::vector<double> stepMs;     // wall clock
-  std::vector<double> stepCpuMs;  // this thread's CPU time
+  double firstStepMs = 0;         // wall clock of the first step, which is not in the two below
+  std::vector<double> stepMs;     // wall clock, every step after the first
+  std::vector<double> stepCpuMs;  // this thread's CPU time, every step after the first
   long budgetSteps = 0;
   bool cutOff = false;  // stopped by --max-seconds
   bool hung = false;    // a step outlived --max-seconds by the grace period
@@ -375,27 +381,27 @@ std::vector<Result> results;
 Result snapshot;
 
 void printTable(const std::vector<Result>& all, const Options& o) {
-  std::printf("\n%-7s %-10s %7s %7s %7s %10s %10s %9s %9s %9s %9s %10s %7s %7s  %s\n", "scene", "mode", "sim_s",
-              "escaped", "nonfin", "energy_max", "energy_end", "ovl_disk", "ovl_wall", "median_ms", "p99_ms", "worst_ms",
-              "cpu_x", "budget", "verdict");
+  std::printf("\n%-7s %-10s %7s %7s %7s %10s %10s %9s %9s %9s %9s %9s %10s %7s %7s  %s\n", "scene", "mode", "sim_s",
+              "escaped", "nonfin", "energy_max", "energy_end", "ovl_disk", "ovl_wall", "first_ms", "median_ms", "p99_ms",
+              "worst_ms", "cpu_x", "budget", "verdict");
   for (const Result& r : all) {
     std::string verdict = "met";
     if (!r.unmet.empty()) {
       verdict = "NOT MET:";
       for (const std::string& u : r.unmet) verdict += " " + u;
     }
-    std::printf("%-7s %-10s %7.1f %7d %7d %10s %10s %9.4f %9.4f %9.3f %9.3f %10.3f %7.1f %7ld  %s\n", r.scene.c_str(),
-                modeName(r.mode), r.simulated, r.escaped, r.nonFinite, energyText(r.energyMax, r.energyStart).c_str(),
-                energyText(r.energyNow, r.energyStart).c_str(), r.diskOverlap, r.wallOverlap,
-                percentile(r.stepMs, 0.5), percentile(r.stepMs, 0.99),
+    std::printf("%-7s %-10s %7.1f %7d %7d %10s %10s %9.4f %9.4f %9.3f %9.3f %9.3f %10.3f %7.1f %7ld  %s\n",
+                r.scene.c_str(), modeName(r.mode), r.simulated, r.escaped, r.nonFinite,
+                energyText(r.energyMax, r.energyStart).c_str(), energyText(r.energyNow, r.energyStart).c_str(),
+                r.diskOverlap, r.wallOverlap, r.firstStepMs, percentile(r.stepMs, 0.5), percentile(r.stepMs, 0.99),
                 r.stepMs.empty() ? 0.0 : *std::max_element(r.stepMs.begin(), r.stepMs.end()), cpuRatio(r),
                 r.budgetSteps, verdict.c_str());
   }
   char discreteDisks[64] = "not judged";
   if (!std::isinf(o.discreteOverlap)) std::snprintf(discreteDisks, sizeof discreteDisks, "<= %.2f r", o.discreteOverlap);
   std::printf("targets: escaped 0, non-finite 0, energy_max <= %.0e (gas, pile), overlap <= %.2f r (hybrid, "
-              "predictive; discrete: wall < 1 r, disks %s), budget 0, worst step <= %.0fx median in CPU time (cpu_x; "
-              "or <= %.0f ms)\n",
+              "predictive; discrete: wall < 1 r, disks %s), budget 0, worst step after the first <= %.0fx median in CPU "
+              "time (cpu_x; or <= %.0f ms)\n",
               kEnergyTarget, kOverlapTarget, discreteDisks, kStepRatioTarget, kStepFloorMs);
   std::fflush(stdout);
 }
@@ -489,8 +495,14 @@ Result run(const std::string& sceneName, rattle::StepMode mode, const Options& o
     stepStartedNs.store(nowNs());
     world.step(s.dt);
     stepStartedNs.store(0);
-    r.stepCpuMs.push_back(threadCpuMs() - cpu0);
-    r.stepMs.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    const double cpuMs = threadCpuMs() - cpu0;
+    const double wallMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    if (r.steps == 0) {
+      r.firstStepMs = wallMs;
+    } else {
+      r.stepCpuMs.push_back(cpuMs);
+      r.stepMs.push_back(wallMs);
+    }
     ++r.steps;
     r.simulated = world.time();
     if (world.stats().eventBudgetReached) ++r.budgetSteps;
