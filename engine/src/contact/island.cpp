@@ -80,11 +80,12 @@ constexpr int kStartIterations = 1000;
 // piles go from 4 x hops to the whole island.
 constexpr int kSettleAttemptsWithoutGravity = 4;
 constexpr int kSettleAttemptsUnderGravity = 3;
-// Without gravity the sweeps over-relax (projected SOR): a jam of thousands that a game presses into a
-// doorway converges slowly under plain Gauss-Seidel, which carries a push about one layer of bodies a
-// sweep. On rattle-soak's crowd of 2,000 (1,000 sweeps at most a step) the worst overlap fell from 4.1%
-// of a radius at 1 to 2.0% at 1.5 and 1.4% at 1.8. Piles under gravity keep 1: their tests hold the
-// solve to 1e-6, and they converge within their sweeps.
+// The sweeps over-relax (projected SOR), but for a small island under gravity: a jam of thousands that a
+// game presses into a doorway, or a landing pile hundreds deep, converges slowly under plain
+// Gauss-Seidel, which carries a push about one layer of bodies a sweep. On rattle-soak's crowd of 2,000
+// (1,000 sweeps at most a step) the worst overlap fell from 4.1% of a radius at 1 to 2.0% at 1.5 and
+// 1.4% at 1.8. A small island under gravity is projected exactly first (exact_projection.h) and keeps 1
+// when that fails: its tests hold the solve to 1e-6.
 constexpr double kOverRelaxation = 1.8;
 // The position correction without gravity (separateIsland): its sweeps, and the part of an overlap it
 // takes out in one step. A crowd of 10,000 pressed into two doorways kept up to 1.4% of a radius of
@@ -456,7 +457,6 @@ detail::WorldState::IslandSolve detail::WorldState::solveIsland(const std::vecto
   // and what the step's gravity adds): a contact then closes by at most that much too fast.
   const double tolerance = 1e-6 * (speed + length(def.gravity) * h);
   const bool noGravity = def.gravity.x == 0 && def.gravity.y == 0;
-  const double omega = noGravity ? kOverRelaxation : 1.0;
   // A few bodies are projected exactly (exact_projection.h). Under gravity always: the sweeps stop within
   // their tolerance of the answer, and from a warm start that can leave a resting stack rising off the
   // floor by that much a step (fuzz/regressions/world_api/energy-predictive-gravity-stack-rises); and a
@@ -464,6 +464,7 @@ detail::WorldState::IslandSolve detail::WorldState::solveIsland(const std::vecto
   // ones. Without gravity when the sweeps do not settle: where masses differ a lot (a light disk between
   // a wall and a heavy disk) they take tens of thousands.
   const bool small = members.size() <= detail::kExactProjectionMembers;
+  const double omega = noGravity || !small ? kOverRelaxation : 1.0;
   bool converged = small && !noGravity && projectIslandExactly(members, v, tolerance);
   // Warm start: the impulse the same contact took in the solve at the start of the last step
   // (islandImpulses, sorted by key), applied before the sweeps so that a resting pile starts where it
