@@ -457,6 +457,15 @@ void detail::WorldState::startIslandsAndPredict(double dt) {
   for (uint32_t i : h.slidingAtStart) predictSlideEnd(i, 0, dt);
 }
 
+bool detail::WorldState::squeezeAndPredict(const PredictedContact& c, double dt) {
+  if (!squeezeAt(c)) return false;
+  ++stats.eventsProcessed;
+  repredict(fixtures[c.a].body, c.time, dt);
+  // Two dynamic bodies (passesThrough): the other's motion may have changed too.
+  if (bodyOf(c.b).type == BodyType::Dynamic) repredict(fixtures[c.b].body, c.time, dt);
+  return true;
+}
+
 // 4. Events in time order, up to the step's end or the instant the event budget runs out (returned).
 // A predicted contact that no longer approaches (beyond round-off) and that nothing presses: no collision.
 // Its tiny approach is absorbed, or the pair is predicted again without the feature it names.
@@ -477,12 +486,7 @@ void detail::WorldState::dismissContact(const PredictedContact& c, double dt, do
   if (vn < -detail::kAbsorbRoundOff * roundOff && speed > restTolerance &&
       stats.eventsProcessed < def.maxEventsPerStep) {
     if (settleJamAt(c, dt)) return;
-    if (squeezeAt(c)) {
-      ++stats.eventsProcessed;
-      repredict(fixtures[c.a].body, c.time, dt);
-      if (bodyOf(c.b).type == BodyType::Dynamic) repredict(fixtures[c.b].body, c.time, dt);  // passesThrough
-      return;
-    }
+    if (squeezeAndPredict(c, dt)) return;
     // Its approach is below round-off: leaving it moves the pair together by no more than the
     // round-off of their coordinates over the step, and ends a run of absorbs that would not.
     const int absorbLimit =
@@ -514,12 +518,7 @@ void detail::WorldState::collide(const PredictedContact& c, double dt, std::vect
   // A body caught in a collapse or a jam collides ever faster without coming to rest (jam.cpp).
   if (settleJamAt(c, dt)) return;
   // Or between bodies that do not yield (squeeze.cpp).
-  if (squeezeAt(c)) {
-    ++stats.eventsProcessed;
-    repredict(fixtures[c.a].body, c.time, dt);
-    if (bodyOf(c.b).type == BodyType::Dynamic) repredict(fixtures[c.b].body, c.time, dt);  // passesThrough
-    return;
-  }
+  if (squeezeAndPredict(c, dt)) return;
   const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
   if (joinsIsland(c, dt)) {
     // It would bounce off slower than restingSpeed from a body that moves: the two rest on each
