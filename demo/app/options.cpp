@@ -41,8 +41,8 @@ const char* kUsage =
     "                  keep apart). Not with --record: a replay plays the default steering\n"
     "  --window        open a window: left-drag selects your units (blue, or your side's in a network game),\n"
     "                  right-click moves them, space pauses (not a network game), v toggles sight ranges,\n"
-    "                  g works the first gate, f changes the fog, Esc or q quits (a network game: leaves it,\n"
-    "                  telling the peer)\n"
+    "                  g works the first gate, f changes the fog (not a network player: it keeps its own\n"
+    "                  team's), Esc or q quits (a network game: leaves it, telling the peer)\n"
     "  --screenshot F  with --window: save the last frame shown as PNG file F when the window closes\n"
     "  --input FILE    with --window: play the scripted input events in FILE (see demo/README.md)\n"
     "  --record FILE   record the game as a replay in FILE (headless or --window): the map, the\n"
@@ -289,6 +289,12 @@ ParseResult parseOptions(int argc, char** argv) {
                                                           : "out/demo-watch";
     }
     if (!o.fogGiven) o.fogTeam = o.network == Options::Network::Watch ? -1 : o.team();
+    // A player sees what its own units see, as the peer does: another fog would show the other side.
+    if (o.network != Options::Network::Watch && o.fogTeam != o.team()) {
+      return fail(std::string("--fog ") + (o.fogTeam < 0 ? "none" : std::to_string(o.fogTeam)) +
+                  ": a player in a network game sees its own team's fog only (" + std::to_string(o.team()) +
+                  " here); --watch may show any");
+    }
   } else if (!networkOption.empty()) {
     return fail(networkOption + " needs --host, --join or --watch");
   }

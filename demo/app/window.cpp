@@ -8,7 +8,7 @@
 //   space       pause / resume (not in a network game: the peer would wait without knowing why)
 //   v           sight ranges on / off
 //   g           open / close the first gate
-//   f           fog of war: blue's view, red's view, none
+//   f           fog of war: blue's view, red's view, none (not a network player: it sees its own team's)
 //   Esc, q      quit (in a network game: leave it, telling the peer)
 //
 // --input FILE plays scripted events through the same handlers (for the Xvfb test); each line is
@@ -226,7 +226,7 @@ int runWindow(Game& game, const Options& o, const std::string& mapJson, replay::
   const std::string networkLine =
       watching ? "watching the host's game: no orders; space does not pause it"
                : std::string("network game: you play ") + teamName(team) + " against " + teamName(1 - team) +
-                     "; space does not pause it";
+                     "; space does not pause it, f keeps your fog";
 
   auto select = [&](Vec2 a, Vec2 b) {
     sceneOptions.selected.assign(game.units().size(), 0);
@@ -277,7 +277,12 @@ int runWindow(Game& game, const Options& o, const std::string& mapJson, replay::
           if (!networked) paused = !paused;
           break;
         case SDLK_v: sceneOptions.showSight = !sceneOptions.showSight; break;
-        case SDLK_f: sceneOptions.fogTeam = sceneOptions.fogTeam == 0 ? 1 : sceneOptions.fogTeam == 1 ? -1 : 0; break;
+        case SDLK_f:
+          // A network player keeps its own team's fog: another would show it the peer's side.
+          if (!networked || watching) {
+            sceneOptions.fogTeam = sceneOptions.fogTeam == 0 ? 1 : sceneOptions.fogTeam == 1 ? -1 : 0;
+          }
+          break;
         case SDLK_g:
           if (!game.map().gates.empty() && !watching) {
             Command c;

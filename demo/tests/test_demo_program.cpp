@@ -59,6 +59,17 @@ TEST(DemoProgram, BadOptionsNameTheOptionAndTheValue) {
   r = run("--steering naive --record " + testing::TempDir() + "/rattle_demo_naive.replay");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.output.find("--steering naive cannot go with --record"), std::string::npos) << r.output;
+  // A network player sees its own team's fog only (the parse refuses before any connection is tried).
+  r = run("--host 0 --fog 1");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("--fog 1: a player in a network game sees its own team's fog only (0 here)"),
+            std::string::npos)
+      << r.output;
+  r = run("--join 127.0.0.1:1 --fog none");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("--fog none: a player in a network game sees its own team's fog only (1 here)"),
+            std::string::npos)
+      << r.output;
   r = run("--frobnicate");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.output.find("unknown option '--frobnicate'"), std::string::npos) << r.output;
