@@ -10,6 +10,7 @@
 
 #include "collision/closest_point.h"
 #include "contact/impulse.h"
+#include "contact/tolerances.h"
 #include "world/world_impl.h"
 
 namespace rattle {
@@ -201,7 +202,7 @@ void detail::WorldState::resolve(const PredictedContact& c, std::vector<uint32_t
 
   // Resting (resting.cpp): only when gravity presses the two together, so that a slow bounce would
   // turn into a Zeno sequence.
-  const bool pressing = dot(a.acceleration - b.acceleration, n) < 0;
+  const bool pressing = detail::pressedTogether(a.acceleration - b.acceleration, n);
   BodySlot* slider = nullptr;  // a body that starts sliding on this contact keeps that slide
   if (restingSpeed > 0 && pressing && separation < restingSpeed) {
     // The body that rests is the one that can move, against one that cannot.

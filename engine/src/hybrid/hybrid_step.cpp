@@ -610,7 +610,7 @@ double detail::WorldState::processEvents(double dt, double approachTolerance) {
     // heavy ones, a disk driven into a wedge) trade ever smaller impulses forever.
     const Vec2 relativeVelocity = velocityAt(a, c.time) - velocityAt(b, c.time);
     const double vn = dot(relativeVelocity, c.normal);
-    const bool pressing = dot(a.acceleration - b.acceleration, c.normal) < 0;
+    const bool pressing = detail::pressedTogether(a.acceleration - b.acceleration, c.normal);
     // Also round-off: an approach that closes no more than the round-off of the contact's coordinates
     // within the whole step, which decides when everything is nearly at rest.
     const double restTolerance = detail::kRestRoundOff * (std::fabs(c.point.x) + std::fabs(c.point.y)) / dt;

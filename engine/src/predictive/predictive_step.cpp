@@ -459,7 +459,7 @@ bool Engine::collideAt(uint32_t i, uint32_t j, const PredictiveEvent& c) {
   const detail::PredictedContact contact{
       c.time, detail::EventKind::Contact, false, c.a, c.b, c.feature, countA, c.countB, c.point, c.normal};
   const double vn = dot(relativeVelocity, c.normal);
-  const bool pressing = dot(relativeAcceleration, c.normal) < 0;
+  const bool pressing = detail::pressedTogether(relativeAcceleration, c.normal);
   const double restTol = restTolerance * (std::fabs(c.point.x) + std::fabs(c.point.y));
   const double tolerance = approachTolerance + restTol;
   if (!(vn < -tolerance) && !pressing) {
