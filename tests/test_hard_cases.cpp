@@ -466,6 +466,47 @@ TEST_P(HardCaseGlide, DiskAlongAWallTouchingItNeverCollidesWithItNorDrifts) {
 
 // Modes: Hybrid, Predictive. Not Discrete: it responds to every overlap found at a step's end, so a path
 // that touches a wall with a round-off overlap is a contact there.
+TEST_P(HardCaseGlide, PointOnAFloorNeverPassesUnderAWallStandingOnIt) {
+  // A floor polygon and a wall polygon standing on it, the wall's bottom edge on the floor's top line (a
+  // seam with no gap), under gravity; a point starts on the floor or dropped from below the wall's top,
+  // and moves toward the wall at 0.1 to 30 units/s, with restitution 0 or up to 1. Its path along the
+  // floor runs along the wall's bottom edge and meets the wall's face at its corner. It must never end
+  // up inside the wall, below the floor, or past the wall without having gone over it. 400 random
+  // scenes (floor height, wall place and size, start, speed, direction, restitution).
+  std::mt19937_64 rng(2026);
+  auto uniform = [&rng](double lo, double hi) {
+    return lo + (hi - lo) * (static_cast<double>(rng() >> 11) * 0x1.0p-53);
+  };
+  for (int trial = 0; trial < 400; ++trial) {
+    const double y0 = uniform(-10, 10), wx = uniform(-5, 5), ww = uniform(0.2, 2.2), wh = uniform(1, 4);
+    const double dir = uniform(0, 1) < 0.5 ? -1 : 1;
+    const double x0 = dir > 0 ? wx - uniform(0.5, 5.5) : wx + ww + uniform(0.5, 5.5);
+    const double vx = dir * uniform(0.1, 30);
+    const double h = uniform(0, 1) < 0.5 ? 0 : uniform(0, 0.9 * wh);
+    const double e = uniform(0, 1) < 0.5 ? 0 : uniform(0, 1);
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    WorldDef def;
+    def.mode = GetParam();
+    def.gravity = {0, -9.81};
+    rattle::World w(def);
+    const rattle::BodyId ground = w.createBody({.type = rattle::BodyType::Static});
+    w.createFixture(ground, {.geometry = rattle::Polygon{{{-100, y0 - 1}, {100, y0 - 1}, {100, y0}, {-100, y0}}}});
+    w.createFixture(ground, {.geometry = rattle::Polygon{{{wx, y0}, {wx + ww, y0}, {wx + ww, y0 + wh}, {wx, y0 + wh}}}});
+    const rattle::BodyId point = w.createBody({.type = rattle::BodyType::Dynamic, .position = {x0, y0 + h}, .velocity = {vx, 0}});
+    w.createFixture(point, {.geometry = rattle::Point{{0, 0}}, .restitution = e});
+    for (int i = 0; i < 120; ++i) {
+      w.step(1.0 / 60);
+      const rattle::Vec2 p = w.position(point);
+      const double slack = 1e-9;
+      ASSERT_FALSE(p.x > wx + slack && p.x < wx + ww - slack && p.y < y0 + wh - slack && p.y > y0 - 1 + slack)
+          << "inside the wall at step " << i << ": (" << p.x << ", " << p.y << ")";
+      ASSERT_FALSE(p.y < y0 - slack && p.x > -100 && p.x < 100) << "below the floor at step " << i << ": (" << p.x << ", " << p.y << ")";
+      const bool past = dir > 0 ? p.x > wx + ww : p.x < wx;
+      ASSERT_FALSE(past && p.y < y0 + wh) << "past the wall at step " << i << ": (" << p.x << ", " << p.y << ")";
+    }
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(, HardCaseGlide, ::testing::Values(StepMode::Hybrid, StepMode::Predictive), ModeParamName());
 
 class HardCaseGrazing : public ModeTest {};
