@@ -12,6 +12,7 @@
 #include "collision/closest_point.h"
 #include "contact/impulse.h"
 #include "contact/tolerances.h"
+#include "world/stepper.h"
 #include "world/world_impl.h"
 
 namespace rattle {
@@ -26,13 +27,13 @@ struct Penetration {
   double depth;
 };
 
-// The step in named phases over the world's state. It owns only the step's scratch: the discrete mode
-// keeps nothing between steps. In this file's anonymous namespace, so that each phase, called once, is
-// inlined into step() as when they were one function.
-class DiscreteStepper {
+// The step in named phases over the world's state. It owns only the step's scratch, emptied at each
+// step's start: the discrete mode keeps nothing between steps. In this file's anonymous namespace, so
+// that each phase, called once, is inlined into step() as when they were one function.
+class DiscreteStepper final : public detail::Stepper {
  public:
   explicit DiscreteStepper(detail::WorldState& world);
-  void step(double dt);
+  void step(double dt) override;
 
  private:
   struct Pair {
@@ -102,6 +103,10 @@ DiscreteStepper::DiscreteStepper(detail::WorldState& world) : w_(world) {}
 
 void DiscreteStepper::step(double dt) {
   detail::WorldState& w = w_;
+  pairs_.clear();
+  pushed_.clear();
+  nearStatic_.clear();
+  walls_.clear();
   w.contactEvents.clear();
   w.sensorEvents.swap(w.pendingSensorEvents);
   w.pendingSensorEvents.clear();
@@ -450,6 +455,8 @@ void DiscreteStepper::senseOverlaps(double dt) {
 
 }  // namespace
 
-void detail::WorldState::stepDiscrete(double dt) { DiscreteStepper(*this).step(dt); }
+std::unique_ptr<detail::Stepper> detail::makeDiscreteStepper(detail::WorldState& world) {
+  return std::make_unique<DiscreteStepper>(world);
+}
 
 }  // namespace rattle

@@ -35,6 +35,7 @@
 #include "collision/closest_point.h"
 #include "collision/path_box.h"
 #include "contact/tolerances.h"
+#include "world/stepper.h"
 #include "rattle/time_of_impact.h"
 #include "hybrid/hybrid_state.h"
 #include "world/world_impl.h"
@@ -687,6 +688,23 @@ void detail::WorldState::stepHybrid(double dt) {
     b.localTime = 0;
   }
   time += dt;
+}
+
+namespace {
+
+class HybridStepper final : public detail::Stepper {
+ public:
+  explicit HybridStepper(detail::WorldState& world) : w_(world) {}
+  void step(double dt) override { w_.stepHybrid(dt); }
+
+ private:
+  detail::WorldState& w_;
+};
+
+}  // namespace
+
+std::unique_ptr<detail::Stepper> detail::makeHybridStepper(detail::WorldState& world) {
+  return std::make_unique<HybridStepper>(world);
 }
 
 }  // namespace rattle

@@ -59,6 +59,7 @@
 #include "predictive/predictive_predictions.h"
 #include "predictive/predictive_queue.h"
 #include "predictive/predictive_setup.h"
+#include "world/stepper.h"
 
 namespace rattle {
 namespace {
@@ -605,51 +606,75 @@ double Engine::finishStep(double dt) {
 
 }  // namespace
 
-void detail::WorldState::stepPredictive(double dt) {
-  if (!predictive) {
+namespace {
+
+// The predictive mode's stepper: its state (the cell grid and the event queue) lasts from one step to the
+// next, and a pile it hands over goes to the hybrid step for the rest of the step.
+class PredictiveStepper final : public detail::Stepper {
+ public:
+  explicit PredictiveStepper(detail::WorldState& world) : w_(world) {}
+  void step(double dt) override;
+  void forget() override { state_.reset(); }
+
+ private:
+  detail::WorldState& w_;
+  std::unique_ptr<detail::PredictiveState> state_;
+};
+
+bool anyHeld(const detail::WorldState& w) {
+  return std::any_of(w.bodies.begin(), w.bodies.end(), [](const detail::BodySlot& b) { return b.alive && b.stepped; });
+}
+
+void PredictiveStepper::step(double dt) {
+  detail::WorldState& w = w_;
+  if (!state_) {
     // The first step, or the first after one that failed (step_undo.cpp): the grid and the queue are
     // made afresh, and a pile still held by stepped islands stays with the hybrid step (below).
-    predictive = std::make_unique<detail::PredictiveState>();
-    predictive->pileHeld =
-        std::any_of(bodies.begin(), bodies.end(), [](const detail::BodySlot& b) { return b.alive && b.stepped; });
+    state_ = std::make_unique<detail::PredictiveState>();
+    state_->pileHeld = anyHeld(w);
   }
-  detail::PredictiveState& s = *predictive;
+  detail::PredictiveState& s = *state_;
   // A pile handed over (kPileCollisions) stays with the hybrid step while its islands hold anybody.
   if (!s.pileHeld) {
-    const double done = Engine(*this, s).step(dt);
+    const double done = Engine(w, s).step(dt);
     if (done == dt) return;
     if (done > 0) {
       // The rest of the step from `done` on, as a hybrid step of its own whose events and stats join
       // this step's; the world's clock ends at exactly time + dt, as after any step.
-      const double startTime = time - done;
-      std::vector<ContactEvent> contacts = std::move(contactEvents);
-      std::vector<SensorEvent> sensed = std::move(sensorEvents);
-      const StepStats first = stats;
-      stepHybrid(dt - done);
-      for (ContactEvent& e : contactEvents) e.time += done;
-      for (SensorEvent& e : sensorEvents) e.time += done;
-      contacts.insert(contacts.end(), contactEvents.begin(), contactEvents.end());
-      sensed.insert(sensed.end(), sensorEvents.begin(), sensorEvents.end());
-      contactEvents = std::move(contacts);
-      sensorEvents = std::move(sensed);
-      stats.candidatePairs += first.candidatePairs;
-      stats.timeOfImpactTests += first.timeOfImpactTests;
-      stats.eventsProcessed += first.eventsProcessed;
-      stats.staleEvents += first.staleEvents;
-      stats.requeries += first.requeries;
-      stats.squeezes += first.squeezes;
-      time = startTime + dt;
+      const double startTime = w.time - done;
+      std::vector<ContactEvent> contacts = std::move(w.contactEvents);
+      std::vector<SensorEvent> sensed = std::move(w.sensorEvents);
+      const StepStats first = w.stats;
+      w.stepHybrid(dt - done);
+      for (ContactEvent& e : w.contactEvents) e.time += done;
+      for (SensorEvent& e : w.sensorEvents) e.time += done;
+      contacts.insert(contacts.end(), w.contactEvents.begin(), w.contactEvents.end());
+      sensed.insert(sensed.end(), w.sensorEvents.begin(), w.sensorEvents.end());
+      w.contactEvents = std::move(contacts);
+      w.sensorEvents = std::move(sensed);
+      w.stats.candidatePairs += first.candidatePairs;
+      w.stats.timeOfImpactTests += first.timeOfImpactTests;
+      w.stats.eventsProcessed += first.eventsProcessed;
+      w.stats.staleEvents += first.staleEvents;
+      w.stats.requeries += first.requeries;
+      w.stats.squeezes += first.squeezes;
+      w.time = startTime + dt;
       s.pileHeld = true;
     } else {
       // Too fast for the grid: the hybrid step has the same physics and sweeps each path whole.
-      stepHybrid(dt);
+      w.stepHybrid(dt);
     }
   } else {
-    stepHybrid(dt);
+    w.stepHybrid(dt);
   }
   // Back to events once nobody is held in an island (the grid is made afresh then: s.valid is false).
-  s.pileHeld =
-      std::any_of(bodies.begin(), bodies.end(), [](const detail::BodySlot& b) { return b.alive && b.stepped; });
+  s.pileHeld = anyHeld(w);
+}
+
+}  // namespace
+
+std::unique_ptr<detail::Stepper> detail::makePredictiveStepper(detail::WorldState& world) {
+  return std::make_unique<PredictiveStepper>(world);
 }
 
 }  // namespace rattle

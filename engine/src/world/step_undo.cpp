@@ -20,7 +20,7 @@
 
 #include "common/out_of_memory.h"
 #include "hybrid/hybrid_state.h"
-#include "predictive/predictive_step.h"
+#include "world/stepper.h"
 #include "world/world_impl.h"
 
 namespace rattle {
@@ -88,7 +88,7 @@ void detail::WorldState::undoStep() {
     b.stepLocalsSet = true;  // the next step resets them (stepHybrid's first pass)
   }
   if (!stepStart.keepEach) {
-    // The discrete step moved these (stepDiscrete) and changed nothing else of a body that lasts.
+    // The discrete step moved these (discrete_step.cpp) and changed nothing else of a body that lasts.
     for (uint32_t i = 0; i < bodies.size(); ++i) {
       detail::BodySlot& b = bodies[i];
       if (!b.alive || b.type == BodyType::Static || b.asleep) continue;
@@ -125,7 +125,7 @@ void detail::WorldState::undoStep() {
   if (hybrid) hybrid->queue.clear();
   // Caches of positions the step moved away from: void, rebuilt by the next step.
   broadPhase.forgetStep();
-  predictive.reset();  // its queue may be part built: the next step makes it afresh
+  if (stepper) stepper->forget();  // the predictive queue may be part built: the next step makes it afresh
   changes.structureChanged = true;
   ++changes.staticVersion;
 }

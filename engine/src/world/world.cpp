@@ -8,7 +8,7 @@
 #include "common/format.h"
 #include "common/out_of_memory.h"
 #include "hybrid/hybrid_state.h"
-#include "predictive/predictive_step.h"
+#include "world/stepper.h"
 #include "world/world_impl.h"
 
 namespace rattle {
@@ -158,6 +158,9 @@ World::World(const WorldDef& def) : impl_(std::make_unique<Impl>()) {
   require(std::isfinite(def.collapseTime) && def.collapseTime >= 0,
           [&] { return "WorldDef.collapseTime = " + str(def.collapseTime) + ": must be finite and >= 0"; });
   impl().def = def;
+  impl().stepper = def.mode == StepMode::Discrete     ? detail::makeDiscreteStepper(impl())
+                   : def.mode == StepMode::Predictive ? detail::makePredictiveStepper(impl())
+                                                      : detail::makeHybridStepper(impl());
 }
 
 World::~World() = default;
@@ -569,17 +572,7 @@ void World::step(double dt) {
   try {
     w.saveStepStart();
     w.refreshSqueezes();
-    switch (w.def.mode) {
-      case StepMode::Hybrid:
-        w.stepHybrid(dt);
-        break;
-      case StepMode::Discrete:
-        w.stepDiscrete(dt);
-        break;
-      case StepMode::Predictive:
-        w.stepPredictive(dt);
-        break;
-    }
+    w.stepper->step(dt);
   } catch (const std::bad_alloc&) {
     w.undoStep();
     throw Error("step: out of memory (the world is unchanged)");

@@ -27,7 +27,7 @@ namespace rattle {
 
 namespace detail {
 
-struct PredictiveState;  // predictive_step.h
+class Stepper;            // stepper.h
 struct HybridState;      // hybrid_state.h
 struct DiskShape;        // hybrid_state.h
 
@@ -303,12 +303,8 @@ struct WorldState {
   bool supportsAt(uint32_t body, double now, std::vector<uint32_t>& supporters) const;
   std::optional<double> slideEndTime(const detail::BodySlot& b, double now, double dt) const;
 
-  // discrete_step.cpp
-  void stepDiscrete(double dt);
-
-  // predictive_step.cpp: the predictive mode keeps its own state (cell grid, persistent event queue).
-  std::unique_ptr<detail::PredictiveState> predictive;
-  void stepPredictive(double dt);
+  // The mode's stepper (stepper.h), made from def.mode when the world is made.
+  std::unique_ptr<detail::Stepper> stepper;
   // sensor_paths.cpp: the sensor events of a step from the paths the bodies took (up to `end`).
   void sensePaths(detail::PathLog& log, double end);
 
