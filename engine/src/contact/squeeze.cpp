@@ -24,14 +24,6 @@ using detail::BodySlot;
 namespace {
 // Two unit normals whose cross product is smaller than this are one face's to round-off.
 constexpr double kWedgeAngle = 1e-9;
-// Two collisions of one body are at one instant when their times differ by less than this part of the
-// time: a body that bounces between bodies that do not yield, ever faster, reaches each next collision a
-// few dozen ulps after the last (a disk between a wall and a large disk wedged in a corner took 20,000
-// collisions 5e-15 apart at t = 0.19: fuzz/regressions/world_api/budget-hybrid-disk-between-a-wall-and-a-wedged-disk),
-// and moves by less than the round-off of its coordinates in between.
-constexpr double kInstant = 1e-12;
-
-bool atOneInstant(double t0, double t1) { return std::fabs(t1 - t0) <= kInstant * std::max(std::fabs(t0), std::fabs(t1)); }
 }  // namespace
 
 bool detail::WorldState::squeezeExempt(uint32_t fa, uint32_t fb) const {
@@ -76,7 +68,7 @@ bool detail::WorldState::squeezeAt(const detail::PredictedContact& c) {
     // Wedged between static bodies (a body larger than the gap it was put in): it bounces from one to the
     // other at one instant without end. Only such bounces, at the instant of its last collision, count
     // here; a fast body crossing a small box does not. It stops moving into this one.
-    if (!atOneInstant(a.last.time, c.time)) return false;
+    if (a.last.time != c.time) return false;
     // Not moving into it, only pressed into it by gravity (a point at rest in a box's corner): there is
     // no bounce to stop, and stopping nothing found the same contact again at the same instant without
     // end (fuzz/regressions/world_api/budget-predictive-points-in-a-corner). resolve()'s resting rules
@@ -91,7 +83,7 @@ bool detail::WorldState::squeezeAt(const detail::PredictedContact& c) {
     // slot) it slides on.
     const auto w = std::find_if(wedged.begin(), wedged.end(), [&](const Wedged& e) { return e.body == ia; });
     const bool cornered =
-        w != wedged.end() && atOneInstant(w->time, c.time) && std::fabs(cross(w->normal, c.normal)) > kWedgeAngle;
+        w != wedged.end() && w->time == c.time && std::fabs(cross(w->normal, c.normal)) > kWedgeAngle;
     if (cornered) {
       a.velocity = Vec2{};
     } else {
@@ -133,7 +125,7 @@ bool detail::WorldState::passesThrough(const detail::PredictedContact& c) {
   // One of the two was stopped against a static face at this very instant (above), and the other keeps
   // driving it there.
   const bool held = std::any_of(wedged.begin(), wedged.end(), [&](const Wedged& e) {
-    return (e.body == ia || e.body == ib) && atOneInstant(e.time, c.time);
+    return (e.body == ia || e.body == ib) && e.time == c.time;
   });
   if (!held) return false;
   if (squeezeExempt(c.a, c.b)) return true;  // a second prediction of the pair, made before the first came
@@ -146,11 +138,11 @@ bool detail::WorldState::passesThrough(const detail::PredictedContact& c) {
   const Vec2 ca = positionAt(bodies[ia], c.time) + detail::circleCentre(fixtures[c.a].geometry);
   const Vec2 cb = positionAt(bodies[ib], c.time) + detail::circleCentre(fixtures[c.b].geometry);
   const double ra = detail::circleRadius(fixtures[c.a].geometry), rb = detail::circleRadius(fixtures[c.b].geometry);
-  if (!(ra + rb - length(ca - cb) > kJamResidual * std::max(ra, rb))) return stopsAgainstWedged(c);
+  if (!(ra + rb - length(ca - cb) > kJamResidual * std::max(ra, rb))) return false;
   // The wedged one stops moving into the face it was stopped against: the push it took from the other
   // at this instant would carry it through (a point lies on the face, with nothing to tell its side).
   for (const Wedged& e : wedged) {
-    if (!atOneInstant(e.time, c.time) || (e.body != ia && e.body != ib)) continue;
+    if (e.time != c.time || (e.body != ia && e.body != ib)) continue;
     BodySlot& held = bodies[e.body];
     advance(held, c.time);
     const double vn = dot(held.velocity, e.normal);
@@ -160,49 +152,6 @@ bool detail::WorldState::passesThrough(const detail::PredictedContact& c) {
     held.stepLocalsSet = true;
   }
   exemptFromCollisions(c.a, c.b);
-  return true;
-}
-
-bool detail::WorldState::stopsAgainstWedged(const detail::PredictedContact& c) {
-  // The other drives the wedged one further into its face: a light disk between a wall and a heavy one
-  // that keeps coming bounces between the two ever faster, taking a little of the heavy one's momentum
-  // each time (with the collapse guard's elastic collisions, none of it is lost: a disk between a wall
-  // and a large disk took 20,000 collisions at one instant in
-  // fuzz/regressions/world_api/budget-hybrid-disk-between-a-wall-and-a-wedged-disk). The face holds
-  // the wedged body along its normal, so the collision is solved with that body free only along the
-  // face: its inverse mass along the contact normal n is (n.t)^2 / m for the face's tangent t. The
-  // impulse is plastic (a squeeze stops the pair along its normal) and, as any impulse that leaves the
-  // pair at rest along n in these coordinates, takes kinetic energy out and adds none.
-  const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
-  const auto w = std::find_if(wedged.begin(), wedged.end(), [&](const Wedged& e) {
-    return (e.body == ia || e.body == ib) && atOneInstant(e.time, c.time);
-  });
-  const bool heldIsA = w->body == ia;
-  // The impulse pushes a along +n and b along -n: it must push the wedged one into its face.
-  const Vec2 push = heldIsA ? c.normal : -c.normal;
-  if (!(dot(push, w->normal) < 0)) return false;
-  BodySlot& a = bodies[ia];
-  BodySlot& b = bodies[ib];
-  advance(a, c.time);
-  advance(b, c.time);
-  const double approach = dot(a.velocity - b.velocity, c.normal);
-  if (!(approach < 0)) return false;
-  const Vec2 tangent{-w->normal.y, w->normal.x};
-  // The direction each body moves in for the impulse along n: n itself, or for the wedged one n's part
-  // along its face.
-  const Vec2 moveA = heldIsA ? tangent * dot(c.normal, tangent) : c.normal;
-  const Vec2 moveB = heldIsA ? c.normal : tangent * dot(c.normal, tangent);
-  const double inverse = a.inverseMass * dot(moveA, c.normal) + b.inverseMass * dot(moveB, c.normal);
-  if (!(inverse > 0)) return false;
-  const double impulse = -approach / inverse;
-  a.velocity += moveA * (impulse * a.inverseMass);
-  b.velocity -= moveB * (impulse * b.inverseMass);
-  const detail::LastContact last{std::min(c.a, c.b), std::max(c.a, c.b), c.feature, c.time};
-  for (BodySlot* s : {&a, &b}) {
-    ++s->collisionCount;
-    s->setLast(last);
-  }
-  ++stats.squeezes;
   return true;
 }
 

@@ -511,14 +511,9 @@ struct WorldState {
     Vec2 normal;
   };
   std::vector<Wedged> wedged;
-  /// A contact of two dynamic bodies, one of them stopped against a static face at this instant: when the
-  /// two overlap deeply they pass through each other (exempt, as a squeeze's pair); else
-  /// stopsAgainstWedged. False when neither applies.
+  /// A contact of two dynamic bodies, one of them stopped against a static face at this instant and the
+  /// two overlapping deeply: they pass through each other (exempt, as a squeeze's pair). Else false.
   bool passesThrough(const detail::PredictedContact& c);
-  /// passesThrough's other case: the two touch, and the other drives the wedged one further into its
-  /// face. A plastic impulse with the wedged body held along the face's normal; false if that does not
-  /// apply.
-  bool stopsAgainstWedged(const detail::PredictedContact& c);
   /// Exempts the pair of fixtures from collisions until they no longer overlap (refreshSqueezes), and
   /// counts a squeeze.
   void exemptFromCollisions(uint32_t fa, uint32_t fb);
