@@ -463,8 +463,8 @@ detail::WorldState::IslandSolve detail::WorldState::solveIsland(const std::vecto
   // their tolerance of the answer, and from a warm start that can leave a resting stack rising off the
   // floor by that much a step (fuzz/regressions/world_api/energy-predictive-gravity-stack-rises); and a
   // landing pile's many small parts (settleAround) settle at once instead of failing over to larger
-  // ones. Without gravity when the sweeps do not settle: where masses differ a lot (a light disk between
-  // a wall and a heavy disk) they take tens of thousands.
+  // ones. Without gravity when the sweeps do not settle (up to kExactProjectionMembersWithoutGravity):
+  // where masses differ a lot (a light disk between a wall and a heavy disk) they take tens of thousands.
   const bool small = members.size() <= detail::kExactProjectionMembers;
   const double omega = noGravity || !small ? kOverRelaxation : 1.0;
   bool converged = small && !noGravity && projectIslandExactly(members, v, tolerance);
@@ -490,7 +490,9 @@ detail::WorldState::IslandSolve detail::WorldState::solveIsland(const std::vecto
         [](const IslandContact& c) { return c.holderVelocity; });
     converged = worst <= tolerance;
   }
-  if (!converged && small && noGravity) converged = projectIslandExactly(members, v, tolerance);
+  if (!converged && noGravity && members.size() <= detail::kExactProjectionMembersWithoutGravity) {
+    converged = projectIslandExactly(members, v, tolerance);
+  }
 
   // What cannot move (a wall, a floor, a sleeping body) is kept out exactly, not within the tolerance:
   // a few more sweeps over those contacts alone, each a projection that lowers the kinetic energy.
