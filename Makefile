@@ -64,14 +64,18 @@ demo: configure
 	@echo "running the demo: 600 ticks, a frame every 10 into out/demo/ (earlier frame_NNNNNN.png files there are removed)"
 	$(BUILD_DIR)/bin/rattle-demo --ticks 600 --every 10 --frames out/demo
 
+# The tests write scratch files under GoogleTest's TempDir(): one folder per build (TEST_TMPDIR), so that
+# make test and make test-sanitize run at once do not write over each other's files.
 test: build
-	@cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+	@mkdir -p $(BUILD_DIR)/test-tmp
+	@cd $(BUILD_DIR) && TEST_TMPDIR=$(abspath $(BUILD_DIR))/test-tmp ctest --output-on-failure -j $(JOBS)
 
 test-sanitize: deps
 	@cmake -S . -B $(SANITIZE_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRATTLE_SANITIZE=ON $(CMAKE_FLAGS) > /dev/null
 	@cmake --build $(SANITIZE_DIR) -j $(JOBS)
+	@mkdir -p $(SANITIZE_DIR)/test-tmp
 	@cd $(SANITIZE_DIR) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-	  ctest --output-on-failure -j $(JOBS)
+	  TEST_TMPDIR=$(abspath $(SANITIZE_DIR))/test-tmp ctest --output-on-failure -j $(JOBS)
 
 # rattle-trace, rattle-replay and rattle-demo built with g++ -O0/-O2/-O3, g++ ASan+UBSan (in
 # $(SANITIZE_DIR)), clang++ -O2 and aarch64-linux-gnu-g++ (run under qemu-user), one build directory each
