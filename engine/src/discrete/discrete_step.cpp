@@ -27,8 +27,8 @@ struct Penetration {
   double depth;
 };
 
-// The step in named phases over the world's state. It owns only the step's scratch, emptied at each
-// step's start: the discrete mode keeps nothing between steps. In this file's anonymous namespace, so
+// The step in named phases over the world's state. It owns only the step's scratch, which each phase
+// refills before it reads it: the discrete mode keeps nothing between steps. In this file's anonymous namespace, so
 // that each phase, called once, is inlined into step() as when they were one function.
 class DiscreteStepper final : public detail::Stepper {
  public:
@@ -103,10 +103,6 @@ DiscreteStepper::DiscreteStepper(detail::WorldState& world) : w_(world) {}
 
 void DiscreteStepper::step(double dt) {
   detail::WorldState& w = w_;
-  pairs_.clear();
-  pushed_.clear();
-  nearStatic_.clear();
-  walls_.clear();
   w.contactEvents.clear();
   w.sensorEvents.swap(w.pendingSensorEvents);
   w.pendingSensorEvents.clear();
