@@ -30,7 +30,9 @@ inline constexpr double kPressRoundOff = 1e-9;
 /// Whether the relative acceleration (a's minus b's) presses the pair together along `normal` (from b
 /// toward a) by more than round-off.
 inline bool pressedTogether(Vec2 relativeAcceleration, Vec2 normal) {
-  return dot(relativeAcceleration, normal) < -kPressRoundOff * length(relativeAcceleration);
+  // (The square root only when it can matter: every event pop asks, and without gravity the answer is no.)
+  const double along = dot(relativeAcceleration, normal);
+  return along < 0 && along < -kPressRoundOff * length(relativeAcceleration);
 }
 
 }  // namespace rattle::detail
