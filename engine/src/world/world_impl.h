@@ -511,8 +511,9 @@ struct WorldState {
     Vec2 normal;
   };
   std::vector<Wedged> wedged;
-  /// A contact of two dynamic bodies, one of them stopped against a static face at this instant and the
-  /// two overlapping deeply: they pass through each other (exempt, as a squeeze's pair). Else false.
+  /// A contact of two dynamic bodies that overlap deeply, one of them stopped against a static face at
+  /// this instant or the pair resolved at this instant already: they pass through each other (exempt,
+  /// as a squeeze's pair). Else false.
   bool passesThrough(const detail::PredictedContact& c);
   /// Exempts the pair of fixtures from collisions until they no longer overlap (refreshSqueezes), and
   /// counts a squeeze.
