@@ -185,25 +185,28 @@ std::string base64(const uint8_t* data, size_t size) {
   return out;
 }
 
+// "<lead> world_api invariant '<check>' (<where>): <the message>", without an end of line.
+void describeViolation(const char* lead, const char* check, const char* format, va_list args) {
+  std::fprintf(stderr, "%s world_api invariant '%s' (%s mode, gravity %s, step %d, dt %.17g): ", lead, check,
+               modeName(where.mode), where.gravity ? "on" : "off", where.step, where.dt);
+  std::vfprintf(stderr, format, args);
+}
+
 // A violation of a class in RATTLE_WORLD_API_REPORT: one line for the first in an input, and on.
 void report(unsigned bit, const char* check, const char* format, ...) {
   if (input.reported & bit) return;
   input.reported |= bit;
-  std::fprintf(stderr, "rattle fuzz report: world_api invariant '%s' (%s mode, gravity %s, step %d, dt %.17g): ", check,
-               modeName(where.mode), where.gravity ? "on" : "off", where.step, where.dt);
   va_list args;
   va_start(args, format);
-  std::vfprintf(stderr, format, args);
+  describeViolation("rattle fuzz report:", check, format, args);
   va_end(args);
   std::fprintf(stderr, "; input (base64, %zu bytes): %s\n", input.size, base64(input.data, input.size).c_str());
 }
 
 [[noreturn]] void finding(const char* check, const char* format, ...) {
-  std::fprintf(stderr, "\nrattle fuzz check failed: world_api invariant '%s' (%s mode, gravity %s, step %d, dt %.17g): ",
-               check, modeName(where.mode), where.gravity ? "on" : "off", where.step, where.dt);
   va_list args;
   va_start(args, format);
-  std::vfprintf(stderr, format, args);
+  describeViolation("\nrattle fuzz check failed:", check, format, args);
   va_end(args);
   std::fprintf(stderr, "\n");
   std::abort();

@@ -90,10 +90,8 @@ constexpr double kOverRelaxation = 1.8;
 // The position correction without gravity (separateIsland): its sweeps, and the part of an overlap it
 // takes out in one step. The correction moves positions only, so it adds no energy; with too little a
 // jam that a step's solve left far from converged keeps a part of what it left, and with all of it
-// the sweeps, stopped short, leave a dense crowd more. The worst overlap, in radii, of rattle-bench's
-// crowd of 10,000 pressed into two doorways (20 s) and of rattle-soak's crowd of 2,000 (predictive,
-// 60 s): 1.4e-2 and - at 0.5, 0.99e-2 and 1.01e-2 at 0.8, 0.99e-2 and 0.69e-2 at 0.9, 1.04e-2 and
-// 0.77e-2 at 1.
+// the sweeps, stopped short, leave a dense crowd more (the overlaps measured at each factor tried are in
+// docs/numerics.md).
 constexpr int kSeparateIterations = 64;
 constexpr double kSeparateFactor = 0.9;
 // The relative excess of energy a solve may leave (round-off) before its velocities are scaled down.

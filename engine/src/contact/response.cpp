@@ -26,10 +26,8 @@ int detail::WorldState::resolvedFeature(const BodySlot& a, const BodySlot& b, ui
   int resolved = kNoFeature;
   // Round-off guard (see LastContact): if every dynamic body of the pair was last resolved against
   // this same pair at this same instant, the feature it touched cannot be approaching now.
-  const uint32_t low = std::min(own, other), high = std::max(own, other);
   auto resolvedHereNow = [&](const BodySlot& s) {
-    return s.type != BodyType::Dynamic ||
-           (s.last.time == now && s.last.fixtureLow == low && s.last.fixtureHigh == high);
+    return s.type != BodyType::Dynamic || s.last.is(own, other, now);
   };
   const bool lastHere = a.last.time == now && resolvedHereNow(a) && resolvedHereNow(b);
   // A point has no overlap to tell which side of a line it is on (time_of_impact.h); in a corner it is

@@ -127,11 +127,7 @@ bool detail::WorldState::passesThrough(const detail::PredictedContact& c) {
     return (e.body == ia || e.body == ib) && e.time == c.time;
   });
   // Or this pair was resolved at this very instant already, and something drove them back together.
-  const uint32_t low = std::min(c.a, c.b), high = std::max(c.a, c.b);
-  auto again = [&](const BodySlot& s) {
-    return s.last.time == c.time && s.last.fixtureLow == low && s.last.fixtureHigh == high;
-  };
-  if (!held && !again(bodies[ia]) && !again(bodies[ib])) return false;
+  if (!held && !bodies[ia].last.is(c.a, c.b, c.time) && !bodies[ib].last.is(c.a, c.b, c.time)) return false;
   if (squeezeExempt(c.a, c.b)) return true;  // a second prediction of the pair, made before the first came
   // And the two overlap deeply: made so (a fixture created, a body set, over the other), not brought
   // together by this step's events, which leave them touching. A point inside a disk of radius 2.8, the

@@ -28,8 +28,8 @@ struct Penetration {
 };
 
 // The step in named phases over the world's state. It owns only the step's scratch, which each phase
-// refills before it reads it: the discrete mode keeps nothing between steps. In this file's anonymous namespace, so
-// that each phase, called once, is inlined into step() as when they were one function.
+// refills before it reads it: the discrete mode keeps nothing between steps. In this file's anonymous
+// namespace, so that each phase, called once, is inlined into step() as when they were one function.
 class DiscreteStepper final : public detail::Stepper {
  public:
   explicit DiscreteStepper(detail::WorldState& world);

@@ -39,6 +39,10 @@ struct LastContact {
   uint32_t fixtureHigh = 0;
   int feature = -1;
   double time = -1;  // < 0: none this step
+  /// Whether it was the contact of these two fixtures (in either order) at time t.
+  bool is(uint32_t fa, uint32_t fb, double t) const {
+    return time == t && fixtureLow == std::min(fa, fb) && fixtureHigh == std::max(fa, fb);
+  }
 };
 
 // A body resting on a flat feature of a static fixture: it slides along it (no friction) with gravity's
