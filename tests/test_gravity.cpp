@@ -872,7 +872,7 @@ TEST(GravityPile, TwoThousandDisksPouredIntoAContainer) {
   // spacing 1.2, jittered, random velocities up to 0.5) above the floor of a U-shaped static Polyline
   // container 50 wide and 100 high, g = 10 down, and fall into it, in steps of 1/40 s, until the pile is at
   // rest: every disk asleep, and then 10 more steps without a single contact event (at most 400 steps,
-  // 10 s; the last disks land after about 3 s, and the pile is asleep at about 8.4 s).
+  // 10 s; the last disks land after about 3 s, and the pile is asleep at about 6.5 s).
   //
   // Energy bound per step. Collisions with restitution 0.5 lose energy and a sleeping disk loses its
   // kinetic energy, so total energy may rise only through the resting rule's minimum bounce

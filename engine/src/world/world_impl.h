@@ -401,6 +401,7 @@ struct WorldState {
     double lambda = 0;
     double approach = 0;  // closing speed before the solve
     double gap = 0;       // distance minus radius when the solve starts (< 0: overlap)
+    double radius = 0;    // the smaller radius of the pair's disks (the member's, against a holder)
   };
   static uint64_t islandKey(uint32_t fa, uint32_t fb) {
     return (uint64_t{std::min(fa, fb)} << 32) | std::max(fa, fb);
@@ -411,6 +412,8 @@ struct WorldState {
   // solveIsland's velocities and separateIsland's lists, kept so that a step's many solves do not
   // allocate (neither is called from within itself or the other's use of them).
   std::vector<Vec2> islandVelocities;
+  // The accelerated sweeps' multipliers before a sweep and search direction (solveIsland).
+  std::vector<double> islandPreviousImpulses, islandDirection;
   struct SeparateScratch {
     std::vector<Vec2> displacements;
     std::vector<double> lower, multipliers;
@@ -459,6 +462,12 @@ struct WorldState {
   // solveIsland's parts (island.cpp).
   double gatherIslandContacts(const std::vector<uint32_t>& members, double now, double h);
   void keepIslandEnergy(const std::vector<uint32_t>& members, std::vector<Vec2>& v, double h);
+  /// The sweeps over islandScratch's contacts, on the members' velocities v, at most maxIterations:
+  /// over-relaxed by omega (true when they converged to `tolerance`), or, under gravity, accelerated
+  /// (converged, or close enough to keep every contact within kCloseEnough of its radius, or stopped).
+  bool sweepIsland(std::vector<Vec2>& v, double omega, double tolerance, int maxIterations);
+  enum class SweepEnd { Converged, CloseEnough, Stopped };
+  SweepEnd sweepIslandAccelerated(std::vector<Vec2>& v, double tolerance, double h, int maxIterations);
   /// By body, for stepped bodies: the energy its island's solves may still give back of what its straight
   /// path lost against the parabola it stands in for (keepIslandEnergy). Set when the path begins.
   std::vector<double> gravityAllowance;
