@@ -24,7 +24,8 @@
 //            held to it without gravity only, as its push-apart lifts bodies against gravity; under
 //            gravity it is checked on steps of at most kLongestGravityStep, the bound the README gives);
 //   events   contact and sensor events name live fixtures and bodies, or ones destroyed since the last
-//            step; their times lie in [0, dt], normals are unit, impulses finite and >= 0;
+//            step; their times lie in [0, dt], normals are unit, impulses finite and >= 0; no step
+//            processes more than WorldDef::maxEventsPerStep events;
 //   budget   no step reaches WorldDef::maxEventsPerStep (kEventBudget): a class of its own, since piles
 //            in the predictive mode may reach it today; checked when every speed is at most kBudgetSpeed
 //            at the step's start (a disk at 1e9 units/s in a small box needs more events than any budget);
@@ -816,6 +817,11 @@ class Program {
   }
 
   void checkEvents(double dt) const {
+    // The budget bounds a step's changes of motion, whichever mode processed them (a predictive step
+    // hands the rest of a pile's step to the hybrid step).
+    if (world_.stats().eventsProcessed > kEventBudget)
+      finding("events", "the step processed %d events, past WorldDef::maxEventsPerStep = %d",
+              world_.stats().eventsProcessed, kEventBudget);
     const auto& contacts = world_.contactEvents();
     double last = 0;
     for (size_t i = 0; i < contacts.size(); ++i) {

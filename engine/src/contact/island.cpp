@@ -750,7 +750,7 @@ void detail::WorldState::startIslands(double dt, std::vector<uint32_t>& freed) {
   // a resting body up against that gravity is not one.
   stats.eventsProcessed +=
       solveIsland(stepped, 0, dt, def.restingSpeed + length(def.gravity) * dt, ~uint64_t{0}, true, true,
-                  def.maxEventsPerStep)
+                  std::max(0, def.maxEventsPerStep - stats.eventsProcessed))
           .reported;
   for (const IslandContact& c : islandScratch) {
     if (!(c.lambda > 0)) continue;

@@ -630,13 +630,14 @@ double detail::WorldState::processEvents(double dt, double approachTolerance) {
   return budgetTime;
 }
 
-void detail::WorldState::stepHybrid(double dt) {
+void detail::WorldState::stepHybrid(double dt, int eventsBefore) {
   detail::HybridState& h = hybridState();
   contactEvents.clear();
   sensorEvents.swap(pendingSensorEvents);
   pendingSensorEvents.clear();
   ++stepStamp;
   stats = StepStats{};
+  stats.eventsProcessed = eventsBefore;
   h.queue.clear();
   if (pairsOfBody.size() < bodies.size()) pairsOfBody.resize(bodies.size());
   if (h.stamp.size() < fixtures.size()) h.stamp.resize(fixtures.size(), 0);

@@ -640,12 +640,13 @@ void PredictiveStepper::step(double dt) {
     if (done == dt) return;
     if (done > 0) {
       // The rest of the step from `done` on, as a hybrid step of its own whose events and stats join
-      // this step's; the world's clock ends at exactly time + dt, as after any step.
+      // this step's, and whose budget is what this step's events left of it; the world's clock ends at
+      // exactly time + dt, as after any step.
       const double startTime = w.time - done;
       std::vector<ContactEvent> contacts = std::move(w.contactEvents);
       std::vector<SensorEvent> sensed = std::move(w.sensorEvents);
       const StepStats first = w.stats;
-      w.stepHybrid(dt - done);
+      w.stepHybrid(dt - done, first.eventsProcessed);
       for (ContactEvent& e : w.contactEvents) e.time += done;
       for (SensorEvent& e : w.sensorEvents) e.time += done;
       contacts.insert(contacts.end(), w.contactEvents.begin(), w.contactEvents.end());
@@ -654,7 +655,6 @@ void PredictiveStepper::step(double dt) {
       w.sensorEvents = std::move(sensed);
       w.stats.candidatePairs += first.candidatePairs;
       w.stats.timeOfImpactTests += first.timeOfImpactTests;
-      w.stats.eventsProcessed += first.eventsProcessed;
       w.stats.staleEvents += first.staleEvents;
       w.stats.requeries += first.requeries;
       w.stats.squeezes += first.squeezes;

@@ -313,7 +313,9 @@ struct WorldState {
   void sensePaths(detail::PathLog& log, double end);
 
   // hybrid_step.cpp
-  void stepHybrid(double dt);
+  /// One hybrid step. `eventsBefore`: events a predictive step processed before it handed the rest of
+  /// its step over; they count toward this step's budget and its stats.
+  void stepHybrid(double dt, int eventsBefore = 0);
   // Its phases, in order.
   double sweepBoxes(double dt);
   void predictCandidatePairs(double dt);
