@@ -13,7 +13,9 @@
 // class, the body and the values:
 //   finite   every body's position and velocity is finite;
 //   inside   a dynamic body's centre that was not inside a static polygon before the step (that it
-//            collides with) is not inside it after the step by more than 1% of its radius + 1e-9;
+//            collides with), or inside within the tolerance where the last step left it, is not inside
+//            it after the step by more than 1% of its radius + 1e-9 (a centre made or set inside one
+//            has no side to be held to: README, Geometry);
 //   escape   a disk that was created inside a closed static container (and was not moved by
 //            setPosition or given other fixtures or filters since) has its centre inside it, to the same
 //            tolerance; inside and escape hold a disk while its radius is in the documented range where
@@ -667,6 +669,21 @@ class Program {
     BodyId disk;
     FixtureId polygon;
   };
+  // The pairs the last step held to the inside check, with where it left the disk and the wall.
+  struct HeldAtEnd {
+    BodyId disk;
+    FixtureId polygon;
+    Vec2 diskAt, wallAt;
+  };
+  std::vector<HeldAtEnd> heldAtEnd_;
+
+  bool heldWhereLeft(BodyId disk, FixtureId polygon, BodyId wall) const {
+    const Vec2 d = world_.position(disk), w = world_.position(wall);
+    return std::any_of(heldAtEnd_.begin(), heldAtEnd_.end(), [&](const HeldAtEnd& h) {
+      return h.disk == disk && h.polygon == polygon && h.diskAt.x == d.x && h.diskAt.y == d.y && h.wallAt.x == w.x &&
+             h.wallAt.y == w.y;
+    });
+  }
 
   std::vector<Outside> outsidePolygons() const {
     std::vector<Outside> out;
@@ -679,7 +696,11 @@ class Program {
           const auto* polygon = std::get_if<rattle::Polygon>(&world_.geometry(f));
           if (polygon == nullptr || world_.isSensor(f) || !collide(world_.filter(f), d->filter)) continue;
           if (!tracked(d->centre) || !tracked(world_.position(w))) continue;
-          if (depthInside(*polygon, world_.position(w), d->centre) <= tolerance(d->radius)) out.push_back({b, f});
+          // A centre inside a polygon (made or set there, or a polygon made around it) has no side to be
+          // held to and moves on freely (README, Geometry). So a centre is held when it is outside at the
+          // step's start, or inside within the tolerance where the last step left it.
+          const double depth = depthInside(*polygon, world_.position(w), d->centre);
+          if (depth < 0 || (depth <= tolerance(d->radius) && heldWhereLeft(b, f, w))) out.push_back({b, f});
         }
       }
     }
@@ -775,6 +796,12 @@ class Program {
                              (!gravity() || ((checks & kGravityEnergy) && dt <= kLongestGravityStep));
     if ((checks & kEnergy) && kinematics.empty() && before.tracked && energyHolds) checkEnergy(before);
     if ((checks & kInside) && kinematics.empty() && !discreteFast) checkInside(outside);
+    heldAtEnd_.clear();
+    for (const Outside& o : outside) {
+      if (!world_.isValid(o.disk) || !world_.isValid(o.polygon)) continue;
+      const BodyId wall = world_.body(o.polygon);
+      heldAtEnd_.push_back({o.disk, o.polygon, world_.position(o.disk), world_.position(wall)});
+    }
     if (checks & kEscape) checkContainers();
     destroyedBodies_.clear();
     destroyedFixtures_.clear();
