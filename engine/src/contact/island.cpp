@@ -72,9 +72,8 @@ namespace {
 // step, which carries a whole step of gravity up a pile (a support passes down a little further with
 // each sweep), gets kStartIterations. Under gravity the sweeps are accelerated and stop when close
 // enough (sweepIslandAccelerated), and fewer are allowed: a landing pile solved again whole a few dozen
-// times in a step made that step's cost. With 1000 and 300 the worst step of rattle-soak's pile of 2,000
-// was 273 ms, with 300 and 100 123 ms; the worst overlap rose from 0.03% to 0.12% of a radius
-// (bench/README.md).
+// times in a step made that step's cost, and the overlap the lower limits leave stays far below 1% of a
+// radius (bench/README.md, "Piles").
 constexpr int kPartIterations = 100;
 constexpr int kIslandIterations = 300;
 constexpr int kStartIterations = 1000;
@@ -96,8 +95,8 @@ constexpr int kSettleAttemptsUnderGravity = 3;
 constexpr double kOverRelaxation = 1.8;
 // Under gravity the accelerated sweeps (sweepIslandAccelerated) also stop once no contact would end the
 // step closer than this fraction of its smaller disk's radius beyond its bound, checked every
-// kCloseEnoughInterval sweeps (a check costs about a sweep). On rattle-bench's pile of 1,000 the worst
-// overlap stayed within a few 1e-4 of a radius (bench/README.md).
+// kCloseEnoughInterval sweeps (a check costs about a sweep). Three times larger let a resting pile's
+// overlap pass the 1e-4 of a radius that PredictiveGravity.PileInABoxSettlesWithoutSinking holds it to.
 constexpr double kCloseEnough = 3e-5;
 constexpr int kCloseEnoughInterval = 8;
 // The position correction without gravity (separateIsland): its sweeps, and the part of an overlap it
