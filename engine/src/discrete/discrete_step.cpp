@@ -57,7 +57,7 @@ class DiscreteStepper final : public detail::Stepper {
   void putBack(const Moved& m);
   void senseOverlaps(double dt);
   void pushOutOf(detail::BodySlot& b, Vec2 centre, double radius, std::span<const uint32_t> statics,
-                 bool neverAcross = false);
+                 std::optional<uint32_t> neverAcrossFor = std::nullopt);
   bool crossesStatic(uint32_t own, Vec2 from, Vec2 travel);
   void keepCentreOut(detail::BodySlot& b, uint32_t own, Vec2 centre, Vec2 from);
   void notePush(uint32_t body, Vec2 before, bool byKinematic);
@@ -181,25 +181,19 @@ void DiscreteStepper::findOverlappingPairs() {
 
 // Moves body `b`'s circle (centre offset `centre`, radius `radius`) out of the static fixtures `statics`,
 // position only, a few rounds at most: a box's corner overlaps a circle at two features, and leaving
-// one may touch the other. With neverAcross, a push that would carry the centre across a static surface
-// is not made: a disk wedged between a floor and a static circle nearer than its diameter was pushed out
+// one may touch the other. With neverAcrossFor (the circle's fixture), a push that would carry the centre
+// across a static surface that fixture collides with is not made: a disk wedged between a floor and a static circle nearer than its diameter was pushed out
 // of the circle through the floor (fuzz/regressions/world_api/escape-discrete-disk-wedged-under-a-static-
 // circle). It overlaps then, as a disk wider than its slot does (keepCentreOut).
 void DiscreteStepper::pushOutOf(BodySlot& b, Vec2 centre, double radius, std::span<const uint32_t> statics,
-                                bool neverAcross) {
+                                std::optional<uint32_t> neverAcrossFor) {
   detail::WorldState& w = w_;
-  uint32_t own = 0;
-  if (neverAcross) {
-    const auto it = std::find_if(b.fixtures.begin(), b.fixtures.end(), [&](uint32_t f) { return !w.fixtures[f].sensor; });
-    if (it == b.fixtures.end()) return;
-    own = *it;
-  }
   for (int k = 0; k < 3; ++k) {
     bool moved = false;
     for (uint32_t g : statics) {
       const auto pen = penetration(b.position + centre, radius, w.fixtures[g].geometry, w.bodyOf(g).position);
       if (!pen) continue;
-      if (neverAcross && crossesStatic(own, b.position + centre, pen->normal * pen->depth)) continue;
+      if (neverAcrossFor && crossesStatic(*neverAcrossFor, b.position + centre, pen->normal * pen->depth)) continue;
       b.position += pen->normal * pen->depth;
       moved = true;
     }
@@ -406,7 +400,7 @@ void DiscreteStepper::putBack(const Moved& m) {
   if (vn < 0) b.velocity -= first->normal * vn;
   // Put back on its side, it may overlap another wall there (a corner): out of those too.
   std::sort(walls_.begin(), walls_.end());
-  pushOutOf(b, centre, radius, walls_, true);
+  pushOutOf(b, centre, radius, walls_, own);
   keepCentreOut(b, own, centre, from);
 }
 
