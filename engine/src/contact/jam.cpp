@@ -30,12 +30,13 @@ constexpr size_t kMaxJamBodies = 4096;
 
 }  // namespace
 
-// A dynamic body is one circle (or point) and its sensors.
+// A dynamic body's circles and points share one centre, so a circle with a radius keeps its points a
+// radius from anything they meet: the body is a point only when it has no such circle.
 bool detail::WorldState::bodyIsPoint(const BodySlot& b) const {
   for (uint32_t f : b.fixtures) {
-    if (!fixtures[f].sensor && detail::isPoint(fixtures[f].geometry)) return true;
+    if (!fixtures[f].sensor && !detail::isPoint(fixtures[f].geometry)) return false;
   }
-  return false;
+  return true;
 }
 
 bool detail::WorldState::isJammed(uint32_t bodyIndex) {
