@@ -34,7 +34,7 @@ struct Pinned {
 using rattle::StepMode;
 const Pinned kPinned[] = {
     {"gas", StepMode::Discrete, 0x86c8116bfbbf36e8},       {"gas", StepMode::Hybrid, 0xef8626af8f7350c0},
-    {"gas", StepMode::Predictive, 0xc6fb1d9b81e9f0b8},     {"pile", StepMode::Discrete, 0xfc7c1dcf6e04f770},
+    {"gas", StepMode::Predictive, 0xc6fb1d9b81e9f0b8},     {"pile", StepMode::Discrete, 0x59db58347c70023b},
     {"pile", StepMode::Hybrid, 0x9901d0fb5b2ece65},        {"pile", StepMode::Predictive, 0x249987ccaef06a75},
     {"bullets", StepMode::Discrete, 0xe0e44a1acacf69c4},   {"bullets", StepMode::Hybrid, 0x4967d9a4a82be735},
     {"bullets", StepMode::Predictive, 0x96540e0f02999b15}, {"sensors", StepMode::Discrete, 0xacda9670e7a43d36},

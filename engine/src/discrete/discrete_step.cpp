@@ -59,6 +59,7 @@ class DiscreteStepper final : public detail::Stepper {
   void pushOutOf(detail::BodySlot& b, Vec2 centre, double radius, std::span<const uint32_t> statics,
                  std::optional<uint32_t> neverAcrossFor = std::nullopt);
   bool crossesStatic(uint32_t own, Vec2 from, Vec2 travel);
+  bool movedSlowly(uint32_t body, Vec2 ownMotionEnd, double radius) const;
   void keepCentreOut(detail::BodySlot& b, uint32_t own, Vec2 centre, Vec2 from);
   void notePush(uint32_t body, Vec2 before, bool byKinematic);
 
@@ -284,7 +285,15 @@ void DiscreteStepper::pushApartAndReflect(double dt) {
   }
 }
 
-// A slow body (travel under its radius since the step began) that overlaps static fixture `wall` may
+// A slow body: its own motion this step, which ended at ownMotionEnd before any push moved it (notePush
+// kept that), is shorter than its radius. Only such a body's centre is kept on the side of a static
+// surface where it began the step (README, the discrete mode's promise); one definition for both places
+// that ask (crossedSurface, putBack).
+bool DiscreteStepper::movedSlowly(uint32_t body, Vec2 ownMotionEnd, double radius) const {
+  return length(ownMotionEnd - w_.stepStart.motion[body].first) < radius;
+}
+
+// A slow body (movedSlowly) that overlaps static fixture `wall` may
 // have carried its centre across the wall's surface this step: a disk pushed deep onto a wall in the
 // step before needs only a little motion of its own to cross it
 // (fuzz/regressions/world_api/escape-discrete-disk-pushed-onto-a-wall). The overlap measured from the far
@@ -296,9 +305,10 @@ std::optional<Vec2> DiscreteStepper::crossedSurface(uint32_t body, Vec2 centre, 
                                                     Penetration& pen) {
   detail::WorldState& w = w_;
   const BodySlot& b = w.bodies[body];
+  const int pushedSlot = w.jamSlot[body];  // pushed already in this pass: its own motion ended before that
+  if (!movedSlowly(body, pushedSlot >= 0 ? pushed_[pushedSlot].position : b.position, radius)) return std::nullopt;
   const Vec2 start = w.stepStart.motion[body].first;
   const Vec2 travel = b.position - start;
-  if (!(length(travel) < radius)) return std::nullopt;
   const auto hit = rayCast(w.fixtures[wall].geometry, w.bodyOf(wall).position, start + centre, travel);
   // None, or the centre began the step on the surface or inside the fixture: the overlap stands.
   if (!hit || !(hit->fraction > 0)) return std::nullopt;
@@ -371,8 +381,7 @@ void DiscreteStepper::putBack(const Moved& m) {
   // A slow body is looked at from where it began the step: its own motion may have carried its centre
   // across a surface it began the step deep against (crossedSurface) before a push carried it on. (Its
   // start and end both lie within its radius of m.position, so the test above still holds.)
-  const Vec2 start = w.stepStart.motion[m.body].first;
-  const Vec2 origin = length(m.position - start) < radius ? start : m.position;
+  const Vec2 origin = movedSlowly(m.body, m.position, radius) ? w.stepStart.motion[m.body].first : m.position;
   const Vec2 travel = b.position - origin;
   const Vec2 centre = detail::circleCentre(w.fixtures[own].geometry);
   const Vec2 from = origin + centre;
