@@ -758,9 +758,9 @@ def write_report(out_dir, bench, matrix_seconds=None, load=None):
         extra = {p for p in (r.get("collapse_time", "") for r in trs) if p}
         if extra:
             md += ["rattle's modes (discrete, hybrid, predictive) and the exact reference ran with --collapse-time "
-                   "%s (WorldDef::collapseTime, the TC model); with rattle's default (0) the predictive mode and "
-                   "the reference reach the event budget of 10^6 collisions per step once the pile lands "
-                   "(see bench/README.md)." %
+                   "%s (WorldDef::collapseTime, the TC model), as this row has since the predictive mode and the "
+                   "reference reached the event budget with the default (0); they complete with it now, as the "
+                   "pile-target rows show (see bench/README.md)." %
                    ", ".join(extra), ""]
         table = bullets_table(trs) if key == "bullets" else arena_table(trs) if key.startswith("arena") else \
             crowd_table(trs) if key.startswith("crowd") else generic_table(trs)

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <rattle/world.h>
+#include <scenes.h>
 
 #include <cstdint>
 #include <string>
@@ -12,12 +13,13 @@
 namespace rattle_trace {
 
 struct EngineScene {
-  std::string name;   ///< gas, pile, sensors, kinematic
+  std::string name;   ///< gas, pile, bullets, sensors, crowd, kinematic
   rattle::World world;
-  double dt = 1.0 / 60.0;
-  /// Called before each step (kinematic bodies turn around); may be empty.
+  double dt = 1.0 / 60.0;  ///< the crowd's: 1/30, a game's tick
+  /// Called before each step (kinematic bodies turn around, the crowd is steered); may be empty.
   void (*beforeStep)(EngineScene&, int step) = nullptr;
   std::vector<rattle::BodyId> movers;  ///< bodies a beforeStep steers
+  rattle_bench::Scene scene;           ///< the benchmark scene it was built from (the crowd's steering)
 };
 
 /// The scene names, in trace order.

@@ -35,10 +35,12 @@ using rattle::StepMode;
 const Pinned kPinned[] = {
     {"gas", StepMode::Discrete, 0x86c8116bfbbf36e8},       {"gas", StepMode::Hybrid, 0xef8626af8f7350c0},
     {"gas", StepMode::Predictive, 0xc6fb1d9b81e9f0b8},     {"pile", StepMode::Discrete, 0x59db58347c70023b},
-    {"pile", StepMode::Hybrid, 0x9901d0fb5b2ece65},        {"pile", StepMode::Predictive, 0x249987ccaef06a75},
+    {"pile", StepMode::Hybrid, 0x98ac9e524ec0b74a},        {"pile", StepMode::Predictive, 0xb107ffdfac9dfef8},
     {"bullets", StepMode::Discrete, 0xe0e44a1acacf69c4},   {"bullets", StepMode::Hybrid, 0x4967d9a4a82be735},
     {"bullets", StepMode::Predictive, 0x96540e0f02999b15}, {"sensors", StepMode::Discrete, 0xacda9670e7a43d36},
     {"sensors", StepMode::Hybrid, 0xb0079c3b59625bff},     {"sensors", StepMode::Predictive, 0xf966fb83ffdda990},
+    {"crowd", StepMode::Discrete, 0xcf9c0c699a7ab4d5},     {"crowd", StepMode::Hybrid, 0xd5fe821ebe7edbc4},
+    {"crowd", StepMode::Predictive, 0x96dab513559790f7},
     {"kinematic", StepMode::Discrete, 0x9ed1833edbb1ba4e}, {"kinematic", StepMode::Hybrid, 0xa03e4cc8bff84ea0},
     {"kinematic", StepMode::Predictive, 0x494ee097476d774d},
     {"game", StepMode::Discrete, 0xf58e526bef8dd05f},      {"game", StepMode::Hybrid, 0x240b7c8aa35003f7},

@@ -49,6 +49,7 @@ Scenes, each in the discrete, hybrid and predictive step modes:
   pile       the benchmark's pile: disks falling into a box, gravity (0, -10), restitution 0.5
   bullets    the benchmark's bullets: small disks at speeds 10 to 10000 between walls
   sensors    the benchmark's sensors: disks crossing six sensor strips
+  crowd      the benchmark's crowd: disks steered naively through two doorways every step, dt 1/30
   kinematic  disks pushed by two kinematic bodies, one carrying a sensor ring
 
 options:
@@ -57,8 +58,8 @@ options:
                     fire, and lose units)
   --units N         units per team in the game (default 100)
   --seed N          the scripted opponent's seed (default 1)
-  --steps N         steps of each engine scene, at dt = 1/60 (default 240)
-  --disks N         disks in the gas, pile and kinematic scenes; half as many in bullets and sensors
+  --steps N         steps of each engine scene, at dt = 1/60 (the crowd: 1/30; default 240)
+  --disks N         disks in the gas, pile, crowd and kinematic scenes; half as many in bullets and sensors
                     (default 200)
   --only PREFIX     only the scenes whose name starts with PREFIX (e.g. game, pile/hybrid)
   --help            this text
