@@ -43,6 +43,12 @@ int detail::WorldState::resolvedFeature(const BodySlot& a, const BodySlot& b, ui
     }
   } else if (lastHere && !(point && !leavesCorner(a, other, a.last.feature, now))) {
     resolved = a.last.feature;
+    // A point just resolved against the face it now remembers may sit in a corner, on another face's
+    // line too, which it may be leaving as well (featureLeftByPoint).
+    if (!a.sliding && a.support.fixture == other && a.support.feature == resolved && a.support.generation != 0 &&
+        fixtures[other].generation == a.support.generation && detail::isPoint(fixtures[own].geometry)) {
+      resolved = featureLeftByPoint(a, other, now);
+    }
   } else if (!a.sliding && a.support.fixture == other && a.support.generation != 0 &&
              fixtures[other].generation == a.support.generation && fixtures[other].alive &&
              detail::isPoint(fixtures[own].geometry) &&
@@ -52,8 +58,9 @@ int detail::WorldState::resolvedFeature(const BodySlot& a, const BodySlot& b, ui
     // "arriving from below" and bounce down through it (fuzz/regressions/world_api/
     // escape-point-woken-upward-off-a-floor). It last touched this feature from the side `normal`
     // points to, and moves toward that side: it is leaving. (Away from the line this matters to no
-    // root: the rule only concerns a contact at this instant.)
-    resolved = a.support.feature;
+    // root: the rule only concerns a contact at this instant.) In a corner it may leave the other
+    // face there too (featureLeftByPoint).
+    resolved = featureLeftByPoint(a, other, now);
   }
   return resolved;
 }

@@ -299,6 +299,7 @@ struct WorldState {
   void stopSliding(detail::BodySlot& b);
   bool isFlatFeature(uint32_t fixture, int feature) const;
   bool leavesCorner(const detail::BodySlot& b, uint32_t fixture, int feature, double now) const;
+  int featureLeftByPoint(const detail::BodySlot& b, uint32_t fixture, double now) const;
   void rememberFace(const detail::PredictedContact& c);
   int resolvedFeature(const detail::BodySlot& a, const detail::BodySlot& b, uint32_t own, uint32_t other,
                       double now) const;
