@@ -612,10 +612,10 @@ TEST(TinyBodies, APointAtRestOnAFloorThatTheGameSendsUpRises) {
 
 // A point that slid into the lower left corner of a box rests on both lines, the floor's and the
 // wall's, and round-off leaves it a few ulps below the floor's line in the predictive mode. Set moving
-// into the box (up and right), it leaves both: the wall must not be taken as met from outside, which
-// overwrote the floor's remembered side and let it fall out through the corner
-// (fuzz/regressions/world_api/escape-predictive-point-woken-in-a-corner; without restitution the point
-// stops in the corner, with it it bounces off the wall and does not).
+// into the box (up and right) it leaves both; set moving into one face, that face holds it. Either way
+// a contact with the wall at that instant overwrote the floor's remembered side, and the point fell out
+// through the corner (fuzz/regressions/world_api/escape-predictive-point-woken-in-a-corner; without
+// restitution the point stops in the corner, with it it bounces off the wall and does not).
 TEST(TinyBodies, APointInABoxCornerThatTheGameSetsMovingStaysInside) {
   for (StepMode mode : kExactModes) {
     for (const Vec2 sent : {Vec2{1e-12, 1e-12}, Vec2{0.5, 0.5}, Vec2{-1e-12, 1e-12}, Vec2{1e-12, -1e-12}}) {
