@@ -109,26 +109,16 @@ TEST_P(DrivenCrowd, PointsAtTheCirclesCentresChangeNothing) {
 // (naive steering: nothing keeps them apart). They jam at the doorway, which is what a game copied from the
 // demo does at once.
 TEST_P(DrivenCrowd, PushedThroughADoorwayStaysApartAndInsideWithoutGainingEnergy) {
-  World world({.mode = GetParam()});  // no gravity
-  const BodyId walls = world.createBody({.type = BodyType::Static});
-  world.createFixture(walls, {.geometry = Polyline{{{0, 0}, {30, 0}, {30, 20}, {0, 20}, {0, 0}}}});
-  world.createFixture(walls, {.geometry = Polyline{{{20, 0}, {20, 8}}}});
-  world.createFixture(walls, {.geometry = Polyline{{{20, 12}, {20, 20}}}});
-  std::vector<BodyId> disks;
-  for (int i = 0; i < 200; ++i) disks.push_back(addDisk(world, {1 + 1.1 * (i % 16), 1 + 1.1 * (i / 16)}));
-  const Vec2 goal{27, 10};
-  const double dt = 1.0 / 30, speed = 3;
+  Rooms rooms(GetParam(), false);  // no gravity
+  World& world = rooms.world;
+  const std::vector<BodyId>& disks = rooms.disks;
+  const double dt = 1.0 / 30;
   double worstOverlap = 0;
   int worstEvents = 0;
   for (int tick = 0; tick < 600; ++tick) {
     std::vector<Vec2> before;
-    for (BodyId b : disks) {
-      const Vec2 p = world.position(b);
-      const Vec2 d = goal - p;
-      const double l = length(d);
-      world.setVelocity(b, l > 0.5 ? d * (speed / l) : Vec2{});
-      before.push_back(p);
-    }
+    for (BodyId b : disks) before.push_back(world.position(b));
+    rooms.steer({27, 10}, 3);
     const double commanded = kineticEnergy(world, disks);
     world.step(dt);
     ASSERT_FALSE(world.stats().eventBudgetReached) << "tick " << tick;

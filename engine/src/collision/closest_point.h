@@ -1,6 +1,7 @@
 // Private: the closest point of a placed geometry to a point, for resting contacts and the discrete mode.
 #pragma once
 
+#include <limits>
 #include <optional>
 
 #include "rattle/geometry.h"
@@ -65,6 +66,11 @@ inline double circleRadius(const Geometry& g) {
 inline bool isPoint(const Geometry& g) {
   if (const auto* c = std::get_if<Circle>(&g)) return c->radius == 0;
   return std::holds_alternative<Point>(g);
+}
+/// What round-off can put in a distance computed from these coordinates: a few ulps of each. A point
+/// (isPoint) this near a line is on it, for its times of impact, its slide's ends and its corners alike.
+inline double pointRoundOff(Vec2 a, Vec2 b, Vec2 c = {}) {
+  return 16 * std::numeric_limits<double>::epsilon() * (length(a) + length(b) + length(c));
 }
 
 }  // namespace rattle::detail

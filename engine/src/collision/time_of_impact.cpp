@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 
+#include "collision/closest_point.h"
 #include "collision/plain_disk_impact.h"
 #include "collision/polynomial.h"
 
@@ -100,11 +101,6 @@ Impact pointImpact(Vec2 center, const Motion& m, Vec2 target, double targetRadiu
   return Impact{t, target + n * targetRadius, n, feature};
 }
 
-// What round-off can put in a distance computed from these coordinates: a few ulps of each.
-double roundOffOf(Vec2 a, Vec2 b, Vec2 c = {}) {
-  return 16 * std::numeric_limits<double>::epsilon() * (length(a) + length(b) + length(c));
-}
-
 struct Edge {
   Vec2 a;
   Vec2 u;  // unit direction from a along the edge
@@ -138,7 +134,7 @@ std::optional<Impact> faceImpact(const Circle& circle, const Motion& m, const Ed
   double s0 = dot(edge.n, rel);
   // A point (radius 0) has no overlap to tell it is still in front: an ulp behind the line (where
   // round-off puts a point that came to rest on a floor, in a frame other than the floor's) is on it.
-  if (circle.radius == 0 && s0 < 0 && s0 >= -roundOffOf(circle.center, edge.a)) s0 = 0;
+  if (circle.radius == 0 && s0 < 0 && s0 >= -detail::pointRoundOff(circle.center, edge.a)) s0 = 0;
   Polynomial gap;
   gap.degree = 2;
   gap.c = {s0 - circle.radius, dot(edge.n, m.velocity), 0.5 * dot(edge.n, m.acceleration)};
@@ -158,7 +154,7 @@ std::optional<Impact> faceImpact(const Circle& circle, const Motion& m, const Ed
   const Vec2 along = rel + travel(m, *t);
   double tau = dot(edge.u, along);
   if (circle.radius == 0) {
-    const double slack = roundOffOf(circle.center, edge.a, along);
+    const double slack = detail::pointRoundOff(circle.center, edge.a, along);
     if (tau < 0 && tau >= -slack) tau = 0;
     if (tau > edge.length && tau <= edge.length + slack) tau = edge.length;
   }
@@ -182,7 +178,7 @@ std::optional<Impact> segmentImpact(const Circle& a, const Motion& m, Vec2 p0, V
                                     bool justResolved) {
   Edge edge = edgeOf(p0, p1);
   double s0 = dot(edge.n, a.center - edge.a);
-  if (a.radius == 0 && std::fabs(s0) <= roundOffOf(a.center, edge.a)) s0 = 0;
+  if (a.radius == 0 && std::fabs(s0) <= detail::pointRoundOff(a.center, edge.a)) s0 = 0;
   if (s0 < 0) edge.n = -edge.n;
   // A point on the line (within round-off) has no overlap to tell which side it is on; its history does.
   // Just resolved against this segment, it leaves it: it is on the side it moves to, and the rules find

@@ -30,6 +30,13 @@ int detail::WorldState::resolvedFeature(const BodySlot& a, const BodySlot& b, ui
     return s.type != BodyType::Dynamic || s.last.is(own, other, now);
   };
   const bool lastHere = a.last.time == now && resolvedHereNow(a) && resolvedHereNow(b);
+  // A point, not sliding, that remembers its side of a feature of `other` (Support). Asked only on the
+  // paths below that need it: most predictions are of disks.
+  auto remembersSide = [&] {
+    return !a.sliding && a.support.fixture == other && a.support.generation != 0 &&
+           fixtures[other].generation == a.support.generation && fixtures[other].alive &&
+           detail::isPoint(fixtures[own].geometry);
+  };
   // A point has no overlap to tell which side of a line it is on (time_of_impact.h); in a corner it is
   // on two lines at once, and which of them it leaves is told by leavesCorner().
   const bool point = a.sliding && lastHere && detail::circleRadius(fixtures[own].geometry) == 0;
@@ -45,14 +52,8 @@ int detail::WorldState::resolvedFeature(const BodySlot& a, const BodySlot& b, ui
     resolved = a.last.feature;
     // A point just resolved against the face it now remembers may sit in a corner, on another face's
     // line too, which it may be leaving as well (featureLeftByPoint).
-    if (!a.sliding && a.support.fixture == other && a.support.feature == resolved && a.support.generation != 0 &&
-        fixtures[other].generation == a.support.generation && detail::isPoint(fixtures[own].geometry)) {
-      resolved = featureLeftByPoint(a, other, now);
-    }
-  } else if (!a.sliding && a.support.fixture == other && a.support.generation != 0 &&
-             fixtures[other].generation == a.support.generation && fixtures[other].alive &&
-             detail::isPoint(fixtures[own].geometry) &&
-             dot(velocityAt(a, now) - velocityAt(b, now), a.support.normal) > 0) {
+    if (remembersSide() && a.support.feature == resolved) resolved = featureLeftByPoint(a, other, now);
+  } else if (remembersSide() && dot(velocityAt(a, now) - velocityAt(b, now), a.support.normal) > 0) {
     // A point lying on a line has no overlap to tell its side, and the time of impact takes it to have
     // just arrived from the side it comes from: one at rest on a floor that the game sends up would be
     // "arriving from below" and bounce down through it (fuzz/regressions/world_api/

@@ -98,7 +98,7 @@ int detail::WorldState::featureLeftByPoint(const BodySlot& b, uint32_t fixture, 
     if (!(len > 0)) continue;
     const Vec2 u = d * (1.0 / len), n{-u.y, u.x};
     // On the face within the round-off of the coordinates, as the time of impact takes a point to be.
-    const double slack = 16 * std::numeric_limits<double>::epsilon() * (length(p) + length(a0) + len);
+    const double slack = detail::pointRoundOff(p, a0, d);
     const double across = dot(n, p - a0), along = dot(u, p - a0);
     if (std::fabs(across) > slack || along < -slack || along > len + slack) continue;
     if (!leavesCorner(b, fixture, f, now)) return b.support.feature;
@@ -262,8 +262,7 @@ std::optional<double> detail::WorldState::slideEndTime(const BodySlot& b, double
   // (time_of_impact.h): one that came to rest in a corner an ulp beyond the floor's end is on the floor,
   // and does not fall off it at once to land on it again.
   const bool point = detail::circleRadius(fixtures[b.fixtures.front()].geometry) == 0;
-  const double slack =
-      point ? 16 * std::numeric_limits<double>::epsilon() * (length(centre) + length(origin) + len) : 0.0;
+  const double slack = point ? detail::pointRoundOff(centre, origin, e - a) : 0.0;
   tau.c[0] += slack;
   detail::Polynomial rest = tau;
   for (double& c : rest.c) c = -c;

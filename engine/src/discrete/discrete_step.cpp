@@ -183,9 +183,10 @@ void DiscreteStepper::findOverlappingPairs() {
 // Moves body `b`'s circle (centre offset `centre`, radius `radius`) out of the static fixtures `statics`,
 // position only, a few rounds at most: a box's corner overlaps a circle at two features, and leaving
 // one may touch the other. With neverAcrossFor (the circle's fixture), a push that would carry the centre
-// across a static surface that fixture collides with is not made: a disk wedged between a floor and a static circle nearer than its diameter was pushed out
-// of the circle through the floor (fuzz/regressions/world_api/escape-discrete-disk-wedged-under-a-static-
-// circle). It overlaps then, as a disk wider than its slot does (keepCentreOut).
+// across a static surface that fixture collides with is not made: a disk wedged between a floor and a
+// static circle nearer than its diameter was pushed out of the circle through the floor
+// (fuzz/regressions/world_api/escape-discrete-disk-wedged-under-a-static-circle). It overlaps then, as a
+// disk wider than its slot does (keepCentreOut).
 void DiscreteStepper::pushOutOf(BodySlot& b, Vec2 centre, double radius, std::span<const uint32_t> statics,
                                 std::optional<uint32_t> neverAcrossFor) {
   detail::WorldState& w = w_;
