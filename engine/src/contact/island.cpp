@@ -166,26 +166,22 @@ void forEachPiece(const Geometry& g, Vec2 position, Vec2 p, Found&& found) {
   }
 }
 
-// One sweep of projected Gauss-Seidel (over-relaxed by omega) over the contacts, on the members'
-// values x (velocities in the solve, displacements in separateIsland): each contact's multiplier stays
-// >= 0 while its relative normal value (a's minus b's, or minus holder(c) when b is held fixed) is pushed
-// up to target(i), in the metric of the masses. Returns the largest change of a relative value.
-template <class Contacts, class Target, class Multiplier, class Holder>
-double projectedSweep(const Contacts& contacts, std::vector<Vec2>& x, double omega, Target&& target,
-                      Multiplier&& multiplier, Holder&& holder) {
+// One sweep of projected Gauss-Seidel (over-relaxed by omega) over the rows, on the members' values x
+// (velocities in the solve, displacements in separateIsland): each row's multiplier stays >= 0 while its
+// relative normal value (a's minus b's, or minus holderVelocity when b is held fixed) is pushed up to
+// its target, in the metric of the masses. Returns the largest change of a relative value.
+double projectedSweep(std::vector<detail::WorldState::SweepRow>& rows, std::vector<Vec2>& x, double omega) {
   double worst = 0;
-  for (size_t i = 0; i < contacts.size(); ++i) {
-    const auto& c = contacts[i];
-    const Vec2 xb = c.kb >= 0 ? x[c.kb] : holder(c);
-    const double inverseSum = c.inverseA + c.inverseB;
-    const double value = dot(x[c.ka] - xb, c.normal);
-    double& lambda = multiplier(i);
-    const double next = std::max(0.0, lambda + omega * (target(i) - value) / inverseSum);
-    const double change = next - lambda;
+  for (detail::WorldState::SweepRow& r : rows) {
+    const Vec2 xb = r.kb >= 0 ? x[r.kb] : r.holderVelocity;
+    const double inverseSum = r.inverseA + r.inverseB;
+    const double value = dot(x[r.ka] - xb, r.normal);
+    const double next = std::max(0.0, r.lambda + omega * (r.target - value) / inverseSum);
+    const double change = next - r.lambda;
     if (change == 0) continue;
-    lambda = next;
-    x[c.ka] += c.normal * (change * c.inverseA);
-    if (c.kb >= 0) x[c.kb] -= c.normal * (change * c.inverseB);
+    r.lambda = next;
+    x[r.ka] += r.normal * (change * r.inverseA);
+    if (r.kb >= 0) x[r.kb] -= r.normal * (change * r.inverseB);
     worst = std::max(worst, std::fabs(change) * inverseSum);
   }
   return worst;
@@ -544,16 +540,62 @@ detail::WorldState::IslandSolve detail::WorldState::solveIsland(const std::vecto
   return {reported, converged || closeEnough || violation <= 1e-4 * (speed + length(def.gravity) * h)};
 }
 
-bool detail::WorldState::sweepIsland(std::vector<Vec2>& v, double omega, double tolerance, int maxIterations) {
-  std::vector<IslandContact>& contacts = islandScratch;
-  for (int iteration = 0; iteration < maxIterations; ++iteration) {
-    const double worst = projectedSweep(
-        contacts, v, omega, [&](size_t i) { return contacts[i].target; },
-        [&](size_t i) -> double& { return contacts[i].lambda; },
-        [](const IslandContact& c) { return c.holderVelocity; });
-    if (worst <= tolerance) return true;
+void detail::WorldState::scheduleSweeps(size_t memberCount) {
+  // A sweep is a chain of dependent arithmetic: each contact reads the velocities the one before it may
+  // have just written, and in the contacts' own order (member by member) it usually has. On a crowd's
+  // island of thousands of contacts the processor then waits on each contact's division in turn. Two
+  // contacts that share no member commute exactly (each reads and writes only its own members and
+  // impulse), so any order that keeps, for every member, the order of the contacts that touch it gives
+  // the same bits. The wavefront order does: a contact's level is one more than the level of the last
+  // contact before it that shares a member, and the sweeps run level by level, in the contacts' order
+  // within a level. The contacts of one level are independent, so their arithmetic overlaps
+  // (bench/README.md, "Crowds").
+  const std::vector<IslandContact>& contacts = islandScratch;
+  SweepSchedule& s = sweepSchedule;
+  const size_t n = contacts.size();
+  s.level.resize(n);
+  s.next.assign(memberCount, 0);
+  uint32_t levels = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const IslandContact& c = contacts[i];
+    uint32_t level = s.next[static_cast<size_t>(c.ka)];
+    if (c.kb >= 0) level = std::max(level, s.next[static_cast<size_t>(c.kb)]);
+    s.level[i] = level;
+    s.next[static_cast<size_t>(c.ka)] = level + 1;
+    if (c.kb >= 0) s.next[static_cast<size_t>(c.kb)] = level + 1;
+    levels = std::max(levels, level + 1);
   }
-  return false;
+  // A counting sort by level, stable within a level; `next` becomes each level's first position.
+  s.next.assign(levels + 1, 0);
+  for (size_t i = 0; i < n; ++i) ++s.next[s.level[i] + 1];
+  for (uint32_t l = 0; l < levels; ++l) s.next[l + 1] += s.next[l];
+  s.rows.resize(n);
+  s.contactAt.resize(n);
+  s.positionOf.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    const uint32_t at = s.next[s.level[i]]++;
+    const IslandContact& c = contacts[i];
+    s.rows[at] = {c.ka, c.kb, c.normal, c.inverseA, c.inverseB, c.target, c.lambda, c.holderVelocity};
+    s.contactAt[at] = static_cast<uint32_t>(i);
+    s.positionOf[i] = at;
+  }
+}
+
+void detail::WorldState::unscheduleSweeps() {
+  const SweepSchedule& s = sweepSchedule;
+  for (size_t at = 0; at < s.rows.size(); ++at) islandScratch[s.contactAt[at]].lambda = s.rows[at].lambda;
+}
+
+bool detail::WorldState::sweepIsland(std::vector<Vec2>& v, double omega, double tolerance, int maxIterations) {
+  scheduleSweeps(v.size());
+  std::vector<SweepRow>& rows = sweepSchedule.rows;
+  bool converged = false;
+  for (int iteration = 0; iteration < maxIterations && !converged; ++iteration) {
+    const double worst = projectedSweep(rows, v, omega);
+    converged = worst <= tolerance;
+  }
+  unscheduleSweeps();
+  return converged;
 }
 
 detail::WorldState::SweepEnd detail::WorldState::sweepIslandAccelerated(std::vector<Vec2>& v, double tolerance,
@@ -573,18 +615,24 @@ detail::WorldState::SweepEnd detail::WorldState::sweepIslandAccelerated(std::vec
   // kCloseEnoughInterval sweeps). The speeds at play set the tolerance, and in a landing pile they are
   // those of the impact, so the tolerance alone asked for far more than any overlap anyone sees.
   std::vector<IslandContact>& contacts = islandScratch;
+  // The sweeps run in wavefront order (scheduleSweeps); every other pass is elementwise, and the
+  // residual is summed in the contacts' own order, so the bits are those of the contacts' order.
+  scheduleSweeps(v.size());
+  std::vector<SweepRow>& rows = sweepSchedule.rows;
+  const std::vector<uint32_t>& positionOf = sweepSchedule.positionOf;
   std::vector<double>& previous = islandPreviousImpulses;
   std::vector<double>& direction = islandDirection;
-  previous.resize(contacts.size());
-  direction.assign(contacts.size(), 0.0);
+  previous.resize(rows.size());
+  direction.assign(rows.size(), 0.0);
   double previousResidual = 0;
+  SweepEnd end = SweepEnd::Stopped;
   for (int iteration = 0; iteration < maxIterations; ++iteration) {
-    for (size_t i = 0; i < contacts.size(); ++i) previous[i] = contacts[i].lambda;
-    const double worst = projectedSweep(
-        contacts, v, 1.0, [&](size_t i) { return contacts[i].target; },
-        [&](size_t i) -> double& { return contacts[i].lambda; },
-        [](const IslandContact& c) { return c.holderVelocity; });
-    if (worst <= tolerance) return SweepEnd::Converged;
+    for (size_t at = 0; at < rows.size(); ++at) previous[at] = rows[at].lambda;
+    const double worst = projectedSweep(rows, v, 1.0);
+    if (worst <= tolerance) {
+      end = SweepEnd::Converged;
+      break;
+    }
     if (h > 0 && iteration % kCloseEnoughInterval == kCloseEnoughInterval - 1) {
       bool close = true;
       for (const IslandContact& c : contacts) {
@@ -594,12 +642,16 @@ detail::WorldState::SweepEnd detail::WorldState::sweepIslandAccelerated(std::vec
           break;
         }
       }
-      if (close) return SweepEnd::CloseEnough;
+      if (close) {
+        end = SweepEnd::CloseEnough;
+        break;
+      }
     }
     if (iteration + 1 == maxIterations) break;
     double residual = 0;
     for (size_t i = 0; i < contacts.size(); ++i) {
-      const double r = contacts[i].lambda - previous[i];
+      const size_t at = positionOf[i];
+      const double r = rows[at].lambda - previous[at];
       residual += r * r;
     }
     const double beta = previousResidual > 0 ? residual / previousResidual : 0.0;
@@ -608,18 +660,21 @@ detail::WorldState::SweepEnd detail::WorldState::sweepIslandAccelerated(std::vec
       std::fill(direction.begin(), direction.end(), 0.0);
       continue;
     }
-    for (size_t i = 0; i < contacts.size(); ++i) {
-      IslandContact& c = contacts[i];
-      const double sweepChange = c.lambda - previous[i];
-      const double step = beta * direction[i];
-      direction[i] = step + sweepChange;
+    // A member's velocity takes these steps in the order of its contacts, which the wavefront order
+    // keeps.
+    for (size_t at = 0; at < rows.size(); ++at) {
+      SweepRow& r = rows[at];
+      const double sweepChange = r.lambda - previous[at];
+      const double step = beta * direction[at];
+      direction[at] = step + sweepChange;
       if (step == 0) continue;
-      c.lambda += step;
-      v[c.ka] += c.normal * (step * c.inverseA);
-      if (c.kb >= 0) v[c.kb] -= c.normal * (step * c.inverseB);
+      r.lambda += step;
+      v[r.ka] += r.normal * (step * r.inverseA);
+      if (r.kb >= 0) v[r.kb] -= r.normal * (step * r.inverseB);
     }
   }
-  return SweepEnd::Stopped;
+  unscheduleSweeps();
+  return end;
 }
 
 bool detail::WorldState::projectIslandExactly(const std::vector<uint32_t>& members, std::vector<Vec2>& v,
@@ -661,10 +716,8 @@ void detail::WorldState::separateIsland(const std::vector<uint32_t>& members, co
   std::vector<IslandContact>& contacts = islandScratch;
   std::vector<Vec2>& d = separateScratch.displacements;
   std::vector<double>& lower = separateScratch.lower;
-  std::vector<double>& mu = separateScratch.multipliers;
   d.assign(members.size(), Vec2{});
   lower.resize(contacts.size());
-  mu.assign(contacts.size(), 0.0);
   bool any = false;
   for (size_t i = 0; i < contacts.size(); ++i) {
     const IslandContact& c = contacts[i];
@@ -675,11 +728,17 @@ void detail::WorldState::separateIsland(const std::vector<uint32_t>& members, co
     any = any || least < 0;
   }
   if (!any) return;
-  // What cannot move stays where it is: its displacement is zero.
+  // In wavefront order, as the velocity sweeps (scheduleSweeps), with multipliers of their own. What
+  // cannot move stays where it is: its displacement is zero.
+  scheduleSweeps(members.size());
+  std::vector<SweepRow>& rows = sweepSchedule.rows;
+  for (size_t at = 0; at < rows.size(); ++at) {
+    rows[at].target = lower[sweepSchedule.contactAt[at]];
+    rows[at].lambda = 0;
+    rows[at].holderVelocity = Vec2{};
+  }
   for (int iteration = 0; iteration < kSeparateIterations; ++iteration) {
-    projectedSweep(
-        contacts, d, 1.0, [&](size_t i) { return lower[i]; }, [&](size_t i) -> double& { return mu[i]; },
-        [](const IslandContact&) { return Vec2{}; });
+    projectedSweep(rows, d, 1.0);
   }
   for (int sweep = 0; sweep < 16; ++sweep) {
     bool changed = false;

@@ -417,9 +417,29 @@ struct WorldState {
   std::vector<Vec2> islandVelocities;
   // The accelerated sweeps' multipliers before a sweep and search direction (solveIsland).
   std::vector<double> islandPreviousImpulses, islandDirection;
+  // islandScratch's contacts as the sweeps read them, packed and in wavefront order (island.cpp,
+  // scheduleSweeps).
+  struct SweepRow {
+    int ka, kb;
+    Vec2 normal;
+    double inverseA, inverseB;
+    double target;
+    double lambda;
+    Vec2 holderVelocity;
+  };
+  struct SweepSchedule {
+    std::vector<SweepRow> rows;          // in sweep order
+    std::vector<uint32_t> contactAt;     // sweep position -> index into islandScratch
+    std::vector<uint32_t> positionOf;    // index into islandScratch -> sweep position
+    std::vector<uint32_t> level, next;   // the ordering's scratch: each row's level, each member's next
+  } sweepSchedule;
+  /// Packs islandScratch's contacts (with their impulses) into sweepSchedule.rows in wavefront order.
+  void scheduleSweeps(size_t memberCount);
+  /// Copies the rows' impulses back into islandScratch.
+  void unscheduleSweeps();
   struct SeparateScratch {
     std::vector<Vec2> displacements;
-    std::vector<double> lower, multipliers;
+    std::vector<double> lower;
   } separateScratch;
   /// Without gravity, at a step's start: moves the members (advanced to the step's start, their
   /// velocities solved) apart where they overlap, without touching a velocity (island.cpp).
