@@ -431,7 +431,8 @@ struct WorldState {
     std::vector<SweepRow> rows;          // in sweep order
     std::vector<uint32_t> contactAt;     // sweep position -> index into islandScratch
     std::vector<uint32_t> positionOf;    // index into islandScratch -> sweep position
-    std::vector<uint32_t> level, next;   // the ordering's scratch: each row's level, each member's next
+    std::vector<uint32_t> level, next;   // scratch: each row's level; each member's next level, then
+                                         // each level's next position
   } sweepSchedule;
   /// Packs islandScratch's contacts (with their impulses) into sweepSchedule.rows in wavefront order.
   void scheduleSweeps(size_t memberCount);
