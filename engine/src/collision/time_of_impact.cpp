@@ -7,7 +7,6 @@
 #include "rattle/time_of_impact.h"
 
 #include <cmath>
-#include <limits>
 
 #include "collision/closest_point.h"
 #include "collision/plain_disk_impact.h"

@@ -13,7 +13,6 @@
 //  - otherwise it bounces off at restingSpeed, which bounds the bounce rate at g / (2 restingSpeed).
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "collision/closest_point.h"
 #include "common/out_of_memory.h"
