@@ -55,6 +55,7 @@
 // events are found from those paths when the step's events are done (sensor_paths.cpp).
 #include "predictive/predictive_step.h"
 
+#include "hybrid/hybrid_step.h"
 #include "predictive/predictive_engine.h"
 #include "predictive/predictive_predictions.h"
 #include "predictive/predictive_queue.h"
@@ -646,7 +647,7 @@ void PredictiveStepper::step(double dt) {
       std::vector<ContactEvent> contacts = std::move(w.contactEvents);
       std::vector<SensorEvent> sensed = std::move(w.sensorEvents);
       const StepStats first = w.stats;
-      w.stepHybrid(dt - done, first.eventsProcessed);
+      detail::stepHybrid(w, dt - done, first.eventsProcessed);
       for (ContactEvent& e : w.contactEvents) e.time += done;
       for (SensorEvent& e : w.sensorEvents) e.time += done;
       contacts.insert(contacts.end(), w.contactEvents.begin(), w.contactEvents.end());
@@ -662,10 +663,10 @@ void PredictiveStepper::step(double dt) {
       s.pileHeld = true;
     } else {
       // Too fast for the grid: the hybrid step has the same physics and sweeps each path whole.
-      w.stepHybrid(dt);
+      detail::stepHybrid(w, dt);
     }
   } else {
-    w.stepHybrid(dt);
+    detail::stepHybrid(w, dt);
   }
   // Back to events once nobody is held in an island (the grid is made afresh then: s.valid is false).
   s.pileHeld = anyHeld(w);

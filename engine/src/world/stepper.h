@@ -4,8 +4,9 @@
 // contactEvents, sensorEvents and stats; what it keeps from one step to the next is its own.
 //
 // What the modes share stays in WorldState: the bodies and fixtures, the broad phase, the persistent
-// contact (islands, jams, squeezes: contact/) and the hybrid step's event machinery, which the islands
-// call back into (repredict) and which the predictive mode hands a pile over to for the rest of a step.
+// contact (islands, jams, squeezes: contact/) and the hybrid step's predictions, which the islands
+// call back into (repredict); the predictive mode hands a pile over to the hybrid step
+// (detail::stepHybrid, hybrid_step.h) for the rest of a step.
 #pragma once
 
 #include <memory>

@@ -1,6 +1,6 @@
 // Private: the world's state (bodies, fixtures, the broad phase, the step's queue and scratch) and the
-// member functions every part of the engine is written as: world/ creates, checks and reads it, the
-// step modes (hybrid/, predictive/, discrete/) advance it, contact/ and sensors/ serve them.
+// member functions the modes share: world/ creates, checks and reads it, contact/ and sensors/ serve
+// the modes, and each mode's step (hybrid/, predictive/, discrete/) is a class of its own over it.
 #pragma once
 
 #include <algorithm>
@@ -29,7 +29,6 @@ namespace detail {
 
 class Stepper;            // stepper.h
 struct HybridState;      // hybrid_state.h
-struct DiskShape;        // hybrid_state.h
 
 // The last collision a body took part in, within the current step. A pair that was resolved at an
 // instant and whose bodies have done nothing since cannot be approaching at that instant; remembering it
@@ -101,7 +100,7 @@ struct alignas(64) BodySlot {
   double jamTime = -1;
   uint32_t jam = 0;
   bool steppedHeld = false;  // a contact of an island solve pushed it this step
-  // Round-off approaches absorbed in the current step (detail::WorldState::dismissContact): a disk wedged
+  // Round-off approaches absorbed in the current step (the hybrid step's dismissContact): a disk wedged
   // between two others can absorb against each in turn at one instant, without end, where coordinates
   // are large. Past collapseCollisions() such an approach is left as it is. Reset with stepCollisions;
   // saturates (16 bits fit the padding before lastContactTime).
@@ -195,8 +194,8 @@ struct CandidatePair {
 inline uint64_t overlapKey(uint32_t sensor, uint32_t visitor) { return (uint64_t{sensor} << 32) | visitor; }
 
 // The world's state: every body and fixture, the broad phase, the last step's results, and the state the
-// step modes and the contact solve keep between and within steps. Every part of the engine is written
-// as its member functions (engine/src/README.md says which folder holds which); World's pimpl is this
+// step modes and the contact solve keep between and within steps. What the modes share is written as
+// its member functions (engine/src/README.md says which folder holds which); World's pimpl is this
 // struct (detail::WorldState below), so code outside World can name it.
 struct WorldState {
   WorldDef def;
@@ -258,6 +257,8 @@ struct WorldState {
     }
   }
   bool isOverlapping(uint32_t fa, uint32_t fb) const;
+  /// Stamps a sensor overlap found by this step's sweep as seen (world.cpp).
+  void sensorOverlapsSeen(uint32_t fa, uint32_t fb);
   void recordSensorChange(uint32_t fa, uint32_t fb, double time, bool begin, std::vector<SensorEvent>& out);
   /// Ends every overlap of `fixture` for which `keep(other)` is false, as pending end events.
   /// The overlaps of `fixture` to end, all but those with a fixture `keep` keeps: appended to `ended`,
@@ -313,42 +314,9 @@ struct WorldState {
   // sensor_paths.cpp: the sensor events of a step from the paths the bodies took (up to `end`).
   void sensePaths(detail::PathLog& log, double end);
 
-  // hybrid_step.cpp
-  /// One hybrid step. `eventsBefore`: events a predictive step processed before it handed the rest of
-  /// its step over; they count toward this step's budget and its stats.
-  void stepHybrid(double dt, int eventsBefore = 0);
-  // Its phases, in order.
-  double sweepBoxes(double dt);
-  void predictCandidatePairs(double dt);
-  void startIslandsAndPredict(double dt);
-  double processEvents(double dt, double approachTolerance);
-  void dismissContact(const detail::PredictedContact& c, double dt, double vn, Vec2 relativeVelocity,
-                      double restTolerance, int& featureRepredictions);
-  void collide(const detail::PredictedContact& c, double dt, std::vector<uint32_t>& woken);
-  /// squeezeAt, and when it squeezed, the event counted and its bodies predicted again.
-  bool squeezeAndPredict(const detail::PredictedContact& c, double dt);
-  /// Without gravity, a plain disk's swept box holds every straight path from its start at this many
-  /// times its speed, besides its own path. On the bench's gas at 10^6 disks (packing 0.3, dt 1/60) the
-  /// broad phase was asked again 21,500 times a step without it, 5,400 at 1, 1,650 at 1.5 and 850 at 2;
-  /// the whole step was fastest at 1.5 (per-phase clocks, two alternating runs): the events' time fell
-  /// from about 31 ms to 17, for 30% more candidate pairs.
-  static constexpr double kPlainSlack = 1.5;
-  /// ... as long as that room is at most this fraction of its radius. Without the limit the demo's arena
-  /// (fast projectiles: room all round for 1.5 steps of travel is a box many times the path's) stepped
-  /// 5-10% slower in three alternating runs at 100 and 1000 units a team; with it, as fast as without
-  /// the slack, and the bench's gas (speeds about 1, radius 0.5, dt 1/60) keeps all of its gain.
-  static constexpr double kPlainSlackLimit = 0.25;
-  /// How many bodies ahead the hybrid step's passes over all bodies ask for their slots.
-  static constexpr uint32_t kStreamAhead = 16;
-  /// Asks for what the hybrid step's first pass will read of body i + kStreamAhead (a prefetch). Inline
-  /// in hybrid_step.cpp: a call to a function that only prefetches is one GCC may drop (it finds it has
-  /// no effect), and did.
-  inline void prefetchFirstPass(uint32_t i, uint32_t count, const DiskShape* shapes) const;
-  /// Sets diskShapes[body] and BodySlot::diskShapeKnown when the only fixture of the body that is not a
-  /// sensor is a circle centred on it.
-  void learnDiskShape(uint32_t body);
+  // hybrid_step.cpp: the predictions into the hybrid step's queue (HybridState), which the islands,
+  // jams and squeezes call too; the step itself is detail::stepHybrid (hybrid_step.h).
   void addPair(uint32_t fa, uint32_t fb);
-  void sensorOverlapsSeen(uint32_t fa, uint32_t fb);
   /// `dismissed`: a feature of `other` whose contact at `now` was found not to be approaching and
   /// dropped; it is taken as separating (like a feature just resolved), the other features as usual.
   void predict(uint32_t own, uint32_t other, double now, double dt, int dismissed = kNoFeature);
@@ -358,9 +326,6 @@ struct WorldState {
                     Vec2 velocityOfOther, Vec2 accelerationOfOther, double now, double dt,
                     bool afterDismissal = false);
   void predictSlideEnd(uint32_t body, double now, double dt);
-  /// The sweep's pair of two plain disks (fixtures fa and fb of bodies ba and bb) at the step's start, as
-  /// canCollide, addPair and predict would take it, from their bodies' first lines and DiskShapes.
-  void predictPlainPair(uint32_t fa, uint32_t fb, uint32_t ba, uint32_t bb, double dt);
   void repredict(uint32_t body, double now, double dt, bool forceRequery = false);
   void advance(detail::BodySlot& b, double t);
   /// advance's motion alone: the body's clock moves to t (for the last pass, which keeps nothing).
@@ -369,15 +334,12 @@ struct WorldState {
     b.velocity = velocityAt(b, t);
     b.localTime = t;
   }
+  // response.cpp: the contact response every mode's events share.
   /// stepEnd: where the hybrid step's stepped bodies end their straight paths (time since the step's
   /// start); negative where no body is stepped (the predictive mode).
   void resolve(const detail::PredictedContact& c, std::vector<uint32_t>& woken, bool zenoGuard = false,
                double stepEnd = -1);
   void absorb(const detail::PredictedContact& c, double vn);
-  /// Whether a contact would leave two bodies that both move (awake, not static) bouncing off each other
-  /// slower than restingSpeed while gravity presses them together: they join a stepped island.
-  /// stepEnd as for resolve.
-  bool joinsIsland(const detail::PredictedContact& c, double stepEnd) const;
   /// The relative normal velocity (a's minus b's along n, which points from b toward a) that a contact's
   /// impulse is computed from at time t: where one of the two is stepped and the other is not, the
   /// slower approach of the straight path's and of the parabola's it stands in for, ending at stepEnd
