@@ -59,6 +59,7 @@
 
 #include "collision/closest_point.h"
 #include "contact/exact_projection.h"
+#include "world/stepper.h"
 #include "world/world_impl.h"
 
 namespace rattle {
@@ -276,7 +277,7 @@ int detail::WorldState::settleAround(std::span<const uint32_t> seeds, int hops, 
     BodySlot& b = bodies[members[k]];
     const bool same = b.velocity.x == before[k].x && b.velocity.y == before[k].y && b.collisionCount == counts[k];
     if (k >= seedCount && same) continue;
-    repredict(members[k], now, dt);
+    predictor->motionChanged(members[k], now, dt);
   }
   ++settleDepth;
   settleUnsolvedIslandPairs(now, dt);

@@ -18,6 +18,7 @@
 
 #include "collision/closest_point.h"
 #include "contact/collapse_guard.h"
+#include "world/stepper.h"
 #include "world/world_impl.h"
 
 namespace rattle {
@@ -176,7 +177,9 @@ int detail::WorldState::settleJam(uint32_t seed, double now, double dt, int budg
   const int reported = solve.reported;
   for (size_t k = 0; k < island.size(); ++k) {
     const BodySlot& b = bodies[island[k]];
-    if (k < cluster.size() || b.velocity.x != before[k].x || b.velocity.y != before[k].y) repredict(island[k], now, dt);
+    if (k < cluster.size() || b.velocity.x != before[k].x || b.velocity.y != before[k].y) {
+      predictor->motionChanged(island[k], now, dt);
+    }
   }
   settleUnsolvedIslandPairs(now, dt);
   return std::max(reported, 1);

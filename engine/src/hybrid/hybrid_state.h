@@ -1,6 +1,7 @@
 // What the hybrid step keeps for itself between and within steps: its event queue and the scratch of
-// its passes. The islands, jams and squeezes it shares with the predictive mode (which hands piles to
-// them) stay in the world's state, with the contact response.
+// its passes. Its stepper owns it (and the predictive stepper one for the steps it hands over); the
+// islands, jams and squeezes it shares with the predictive mode stay in the world's state, with the
+// contact response.
 #pragma once
 
 #include <cstdint>
@@ -30,10 +31,5 @@ struct HybridState {
   std::vector<CandidatePair> deferred;    // pairs predicted after the islands
   std::vector<uint32_t> islandFreed;      // stepped bodies the start's solve set free
 };
-
-inline HybridState& WorldState::hybridState() {
-  if (!hybrid) hybrid = std::make_unique<HybridState>();
-  return *hybrid;
-}
 
 }  // namespace rattle::detail

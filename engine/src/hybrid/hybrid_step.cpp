@@ -66,13 +66,20 @@ using detail::pathBox;
 namespace {
 
 // One hybrid step over the world's state, in named phases (run). It holds only references: what the
-// hybrid step keeps between steps is the world's HybridState (hybrid_state.h), and what it shares with
-// the islands and the predictive mode (the predictions into its queue, the contact response) stays
-// WorldState's, because they call it too.
-class HybridStep {
+// hybrid step keeps between steps is the HybridState its caller owns (hybrid_state.h), and the contact
+// response and the islands it shares with the other modes stay WorldState's. While it lives it is the
+// world's EventPredictor: the islands and jams tell it whose motion they changed (motionChanged).
+class HybridStep final : public detail::EventPredictor {
  public:
-  explicit HybridStep(detail::WorldState& world) : w_(world), h_(world.hybridState()) {}
+  HybridStep(detail::WorldState& world, detail::HybridState& state)
+      : w_(world), h_(state), outer_(world.predictor) {
+    world.predictor = this;
+  }
+  ~HybridStep() { w_.predictor = outer_; }
+  HybridStep(const HybridStep&) = delete;
+  HybridStep& operator=(const HybridStep&) = delete;
   void run(double dt, int eventsBefore);
+  void motionChanged(uint32_t body, double now, double dt) override { repredict(body, now, dt); }
 
  private:
   /// Without gravity, a plain disk's swept box holds every straight path from its start at this many
@@ -115,18 +122,36 @@ class HybridStep {
   /// canCollide, addPair and predict would take it, from their bodies' first lines and DiskShapes.
   void predictPlainPair(uint32_t fa, uint32_t fb, uint32_t ba, uint32_t bb, double dt);
 
+  // The predictions into the queue.
+  /// A candidate pair, in the pair lists of its dynamic bodies.
+  void addPair(uint32_t fa, uint32_t fb);
+  /// `dismissed`: a feature of `other` whose contact at `now` was found not to be approaching and
+  /// dropped; it is taken as separating (like a feature just resolved), the other features as usual.
+  void predict(uint32_t own, uint32_t other, double now, double dt, int dismissed = kNoFeature);
+  /// Queues the contact `impact` found at `now` (in the frame where `other` rests, which moves on with
+  /// the given velocity and acceleration), carrying both bodies' collision counters.
+  void queueContact(const Impact& impact, uint32_t own, uint32_t other, uint32_t countOwn, uint32_t countOther,
+                    Vec2 velocityOfOther, Vec2 accelerationOfOther, double now, double dt,
+                    bool afterDismissal = false);
+  void predictSlideEnd(uint32_t body, double now, double dt);
+  /// A body's motion changed at `now`: its pairs are predicted again, and the broad phase is asked again
+  /// when its new path leaves the box the sweep saw (or with forceRequery: it just woke).
+  void repredict(uint32_t body, double now, double dt, bool forceRequery = false);
+
   // Each member function reads these into locals first, as the discrete stepper does: a local reference
   // stays in a register, where a member may be loaded again through `this` after a store.
   detail::WorldState& w_;
   detail::HybridState& h_;
+  detail::EventPredictor* outer_;  // the world's predictor before this step (none: a step is not nested)
 };
 
 }  // namespace
 
-void detail::WorldState::addPair(uint32_t fa, uint32_t fb) {
-  const uint32_t ba = fixtures[fa].body, bb = fixtures[fb].body;
-  if (bodies[ba].type == BodyType::Dynamic) pairsOfBody[ba].push_back({fa, fb});
-  if (bodies[bb].type == BodyType::Dynamic) pairsOfBody[bb].push_back({fb, fa});
+void HybridStep::addPair(uint32_t fa, uint32_t fb) {
+  detail::WorldState& w = w_;
+  const uint32_t ba = w.fixtures[fa].body, bb = w.fixtures[fb].body;
+  if (w.bodies[ba].type == BodyType::Dynamic) w.pairsOfBody[ba].push_back({fa, fb});
+  if (w.bodies[bb].type == BodyType::Dynamic) w.pairsOfBody[bb].push_back({fb, fa});
 }
 
 namespace {
@@ -138,34 +163,35 @@ bool hasSeveralFeatures(const Geometry& g) {
 
 }  // namespace
 
-void detail::WorldState::predict(uint32_t own, uint32_t other, double now, double dt, int dismissed) {
-  const BodySlot& a = bodyOf(own);
-  const BodySlot& b = bodyOf(other);
-  if (heldByIsland(a, b)) return;  // the island's solve holds this contact (island.cpp)
-  if (!squeezes.empty() && squeezeExempt(own, other)) return;  // squeeze.cpp
-  ++stats.timeOfImpactTests;
+void HybridStep::predict(uint32_t own, uint32_t other, double now, double dt, int dismissed) {
+  detail::WorldState& w = w_;
+  const BodySlot& a = w.bodyOf(own);
+  const BodySlot& b = w.bodyOf(other);
+  if (w.heldByIsland(a, b)) return;  // the island's solve holds this contact (island.cpp)
+  if (!w.squeezes.empty() && w.squeezeExempt(own, other)) return;  // squeeze.cpp
+  ++w.stats.timeOfImpactTests;
 
-  int resolved = resolvedFeature(a, b, own, other, now);
+  int resolved = w.resolvedFeature(a, b, own, other, now);
   if (dismissed != kNoFeature) resolved = dismissed;
 
-  const Vec2 pa = positionAt(a, now);
-  const Vec2 pb = positionAt(b, now);
-  const Motion relative{velocityAt(a, now) - velocityAt(b, now), a.acceleration - b.acceleration};
-  auto impact = timeOfImpact(fixtures[own].geometry, pa, fixtures[other].geometry, pb, relative, dt - now, resolved);
+  const Vec2 pa = w.positionAt(a, now);
+  const Vec2 pb = w.positionAt(b, now);
+  const Motion relative{w.velocityAt(a, now) - w.velocityAt(b, now), a.acceleration - b.acceleration};
+  auto impact = timeOfImpact(w.fixtures[own].geometry, pa, w.fixtures[other].geometry, pb, relative, dt - now, resolved);
   if (impact) {
-    queueContact(*impact, own, other, a.collisionCount, b.collisionCount, velocityAt(b, now), b.acceleration, now, dt,
+    queueContact(*impact, own, other, a.collisionCount, b.collisionCount, w.velocityAt(b, now), b.acceleration, now, dt,
                  dismissed != kNoFeature);
   }
 }
 
-void detail::WorldState::queueContact(const Impact& impact, uint32_t own, uint32_t other, uint32_t countOwn,
-                                      uint32_t countOther, Vec2 velocityOfOther, Vec2 accelerationOfOther, double now,
-                                      double dt, bool afterDismissal) {
+void HybridStep::queueContact(const Impact& impact, uint32_t own, uint32_t other, uint32_t countOwn,
+                              uint32_t countOther, Vec2 velocityOfOther, Vec2 accelerationOfOther, double now,
+                              double dt, bool afterDismissal) {
   // The impact's point is in the frame where `other` rests; in the world it has moved with it.
   const double h = impact.time;
   const double time = std::min(now + h, dt);
   const Vec2 travelOfOther = velocityOfOther * h + accelerationOfOther * (0.5 * h * h);
-  std::vector<PredictedContact>& queue = hybridState().queue;
+  std::vector<PredictedContact>& queue = h_.queue;
   queue.push_back(PredictedContact{time, detail::EventKind::Contact, afterDismissal, own, other, impact.feature,
                                    countOwn, countOther, impact.point + travelOfOther, impact.normal});
   std::push_heap(queue.begin(), queue.end(), detail::later);
@@ -200,14 +226,15 @@ void HybridStep::predictPlainPair(uint32_t fa, uint32_t fb, uint32_t ba, uint32_
   auto impact = timeOfImpactCircleCircle(circle, relative, Circle{Vec2{0.0, 0.0}, radiusB}, dt - 0.0, kNoFeature);
   if (!impact) return;
   impact->point += positionB;
-  w.queueContact(*impact, own, other, a.collisionCount, b.collisionCount, velocityB, w.def.gravity, 0.0, dt);
+  queueContact(*impact, own, other, a.collisionCount, b.collisionCount, velocityB, w.def.gravity, 0.0, dt);
 }
 
-void detail::WorldState::predictSlideEnd(uint32_t bodyIndex, double now, double dt) {
-  detail::HybridState& h = hybridState();
-  const BodySlot& b = bodies[bodyIndex];
+void HybridStep::predictSlideEnd(uint32_t bodyIndex, double now, double dt) {
+  detail::WorldState& w = w_;
+  detail::HybridState& h = h_;
+  const BodySlot& b = w.bodies[bodyIndex];
   if (!b.sliding) return;
-  const auto t = slideEndTime(b, now, dt);
+  const auto t = w.slideEndTime(b, now, dt);
   if (!t) return;
   h.queue.push_back(PredictedContact{std::min(*t, dt),
                                    detail::EventKind::SlideEnd,
@@ -222,43 +249,38 @@ void detail::WorldState::predictSlideEnd(uint32_t bodyIndex, double now, double 
   std::push_heap(h.queue.begin(), h.queue.end(), detail::later);
 }
 
-void detail::WorldState::repredict(uint32_t bodyIndex, double now, double dt, bool forceRequery) {
-  detail::HybridState& h = hybridState();
-  BodySlot& body = bodies[bodyIndex];
-  recordPath(bodyIndex, now);
-  auto& pairs = pairsOfBody[bodyIndex];
-  const Box path = pathBox(positionAt(body, now), velocityAt(body, now), body.acceleration, dt - now);
+void HybridStep::repredict(uint32_t bodyIndex, double now, double dt, bool forceRequery) {
+  detail::WorldState& w = w_;
+  detail::HybridState& h = h_;
+  BodySlot& body = w.bodies[bodyIndex];
+  w.recordPath(bodyIndex, now);
+  auto& pairs = w.pairsOfBody[bodyIndex];
+  const Box path = pathBox(w.positionAt(body, now), w.velocityAt(body, now), body.acceleration, dt - now);
   for (uint32_t f : body.fixtures) {
-    if (fixtures[f].sensor) continue;  // sensed along the paths after the step (sensor_paths.cpp)
-    Box box{path.min + fixtures[f].localBox.min, path.max + fixtures[f].localBox.max};
-    if (detail::isPoint(fixtures[f].geometry)) box = detail::withRoundOff(box);
-    if (!forceRequery && broadPhase.box(f).contains(box)) continue;
+    if (w.fixtures[f].sensor) continue;  // sensed along the paths after the step (sensor_paths.cpp)
+    Box box{path.min + w.fixtures[f].localBox.min, path.max + w.fixtures[f].localBox.max};
+    if (detail::isPoint(w.fixtures[f].geometry)) box = detail::withRoundOff(box);
+    if (!forceRequery && w.broadPhase.box(f).contains(box)) continue;
     // The new path leaves the swept box (or the body just woke and the sweep skipped it as resting):
     // grow the box and ask the broad phase again.
-    ++stats.requeries;
-    broadPhase.grow(f, unionOf(broadPhase.box(f), box));
+    ++w.stats.requeries;
+    w.broadPhase.grow(f, unionOf(w.broadPhase.box(f), box));
     ++h.stampCounter;
     for (const auto& p : pairs) {
       if (p.own == f) h.stamp[p.other] = h.stampCounter;
     }
-    broadPhase.queryAround(f, [&](uint32_t g) {
-      if (h.stamp[g] == h.stampCounter || !canCollide(f, g)) return;
+    w.broadPhase.queryAround(f, [&](uint32_t g) {
+      if (h.stamp[g] == h.stampCounter || !w.canCollide(f, g)) return;
       h.stamp[g] = h.stampCounter;
-      ++stats.candidatePairs;
+      ++w.stats.candidatePairs;
       addPair(f, g);
       // A contact an island holds that its last solve did not see (island.cpp).
-      if (heldByIsland(body, bodyOf(g))) unsolvedIslandPairs.push_back(bodyIndex);
+      if (w.heldByIsland(body, w.bodyOf(g))) w.unsolvedIslandPairs.push_back(bodyIndex);
     });
   }
   // `pairs` may have grown above (addPair); index, do not iterate by reference.
   for (size_t i = 0; i < pairs.size(); ++i) predict(pairs[i].own, pairs[i].other, now, dt);
   predictSlideEnd(bodyIndex, now, dt);
-}
-
-void detail::WorldState::advance(BodySlot& b, double t) {
-  if (b.type != BodyType::Dynamic) return;  // kinematic paths are evaluated from the step start
-  keep(b);  // every change of a body within a step starts here, or says so (step_undo.cpp)
-  moveTo(b, t);
 }
 
 bool HybridStep::joinsIsland(const PredictedContact& c, double stepEnd) const {
@@ -483,7 +505,7 @@ void HybridStep::predictCandidatePairs(double dt) {
     }
     if (w.canCollide(fa, fb)) {
       ++w.stats.candidatePairs;
-      w.addPair(fa, fb);
+      addPair(fa, fb);
       // Predict with a dynamic body's circle first (the time-of-impact functions' moving side); of two
       // dynamic ones, the lower fixture, so that the contact's last bits (computed from that side) do
       // not depend on the order in which the sweep meets the pair.
@@ -495,7 +517,7 @@ void HybridStep::predictCandidatePairs(double dt) {
       if (w.bodyOf(fa).stepped || w.bodyOf(fb).stepped) {
         h.deferred.push_back({own, other});
       } else {
-        w.predict(own, other, 0, dt);
+        predict(own, other, 0, dt);
       }
     }
   }, reportAhead);
@@ -509,7 +531,7 @@ void HybridStep::startIslandsAndPredict(double dt) {
   w.startIslands(dt, freed);
   for (uint32_t i : w.stepped) w.recordPath(i, 0);
   for (uint32_t i : freed) w.recordPath(i, 0);
-  for (const auto& p : h.deferred) w.predict(p.own, p.other, 0, dt);
+  for (const auto& p : h.deferred) predict(p.own, p.other, 0, dt);
   // A stepped body the solve sent out of the box the sweep saw is asked about again; contacts found so
   // are solved in turn.
   for (uint32_t i : w.stepped) {
@@ -518,22 +540,22 @@ void HybridStep::startIslandsAndPredict(double dt) {
     for (uint32_t f : b.fixtures) {
       if (w.fixtures[f].sensor) continue;
       if (!w.broadPhase.box(f).contains(Box{path.min + w.fixtures[f].localBox.min, path.max + w.fixtures[f].localBox.max})) {
-        w.repredict(i, 0, dt);
+        repredict(i, 0, dt);
         break;
       }
     }
   }
   w.settleUnsolvedIslandPairs(0, dt);
-  for (uint32_t i : h.slidingAtStart) w.predictSlideEnd(i, 0, dt);
+  for (uint32_t i : h.slidingAtStart) predictSlideEnd(i, 0, dt);
 }
 
 bool HybridStep::squeezeAndPredict(const PredictedContact& c, double dt) {
   detail::WorldState& w = w_;
   if (!w.squeezeAt(c)) return false;
   ++w.stats.eventsProcessed;
-  w.repredict(w.fixtures[c.a].body, c.time, dt);
+  repredict(w.fixtures[c.a].body, c.time, dt);
   // Two dynamic bodies (passesThrough): the other's motion may have changed too.
-  if (w.bodyOf(c.b).type == BodyType::Dynamic) w.repredict(w.fixtures[c.b].body, c.time, dt);
+  if (w.bodyOf(c.b).type == BodyType::Dynamic) repredict(w.fixtures[c.b].body, c.time, dt);
   return true;
 }
 
@@ -567,7 +589,7 @@ void HybridStep::dismissContact(const PredictedContact& c, double dt, double vn,
     w.absorb(c, vn);
     ++w.stats.eventsProcessed;  // bounded by the budget like any other change of motion
     for (uint32_t body : {w.fixtures[c.a].body, w.fixtures[c.b].body}) {
-      if (w.bodies[body].type == BodyType::Dynamic) w.repredict(body, c.time, dt);
+      if (w.bodies[body].type == BodyType::Dynamic) repredict(body, c.time, dt);
     }
   } else if (hasSeveralFeatures(w.fixtures[c.b].geometry) && featureRepredictions < w.def.maxEventsPerStep) {
     // Dropped: but only this feature's contact. The fixture's other features (the wall beyond a
@@ -580,7 +602,7 @@ void HybridStep::dismissContact(const PredictedContact& c, double dt, double vn,
     // wall a body sliding along the floor runs into) are still predicted. Without this the two took
     // turns at one instant until the step's budget of repredictions ran out, and other bodies' drops
     // went unpredicted (a disk passed through a wall: fuzz/regressions/world_api).
-    w.predict(c.a, c.b, c.time, dt, c.afterDismissal ? kEveryFeature : c.feature);
+    predict(c.a, c.b, c.time, dt, c.afterDismissal ? kEveryFeature : c.feature);
   }
 }
 
@@ -628,12 +650,12 @@ void HybridStep::collide(const PredictedContact& c, double dt, std::vector<uint3
     w.settleAround(std::span(&body, 1), 1, c.time, dt);
   }
   for (uint32_t body : woken) {
-    if (body != ia && body != ib) w.repredict(body, c.time, dt, true);
+    if (body != ia && body != ib) repredict(body, c.time, dt, true);
   }
   const bool aWoke = std::find(woken.begin(), woken.end(), ia) != woken.end();
   const bool bWoke = std::find(woken.begin(), woken.end(), ib) != woken.end();
-  if (w.bodies[ia].type == BodyType::Dynamic) w.repredict(ia, c.time, dt, aWoke);
-  if (w.bodies[ib].type == BodyType::Dynamic) w.repredict(ib, c.time, dt, bWoke);
+  if (w.bodies[ia].type == BodyType::Dynamic) repredict(ia, c.time, dt, aWoke);
+  if (w.bodies[ib].type == BodyType::Dynamic) repredict(ib, c.time, dt, bWoke);
 }
 
 double HybridStep::processEvents(double dt, double approachTolerance) {
@@ -670,7 +692,7 @@ double HybridStep::processEvents(double dt, double approachTolerance) {
       w.advance(a, c.time);
       w.stopSliding(a);
       ++a.collisionCount;
-      w.repredict(w.fixtures[c.a].body, c.time, dt);
+      repredict(w.fixtures[c.a].body, c.time, dt);
       continue;
     }
     if (a.collisionCount != c.countA || b.collisionCount != c.countB) {
@@ -765,8 +787,8 @@ void HybridStep::run(double dt, int eventsBefore) {
   w.time += dt;
 }
 
-void detail::stepHybrid(WorldState& world, double dt, int eventsBefore) {
-  HybridStep(world).run(dt, eventsBefore);
+void detail::stepHybrid(WorldState& world, HybridState& state, double dt, int eventsBefore) {
+  HybridStep(world, state).run(dt, eventsBefore);
 }
 
 namespace {
@@ -774,10 +796,13 @@ namespace {
 class HybridStepper final : public detail::Stepper {
  public:
   explicit HybridStepper(detail::WorldState& world) : w_(world) {}
-  void step(double dt) override { detail::stepHybrid(w_, dt); }
+  void step(double dt) override { detail::stepHybrid(w_, state_, dt); }
+  // A step that ran out of memory may have left events queued.
+  void forget() override { state_.queue.clear(); }
 
  private:
   detail::WorldState& w_;
+  detail::HybridState state_;
 };
 
 }  // namespace

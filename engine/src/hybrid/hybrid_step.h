@@ -5,9 +5,11 @@
 namespace rattle::detail {
 
 struct WorldState;
+struct HybridState;
 
-/// One hybrid step of dt (hybrid_step.cpp says how). `eventsBefore`: events a predictive step processed
-/// before it handed the rest of its step over; they count toward this step's budget and its stats.
-void stepHybrid(WorldState& world, double dt, int eventsBefore = 0);
+/// One hybrid step of dt (hybrid_step.cpp says how), with the state the hybrid step keeps between steps
+/// (hybrid_state.h), which its caller owns. `eventsBefore`: events a predictive step processed before
+/// it handed the rest of its step over; they count toward this step's budget and its stats.
+void stepHybrid(WorldState& world, HybridState& state, double dt, int eventsBefore = 0);
 
 }  // namespace rattle::detail

@@ -55,6 +55,7 @@
 // events are found from those paths when the step's events are done (sensor_paths.cpp).
 #include "predictive/predictive_step.h"
 
+#include "hybrid/hybrid_state.h"
 #include "hybrid/hybrid_step.h"
 #include "predictive/predictive_engine.h"
 #include "predictive/predictive_predictions.h"
@@ -615,11 +616,15 @@ class PredictiveStepper final : public detail::Stepper {
  public:
   explicit PredictiveStepper(detail::WorldState& world) : w_(world) {}
   void step(double dt) override;
-  void forget() override { state_.reset(); }
+  void forget() override {
+    state_.reset();
+    hybrid_.queue.clear();
+  }
 
  private:
   detail::WorldState& w_;
   std::unique_ptr<detail::PredictiveState> state_;
+  detail::HybridState hybrid_;  // for the steps and rests of steps it hands over to the hybrid step
 };
 
 bool anyHeld(const detail::WorldState& w) {
@@ -647,7 +652,7 @@ void PredictiveStepper::step(double dt) {
       std::vector<ContactEvent> contacts = std::move(w.contactEvents);
       std::vector<SensorEvent> sensed = std::move(w.sensorEvents);
       const StepStats first = w.stats;
-      detail::stepHybrid(w, dt - done, first.eventsProcessed);
+      detail::stepHybrid(w, hybrid_, dt - done, first.eventsProcessed);
       for (ContactEvent& e : w.contactEvents) e.time += done;
       for (SensorEvent& e : w.sensorEvents) e.time += done;
       contacts.insert(contacts.end(), w.contactEvents.begin(), w.contactEvents.end());
@@ -663,10 +668,10 @@ void PredictiveStepper::step(double dt) {
       s.pileHeld = true;
     } else {
       // Too fast for the grid: the hybrid step has the same physics and sweeps each path whole.
-      detail::stepHybrid(w, dt);
+      detail::stepHybrid(w, hybrid_, dt);
     }
   } else {
-    detail::stepHybrid(w, dt);
+    detail::stepHybrid(w, hybrid_, dt);
   }
   // Back to events once nobody is held in an island (the grid is made afresh then: s.valid is false).
   s.pileHeld = anyHeld(w);

@@ -5,7 +5,7 @@
 // circle, a short wall. Reading them then touches no memory beyond the body's own record, which a step has
 // already asked for; a std::vector's separate block was one more wait for memory per body visited, and at
 // 10^6 bodies the most frequent single one in the hybrid step's re-predictions (perf annotate: about a
-// fifth of detail::WorldState::repredict's samples on the load of the vector's first element). More indices
+// fifth of the hybrid step's repredict's samples on the load of the vector's first element). More indices
 // move to a block of their own, as a vector's would.
 #pragma once
 

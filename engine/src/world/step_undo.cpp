@@ -19,7 +19,6 @@
 #include <algorithm>
 
 #include "common/out_of_memory.h"
-#include "hybrid/hybrid_state.h"
 #include "world/stepper.h"
 #include "world/world_impl.h"
 
@@ -122,10 +121,9 @@ void detail::WorldState::undoStep() {
   unsolvedIslandPairs.clear();
   settlingUnsolved = false;
   pathLog.active = false;
-  if (hybrid) hybrid->queue.clear();
   // Caches of positions the step moved away from: void, rebuilt by the next step.
   broadPhase.forgetStep();
-  if (stepper) stepper->forget();  // the predictive queue may be part built: the next step makes it afresh
+  if (stepper) stepper->forget();  // the event queues may be part built: the next step makes them afresh
   changes.structureChanged = true;
   ++changes.staticVersion;
 }

@@ -3,17 +3,29 @@
 // chosen once from WorldDef::mode. A stepper moves every body to the step's end and fills the world's
 // contactEvents, sensorEvents and stats; what it keeps from one step to the next is its own.
 //
-// What the modes share stays in WorldState: the bodies and fixtures, the broad phase, the persistent
-// contact (islands, jams, squeezes: contact/) and the hybrid step's predictions, which the islands
-// call back into (repredict); the predictive mode hands a pile over to the hybrid step
-// (detail::stepHybrid, hybrid_step.h) for the rest of a step.
+// What the modes share stays in WorldState: the bodies and fixtures, the broad phase and the persistent
+// contact (islands, jams, squeezes: contact/). The islands and jams tell the step that runs them whose
+// motion they changed through an EventPredictor; the predictive mode hands a pile over to the hybrid
+// step (detail::stepHybrid, hybrid_step.h) for the rest of a step.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 
 namespace rattle::detail {
 
 struct WorldState;
+
+/// What the persistent contact (islands and jams, contact/) tells the step that runs it and predicts
+/// events: a body's motion changed at `now`, so its events for the rest of the step (of length dt) are
+/// predicted again. The hybrid step is one; while it runs, WorldState::predictor names it.
+class EventPredictor {
+ public:
+  virtual void motionChanged(uint32_t body, double now, double dt) = 0;
+
+ protected:
+  ~EventPredictor() = default;
+};
 
 class Stepper {
  public:
@@ -25,13 +37,13 @@ class Stepper {
   virtual void forget() {}
 };
 
-/// StepMode::Hybrid (hybrid/hybrid_step.cpp): it keeps nothing of its own between steps beyond
-/// WorldState's hybrid state.
+/// StepMode::Hybrid (hybrid/hybrid_step.cpp): it keeps the hybrid step's state (HybridState: the event
+/// queue, the disk shapes, scratch) across steps.
 std::unique_ptr<Stepper> makeHybridStepper(WorldState& world);
 /// StepMode::Discrete (discrete/discrete_step.cpp): it keeps only its scratch lists.
 std::unique_ptr<Stepper> makeDiscreteStepper(WorldState& world);
 /// StepMode::Predictive (predictive/predictive_step.cpp): it keeps its cell grid and its event queue
-/// across steps (PredictiveState).
+/// across steps (PredictiveState), and a HybridState for the steps it hands over to the hybrid step.
 std::unique_ptr<Stepper> makePredictiveStepper(WorldState& world);
 
 }  // namespace rattle::detail

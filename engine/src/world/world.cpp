@@ -7,7 +7,6 @@
 
 #include "common/format.h"
 #include "common/out_of_memory.h"
-#include "hybrid/hybrid_state.h"
 #include "world/stepper.h"
 #include "world/world_impl.h"
 

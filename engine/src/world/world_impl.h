@@ -28,7 +28,7 @@ namespace rattle {
 namespace detail {
 
 class Stepper;            // stepper.h
-struct HybridState;      // hybrid_state.h
+class EventPredictor;     // stepper.h
 
 // The last collision a body took part in, within the current step. A pair that was resolved at an
 // instant and whose bodies have done nothing since cannot be approaching at that instant; remembering it
@@ -219,10 +219,9 @@ struct WorldState {
   // Step scratch, kept to reuse its memory.
   detail::LargeArray<std::vector<detail::CandidatePair>> pairsOfBody;  // by body index; dynamic bodies only
   std::vector<uint32_t> supporters;
-  // The hybrid step's own state (hybrid_state.h), made by its first step; the predictive mode hands
-  // piles to the hybrid step's islands and events, and uses it then too.
-  std::unique_ptr<detail::HybridState> hybrid;
-  detail::HybridState& hybridState();  // inline in hybrid_state.h
+  // The step running now that predicts events (the hybrid step, stepper.h), for the islands and jams to
+  // tell it whose motion they changed; null outside it.
+  detail::EventPredictor* predictor = nullptr;
 
   detail::BodySlot& bodyOf(uint32_t fixture) { return bodies[fixtures[fixture].body]; }
   const detail::BodySlot& bodyOf(uint32_t fixture) const { return bodies[fixtures[fixture].body]; }
@@ -314,20 +313,13 @@ struct WorldState {
   // sensor_paths.cpp: the sensor events of a step from the paths the bodies took (up to `end`).
   void sensePaths(detail::PathLog& log, double end);
 
-  // hybrid_step.cpp: the predictions into the hybrid step's queue (HybridState), which the islands,
-  // jams and squeezes call too; the step itself is detail::stepHybrid (hybrid_step.h).
-  void addPair(uint32_t fa, uint32_t fb);
-  /// `dismissed`: a feature of `other` whose contact at `now` was found not to be approaching and
-  /// dropped; it is taken as separating (like a feature just resolved), the other features as usual.
-  void predict(uint32_t own, uint32_t other, double now, double dt, int dismissed = kNoFeature);
-  /// Queues the contact `impact` found at `now` (in the frame where `other` rests, which moves on with
-  /// the given velocity and acceleration), carrying both bodies' collision counters.
-  void queueContact(const Impact& impact, uint32_t own, uint32_t other, uint32_t countOwn, uint32_t countOther,
-                    Vec2 velocityOfOther, Vec2 accelerationOfOther, double now, double dt,
-                    bool afterDismissal = false);
-  void predictSlideEnd(uint32_t body, double now, double dt);
-  void repredict(uint32_t body, double now, double dt, bool forceRequery = false);
-  void advance(detail::BodySlot& b, double t);
+  /// Moves a dynamic body's clock to t within a step: every change of a body within a step starts here,
+  /// or says so (step_undo.cpp). Kinematic paths are evaluated from the step's start.
+  void advance(detail::BodySlot& b, double t) {
+    if (b.type != BodyType::Dynamic) return;
+    keep(b);
+    moveTo(b, t);
+  }
   /// advance's motion alone: the body's clock moves to t (for the last pass, which keeps nothing).
   void moveTo(detail::BodySlot& b, double t) const {
     b.position = positionAt(b, t);
@@ -474,7 +466,7 @@ struct WorldState {
   };
   std::vector<SettleScratch> settleScratch;
   size_t settleDepth = 0;
-  /// Bodies whose broad-phase query (repredict) found a contact an island holds after their island's
+  /// Bodies whose broad-phase query (the hybrid step's repredict) found a contact an island holds after their island's
   /// solve; settleUnsolvedIslandPairs solves them again.
   std::vector<uint32_t> unsolvedIslandPairs, unsolvedSeeds;
   bool settlingUnsolved = false;
