@@ -1,4 +1,4 @@
-// Private: the world's state (bodies, fixtures, the broad phase, the step's queue and scratch) and the
+// Private: the world's state (bodies, fixtures, the broad phase, the islands, the step's results) and the
 // member functions the modes share: world/ creates, checks and reads it, contact/ and sensors/ serve
 // the modes, and each mode's step (hybrid/, predictive/, discrete/) is a class of its own over it.
 #pragma once
@@ -194,9 +194,9 @@ struct CandidatePair {
 inline uint64_t overlapKey(uint32_t sensor, uint32_t visitor) { return (uint64_t{sensor} << 32) | visitor; }
 
 // The world's state: every body and fixture, the broad phase, the last step's results, and the state the
-// step modes and the contact solve keep between and within steps. What the modes share is written as
-// its member functions (engine/src/README.md says which folder holds which); World's pimpl is this
-// struct (detail::WorldState below), so code outside World can name it.
+// contact solve keeps between and within steps (each mode's own is its stepper's, stepper.h). What the
+// modes share is written as its member functions (engine/src/README.md says which folder holds which);
+// World's pimpl is this struct (detail::WorldState below), so code outside World can name it.
 struct WorldState {
   WorldDef def;
   double time = 0;
