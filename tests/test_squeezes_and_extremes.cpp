@@ -247,6 +247,28 @@ TEST(DiscreteContainer, ASlowDiskThatBeginsDeepAgainstABareSegmentStaysOnItsSide
   }
 }
 
+// The same in a box's corner: a disk made deep in the corner of a box of bare Segments, moving into it by
+// less than its radius a step, ends past both walls' lines and past both walls' ends, where only their
+// ends are near, and a bare Segment's end does not collide (README, Geometry). It used to be left there,
+// out of the box (fuzz/regressions/world_api/escape-discrete-disk-through-a-bare-segment-corner).
+TEST(DiscreteContainer, ASlowDiskDeepInTheCornerOfABareSegmentBoxStaysInside) {
+  World w(defOf(StepMode::Discrete));
+  const BodyId box = w.createBody({.type = BodyType::Static});
+  for (const auto& [a, b] : std::vector<std::pair<Vec2, Vec2>>{
+           {{0, 0}, {10, 0}}, {{10, 0}, {10, 10}}, {{10, 10}, {0, 10}}, {{0, 10}, {0, 0}}}) {
+    w.createFixture(box, {.geometry = Segment{a, b}});
+  }
+  const double r = 0.41, dt = 1.0 / 60;
+  // 0.13 and 0.15 inside the two walls' lines; (-14.2, -9.8) travels 0.29 a step, under its radius, and
+  // carries the centre to (-0.107, -0.013): beyond both lines, nearest the corner.
+  const BodyId d = disk(w, {0.13, 0.15}, {-14.2, -9.8}, r, 0.6);
+  for (int i = 0; i < 30; ++i) {
+    w.step(dt);
+    const Vec2 p = w.position(d);
+    ASSERT_TRUE(p.x > 0 && p.y > 0 && p.x < 10 && p.y < 10) << "step " << i << " at (" << p.x << ", " << p.y << ")";
+  }
+}
+
 TEST(DiscreteContainer, ADiskWiderThanItsSlotNeverHasItsCentreInAWall) {
   World w(defOf(StepMode::Discrete));
   const BodyId d = disk(w, {0, 0}, {-40.9, -1.05}, 2.33, 0.4);
