@@ -177,7 +177,8 @@ void HybridStep::predict(uint32_t own, uint32_t other, double now, double dt, in
   const Vec2 pa = w.positionAt(a, now);
   const Vec2 pb = w.positionAt(b, now);
   const Motion relative{w.velocityAt(a, now) - w.velocityAt(b, now), a.acceleration - b.acceleration};
-  auto impact = timeOfImpact(w.fixtures[own].geometry, pa, w.fixtures[other].geometry, pb, relative, dt - now, resolved);
+  auto impact =
+      timeOfImpact(w.fixtures[own].geometry, pa, w.fixtures[other].geometry, pb, relative, dt - now, resolved);
   if (impact) {
     queueContact(*impact, own, other, a.collisionCount, b.collisionCount, w.velocityAt(b, now), b.acceleration, now, dt,
                  dismissed != kNoFeature);
@@ -539,7 +540,8 @@ void HybridStep::startIslandsAndPredict(double dt) {
     const Box path = pathBox(b.position, b.velocity, b.acceleration, dt);
     for (uint32_t f : b.fixtures) {
       if (w.fixtures[f].sensor) continue;
-      if (!w.broadPhase.box(f).contains(Box{path.min + w.fixtures[f].localBox.min, path.max + w.fixtures[f].localBox.max})) {
+      const Box box{path.min + w.fixtures[f].localBox.min, path.max + w.fixtures[f].localBox.max};
+      if (!w.broadPhase.box(f).contains(box)) {
         repredict(i, 0, dt);
         break;
       }
@@ -626,7 +628,8 @@ void HybridStep::collide(const PredictedContact& c, double dt, std::vector<uint3
       ++s.collisionCount;
       s.lastContactTime = w.time + c.time;
     }
-    w.stats.eventsProcessed += std::max(1, w.settleAround(pair, 2, c.time, dt, detail::WorldState::islandKey(c.a, c.b)));
+    const int settled = w.settleAround(pair, 2, c.time, dt, detail::WorldState::islandKey(c.a, c.b));
+    w.stats.eventsProcessed += std::max(1, settled);
     return;
   }
   woken.clear();
