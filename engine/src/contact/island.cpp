@@ -169,12 +169,15 @@ void forEachPiece(const Geometry& g, Vec2 position, Vec2 p, Found&& found) {
 
 // One sweep of projected Gauss-Seidel (over-relaxed by omega) over the rows, on the members' values x
 // (velocities in the solve, displacements in separateIsland): each row's multiplier stays >= 0 while its
-// relative normal value (a's minus b's, or minus holderVelocity when b is held fixed) is pushed up to
-// its target, in the metric of the masses. Returns the largest change of a relative value.
-double projectedSweep(std::vector<detail::WorldState::SweepRow>& rows, std::vector<Vec2>& x, double omega) {
+// relative normal value (a's minus b's) is pushed up to its target, in the metric of the masses. x holds
+// the `members` first, then one slot for each row whose b is held fixed (its value, never written:
+// scheduleSweeps), so that a row reads b's value without a branch and carries no copy of it. Returns the
+// largest change of a relative value.
+double projectedSweep(std::vector<detail::WorldState::SweepRow>& rows, std::vector<Vec2>& x, size_t members,
+                      double omega) {
   double worst = 0;
   for (detail::WorldState::SweepRow& r : rows) {
-    const Vec2 xb = r.kb >= 0 ? x[r.kb] : r.holderVelocity;
+    const Vec2 xb = x[r.kb];  // a holder's value sits past the members' (scheduleSweeps)
     const double inverseSum = r.inverseA + r.inverseB;
     const double value = dot(x[r.ka] - xb, r.normal);
     const double next = std::max(0.0, r.lambda + omega * (r.target - value) / inverseSum);
@@ -182,7 +185,7 @@ double projectedSweep(std::vector<detail::WorldState::SweepRow>& rows, std::vect
     if (change == 0) continue;
     r.lambda = next;
     x[r.ka] += r.normal * (change * r.inverseA);
-    if (r.kb >= 0) x[r.kb] -= r.normal * (change * r.inverseB);
+    if (static_cast<size_t>(r.kb) < members) x[r.kb] -= r.normal * (change * r.inverseB);
     worst = std::max(worst, std::fabs(change) * inverseSum);
   }
   return worst;
@@ -571,12 +574,18 @@ void detail::WorldState::scheduleSweeps(size_t memberCount) {
   for (size_t i = 0; i < n; ++i) ++s.next[s.level[i] + 1];
   for (uint32_t l = 0; l < levels; ++l) s.next[l + 1] += s.next[l];
   s.rows.resize(n);
+  s.holders.clear();
   s.contactAt.resize(n);
   s.positionOf.resize(n);
   for (size_t i = 0; i < n; ++i) {
     const uint32_t at = s.next[s.level[i]]++;
     const IslandContact& c = contacts[i];
-    s.rows[at] = {c.ka, c.kb, c.normal, c.inverseA, c.inverseB, c.target, c.lambda, c.holderVelocity};
+    int kb = c.kb;
+    if (kb < 0) {
+      kb = static_cast<int>(memberCount + s.holders.size());
+      s.holders.push_back(c.holderVelocity);
+    }
+    s.rows[at] = {c.ka, kb, c.normal, c.inverseA, c.inverseB, c.target, c.lambda};
     s.contactAt[at] = static_cast<uint32_t>(i);
     s.positionOf[i] = at;
   }
@@ -588,13 +597,16 @@ void detail::WorldState::unscheduleSweeps() {
 }
 
 bool detail::WorldState::sweepIsland(std::vector<Vec2>& v, double omega, double tolerance, int maxIterations) {
-  scheduleSweeps(v.size());
+  const size_t members = v.size();
+  scheduleSweeps(members);
   std::vector<SweepRow>& rows = sweepSchedule.rows;
+  v.insert(v.end(), sweepSchedule.holders.begin(), sweepSchedule.holders.end());
   bool converged = false;
   for (int iteration = 0; iteration < maxIterations && !converged; ++iteration) {
-    const double worst = projectedSweep(rows, v, omega);
+    const double worst = projectedSweep(rows, v, members, omega);
     converged = worst <= tolerance;
   }
+  v.resize(members);
   unscheduleSweeps();
   return converged;
 }
@@ -618,8 +630,10 @@ detail::WorldState::SweepEnd detail::WorldState::sweepIslandAccelerated(std::vec
   std::vector<IslandContact>& contacts = islandScratch;
   // The sweeps run in wavefront order (scheduleSweeps); every other pass is elementwise, and the
   // residual is summed in the contacts' own order, so the bits are those of the contacts' order.
-  scheduleSweeps(v.size());
+  const size_t members = v.size();
+  scheduleSweeps(members);
   std::vector<SweepRow>& rows = sweepSchedule.rows;
+  v.insert(v.end(), sweepSchedule.holders.begin(), sweepSchedule.holders.end());
   const std::vector<uint32_t>& positionOf = sweepSchedule.positionOf;
   std::vector<double>& previous = islandPreviousImpulses;
   std::vector<double>& direction = islandDirection;
@@ -629,7 +643,7 @@ detail::WorldState::SweepEnd detail::WorldState::sweepIslandAccelerated(std::vec
   SweepEnd end = SweepEnd::Stopped;
   for (int iteration = 0; iteration < maxIterations; ++iteration) {
     for (size_t at = 0; at < rows.size(); ++at) previous[at] = rows[at].lambda;
-    const double worst = projectedSweep(rows, v, 1.0);
+    const double worst = projectedSweep(rows, v, members, 1.0);
     if (worst <= tolerance) {
       end = SweepEnd::Converged;
       break;
@@ -671,9 +685,10 @@ detail::WorldState::SweepEnd detail::WorldState::sweepIslandAccelerated(std::vec
       if (step == 0) continue;
       r.lambda += step;
       v[r.ka] += r.normal * (step * r.inverseA);
-      if (r.kb >= 0) v[r.kb] -= r.normal * (step * r.inverseB);
+      if (static_cast<size_t>(r.kb) < members) v[r.kb] -= r.normal * (step * r.inverseB);
     }
   }
+  v.resize(members);
   unscheduleSweeps();
   return end;
 }
@@ -736,11 +751,12 @@ void detail::WorldState::separateIsland(const std::vector<uint32_t>& members, co
   for (size_t at = 0; at < rows.size(); ++at) {
     rows[at].target = lower[sweepSchedule.contactAt[at]];
     rows[at].lambda = 0;
-    rows[at].holderVelocity = Vec2{};
   }
+  d.resize(members.size() + sweepSchedule.holders.size(), Vec2{});  // holders do not move
   for (int iteration = 0; iteration < kSeparateIterations; ++iteration) {
-    projectedSweep(rows, d, 1.0);
+    projectedSweep(rows, d, members.size(), 1.0);
   }
+  d.resize(members.size());
   for (int sweep = 0; sweep < 16; ++sweep) {
     bool changed = false;
     for (size_t i = 0; i < contacts.size(); ++i) {

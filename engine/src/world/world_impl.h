@@ -372,17 +372,17 @@ struct WorldState {
   // The accelerated sweeps' multipliers before a sweep and search direction (solveIsland).
   std::vector<double> islandPreviousImpulses, islandDirection;
   // islandScratch's contacts as the sweeps read them, packed and in wavefront order (island.cpp,
-  // scheduleSweeps).
+  // scheduleSweeps). 56 bytes: the sweeps stream them, a thousand times a step for a crowd's jam.
   struct SweepRow {
-    int ka, kb;
+    int ka, kb;  // kb >= the member count: held fixed, its value at x[kb] (SweepSchedule::holders)
     Vec2 normal;
     double inverseA, inverseB;
     double target;
     double lambda;
-    Vec2 holderVelocity;
   };
   struct SweepSchedule {
     std::vector<SweepRow> rows;          // in sweep order
+    std::vector<Vec2> holders;           // the holder rows' velocities, in the order of their slots
     std::vector<uint32_t> contactAt;     // sweep position -> index into islandScratch
     std::vector<uint32_t> positionOf;    // index into islandScratch -> sweep position
     std::vector<uint32_t> level, next;   // scratch: each row's level; each member's next level, then
