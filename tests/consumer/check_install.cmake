@@ -13,8 +13,8 @@ execute_process(COMMAND ${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/consumer -B ${WO
 if(rc)
   message(FATAL_ERROR "configuring the consumer against the installed package failed: ${rc}")
 endif()
-# Linking rattle::engine compiles the consumer's own sources without contraction (README, "Using rattle
-# in your project"): the installed target carries the flag.
+# Linking rattle::engine compiles the consumer's own sources without contraction (README, where it shows
+# find_package(rattle)): the installed target carries the flag.
 file(READ ${WORK_DIR}/build/compile_commands.json commands)
 if(NOT commands MATCHES "main\\.cpp" OR NOT commands MATCHES "-ffp-contract=off")
   message(FATAL_ERROR "the consumer's main.cpp is not compiled with -ffp-contract=off: ${commands}")
