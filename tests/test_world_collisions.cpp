@@ -866,9 +866,9 @@ TEST(WorldRequery, BounceBackHitsDiskOutsideSweptBox) {
 // Two slow disks meet head-on within a step and turn back: each new path runs behind where the disk
 // started, out of the box of its path. A plain disk's box without gravity has room for a turn at 1.5
 // times its speed (HybridStep::kPlainSlack in hybrid_step.cpp: here 0.15 of the radius of 1, within
-// kPlainSlackLimit), so the broad phase is not asked again; with a second, inner circle the disks are not plain, and each of
-// their fixtures is looked up again. The events are the same: closing at 2 across a gap of 0.04, they
-// meet at t = 0.02 and swap velocities (equal masses, e = 1).
+// kPlainSlackLimit), so the broad phase is not asked again; with a second, inner circle the disks are
+// not plain, and each of their fixtures is looked up again. The events are the same: closing at 2 across
+// a gap of 0.04, they meet at t = 0.02 and swap velocities (equal masses, e = 1).
 TEST(WorldRequery, SlowDisksTurningBackStayInsideTheirRoomOnlyWhenPlain) {
   for (bool plainDisks : {true, false}) {
     SCOPED_TRACE(plainDisks ? "plain disks" : "disks with a second circle");
