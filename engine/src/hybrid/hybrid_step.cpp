@@ -71,11 +71,11 @@ namespace {
 // world's EventPredictor: the islands and jams tell it whose motion they changed (motionChanged).
 class HybridStep final : public detail::EventPredictor {
  public:
-  HybridStep(detail::WorldState& world, detail::HybridState& state)
-      : w_(world), h_(state), outer_(world.predictor) {
+  // Steps are not nested: outside one the world has no predictor.
+  HybridStep(detail::WorldState& world, detail::HybridState& state) : w_(world), h_(state) {
     world.predictor = this;
   }
-  ~HybridStep() { w_.predictor = outer_; }
+  ~HybridStep() { w_.predictor = nullptr; }
   HybridStep(const HybridStep&) = delete;
   HybridStep& operator=(const HybridStep&) = delete;
   void run(double dt, int eventsBefore);
@@ -142,7 +142,6 @@ class HybridStep final : public detail::EventPredictor {
   // stays in a register, where a member may be loaded again through `this` after a store.
   detail::WorldState& w_;
   detail::HybridState& h_;
-  detail::EventPredictor* outer_;  // the world's predictor before this step (none: a step is not nested)
 };
 
 }  // namespace
