@@ -60,6 +60,7 @@
 #include "collision/closest_point.h"
 #include "contact/exact_projection.h"
 #include "world/stepper.h"
+#include "contact/islands.h"
 #include "world/world_impl.h"
 
 namespace rattle {
@@ -173,10 +174,10 @@ void forEachPiece(const Geometry& g, Vec2 position, Vec2 p, Found&& found) {
 // the `members` first, then one slot for each row whose b is held fixed (its value, never written:
 // scheduleSweeps), so that a row reads b's value without a branch and carries no copy of it. Returns the
 // largest change of a relative value.
-double projectedSweep(std::vector<detail::WorldState::SweepRow>& rows, std::vector<Vec2>& x, size_t members,
+double projectedSweep(std::vector<detail::Islands::SweepRow>& rows, std::vector<Vec2>& x, size_t members,
                       double omega) {
   double worst = 0;
-  for (detail::WorldState::SweepRow& r : rows) {
+  for (detail::Islands::SweepRow& r : rows) {
     const Vec2 xb = x[r.kb];  // a holder's value sits past the members' (scheduleSweeps)
     const double inverseSum = r.inverseA + r.inverseB;
     const double value = dot(x[r.ka] - xb, r.normal);
@@ -193,14 +194,14 @@ double projectedSweep(std::vector<detail::WorldState::SweepRow>& rows, std::vect
 
 }  // namespace
 
-void detail::WorldState::islandOf(std::span<const uint32_t> seeds, int hops, std::vector<uint32_t>& members) {
+void detail::Islands::islandOf(std::span<const uint32_t> seeds, int hops, std::vector<uint32_t>& members) {
   // Stepped bodies reached from the seeds through candidate pairs, breadth first (so in a deterministic
   // order, seeds first): with hops < 0 everything a change of their motion can push within the step.
   std::vector<int>& slot = jamSlot;
-  if (slot.size() < bodies.size()) slot.resize(bodies.size(), -1);
+  if (slot.size() < w.bodies.size()) slot.resize(w.bodies.size(), -1);
   members.clear();
   for (uint32_t i : seeds) {
-    if (slot[i] >= 0 || !bodies[i].stepped) continue;
+    if (slot[i] >= 0 || !w.bodies[i].stepped) continue;
     slot[i] = 0;
     members.push_back(i);
   }
@@ -210,9 +211,9 @@ void detail::WorldState::islandOf(std::span<const uint32_t> seeds, int hops, std
       layerEnd = members.size();
     }
     if (hops >= 0 && depth >= static_cast<size_t>(hops)) break;
-    for (const auto& pair : pairsOfBody[members[k]]) {
-      const uint32_t j = fixtures[pair.other].body;
-      if (slot[j] >= 0 || !bodies[j].stepped || fixtures[pair.other].sensor) continue;
+    for (const auto& pair : w.pairsOfBody[members[k]]) {
+      const uint32_t j = w.fixtures[pair.other].body;
+      if (slot[j] >= 0 || !w.bodies[j].stepped || w.fixtures[pair.other].sensor) continue;
       slot[j] = 0;
       members.push_back(j);
     }
@@ -220,7 +221,7 @@ void detail::WorldState::islandOf(std::span<const uint32_t> seeds, int hops, std
   for (uint32_t i : members) slot[i] = -1;
 }
 
-int detail::WorldState::settleAround(std::span<const uint32_t> seeds, int hops, double now, double dt,
+int detail::Islands::settleAround(std::span<const uint32_t> seeds, int hops, double now, double dt,
                                      uint64_t reportPair) {
   // The seeds and the stepped bodies within `hops` candidate pairs of them move; the rest of the island
   // keeps its paths. That part's edge may push it like a moving wall (a stepped body coming at it) and
@@ -236,7 +237,7 @@ int detail::WorldState::settleAround(std::span<const uint32_t> seeds, int hops, 
   std::vector<detail::LastContact>& lasts = scratch.lasts;
   std::vector<double>& allowances = scratch.allowances;
   IslandSolve solve{0, false};
-  const int attempts = def.gravity == Vec2{} ? kSettleAttemptsWithoutGravity : kSettleAttemptsUnderGravity;
+  const int attempts = w.def.gravity == Vec2{} ? kSettleAttemptsWithoutGravity : kSettleAttemptsUnderGravity;
   for (int attempt = 0, depth = hops; attempt < attempts; ++attempt, depth *= 4) {
     const bool whole = attempt == attempts - 1;
     islandOf(seeds, whole ? -1 : depth, members);
@@ -248,36 +249,36 @@ int detail::WorldState::settleAround(std::span<const uint32_t> seeds, int hops, 
     // potential energy where they are now): twice sum m (|v|^2 / 2 - h g.v). Kinetic energy alone misses
     // a fall turned into a rise by a holder moving up (a neighbour that bounces): the same speed, higher.
     const double h = dt - now;
-    auto endEnergy = [&](Vec2 v, double mass) { return mass * (dot(v, v) - 2 * h * dot(def.gravity, v)); };
+    auto endEnergy = [&](Vec2 v, double mass) { return mass * (dot(v, v) - 2 * h * dot(w.def.gravity, v)); };
     double energy = 0, scale = 0;
     for (size_t k = 0; k < members.size(); ++k) {
-      const BodySlot& b = bodies[members[k]];
+      const BodySlot& b = w.bodies[members[k]];
       before[k] = b.velocity;
       counts[k] = b.collisionCount;
       lasts[k] = b.last;
       allowances[k] = gravityAllowance[members[k]];
       energy += endEnergy(b.velocity, b.mass);
-      scale += b.mass * (dot(b.velocity, b.velocity) + 2 * h * std::fabs(dot(def.gravity, b.velocity)));
+      scale += b.mass * (dot(b.velocity, b.velocity) + 2 * h * std::fabs(dot(w.def.gravity, b.velocity)));
     }
-    const size_t mark = contactEvents.size();
+    const size_t mark = w.contactEvents.size();
     solve = solveIsland(members, now, dt, std::numeric_limits<double>::infinity(), reportPair, false, whole);
     double after = 0;
-    for (uint32_t i : members) after += endEnergy(bodies[i].velocity, bodies[i].mass);
+    for (uint32_t i : members) after += endEnergy(w.bodies[i].velocity, w.bodies[i].mass);
     if (whole || (solve.met && after <= energy + 1e-12 * scale)) break;
     // Undone entirely: the predictions made before it are still good.
     for (size_t k = 0; k < members.size(); ++k) {
-      BodySlot& b = bodies[members[k]];
+      BodySlot& b = w.bodies[members[k]];
       b.velocity = before[k];
       b.collisionCount = counts[k];
       b.setLast(lasts[k]);
       gravityAllowance[members[k]] = allowances[k];
     }
-    contactEvents.resize(mark);
+    w.contactEvents.resize(mark);
   }
   // The seeds come first in every list; they changed whatever the solve did.
   const size_t seedCount = std::min(seeds.size(), members.size());
   for (size_t k = 0; k < members.size(); ++k) {
-    BodySlot& b = bodies[members[k]];
+    BodySlot& b = w.bodies[members[k]];
     const bool same = b.velocity.x == before[k].x && b.velocity.y == before[k].y && b.collisionCount == counts[k];
     if (k >= seedCount && same) continue;
     predictor->motionChanged(members[k], now, dt);
@@ -288,7 +289,7 @@ int detail::WorldState::settleAround(std::span<const uint32_t> seeds, int hops, 
   return solve.reported;
 }
 
-void detail::WorldState::settleUnsolvedIslandPairs(double now, double dt) {
+void detail::Islands::settleUnsolvedIslandPairs(double now, double dt) {
   // A solve can send a body beyond the box the sweep saw: asking the broad phase again (repredict) may
   // then find contacts an island holds that no solve has seen, which are solved in turn. Each round moves
   // bodies less; a few rounds at most (the boxes were made with room to spare).
@@ -307,55 +308,55 @@ void detail::WorldState::settleUnsolvedIslandPairs(double now, double dt) {
   settlingUnsolved = false;
 }
 
-void detail::WorldState::joinIslands(std::span<const uint32_t> joining, double now, double dt) {
-  if (gravityAllowance.size() < bodies.size()) gravityAllowance.resize(bodies.size(), 0.0);
+void detail::Islands::joinIslands(std::span<const uint32_t> joining, double now, double dt) {
+  if (gravityAllowance.size() < w.bodies.size()) gravityAllowance.resize(w.bodies.size(), 0.0);
   for (uint32_t i : joining) {
-    BodySlot& b = bodies[i];
+    BodySlot& b = w.bodies[i];
     if (b.stepped) continue;
-    advance(b, now);
+    w.advance(b, now);
     // The rest of the step's gravity at once, then a straight path (see above).
-    b.velocity += def.gravity * (dt - now);
+    b.velocity += w.def.gravity * (dt - now);
     b.acceleration = {};
     b.clearSupport();
     b.stepped = true;
-    gravityAllowance[i] = 0.5 * b.mass * dot(def.gravity, def.gravity) * (dt - now) * (dt - now);
+    gravityAllowance[i] = 0.5 * b.mass * dot(w.def.gravity, w.def.gravity) * (dt - now) * (dt - now);
   }
 }
 
 // The members' contacts with one another and with what holds them (static, kinematic, sleeping and
 // stepped non-member bodies) within reach of the rest of the step, into islandScratch, with their clocks
 // moved to `now`. Returns the fastest speed at play (at least restingSpeed).
-double detail::WorldState::gatherIslandContacts(const std::vector<uint32_t>& members, double now, double h) {
+double detail::Islands::gatherIslandContacts(const std::vector<uint32_t>& members, double now, double h) {
   std::vector<int>& slot = jamSlot;  // body -> index into members; -1 outside (reset on the way out)
-  if (slot.size() < bodies.size()) slot.resize(bodies.size(), -1);
+  if (slot.size() < w.bodies.size()) slot.resize(w.bodies.size(), -1);
   for (size_t k = 0; k < members.size(); ++k) slot[members[k]] = static_cast<int>(k);
   // Their velocities change at `now`: their clocks move there first.
-  for (uint32_t i : members) advance(bodies[i], now);
+  for (uint32_t i : members) w.advance(w.bodies[i], now);
   std::vector<IslandContact>& contacts = islandScratch;
   contacts.clear();
-  double speed = def.restingSpeed;
-  for (uint32_t i : members) speed = std::max(speed, length(bodies[i].velocity));
+  double speed = w.def.restingSpeed;
+  for (uint32_t i : members) speed = std::max(speed, length(w.bodies[i].velocity));
   for (size_t k = 0; k < members.size(); ++k) {
     const uint32_t i = members[k];
-    const BodySlot& body = bodies[i];
-    for (const auto& pair : pairsOfBody[i]) {
-      const detail::FixtureSlot& own = fixtures[pair.own];
-      const detail::FixtureSlot& other = fixtures[pair.other];
+    const BodySlot& body = w.bodies[i];
+    for (const auto& pair : w.pairsOfBody[i]) {
+      const detail::FixtureSlot& own = w.fixtures[pair.own];
+      const detail::FixtureSlot& other = w.fixtures[pair.other];
       if (own.sensor || other.sensor) continue;
       const uint32_t j = other.body;
-      const BodySlot& holder = bodies[j];
+      const BodySlot& holder = w.bodies[j];
       const int kj = slot[j];
       if (kj >= 0 && kj <= static_cast<int>(k)) continue;  // a pair of members: once, from the lower
       // A free body's meetings with the island are events.
       if (kj < 0 && holder.type == BodyType::Dynamic && !holder.asleep && !holder.stepped) continue;
-      const Vec2 centre = positionAt(body, now) + detail::circleCentre(own.geometry);
+      const Vec2 centre = w.positionAt(body, now) + detail::circleCentre(own.geometry);
       const double radius = detail::circleRadius(own.geometry);
-      const Vec2 holderVelocity = kj >= 0 ? Vec2{} : velocityAt(holder, now);
-      forEachPiece(other.geometry, positionAt(holder, now), centre, [&](Vec2 point, Vec2 normal, double distance) {
+      const Vec2 holderVelocity = kj >= 0 ? Vec2{} : w.velocityAt(holder, now);
+      forEachPiece(other.geometry, w.positionAt(holder, now), centre, [&](Vec2 point, Vec2 normal, double distance) {
         const double gap = distance - radius;
         // Out of reach within the step even at twice the fastest speed at play (the members' and the
         // holder's) and what gravity adds.
-        const double reach = 4 * (speed + length(holderVelocity)) * h + length(def.gravity) * h * h;
+        const double reach = 4 * (speed + length(holderVelocity)) * h + length(w.def.gravity) * h * h;
         if (gap > reach + 1e-9 * std::max(radius, 1.0)) return;
         IslandContact c;
         c.a = i;
@@ -380,7 +381,7 @@ double detail::WorldState::gatherIslandContacts(const std::vector<uint32_t>& mem
   return speed;
 }
 
-void detail::WorldState::keepIslandEnergy(const std::vector<uint32_t>& members, std::vector<Vec2>& v, double h) {
+void detail::Islands::keepIslandEnergy(const std::vector<uint32_t>& members, std::vector<Vec2>& v, double h) {
   // Energy never rises, by construction rather than by convergence. After the solve each member moves
   // along v for the rest of the step, h. Projecting never adds kinetic energy, but under gravity it can
   // turn a fall into a rise: a wedge (a disk on two that part) lifts the disk on top, and along a straight
@@ -403,10 +404,10 @@ void detail::WorldState::keepIslandEnergy(const std::vector<uint32_t>& members, 
   if (!holdersStill) return;
   double a = 0, b = 0, planned = 0, allowance = 0;
   for (size_t k = 0; k < members.size(); ++k) {
-    const BodySlot& body = bodies[members[k]];
+    const BodySlot& body = w.bodies[members[k]];
     a += 0.5 * body.mass * dot(v[k], v[k]);
-    b -= h * body.mass * dot(def.gravity, v[k]);
-    planned += 0.5 * body.mass * dot(body.velocity, body.velocity) - h * body.mass * dot(def.gravity, body.velocity);
+    b -= h * body.mass * dot(w.def.gravity, v[k]);
+    planned += 0.5 * body.mass * dot(body.velocity, body.velocity) - h * body.mass * dot(w.def.gravity, body.velocity);
     allowance += gravityAllowance[members[k]];
   }
   const double c = -(planned + allowance);
@@ -437,22 +438,22 @@ void detail::WorldState::keepIslandEnergy(const std::vector<uint32_t>& members, 
 
 // Marks what the solve's contacts held, and reports as collisions those that closed faster than
 // reportAbove (and reportPair's), at most maxReports. Returns how many it reported.
-int detail::WorldState::reportIslandContacts(double now, double reportAbove, uint64_t reportPair, int maxReports) {
+int detail::Islands::reportIslandContacts(double now, double reportAbove, uint64_t reportPair, int maxReports) {
   const std::vector<IslandContact>& contacts = islandScratch;
   int reported = 0;
   for (const IslandContact& c : contacts) {
     if (!(c.lambda > 0)) continue;
-    bodies[c.a].steppedHeld = true;
-    if (c.kb >= 0) bodies[c.b].steppedHeld = true;
+    w.bodies[c.a].steppedHeld = true;
+    if (c.kb >= 0) w.bodies[c.b].steppedHeld = true;
     if (!(c.approach > reportAbove) && islandKey(c.fa, c.fb) != reportPair) continue;
     if (reported >= maxReports) continue;
     ++reported;
-    contactEvents.push_back(contactEventOf(c.fa, c.fb, now, c.point, c.normal, c.lambda));
+    w.contactEvents.push_back(w.contactEventOf(c.fa, c.fb, now, c.point, c.normal, c.lambda));
   }
   return reported;
 }
 
-detail::WorldState::IslandSolve detail::WorldState::solveIsland(const std::vector<uint32_t>& members, double now,
+detail::Islands::IslandSolve detail::Islands::solveIsland(const std::vector<uint32_t>& members, double now,
                                                                 double dt, double reportAbove, uint64_t reportPair,
                                                                 bool warmStart, bool whole, int maxReports) {
   const double h = dt - now;
@@ -461,7 +462,7 @@ detail::WorldState::IslandSolve detail::WorldState::solveIsland(const std::vecto
 
   std::vector<Vec2>& v = islandVelocities;
   v.resize(members.size());
-  for (size_t k = 0; k < members.size(); ++k) v[k] = bodies[members[k]].velocity;
+  for (size_t k = 0; k < members.size(); ++k) v[k] = w.bodies[members[k]].velocity;
   // The approach of each contact before the solve, for what is reported as a collision.
   for (IslandContact& c : contacts) {
     const Vec2 vb = c.kb >= 0 ? v[c.kb] : c.holderVelocity;
@@ -469,8 +470,8 @@ detail::WorldState::IslandSolve detail::WorldState::solveIsland(const std::vecto
   }
   // Converged when no impulse changes a velocity by more than 1e-6 of the speeds at play (the bodies'
   // and what the step's gravity adds): a contact then closes by at most that much too fast.
-  const double tolerance = 1e-6 * (speed + length(def.gravity) * h);
-  const bool noGravity = def.gravity.x == 0 && def.gravity.y == 0;
+  const double tolerance = 1e-6 * (speed + length(w.def.gravity) * h);
+  const bool noGravity = w.def.gravity.x == 0 && w.def.gravity.y == 0;
   // A few bodies are projected exactly (exact_projection.h). Under gravity always: the sweeps stop within
   // their tolerance of the answer, and from a warm start that can leave a resting stack rising off the
   // floor by that much a step (fuzz/regressions/world_api/energy-predictive-gravity-stack-rises); and a
@@ -526,7 +527,7 @@ detail::WorldState::IslandSolve detail::WorldState::solveIsland(const std::vecto
   keepIslandEnergy(members, v, h);
   if (warmStart && noGravity && h > 0) separateIsland(members, v, h);
   for (size_t k = 0; k < members.size(); ++k) {
-    BodySlot& b = bodies[members[k]];
+    BodySlot& b = w.bodies[members[k]];
     if (v[k].x == b.velocity.x && v[k].y == b.velocity.y) continue;
     b.velocity = v[k];
     ++b.collisionCount;
@@ -538,13 +539,13 @@ detail::WorldState::IslandSolve detail::WorldState::solveIsland(const std::vecto
   // the speeds at play (a large island converges slowly, and that is close enough).
   double violation = 0;
   for (const IslandContact& c : contacts) {
-    const Vec2 vb = c.kb >= 0 ? bodies[c.b].velocity : c.holderVelocity;
-    violation = std::max(violation, c.target - dot(bodies[c.a].velocity - vb, c.normal));
+    const Vec2 vb = c.kb >= 0 ? w.bodies[c.b].velocity : c.holderVelocity;
+    violation = std::max(violation, c.target - dot(w.bodies[c.a].velocity - vb, c.normal));
   }
-  return {reported, converged || closeEnough || violation <= 1e-4 * (speed + length(def.gravity) * h)};
+  return {reported, converged || closeEnough || violation <= 1e-4 * (speed + length(w.def.gravity) * h)};
 }
 
-void detail::WorldState::scheduleSweeps(size_t memberCount) {
+void detail::Islands::scheduleSweeps(size_t memberCount) {
   // A sweep is a chain of dependent arithmetic: each contact reads the velocities the one before it may
   // have just written, and in the contacts' own order (member by member) it usually has. On a crowd's
   // island of thousands of contacts the processor then waits on each contact's division in turn. Two
@@ -591,12 +592,12 @@ void detail::WorldState::scheduleSweeps(size_t memberCount) {
   }
 }
 
-void detail::WorldState::unscheduleSweeps() {
+void detail::Islands::unscheduleSweeps() {
   const SweepSchedule& s = sweepSchedule;
   for (size_t at = 0; at < s.rows.size(); ++at) islandScratch[s.contactAt[at]].lambda = s.rows[at].lambda;
 }
 
-bool detail::WorldState::sweepIsland(std::vector<Vec2>& v, double omega, double tolerance, int maxIterations) {
+bool detail::Islands::sweepIsland(std::vector<Vec2>& v, double omega, double tolerance, int maxIterations) {
   const size_t members = v.size();
   scheduleSweeps(members);
   std::vector<SweepRow>& rows = sweepSchedule.rows;
@@ -611,7 +612,7 @@ bool detail::WorldState::sweepIsland(std::vector<Vec2>& v, double omega, double 
   return converged;
 }
 
-detail::WorldState::SweepEnd detail::WorldState::sweepIslandAccelerated(std::vector<Vec2>& v, double tolerance,
+detail::Islands::SweepEnd detail::Islands::sweepIslandAccelerated(std::vector<Vec2>& v, double tolerance,
                                                                       double h, int maxIterations) {
   // Under gravity a landing pile is a contact network hundreds of disks deep, most of it in the
   // redundant contacts of a hexagonal packing, and plain or over-relaxed Gauss-Seidel carries a push
@@ -693,14 +694,14 @@ detail::WorldState::SweepEnd detail::WorldState::sweepIslandAccelerated(std::vec
   return end;
 }
 
-bool detail::WorldState::projectIslandExactly(const std::vector<uint32_t>& members, std::vector<Vec2>& v,
+bool detail::Islands::projectIslandExactly(const std::vector<uint32_t>& members, std::vector<Vec2>& v,
                                               double tolerance) {
   // The same contacts as the sweeps, from the velocities before them (the bodies', without the warm
   // start).
   const std::vector<IslandContact>& contacts = islandScratch;
   ExactIslandScratch& e = exactIslandScratch;
   e.inverseMass.resize(members.size());
-  for (size_t k = 0; k < members.size(); ++k) e.inverseMass[k] = bodies[members[k]].inverseMass;
+  for (size_t k = 0; k < members.size(); ++k) e.inverseMass[k] = w.bodies[members[k]].inverseMass;
   e.rows.resize(contacts.size());
   for (size_t i = 0; i < contacts.size(); ++i) {
     const IslandContact& c = contacts[i];
@@ -710,7 +711,7 @@ bool detail::WorldState::projectIslandExactly(const std::vector<uint32_t>& membe
     e.rows[i].target = c.kb >= 0 ? c.target : c.target + dot(c.holderVelocity, c.normal);
   }
   e.velocities.resize(members.size());
-  for (size_t k = 0; k < members.size(); ++k) e.velocities[k] = bodies[members[k]].velocity;
+  for (size_t k = 0; k < members.size(); ++k) e.velocities[k] = w.bodies[members[k]].velocity;
   if (!detail::projectExactly(e.inverseMass, e.velocities, e.rows, e.impulses, 1e-3 * tolerance, e.projection))
     return false;
   v = e.velocities;
@@ -718,7 +719,7 @@ bool detail::WorldState::projectIslandExactly(const std::vector<uint32_t>& membe
   return true;
 }
 
-void detail::WorldState::separateIsland(const std::vector<uint32_t>& members, const std::vector<Vec2>& v, double h) {
+void detail::Islands::separateIsland(const std::vector<uint32_t>& members, const std::vector<Vec2>& v, double h) {
   // Overlap left by a solve that stopped short of its tolerance would otherwise stay (a touching
   // contact's target is 0, not a push apart) and grow step by step in a crowd that keeps pressing. It is
   // taken out by moving positions, not velocities (the split impulse of Catto's Box2D v2.x TOI solver
@@ -774,7 +775,7 @@ void detail::WorldState::separateIsland(const std::vector<uint32_t>& members, co
   for (size_t i = 0; i < contacts.size(); ++i) {
     const IslandContact& c = contacts[i];
     if (c.kb >= 0) continue;
-    const double radius = detail::circleRadius(fixtures[c.fa].geometry);
+    const double radius = detail::circleRadius(w.fixtures[c.fa].geometry);
     if (dot(d[c.ka], c.normal) < std::min(lower[i], 0.0) - 1e-12 * std::max(radius, 1.0)) d[c.ka] = Vec2{};
   }
   // The contacts above are those of the pairs the sweep found for the boxes it saw. A body moved out
@@ -782,11 +783,11 @@ void detail::WorldState::separateIsland(const std::vector<uint32_t>& members, co
   // heavy one it overlaps, pushed down through a floor that only touched its box): it stays put.
   for (size_t k = 0; k < members.size(); ++k) {
     if (d[k].x == 0 && d[k].y == 0) continue;
-    const BodySlot& b = bodies[members[k]];
+    const BodySlot& b = w.bodies[members[k]];
     for (uint32_t f : b.fixtures) {
-      if (fixtures[f].sensor || !broadPhase.contains(f)) continue;
-      const Box& seen = broadPhase.box(f);
-      const Box& local = fixtures[f].localBox;
+      if (w.fixtures[f].sensor || !w.broadPhase.contains(f)) continue;
+      const Box& seen = w.broadPhase.box(f);
+      const Box& local = w.fixtures[f].localBox;
       const Vec2 start = b.position + d[k], end = start + v[k] * h;
       if (!seen.contains(Box{start + local.min, start + local.max}) ||
           !seen.contains(Box{end + local.min, end + local.max})) {
@@ -797,35 +798,55 @@ void detail::WorldState::separateIsland(const std::vector<uint32_t>& members, co
   }
   for (size_t k = 0; k < members.size(); ++k) {
     if (d[k].x == 0 && d[k].y == 0) continue;
-    BodySlot& b = bodies[members[k]];
-    keep(b);
+    BodySlot& b = w.bodies[members[k]];
+    w.keep(b);
     b.position += d[k];
     ++b.collisionCount;
     b.last = detail::LastContact{};
   }
 }
 
-void detail::WorldState::startIslands(double dt, std::vector<uint32_t>& freed) {
+void detail::Islands::beginStep() {
+  jamCounterAtStart_ = jamCounter;
+  swapped_ = false;
+  // The warm start is kept by fixture index, and a destroyed fixture's index is reused.
+  if (w.changes.fixtureRemovals != fixtureRemovalsSeen_) {
+    islandNext.clear();
+    fixtureRemovalsSeen_ = w.changes.fixtureRemovals;
+  }
+}
+
+void detail::Islands::undoStep() {
+  jamCounter = jamCounterAtStart_;
+  if (swapped_) islandImpulses.swap(islandNext);  // last step's warm start, as it was
+  swapped_ = false;
+  // Scratch whose invariants hold between calls.
+  std::fill(jamSlot.begin(), jamSlot.end(), -1);
+  unsolvedIslandPairs.clear();
+  settlingUnsolved = false;
+}
+
+void detail::Islands::startIslands(double dt, std::vector<uint32_t>& freed) {
   islandImpulses.swap(islandNext);
-  stepStart.islandsSwapped = true;
+  swapped_ = true;
   islandNext.clear();
   std::sort(islandImpulses.begin(), islandImpulses.end());
   islandScratchStart.clear();
   freed.clear();
-  if (gravityAllowance.size() < bodies.size()) gravityAllowance.resize(bodies.size(), 0.0);
+  if (gravityAllowance.size() < w.bodies.size()) gravityAllowance.resize(w.bodies.size(), 0.0);
   for (uint32_t i : stepped) {  // gathered by the step's first pass over the bodies
-    BodySlot& b = bodies[i];
-    keep(b);
-    b.velocity += def.gravity * dt;
+    BodySlot& b = w.bodies[i];
+    w.keep(b);
+    b.velocity += w.def.gravity * dt;
     b.steppedHeld = false;
-    gravityAllowance[i] = 0.5 * b.mass * dot(def.gravity, def.gravity) * dt * dt;
+    gravityAllowance[i] = 0.5 * b.mass * dot(w.def.gravity, w.def.gravity) * dt * dt;
   }
   if (stepped.empty()) return;
   // A contact is a collision when it closed faster than restingSpeed before the step's gravity; holding
   // a resting body up against that gravity is not one.
-  stats.eventsProcessed +=
-      solveIsland(stepped, 0, dt, def.restingSpeed + length(def.gravity) * dt, ~uint64_t{0}, true, true,
-                  std::max(0, def.maxEventsPerStep - stats.eventsProcessed))
+  w.stats.eventsProcessed +=
+      solveIsland(stepped, 0, dt, w.def.restingSpeed + length(w.def.gravity) * dt, ~uint64_t{0}, true, true,
+                  std::max(0, w.def.maxEventsPerStep - w.stats.eventsProcessed))
           .reported;
   for (const IslandContact& c : islandScratch) {
     if (!(c.lambda > 0)) continue;
@@ -835,43 +856,43 @@ void detail::WorldState::startIslands(double dt, std::vector<uint32_t>& freed) {
   // Nothing held it: it falls freely, exactly, as it did before the step's gravity was added.
   size_t kept = 0;
   for (uint32_t i : stepped) {
-    BodySlot& b = bodies[i];
+    BodySlot& b = w.bodies[i];
     if (b.steppedHeld) {
       stepped[kept++] = i;
       continue;
     }
-    b.velocity -= def.gravity * dt;
-    b.acceleration = def.gravity;
+    b.velocity -= w.def.gravity * dt;
+    b.acceleration = w.def.gravity;
     b.stepped = false;
     freed.push_back(i);
   }
   stepped.resize(kept);
   steppedCounts.resize(stepped.size());
-  for (size_t k = 0; k < stepped.size(); ++k) steppedCounts[k] = bodies[stepped[k]].collisionCount;
+  for (size_t k = 0; k < stepped.size(); ++k) steppedCounts[k] = w.bodies[stepped[k]].collisionCount;
 }
 
-void detail::WorldState::endIslands(double end) {
+void detail::Islands::endIslands(double end) {
   // Without gravity nothing holds a body at rest (no up): it stays stepped while its contacts push, and
   // is free again at the start of the first step in which none does.
-  if (stepped.empty() || (def.gravity.x == 0 && def.gravity.y == 0)) return;
-  const Vec2 up = -def.gravity * (1.0 / length(def.gravity));
+  if (stepped.empty() || (w.def.gravity.x == 0 && w.def.gravity.y == 0)) return;
+  const Vec2 up = -w.def.gravity * (1.0 / length(w.def.gravity));
   std::vector<int>& slot = jamSlot;
-  if (slot.size() < bodies.size()) slot.resize(bodies.size(), -1);
+  if (slot.size() < w.bodies.size()) slot.resize(w.bodies.size(), -1);
   for (size_t k = 0; k < stepped.size(); ++k) slot[stepped[k]] = static_cast<int>(k);
   // What held each body at the start of the step: the contacts that pushed it up or sideways (from
   // below or beside), with their other bodies.
   std::vector<std::vector<uint32_t>> holders(stepped.size());
   std::vector<char> candidate(stepped.size(), 0), movingHolder(stepped.size(), 0);
   for (size_t k = 0; k < stepped.size(); ++k) {
-    const BodySlot& b = bodies[stepped[k]];
+    const BodySlot& b = w.bodies[stepped[k]];
     // At rest: still stepped, not moved on by an event since the solve, and slow.
-    candidate[k] = b.stepped && !b.asleep && b.collisionCount == steppedCounts[k] && length(b.velocity) < def.restingSpeed;
+    candidate[k] = b.stepped && !b.asleep && b.collisionCount == steppedCounts[k] && length(b.velocity) < w.def.restingSpeed;
   }
   for (const IslandContact& c : islandScratchStart) {
     const int ka = slot[c.a], kb = c.kb >= 0 ? slot[c.b] : -1;
     if (ka >= 0 && dot(c.normal, up) >= -1e-12) {
       holders[ka].push_back(c.b);
-      if (bodies[c.b].type == BodyType::Kinematic) movingHolder[ka] = 1;
+      if (w.bodies[c.b].type == BodyType::Kinematic) movingHolder[ka] = 1;
     }
     if (kb >= 0 && dot(c.normal, up) <= 1e-12) holders[kb].push_back(c.a);
   }
@@ -892,7 +913,7 @@ void detail::WorldState::endIslands(double end) {
     for (uint32_t k : order) {
       if (!resting[k]) continue;
       for (uint32_t h : holders[k]) {
-        const BodySlot& holder = bodies[h];
+        const BodySlot& holder = w.bodies[h];
         if (holder.type == BodyType::Static || holder.asleep) continue;
         if (holder.type == BodyType::Dynamic && slot[h] >= 0 && resting[slot[h]]) continue;
         resting[k] = 0;
@@ -904,13 +925,13 @@ void detail::WorldState::endIslands(double end) {
   std::vector<uint32_t> supporters;
   for (uint32_t k : order) {
     if (!resting[k]) continue;
-    BodySlot& b = bodies[stepped[k]];
+    BodySlot& b = w.bodies[stepped[k]];
     supporters.clear();
     for (uint32_t h : holders[k])
-      if (bodies[h].type == BodyType::Dynamic && std::find(supporters.begin(), supporters.end(), h) == supporters.end())
+      if (w.bodies[h].type == BodyType::Dynamic && std::find(supporters.begin(), supporters.end(), h) == supporters.end())
         supporters.push_back(h);
-    advance(b, end);
-    putToSleep(stepped[k], supporters);
+    w.advance(b, end);
+    w.putToSleep(stepped[k], supporters);
   }
   for (uint32_t i : stepped) slot[i] = -1;
 }

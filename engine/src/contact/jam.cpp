@@ -19,6 +19,7 @@
 #include "collision/closest_point.h"
 #include "contact/collapse_guard.h"
 #include "world/stepper.h"
+#include "contact/islands.h"
 #include "world/world_impl.h"
 
 namespace rattle {
@@ -33,17 +34,17 @@ constexpr size_t kMaxJamBodies = 4096;
 
 // A dynamic body's circles and points share one centre, so a circle with a radius keeps its points a
 // radius from anything they meet: the body is a point only when it has no such circle.
-bool detail::WorldState::bodyIsPoint(const BodySlot& b) const {
+bool detail::Islands::bodyIsPoint(const BodySlot& b) const {
   for (uint32_t f : b.fixtures) {
-    if (!fixtures[f].sensor && !detail::isPoint(fixtures[f].geometry)) return false;
+    if (!w.fixtures[f].sensor && !detail::isPoint(w.fixtures[f].geometry)) return false;
   }
   return true;
 }
 
-bool detail::WorldState::isJammed(uint32_t bodyIndex) {
-  BodySlot& s = bodies[bodyIndex];
+bool detail::Islands::isJammed(uint32_t bodyIndex) {
+  BodySlot& s = w.bodies[bodyIndex];
   if (s.type != BodyType::Dynamic || s.asleep || s.jamTime == kJamRefused) return false;
-  if (!(def.restingSpeed > 0)) return false;
+  if (!(w.def.restingSpeed > 0)) return false;
   // An island's contacts are built from distances (island.cpp), which cannot tell a point's side of a
   // face it lies on: a point's contacts stay events, where its slide and LastContact tell it.
   if (bodyIsPoint(s)) return false;
@@ -51,22 +52,22 @@ bool detail::WorldState::isJammed(uint32_t bodyIndex) {
   // body the game drives jams as under gravity; one it does not (a gas) only where the collapse guard
   // would otherwise make its collisions elastic: it is then in an inelastic collapse (a cluster with low
   // restitution in a corner), which exact events cannot end within the step's budget.
-  if (def.gravity.x == 0 && def.gravity.y == 0) {
-    return s.stepCollisions > (s.driven ? kJamCollisions : detail::collapseCollisions(def.maxEventsPerStep));
+  if (w.def.gravity.x == 0 && w.def.gravity.y == 0) {
+    return s.stepCollisions > (s.driven ? kJamCollisions : detail::collapseCollisions(w.def.maxEventsPerStep));
   }
   return s.countStepCollision() > kJamCollisions;
 }
 
-bool detail::WorldState::settleJamAt(const detail::PredictedContact& c, double dt) {
-  const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
+bool detail::Islands::settleJamAt(const detail::PredictedContact& c, double dt) {
+  const uint32_t ia = w.fixtures[c.a].body, ib = w.fixtures[c.b].body;
   const bool jamA = isJammed(ia), jamB = isJammed(ib);
   if (!jamA && !jamB) return false;
-  const int events = settleJam(jamA ? ia : ib, c.time, dt, def.maxEventsPerStep - stats.eventsProcessed);
-  stats.eventsProcessed += events;
+  const int events = settleJam(jamA ? ia : ib, c.time, dt, w.def.maxEventsPerStep - w.stats.eventsProcessed);
+  w.stats.eventsProcessed += events;
   return events > 0;
 }
 
-bool detail::WorldState::settledTogether(const BodySlot& a, const BodySlot& b, double now) const {
+bool detail::Islands::settledTogether(const BodySlot& a, const BodySlot& b, double now) const {
   const bool aFree = a.type == BodyType::Dynamic && !a.asleep, bFree = b.type == BodyType::Dynamic && !b.asleep;
   if (!aFree && !bFree) return false;
   const BodySlot& settled = aFree ? a : b;
@@ -75,50 +76,50 @@ bool detail::WorldState::settledTogether(const BodySlot& a, const BodySlot& b, d
   return !(other.type == BodyType::Dynamic && !other.asleep) || (other.jam == settled.jam && other.jamTime == now);
 }
 
-void detail::WorldState::refuseJam(const std::vector<uint32_t>& cluster) {
+void detail::Islands::refuseJam(const std::vector<uint32_t>& cluster) {
   for (uint32_t i : cluster) {
-    bodies[i].jamTime = kJamRefused;
-    bodies[i].stepLocalsSet = true;
+    w.bodies[i].jamTime = kJamRefused;
+    w.bodies[i].stepLocalsSet = true;
   }
 }
 
-double detail::WorldState::islandResidual(double h) const {
+double detail::Islands::islandResidual(double h) const {
   // The worst overlap the last solve's contacts reach within h beyond what they had (a fixture created
   // overlapping others is not the solve's doing), beyond kJamResidual of the radius.
   double worst = -std::numeric_limits<double>::infinity();
   for (const IslandContact& c : islandScratch) {
-    const Vec2 vb = c.kb >= 0 ? bodies[c.b].velocity : c.holderVelocity;
-    const double end = c.gap + h * dot(bodies[c.a].velocity - vb, c.normal);
-    const double radius = detail::circleRadius(fixtures[c.fa].geometry);
+    const Vec2 vb = c.kb >= 0 ? w.bodies[c.b].velocity : c.holderVelocity;
+    const double end = c.gap + h * dot(w.bodies[c.a].velocity - vb, c.normal);
+    const double radius = detail::circleRadius(w.fixtures[c.fa].geometry);
     worst = std::max(worst, std::min(c.gap, 0.0) - std::min(end, 0.0) - kJamResidual * radius);
   }
   return worst;
 }
 
-int detail::WorldState::settleJam(uint32_t seed, double now, double dt, int budget) {
+int detail::Islands::settleJam(uint32_t seed, double now, double dt, int budget) {
   // Touching: within the gap a contact at restingSpeed closes before it rests, under gravity (v^2 / g),
   // and without it within what restingSpeed closes in the step.
-  const double g = length(def.gravity);
-  const double reachBase = g > 0 ? def.restingSpeed * def.restingSpeed / g : def.restingSpeed * dt;
+  const double g = length(w.def.gravity);
+  const double reachBase = g > 0 ? w.def.restingSpeed * w.def.restingSpeed / g : w.def.restingSpeed * dt;
   // The cluster: awake dynamic bodies connected by touching pairs, in the order found from the seed (each
   // body's pairs are in a deterministic order).
   std::vector<uint32_t> cluster{seed};
   std::vector<int>& slot = jamSlot;  // body -> index into cluster; -1 outside it (reset on the way out)
-  if (slot.size() < bodies.size()) slot.resize(bodies.size(), -1);
+  if (slot.size() < w.bodies.size()) slot.resize(w.bodies.size(), -1);
   slot[seed] = 0;
   for (size_t k = 0; k < cluster.size(); ++k) {
     const uint32_t i = cluster[k];
-    const BodySlot& body = bodies[i];
-    for (const auto& pair : pairsOfBody[i]) {
-      const detail::FixtureSlot& own = fixtures[pair.own];
-      const detail::FixtureSlot& other = fixtures[pair.other];
+    const BodySlot& body = w.bodies[i];
+    for (const auto& pair : w.pairsOfBody[i]) {
+      const detail::FixtureSlot& own = w.fixtures[pair.own];
+      const detail::FixtureSlot& other = w.fixtures[pair.other];
       const uint32_t j = other.body;
-      const BodySlot& holder = bodies[j];
+      const BodySlot& holder = w.bodies[j];
       if (holder.type != BodyType::Dynamic || holder.asleep || slot[j] >= 0) continue;
       if (bodyIsPoint(holder)) continue;  // as in isJammed
-      const Vec2 centre = positionAt(body, now) + detail::circleCentre(own.geometry);
+      const Vec2 centre = w.positionAt(body, now) + detail::circleCentre(own.geometry);
       const double radius = detail::circleRadius(own.geometry);
-      const auto closest = detail::closestPoint(other.geometry, positionAt(holder, now), centre);
+      const auto closest = detail::closestPoint(other.geometry, w.positionAt(holder, now), centre);
       if (!closest || !closest->collidable) continue;
       const double distance = length(centre - closest->point);
       if (!(distance > 0) || distance - radius > 1e-7 * std::max(radius, 1e-9) + reachBase) continue;
@@ -130,7 +131,7 @@ int detail::WorldState::settleJam(uint32_t seed, double now, double dt, int budg
   for (uint32_t i : cluster) slot[i] = -1;
   // Without gravity a body alone (a disk rattling between walls) is no jam: its collisions are exact
   // events, and the collapse guard bounds them.
-  const bool noGravity = def.gravity.x == 0 && def.gravity.y == 0;
+  const bool noGravity = w.def.gravity.x == 0 && w.def.gravity.y == 0;
   if (noGravity && cluster.size() < 2) {
     refuseJam(cluster);
     return 0;
@@ -138,45 +139,45 @@ int detail::WorldState::settleJam(uint32_t seed, double now, double dt, int budg
   // Kept to undo the jam (below).
   std::vector<BodySlot> saved;
   if (noGravity) {
-    for (uint32_t i : cluster) saved.push_back(bodies[i]);
+    for (uint32_t i : cluster) saved.push_back(w.bodies[i]);
   }
-  const size_t eventMark = contactEvents.size();
+  const size_t eventMark = w.contactEvents.size();
   // They join the islands, and the whole island they are now part of is solved (island.cpp). Its
   // contacts that were collisions are reported, as many as the step's budget has room for (at least the
   // one event the jam counts is left to it: the caller checked the budget had room).
   joinIslands(cluster, now, dt);
   const std::vector<uint32_t> island = islandOf(cluster);
-  for (size_t k = cluster.size(); noGravity && k < island.size(); ++k) saved.push_back(bodies[island[k]]);
+  for (size_t k = cluster.size(); noGravity && k < island.size(); ++k) saved.push_back(w.bodies[island[k]]);
   ++jamCounter;
   for (uint32_t i : cluster) {
-    BodySlot& b = bodies[i];
-    keep(b);
+    BodySlot& b = w.bodies[i];
+    w.keep(b);
     b.jam = jamCounter;
     b.jamTime = now;
     b.stepCollisions = 0;
     b.stepLocalsSet = true;
-    b.lastContactTime = time + now;
+    b.lastContactTime = w.time + now;
     ++b.collisionCount;
   }
   std::vector<Vec2> before(island.size());
-  for (size_t k = 0; k < island.size(); ++k) before[k] = bodies[island[k]].velocity;
+  for (size_t k = 0; k < island.size(); ++k) before[k] = w.bodies[island[k]].velocity;
   const IslandSolve solve =
-      solveIsland(island, now, dt, length(def.gravity) * (dt - now) + def.restingSpeed, ~uint64_t{0}, false, true,
+      solveIsland(island, now, dt, length(w.def.gravity) * (dt - now) + w.def.restingSpeed, ~uint64_t{0}, false, true,
                   std::max(budget - 1, 0));
   // Stepped bodies meet each other only through the solves, so what a solve leaves unmet closes for the
   // rest of the step. Without gravity a jam is held only if that stays within kJamResidual of a radius;
   // otherwise (a light disk between heavy ones converges slowly, and a long step multiplies what is left)
   // it is undone and its collisions stay exact events.
   if (noGravity && !(islandResidual(dt - now) <= 0)) {
-    for (size_t k = 0; k < island.size(); ++k) bodies[island[k]] = saved[k];
-    contactEvents.resize(eventMark);
+    for (size_t k = 0; k < island.size(); ++k) w.bodies[island[k]] = saved[k];
+    w.contactEvents.resize(eventMark);
     --jamCounter;
     refuseJam(cluster);
     return 0;
   }
   const int reported = solve.reported;
   for (size_t k = 0; k < island.size(); ++k) {
-    const BodySlot& b = bodies[island[k]];
+    const BodySlot& b = w.bodies[island[k]];
     if (k < cluster.size() || b.velocity.x != before[k].x || b.velocity.y != before[k].y) {
       predictor->motionChanged(island[k], now, dt);
     }

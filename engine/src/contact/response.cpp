@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "collision/closest_point.h"
+#include "contact/collapse_guard.h"
 #include "contact/impulse.h"
 #include "contact/tolerances.h"
 #include "world/world_impl.h"

@@ -15,6 +15,7 @@
 #include <cmath>
 
 #include "collision/closest_point.h"
+#include "contact/islands.h"
 #include "world/world_impl.h"
 
 namespace rattle {
@@ -141,7 +142,7 @@ bool detail::WorldState::passesThrough(const detail::PredictedContact& c) {
   const Vec2 ca = positionAt(bodies[ia], c.time) + detail::circleCentre(fixtures[c.a].geometry);
   const Vec2 cb = positionAt(bodies[ib], c.time) + detail::circleCentre(fixtures[c.b].geometry);
   const double ra = detail::circleRadius(fixtures[c.a].geometry), rb = detail::circleRadius(fixtures[c.b].geometry);
-  if (!(ra + rb - length(ca - cb) > kJamResidual * std::max(ra, rb))) return false;
+  if (!(ra + rb - length(ca - cb) > Islands::kJamResidual * std::max(ra, rb))) return false;
   if (!held) {
     exemptFromCollisions(c.a, c.b);
     return true;

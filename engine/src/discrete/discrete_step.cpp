@@ -35,6 +35,10 @@ class DiscreteStepper final : public detail::Stepper {
  public:
   explicit DiscreteStepper(detail::WorldState& world);
   void step(double dt) override;
+  void forget() override {
+    std::fill(pushedSlot_.begin(), pushedSlot_.end(), -1);
+    pushed_.clear();
+  }
 
  private:
   struct Pair {
@@ -66,7 +70,8 @@ class DiscreteStepper final : public detail::Stepper {
 
   detail::WorldState& w_;
   std::vector<Pair> pairs_;
-  std::vector<Moved> pushed_;  // in the order first pushed; WorldState::jamSlot maps a body to its entry
+  std::vector<Moved> pushed_;  // in the order first pushed
+  std::vector<int> pushedSlot_;  // body -> index into pushed_; -1 outside it (all -1 between passes)
   std::vector<uint32_t> nearStatic_;  // bodies in a pair with a static body, sorted
   std::vector<uint32_t> walls_;       // scratch of putBack
 };
@@ -231,8 +236,7 @@ bool DiscreteStepper::crossesStatic(uint32_t own, Vec2 from, Vec2 travel) {
 // Where each dynamic body's own motion took it, before any push: a push that carries its centre across a
 // static fixture's surface from there is taken back (step 3b).
 void DiscreteStepper::notePush(uint32_t body, Vec2 before, bool byKinematic) {
-  detail::WorldState& w = w_;
-  std::vector<int>& pushedSlot = w.jamSlot;  // body -> index into `pushed_`; -1 outside it
+  std::vector<int>& pushedSlot = pushedSlot_;
   if (pushedSlot[body] < 0) {
     pushedSlot[body] = static_cast<int>(pushed_.size());
     pushed_.push_back({body, before, false});
@@ -243,7 +247,7 @@ void DiscreteStepper::notePush(uint32_t body, Vec2 before, bool byKinematic) {
 // 3. Push apart and reflect, in that order.
 void DiscreteStepper::pushApartAndReflect(double dt) {
   detail::WorldState& w = w_;
-  std::vector<int>& pushedSlot = w.jamSlot;  // bodies pushed by another dynamic or a kinematic body
+  std::vector<int>& pushedSlot = pushedSlot_;  // bodies pushed by another dynamic or a kinematic body
   if (pushedSlot.size() < w.bodies.size()) pushedSlot.resize(w.bodies.size(), -1);
   pushed_.clear();
   for (const Pair& p : pairs_) {
@@ -260,7 +264,7 @@ void DiscreteStepper::pushApartAndReflect(double dt) {
     std::optional<Vec2> crossedFrom;
     // A body pushed already this step (by a body or a wall) is looked at from where it began the step
     // in 3b (putBack).
-    const bool pushedAlready = w.jamSlot[ownBody] >= 0;
+    const bool pushedAlready = pushedSlot_[ownBody] >= 0;
     if (partner.type == BodyType::Static && !body.asleep &&
         (pen || (!pushedAlready && atSegmentEnd(body.position + centre, radius, w.fixtures[other].geometry,
                                                 partner.position)))) {
@@ -323,7 +327,7 @@ std::optional<Vec2> DiscreteStepper::crossedSurface(uint32_t body, Vec2 centre, 
                                                     Penetration& pen) {
   detail::WorldState& w = w_;
   const BodySlot& b = w.bodies[body];
-  const int pushedSlot = w.jamSlot[body];  // pushed already in this pass: its own motion ended before that
+  const int pushedSlot = pushedSlot_[body];  // pushed already in this pass: its own motion ended before that
   if (!movedSlowly(body, pushedSlot >= 0 ? pushed_[pushedSlot].position : b.position, radius)) return std::nullopt;
   const Vec2 start = w.stepStart.motion[body].first;
   const Vec2 travel = b.position - start;
@@ -372,7 +376,7 @@ void DiscreteStepper::putBackAcrossStatics() {
   }
   std::sort(nearStatic_.begin(), nearStatic_.end());
   for (const Moved& m : pushed_) {
-    w.jamSlot[m.body] = -1;
+    pushedSlot_[m.body] = -1;
     putBack(m);
   }
   pushed_.clear();

@@ -1,13 +1,14 @@
-// What the hybrid step keeps for itself between and within steps: its event queue and the scratch of
-// its passes. Its stepper owns it (and the predictive stepper one for the steps it hands over); the
-// islands, jams and squeezes it shares with the predictive mode stay in the world's state, with the
-// contact response.
+// What the hybrid step keeps for itself between and within steps: its event queue, its stepped islands
+// and jams (contact/islands.h), and the scratch of its passes. Its stepper owns it (and the predictive
+// stepper one for the steps it hands over); the squeezes, which the predictive mode meets in its own
+// events too, stay in the world's state, with the contact response.
 #pragma once
 
 #include <cstdint>
 #include <vector>
 
 #include "common/large_array.h"
+#include "contact/islands.h"
 #include "world/world_impl.h"
 
 namespace rattle::detail {
@@ -23,6 +24,8 @@ struct DiskShape {
 };
 
 struct HybridState {
+  explicit HybridState(WorldState& world) : islands(world) {}
+
   std::vector<PredictedContact> queue;  // binary heap ordered by detail::later
   LargeArray<uint32_t> stamp;           // by fixture index, for de-duplication
   uint32_t stampCounter = 0;
@@ -30,6 +33,7 @@ struct HybridState {
   std::vector<uint32_t> slidingAtStart;   // the bodies that start the step sliding
   std::vector<CandidatePair> deferred;    // pairs predicted after the islands
   std::vector<uint32_t> islandFreed;      // stepped bodies the start's solve set free
+  Islands islands;
 };
 
 }  // namespace rattle::detail

@@ -34,6 +34,7 @@
 
 #include "collision/closest_point.h"
 #include "collision/path_box.h"
+#include "contact/collapse_guard.h"
 #include "contact/tolerances.h"
 #include "world/stepper.h"
 #include "rattle/time_of_impact.h"
@@ -66,16 +67,17 @@ using detail::pathBox;
 namespace {
 
 // One hybrid step over the world's state, in named phases (run). It holds only references: what the
-// hybrid step keeps between steps is the HybridState its caller owns (hybrid_state.h), and the contact
-// response and the islands it shares with the other modes stay WorldState's. While it lives it is the
-// world's EventPredictor: the islands and jams tell it whose motion they changed (motionChanged).
+// hybrid step keeps between steps, its islands and jams among it, is the HybridState its caller owns
+// (hybrid_state.h); the contact response it shares with the other modes stays WorldState's. While it
+// lives it is its islands' EventPredictor: the islands and jams tell it whose motion they changed
+// (motionChanged).
 class HybridStep final : public detail::EventPredictor {
  public:
-  // Steps are not nested: outside one the world has no predictor.
+  // Steps are not nested: outside one the islands have no predictor.
   HybridStep(detail::WorldState& world, detail::HybridState& state) : w_(world), h_(state) {
-    world.predictor = this;
+    state.islands.predictor = this;
   }
-  ~HybridStep() { w_.predictor = nullptr; }
+  ~HybridStep() { h_.islands.predictor = nullptr; }
   HybridStep(const HybridStep&) = delete;
   HybridStep& operator=(const HybridStep&) = delete;
   void run(double dt, int eventsBefore);
@@ -166,7 +168,7 @@ void HybridStep::predict(uint32_t own, uint32_t other, double now, double dt, in
   detail::WorldState& w = w_;
   const BodySlot& a = w.bodyOf(own);
   const BodySlot& b = w.bodyOf(other);
-  if (w.heldByIsland(a, b)) return;  // the island's solve holds this contact (island.cpp)
+  if (detail::Islands::heldByIsland(a, b)) return;  // the island's solve holds this contact (island.cpp)
   if (!w.squeezes.empty() && w.squeezeExempt(own, other)) return;  // squeeze.cpp
   ++w.stats.timeOfImpactTests;
 
@@ -275,7 +277,7 @@ void HybridStep::repredict(uint32_t bodyIndex, double now, double dt, bool force
       ++w.stats.candidatePairs;
       addPair(f, g);
       // A contact an island holds that its last solve did not see (island.cpp).
-      if (w.heldByIsland(body, w.bodyOf(g))) w.unsolvedIslandPairs.push_back(bodyIndex);
+      if (detail::Islands::heldByIsland(body, w.bodyOf(g))) h.islands.unsolvedIslandPairs.push_back(bodyIndex);
     });
   }
   // `pairs` may have grown above (addPair); index, do not iterate by reference.
@@ -362,7 +364,7 @@ double HybridStep::sweepBoxes(double dt) {
   const detail::DiskShape* const shapes = h.diskShapes.data();
   double speedScale = 0, straightSpeedSquared = 0;
   h.slidingAtStart.clear();
-  w.stepped.clear();
+  h.islands.stepped.clear();
   const uint32_t bodyCount = static_cast<uint32_t>(w.bodies.size());
   const bool noGravity = w.def.gravity.x == 0 && w.def.gravity.y == 0;
   for (uint32_t i = 0; i < bodyCount; ++i) {
@@ -390,7 +392,7 @@ double HybridStep::sweepBoxes(double dt) {
       storeIfChanged(b.acceleration, b.stepped ? Vec2{} : w.def.gravity);
     }
     if (b.sliding) h.slidingAtStart.push_back(i);
-    if (b.stepped) w.stepped.push_back(i);
+    if (b.stepped) h.islands.stepped.push_back(i);
     const bool moving = w.moves(b) && !b.asleep;
     // A body standing still all step (a crowd's waiting units) meets another still one only after
     // something sets one of them moving, and then its path leaves this box and the broad phase is asked
@@ -528,13 +530,13 @@ void HybridStep::startIslandsAndPredict(double dt) {
   detail::WorldState& w = w_;
   detail::HybridState& h = h_;
   std::vector<uint32_t>& freed = h.islandFreed;
-  w.startIslands(dt, freed);
-  for (uint32_t i : w.stepped) w.recordPath(i, 0);
+  h.islands.startIslands(dt, freed);
+  for (uint32_t i : h.islands.stepped) w.recordPath(i, 0);
   for (uint32_t i : freed) w.recordPath(i, 0);
   for (const auto& p : h.deferred) predict(p.own, p.other, 0, dt);
   // A stepped body the solve sent out of the box the sweep saw is asked about again; contacts found so
   // are solved in turn.
-  for (uint32_t i : w.stepped) {
+  for (uint32_t i : h.islands.stepped) {
     const BodySlot& b = w.bodies[i];
     const Box path = pathBox(b.position, b.velocity, b.acceleration, dt);
     for (uint32_t f : b.fixtures) {
@@ -546,7 +548,7 @@ void HybridStep::startIslandsAndPredict(double dt) {
       }
     }
   }
-  w.settleUnsolvedIslandPairs(0, dt);
+  h.islands.settleUnsolvedIslandPairs(0, dt);
   for (uint32_t i : h.slidingAtStart) predictSlideEnd(i, 0, dt);
 }
 
@@ -571,7 +573,7 @@ void HybridStep::dismissContact(const PredictedContact& c, double dt, double vn,
   ++w.stats.staleEvents;
   // A jam just settled these two together: what approach is left is its solve's round-off, and
   // absorbing it (or settling the cluster again) would repeat at this instant without end.
-  if (w.settledTogether(a, b, c.time)) return;
+  if (h_.islands.settledTogether(a, b, c.time)) return;
   // Absorbing is pointless (and would repeat forever) when vn is itself the round-off of the
   // velocities, or when the two are at rest relative to each other. The round-off of a relative
   // velocity is that of the two velocities it is the difference of: two disks moving together at
@@ -580,7 +582,7 @@ void HybridStep::dismissContact(const PredictedContact& c, double dt, double vn,
   const double roundOff = length(w.velocityAt(a, c.time)) + length(w.velocityAt(b, c.time));
   if (vn < -detail::kAbsorbRoundOff * roundOff && speed > restTolerance &&
       w.stats.eventsProcessed < w.def.maxEventsPerStep) {
-    if (w.settleJamAt(c, dt)) return;
+    if (h_.islands.settleJamAt(c, dt)) return;
     if (squeezeAndPredict(c, dt)) return;
     // Its approach is below round-off: leaving it moves the pair together by no more than the
     // round-off of their coordinates over the step, and ends a run of absorbs that would not.
@@ -612,7 +614,7 @@ void HybridStep::dismissContact(const PredictedContact& c, double dt, double vn,
 void HybridStep::collide(const PredictedContact& c, double dt, std::vector<uint32_t>& woken) {
   detail::WorldState& w = w_;
   // A body caught in a collapse or a jam collides ever faster without coming to rest (jam.cpp).
-  if (w.settleJamAt(c, dt)) return;
+  if (h_.islands.settleJamAt(c, dt)) return;
   // Or between bodies that do not yield (squeeze.cpp).
   if (squeezeAndPredict(c, dt)) return;
   const uint32_t ia = w.fixtures[c.a].body, ib = w.fixtures[c.b].body;
@@ -620,14 +622,14 @@ void HybridStep::collide(const PredictedContact& c, double dt, std::vector<uint3
     // It would bounce off slower than restingSpeed from a body that moves: the two rest on each
     // other from now on, in a stepped island (island.cpp), instead of bouncing ever lower.
     const std::array<uint32_t, 2> pair{ia, ib};
-    w.joinIslands(pair, c.time, dt);
+    h_.islands.joinIslands(pair, c.time, dt);
     for (uint32_t body : pair) {
       BodySlot& s = w.bodies[body];
       w.keep(s);
       ++s.collisionCount;
       s.lastContactTime = w.time + c.time;
     }
-    const int settled = w.settleAround(pair, 2, c.time, dt, detail::WorldState::islandKey(c.a, c.b));
+    const int settled = h_.islands.settleAround(pair, 2, c.time, dt, detail::islandKey(c.a, c.b));
     w.stats.eventsProcessed += std::max(1, settled);
     return;
   }
@@ -642,14 +644,14 @@ void HybridStep::collide(const PredictedContact& c, double dt, std::vector<uint3
     for (const auto& p : w.pairsOfBody[body]) {
       const uint32_t other = w.fixtures[p.other].body;
       if (!w.bodies[other].stepped) continue;
-      w.settleAround(std::span(&other, 1), 1, c.time, dt);
+      h_.islands.settleAround(std::span(&other, 1), 1, c.time, dt);
     }
   }
   // A stepped body hit by a free one moves its island for the rest of the step.
   for (uint32_t body : {ia, ib}) {
     if (!w.bodies[body].stepped) continue;
     // Its neighbours move with it; beyond them the island keeps its paths.
-    w.settleAround(std::span(&body, 1), 1, c.time, dt);
+    h_.islands.settleAround(std::span(&body, 1), 1, c.time, dt);
   }
   for (uint32_t body : woken) {
     if (body != ia && body != ib) repredict(body, c.time, dt, true);
@@ -770,7 +772,7 @@ void HybridStep::run(double dt, int eventsBefore) {
     w.sensePaths(w.pathLog, end);
     w.pathLog.active = false;
   }
-  w.endIslands(end);
+  h.islands.endIslands(end);
   // Nothing from here on allocates: the last pass changes every body without keeping it (step_undo.cpp).
   w.stepStart.keeping = false;
   for (uint32_t i = 0; i < bodyCount; ++i) {
@@ -797,10 +799,16 @@ namespace {
 
 class HybridStepper final : public detail::Stepper {
  public:
-  explicit HybridStepper(detail::WorldState& world) : w_(world) {}
-  void step(double dt) override { detail::stepHybrid(w_, state_, dt); }
+  explicit HybridStepper(detail::WorldState& world) : w_(world), state_(world) {}
+  void step(double dt) override {
+    state_.islands.beginStep();
+    detail::stepHybrid(w_, state_, dt);
+  }
   // A step that ran out of memory may have left events queued.
-  void forget() override { state_.queue.clear(); }
+  void forget() override {
+    state_.queue.clear();
+    state_.islands.undoStep();
+  }
 
  private:
   detail::WorldState& w_;

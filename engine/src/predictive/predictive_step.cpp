@@ -614,11 +614,12 @@ namespace {
 // next, and a pile it hands over goes to the hybrid step for the rest of the step.
 class PredictiveStepper final : public detail::Stepper {
  public:
-  explicit PredictiveStepper(detail::WorldState& world) : w_(world) {}
+  explicit PredictiveStepper(detail::WorldState& world) : w_(world), hybrid_(world) {}
   void step(double dt) override;
   void forget() override {
     state_.reset();
     hybrid_.queue.clear();
+    hybrid_.islands.undoStep();
   }
 
  private:
@@ -633,6 +634,7 @@ bool anyHeld(const detail::WorldState& w) {
 
 void PredictiveStepper::step(double dt) {
   detail::WorldState& w = w_;
+  hybrid_.islands.beginStep();
   if (!state_) {
     // The first step, or the first after one that failed (step_undo.cpp): the grid and the queue are
     // made afresh, and a pile still held by stepped islands stays with the hybrid step (below).

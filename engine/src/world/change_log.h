@@ -22,6 +22,9 @@ struct ChangeLog {
   // a map's walls again. Filters are not listed.
   uint64_t staticVersion = 0;
   bool restitutionChanged = false;  // World::setRestitution since the last step
+  // Moves on when a fixture is destroyed (never cleared): what a stepper keeps by fixture index (the
+  // islands' warm start) is void then, as indices are reused.
+  uint64_t fixtureRemovals = 0;
   std::vector<uint32_t> touchedBodies;
 
   void staticsChanged(BodyType type) {

@@ -48,8 +48,6 @@ void detail::WorldState::saveStepStart() {
   stepStart.dependents.clear();
   stepStart.time = time;
   stepStart.stats = stats;
-  stepStart.jamCounter = jamCounter;
-  stepStart.islandsSwapped = false;
   stepStart.active = true;
   stepStart.keeping = stepStart.keepEach;
 }
@@ -97,7 +95,6 @@ void detail::WorldState::undoStep() {
   }
   time = stepStart.time;
   stats = stepStart.stats;
-  jamCounter = stepStart.jamCounter;
   pendingSensorEvents.swap(stepStart.pendingSensorEvents);
   squeezes.swap(stepStart.squeezes);
   // Newest first, so that each entry finds the map (and each list) as it was right after its change.
@@ -115,11 +112,7 @@ void detail::WorldState::undoStep() {
     dependents[it->first] = std::move(it->second);
   }
   stepStart.dependents.clear();
-  if (stepStart.islandsSwapped) islandImpulses.swap(islandNext);  // last step's warm start, as it was
   // Scratch whose invariants hold between calls.
-  std::fill(jamSlot.begin(), jamSlot.end(), -1);
-  unsolvedIslandPairs.clear();
-  settlingUnsolved = false;
   pathLog.active = false;
   // Caches of positions the step moved away from: void, rebuilt by the next step.
   broadPhase.forgetStep();

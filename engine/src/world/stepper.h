@@ -3,10 +3,11 @@
 // chosen once from WorldDef::mode. A stepper moves every body to the step's end and fills the world's
 // contactEvents, sensorEvents and stats; what it keeps from one step to the next is its own.
 //
-// What the modes share stays in WorldState: the bodies and fixtures, the broad phase and the persistent
-// contact (islands, jams, squeezes: contact/). The islands and jams tell the step that runs them whose
-// motion they changed through an EventPredictor; the predictive mode hands a pile over to the hybrid
-// step (detail::stepHybrid, hybrid_step.h) for the rest of a step.
+// What the modes share stays in WorldState: the bodies and fixtures, the broad phase, the contact
+// response and the squeezes (contact/). The islands and jams (contact/islands.h) are the hybrid step's,
+// kept in its HybridState; they tell the step that runs them whose motion they changed through an
+// EventPredictor. The predictive mode hands a pile over to the hybrid step (detail::stepHybrid,
+// hybrid_step.h) for the rest of a step, with a HybridState of its own.
 #pragma once
 
 #include <cstdint>
@@ -18,7 +19,7 @@ struct WorldState;
 
 /// What the persistent contact (islands and jams, contact/) tells the step that runs it and predicts
 /// events: a body's motion changed at `now`, so its events for the rest of the step (of length dt) are
-/// predicted again. The hybrid step is one; while it runs, WorldState::predictor names it.
+/// predicted again. The hybrid step is one; while it runs, Islands::predictor names it.
 class EventPredictor {
  public:
   virtual void motionChanged(uint32_t body, double now, double dt) = 0;

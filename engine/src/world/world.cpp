@@ -275,8 +275,7 @@ void World::destroyBody(BodyId id) {
   b.fixtures.clear();
   b.diskShapeKnown = false;
   w.changes.staticsChanged(b.type);
-  // Island impulses are kept by fixture index, and indices are reused: forget them (island.cpp).
-  w.islandNext.clear();
+  ++w.changes.fixtureRemovals;
   b.alive = false;
   b.generation = nextGeneration(b.generation);
   w.freeBodies.push_back(id.index);
@@ -475,7 +474,7 @@ void World::destroyFixture(FixtureId id) {
   f.generation = nextGeneration(f.generation);
   f.geometry = Point{};
   w.freeFixtures.push_back(id.index);
-  w.islandNext.clear();  // kept by fixture index (island.cpp)
+  ++w.changes.fixtureRemovals;
   w.recomputeMass(body);
 }
 

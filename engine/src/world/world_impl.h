@@ -1,4 +1,4 @@
-// Private: the world's state (bodies, fixtures, the broad phase, the islands, the step's results) and the
+// Private: the world's state (bodies, fixtures, the broad phase, the squeezes, the step's results) and the
 // member functions the modes share: world/ creates, checks and reads it, contact/ and sensors/ serve
 // the modes, and each mode's step (hybrid/, predictive/, discrete/) is a class of its own over it.
 #pragma once
@@ -14,8 +14,6 @@
 #include <vector>
 
 #include "broad_phase/broad_phase.h"
-#include "contact/collapse_guard.h"
-#include "contact/exact_projection.h"
 #include "world/change_log.h"
 #include "world/fixture_list.h"
 #include "common/out_of_memory.h"
@@ -28,7 +26,6 @@ namespace rattle {
 namespace detail {
 
 class Stepper;            // stepper.h
-class EventPredictor;     // stepper.h
 
 // The last collision a body took part in, within the current step. A pair that was resolved at an
 // instant and whose bodies have done nothing since cannot be approaching at that instant; remembering it
@@ -96,7 +93,7 @@ struct alignas(64) BodySlot {
   uint32_t generation = 1;
   int stepCollisions = 0;  // collisions in the current step, for the Zeno guard
   FixtureList fixtures;  // in place for up to four (fixture_list.h)
-  // The jam that last settled it (detail::WorldState::jamCounter) and when, in step time; < 0: none this step.
+  // The jam that last settled it (detail::Islands::jamCounter) and when, in step time; < 0: none this step.
   double jamTime = -1;
   uint32_t jam = 0;
   bool steppedHeld = false;  // a contact of an island solve pushed it this step
@@ -193,8 +190,12 @@ struct CandidatePair {
 // Key of a sensor overlap: the sensor fixture in the high half, the visitor in the low half.
 inline uint64_t overlapKey(uint32_t sensor, uint32_t visitor) { return (uint64_t{sensor} << 32) | visitor; }
 
-// The world's state: every body and fixture, the broad phase, the last step's results, and the state the
-// contact solve keeps between and within steps (each mode's own is its stepper's, stepper.h). What the
+// Key of a pair of fixtures in either order (an island contact's warm start, a squeeze): the lower index
+// in the high half.
+inline uint64_t islandKey(uint32_t fa, uint32_t fb) { return (uint64_t{std::min(fa, fb)} << 32) | std::max(fa, fb); }
+
+// The world's state: every body and fixture, the broad phase, the last step's results, and the squeezes
+// (each mode's own state, the islands among it, is its stepper's, stepper.h). What the
 // modes share is written as its member functions (engine/src/README.md says which folder holds which);
 // World's pimpl is this struct (detail::WorldState below), so code outside World can name it.
 struct WorldState {
@@ -219,9 +220,6 @@ struct WorldState {
   // Step scratch, kept to reuse its memory.
   detail::LargeArray<std::vector<detail::CandidatePair>> pairsOfBody;  // by body index; dynamic bodies only
   std::vector<uint32_t> supporters;
-  // The step running now that predicts events (the hybrid step, stepper.h), for the islands and jams to
-  // tell it whose motion they changed; null outside it.
-  detail::EventPredictor* predictor = nullptr;
 
   detail::BodySlot& bodyOf(uint32_t fixture) { return bodies[fixtures[fixture].body]; }
   const detail::BodySlot& bodyOf(uint32_t fixture) const { return bodies[fixtures[fixture].body]; }
@@ -345,138 +343,6 @@ struct WorldState {
     return std::max(straight, parabola);
   }
 
-  // island.cpp: stepped islands.
-  struct IslandContact {
-    uint32_t a, b;    // body indices; b may be static, kinematic, sleeping or a stepped non-member
-    uint32_t fa, fb;  // their fixtures
-    int ka, kb;       // index into the members, -1 when the body is held fixed
-    Vec2 normal;      // from b toward a
-    Vec2 point;
-    Vec2 holderVelocity;        // b's velocity when it is held fixed
-    double inverseA, inverseB;  // 0 for a body held fixed
-    double target;              // least relative normal velocity after (-gap / time left)
-    double lambda = 0;
-    double approach = 0;  // closing speed before the solve
-    double gap = 0;       // distance minus radius when the solve starts (< 0: overlap)
-    double radius = 0;    // the smaller radius of the pair's disks (the member's, against a holder)
-  };
-  static uint64_t islandKey(uint32_t fa, uint32_t fb) {
-    return (uint64_t{std::min(fa, fb)} << 32) | std::max(fa, fb);
-  }
-  std::vector<uint32_t> stepped;         // this step's stepped bodies at its start
-  std::vector<uint32_t> steppedCounts;   // their collision counters after the start's solve
-  std::vector<IslandContact> islandScratch, islandScratchStart;
-  // solveIsland's velocities and separateIsland's lists, kept so that a step's many solves do not
-  // allocate (neither is called from within itself or the other's use of them).
-  std::vector<Vec2> islandVelocities;
-  // The accelerated sweeps' multipliers before a sweep and search direction (solveIsland).
-  std::vector<double> islandPreviousImpulses, islandDirection;
-  // islandScratch's contacts as the sweeps read them, packed and in wavefront order (island.cpp,
-  // scheduleSweeps). 56 bytes: the sweeps stream them, a thousand times a step for a crowd's jam.
-  struct SweepRow {
-    int ka, kb;  // kb >= the member count: held fixed, its value at x[kb] (SweepSchedule::holders)
-    Vec2 normal;
-    double inverseA, inverseB;
-    double target;
-    double lambda;
-  };
-  struct SweepSchedule {
-    std::vector<SweepRow> rows;          // in sweep order
-    std::vector<Vec2> holders;           // the holder rows' velocities, in the order of their slots
-    std::vector<uint32_t> contactAt;     // sweep position -> index into islandScratch
-    std::vector<uint32_t> positionOf;    // index into islandScratch -> sweep position
-    std::vector<uint32_t> level, next;   // scratch: each row's level; each member's next level, then
-                                         // each level's next position
-  } sweepSchedule;
-  /// Packs islandScratch's contacts (with their impulses) into sweepSchedule.rows in wavefront order.
-  void scheduleSweeps(size_t memberCount);
-  /// Copies the rows' impulses back into islandScratch.
-  void unscheduleSweeps();
-  struct SeparateScratch {
-    std::vector<Vec2> displacements;
-    std::vector<double> lower;
-  } separateScratch;
-  /// Without gravity, at a step's start: moves the members (advanced to the step's start, their
-  /// velocities solved) apart where they overlap, without touching a velocity (island.cpp).
-  void separateIsland(const std::vector<uint32_t>& members, const std::vector<Vec2>& v, double h);
-  /// The exact projection of a few members' velocities (theirs before the solve) onto islandScratch's
-  /// contacts: v and the contacts' impulses, or false when it fails (island.cpp).
-  bool projectIslandExactly(const std::vector<uint32_t>& members, std::vector<Vec2>& v, double tolerance);
-  struct ExactIslandScratch {
-    std::vector<double> inverseMass, impulses;
-    std::vector<detail::ProjectionRow> rows;
-    std::vector<Vec2> velocities;
-    detail::ProjectionScratch projection;
-  } exactIslandScratch;  // projectIslandExactly's, kept so that a warm solve allocates nothing
-  std::vector<std::pair<uint64_t, double>> islandImpulses, islandNext;  // warm start, by islandKey
-  /// A pair whose contact an island solve holds: a stepped body and anything but a free body.
-  bool heldByIsland(const detail::BodySlot& a, const detail::BodySlot& b) const {
-    auto free = [](const detail::BodySlot& s) { return s.type == BodyType::Dynamic && !s.asleep && !s.stepped; };
-    return (a.stepped && !free(b)) || (b.stepped && !free(a));
-  }
-  /// The stepped bodies within `hops` candidate pairs of the seeds, seeds first; hops < 0: all that a
-  /// change of the seeds' motion can reach (their island). Into `members`, which it clears first.
-  void islandOf(std::span<const uint32_t> seeds, int hops, std::vector<uint32_t>& members);
-  std::vector<uint32_t> islandOf(std::span<const uint32_t> seeds) {
-    std::vector<uint32_t> members;
-    islandOf(seeds, -1, members);
-    return members;
-  }
-  /// Makes free bodies stepped at `now`: the rest of the step's gravity as an impulse, straight paths.
-  void joinIslands(std::span<const uint32_t> joining, double now, double dt);
-  struct IslandSolve {
-    int reported;  // contact events it reported
-    bool met;      // its constraints hold (to the solve's tolerance)
-  };
-  /// Solves the contacts of `members` (stepped bodies; advanced to `now`) among themselves and against
-  /// everything else but free bodies, held fixed on their paths, for the rest of the step. Reports as
-  /// contact events the contacts that closed faster than `reportAbove`, and the contact of the fixture
-  /// pair `reportPair` (islandKey), if they took an impulse, at most `maxReports`. `warmStart`: from the
-  /// impulses of the last step's start (only at a step's start); `whole`: an island (more sweeps) rather
-  /// than a part of one.
-  IslandSolve solveIsland(const std::vector<uint32_t>& members, double now, double dt, double reportAbove,
-                          uint64_t reportPair = ~uint64_t{0}, bool warmStart = false, bool whole = false,
-                          int maxReports = std::numeric_limits<int>::max());
-  // solveIsland's parts (island.cpp).
-  double gatherIslandContacts(const std::vector<uint32_t>& members, double now, double h);
-  void keepIslandEnergy(const std::vector<uint32_t>& members, std::vector<Vec2>& v, double h);
-  /// The sweeps over islandScratch's contacts, on the members' velocities v, at most maxIterations:
-  /// over-relaxed by omega (true when they converged to `tolerance`), or, under gravity, accelerated
-  /// (converged, or close enough to keep every contact within kCloseEnough of its radius, or stopped).
-  bool sweepIsland(std::vector<Vec2>& v, double omega, double tolerance, int maxIterations);
-  enum class SweepEnd { Converged, CloseEnough, Stopped };
-  SweepEnd sweepIslandAccelerated(std::vector<Vec2>& v, double tolerance, double h, int maxIterations);
-  /// By body, for stepped bodies: the energy its island's solves may still give back of what its straight
-  /// path lost against the parabola it stands in for (keepIslandEnergy). Set when the path begins.
-  std::vector<double> gravityAllowance;
-  int reportIslandContacts(double now, double reportAbove, uint64_t reportPair, int maxReports);
-  /// Moves the seeds' part of their island after their motion changed at `now` (a hit, a join): the
-  /// stepped bodies within `hops` pairs of them, or the whole island when that part cannot keep clear of
-  /// the rest; predicts again every body whose motion changed. Returns the events it reported.
-  int settleAround(std::span<const uint32_t> seeds, int hops, double now, double dt,
-                   uint64_t reportPair = ~uint64_t{0});
-  /// settleAround's lists, kept between calls so that a step's many settles do not allocate; one set
-  /// for each level of settleAround's nesting (settleUnsolvedIslandPairs calls it again, once).
-  struct SettleScratch {
-    std::vector<uint32_t> members;
-    std::vector<Vec2> before;
-    std::vector<uint32_t> counts;
-    std::vector<detail::LastContact> lasts;
-    std::vector<double> allowances;
-  };
-  std::vector<SettleScratch> settleScratch;
-  size_t settleDepth = 0;
-  /// Bodies whose broad-phase query (the hybrid step's repredict) found a contact an island holds after their island's
-  /// solve; settleUnsolvedIslandPairs solves them again.
-  std::vector<uint32_t> unsolvedIslandPairs, unsolvedSeeds;
-  bool settlingUnsolved = false;
-  void settleUnsolvedIslandPairs(double now, double dt);
-  /// The start of a hybrid step, after the sweep: gravity and the solve for every stepped body; a
-  /// stepped body that nothing holds is free again at once (returned in `freed`).
-  void startIslands(double dt, std::vector<uint32_t>& freed);
-  /// The end of a hybrid step (`end`: where the bodies stop): stepped bodies at rest sleep, bottom up.
-  void endIslands(double end);
-
   /// The broad phase's pair-test budget for one sweep (BroadPhase::setPairTestBudget): kPairTestsPerFixture
   /// a fixture, plus the event budget. Sort-and-sweep tests a few pairs a box in any world whose bodies
   /// do not pile up on each other (the bench's gas: under 4); bodies created on one point test every
@@ -518,31 +384,6 @@ struct WorldState {
   /// the contact's normal, exempts the pair and returns true (the caller predicts the body again).
   bool squeezeAt(const detail::PredictedContact& c);
 
-  // jam.cpp: a cluster of touching bodies resolved at once when one of them collides too often.
-  static constexpr int kJamCollisions = 64;
-  std::vector<int> jamSlot;  // scratch of settleJam, all -1 between calls
-  uint32_t jamCounter = 0;   // numbers the jams, so that two clusters settled at one instant differ
-  /// Whether a jam settled this pair's contact at this very instant: both dynamic bodies were in it (or
-  /// the other one was held fixed), so any approach left between them is the solve's round-off.
-  bool settledTogether(const detail::BodySlot& a, const detail::BodySlot& b, double now) const;
-  /// Counts a collision of `body` in this step; true once it has had more than kJamCollisions.
-  bool isJammed(uint32_t body);
-  bool bodyIsPoint(const BodySlot& b) const;
-  /// Brings the touching cluster of `seed` into the stepped islands at `now` and solves its island;
-  /// returns the contact events it took (at least 1, at most `budget` >= 1), or
-  /// returns 0 when it is refused (below).
-  int settleJam(uint32_t seed, double now, double dt, int budget);
-  /// BodySlot::jamTime of a body whose jam was refused this step (no jam is tried for it again).
-  static constexpr double kJamRefused = -2;
-  /// Without gravity, the overlap a jam's solve may add within the step, in radii.
-  static constexpr double kJamResidual = 0.01;
-  void refuseJam(const std::vector<uint32_t>& cluster);
-  /// How much further than at the solve's start the last solve's contacts (islandScratch) overlap after
-  /// h more seconds on the bodies' velocities, beyond kJamResidual of the radius: <= 0 when none does.
-  double islandResidual(double h) const;
-  /// Counts the contact's collision for both bodies; when one of them is jammed, settles its cluster
-  /// (counting its events against the step's budget, which must have room for one) and returns true.
-  bool settleJamAt(const detail::PredictedContact& c, double dt);
 
   // What a step changes of the world's lasting state, kept from its start (step_undo.cpp): when memory
   // runs out inside a step it is put back, so that World::step throws rattle::Error with the world
@@ -569,8 +410,6 @@ struct WorldState {
     std::vector<std::pair<Vec2, Vec2>> motion;
     double time = 0;
     StepStats stats;
-    uint32_t jamCounter = 0;
-    bool islandsSwapped = false;  // startIslands made islandNext the warm start
     std::vector<BodyAtStepStart> bodies;  // those keep kept, in the order kept
     std::vector<SensorEvent> pendingSensorEvents;
     std::vector<Squeeze> squeezes;
