@@ -59,8 +59,10 @@
 
 #include "collision/closest_point.h"
 #include "contact/exact_projection.h"
-#include "world/stepper.h"
 #include "contact/islands.h"
+#include "contact/response.h"
+#include "contact/resting.h"
+#include "world/stepper.h"
 #include "world/world_impl.h"
 
 namespace rattle {
@@ -448,7 +450,7 @@ int detail::Islands::reportIslandContacts(double now, double reportAbove, uint64
     if (!(c.approach > reportAbove) && islandKey(c.fa, c.fb) != reportPair) continue;
     if (reported >= maxReports) continue;
     ++reported;
-    w.contactEvents.push_back(w.contactEventOf(c.fa, c.fb, now, c.point, c.normal, c.lambda));
+    w.contactEvents.push_back(contactEventOf(w, c.fa, c.fb, now, c.point, c.normal, c.lambda));
   }
   return reported;
 }
@@ -931,7 +933,7 @@ void detail::Islands::endIslands(double end) {
       if (w.bodies[h].type == BodyType::Dynamic && std::find(supporters.begin(), supporters.end(), h) == supporters.end())
         supporters.push_back(h);
     w.advance(b, end);
-    w.putToSleep(stepped[k], supporters);
+    putToSleep(w, stepped[k], supporters);
   }
   for (uint32_t i : stepped) slot[i] = -1;
 }

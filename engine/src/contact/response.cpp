@@ -4,6 +4,8 @@
 // slide or a bounce at restingSpeed, the collapse guard and the TC model), and the ContactEvent every
 // mode reports. The arithmetic of an impulse and of the event is contact/impulse.h's, which the discrete
 // step and the predictive mode's plain disks (predictive/plain_collision.h) call on their own data.
+#include "contact/response.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -11,6 +13,7 @@
 #include "collision/closest_point.h"
 #include "contact/collapse_guard.h"
 #include "contact/impulse.h"
+#include "contact/resting.h"
 #include "contact/tolerances.h"
 #include "world/world_impl.h"
 
@@ -22,8 +25,8 @@ using detail::PredictedContact;
 // The feature of `other` that `own` cannot be approaching now (TimeOfImpact's resolvedFeature): the
 // face its body slides on, the one both bodies of the pair were last resolved on at this instant, or
 // (a point) the one it last touched, when it moves away toward the side it touched it from.
-int detail::WorldState::resolvedFeature(const BodySlot& a, const BodySlot& b, uint32_t own, uint32_t other,
-                                        double now) const {
+int detail::resolvedFeature(const WorldState& w, const BodySlot& a, const BodySlot& b, uint32_t own, uint32_t other,
+                            double now) {
   int resolved = kNoFeature;
   // Round-off guard (see LastContact): if every dynamic body of the pair was last resolved against
   // this same pair at this same instant, the feature it touched cannot be approaching now.
@@ -35,26 +38,26 @@ int detail::WorldState::resolvedFeature(const BodySlot& a, const BodySlot& b, ui
   // paths below that need it: most predictions are of disks.
   auto remembersSide = [&] {
     return !a.sliding && a.support.fixture == other && a.support.generation != 0 &&
-           fixtures[other].generation == a.support.generation && fixtures[other].alive &&
-           detail::isPoint(fixtures[own].geometry);
+           w.fixtures[other].generation == a.support.generation && w.fixtures[other].alive &&
+           detail::isPoint(w.fixtures[own].geometry);
   };
   // A point has no overlap to tell which side of a line it is on (time_of_impact.h); in a corner it is
-  // on two lines at once, and which of them it leaves is told by leavesCorner().
-  const bool point = a.sliding && lastHere && detail::circleRadius(fixtures[own].geometry) == 0;
+  // on two lines at once, and which of them it leaves is told by leavesCorner(w).
+  const bool point = a.sliding && lastHere && detail::circleRadius(w.fixtures[own].geometry) == 0;
   if (a.sliding && a.support.fixture == other) {
     // Sliding on this fixture: the face it slides on is a constraint; it only matters again if the
     // body leaves it and comes back. A point in the corner of two of its faces, resolved against the
     // other one at this instant and leaving it, leaves both.
     resolved = a.support.feature;
-    if (point && a.last.feature != a.support.feature && leavesCorner(a, other, a.last.feature, now)) {
+    if (point && a.last.feature != a.support.feature && leavesCorner(w, a, other, a.last.feature, now)) {
       resolved = kEveryFeature;
     }
-  } else if (lastHere && !(point && !leavesCorner(a, other, a.last.feature, now))) {
+  } else if (lastHere && !(point && !leavesCorner(w, a, other, a.last.feature, now))) {
     resolved = a.last.feature;
     // A point just resolved against the face it now remembers may sit in a corner, on another face's
     // line too, which it may be leaving as well (featureLeftByPoint).
-    if (remembersSide() && a.support.feature == resolved) resolved = featureLeftByPoint(a, other, now);
-  } else if (remembersSide() && dot(velocityAt(a, now) - velocityAt(b, now), a.support.normal) > 0) {
+    if (remembersSide() && a.support.feature == resolved) resolved = featureLeftByPoint(w, a, other, now);
+  } else if (remembersSide() && dot(w.velocityAt(a, now) - w.velocityAt(b, now), a.support.normal) > 0) {
     // A point lying on a line has no overlap to tell its side, and the time of impact takes it to have
     // just arrived from the side it comes from: one at rest on a floor that the game sends up would be
     // "arriving from below" and bounce down through it (fuzz/regressions/world_api/
@@ -62,7 +65,7 @@ int detail::WorldState::resolvedFeature(const BodySlot& a, const BodySlot& b, ui
     // points to, and moves toward that side: it is leaving. (Away from the line this matters to no
     // root: the rule only concerns a contact at this instant.) In a corner it may leave the other
     // face there too (featureLeftByPoint).
-    resolved = featureLeftByPoint(a, other, now);
+    resolved = featureLeftByPoint(w, a, other, now);
   }
   return resolved;
 }
@@ -106,15 +109,16 @@ FaceHold holdOnFaces(const BodySlot& a, double inverseA, const Geometry& ga, con
 
 }  // namespace
 
-void detail::WorldState::absorb(const PredictedContact& c, double vn) {
-  BodySlot& a = bodyOf(c.a);
-  BodySlot& b = bodyOf(c.b);
-  advance(a, c.time);
-  advance(b, c.time);
+void detail::absorb(WorldState& w, const PredictedContact& c, double vn) {
+  BodySlot& a = w.bodyOf(c.a);
+  BodySlot& b = w.bodyOf(c.b);
+  w.advance(a, c.time);
+  w.advance(b, c.time);
   const double inverseA = a.asleep ? 0.0 : a.inverseMass;
   const double inverseB = b.asleep ? 0.0 : b.inverseMass;
   if (!(inverseA + inverseB > 0)) return;
-  const FaceHold hold = holdOnFaces(a, inverseA, fixtures[c.a].geometry, b, inverseB, fixtures[c.b].geometry, c.normal);
+  const FaceHold hold =
+      holdOnFaces(a, inverseA, w.fixtures[c.a].geometry, b, inverseB, w.fixtures[c.b].geometry, c.normal);
   hold.impulse.apply(a.velocity, b.velocity, -vn / hold.impulse.inverseSum());
   const detail::LastContact last{std::min(c.a, c.b), std::max(c.a, c.b), c.feature, c.time};
   for (BodySlot* s : {&a, &b}) {
@@ -123,33 +127,33 @@ void detail::WorldState::absorb(const PredictedContact& c, double vn) {
     if (s->stepAbsorbs < std::numeric_limits<uint16_t>::max()) ++s->stepAbsorbs;
     s->setLast(last);
   }
-  rememberFace(c);
+  rememberFace(w, c);
 }
 
 // A point's side of a feature of what cannot move (Support): kept at each contact with it.
-void detail::WorldState::rememberFace(const PredictedContact& c) {
-  BodySlot& a = bodyOf(c.a);
-  if (a.type != BodyType::Dynamic || bodyOf(c.b).type == BodyType::Dynamic) return;
-  if (!detail::isPoint(fixtures[c.a].geometry)) return;
-  a.rememberFace(detail::Support{c.b, fixtures[c.b].generation, c.feature, c.normal});
+void detail::rememberFace(WorldState& w, const PredictedContact& c) {
+  BodySlot& a = w.bodyOf(c.a);
+  if (a.type != BodyType::Dynamic || w.bodyOf(c.b).type == BodyType::Dynamic) return;
+  if (!detail::isPoint(w.fixtures[c.a].geometry)) return;
+  a.rememberFace(detail::Support{c.b, w.fixtures[c.b].generation, c.feature, c.normal});
 }
 
-ContactEvent detail::WorldState::contactEventOf(uint32_t a, uint32_t b, double time, Vec2 point, Vec2 normal,
-                                                double impulse) const {
+ContactEvent detail::contactEventOf(const WorldState& w, uint32_t a, uint32_t b, double time, Vec2 point, Vec2 normal,
+                                    double impulse) {
   auto side = [&](uint32_t f) {
-    const uint32_t body = fixtures[f].body;
-    return detail::ContactSide{f, fixtures[f].generation, body, bodies[body].generation};
+    const uint32_t body = w.fixtures[f].body;
+    return detail::ContactSide{f, w.fixtures[f].generation, body, w.bodies[body].generation};
   };
   return detail::makeContactEvent(time, point, normal, impulse, side(a), side(b));
 }
 
-void detail::WorldState::resolve(const PredictedContact& c, std::vector<uint32_t>& woken, bool zenoGuard,
-                                 double stepEnd) {
-  const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
-  BodySlot& a = bodies[ia];
-  BodySlot& b = bodies[ib];
-  advance(a, c.time);
-  advance(b, c.time);
+void detail::resolve(WorldState& w, const PredictedContact& c, std::vector<uint32_t>& woken, bool zenoGuard,
+                     double stepEnd) {
+  const uint32_t ia = w.fixtures[c.a].body, ib = w.fixtures[c.b].body;
+  BodySlot& a = w.bodies[ia];
+  BodySlot& b = w.bodies[ib];
+  w.advance(a, c.time);
+  w.advance(b, c.time);
   const Vec2 n = c.normal;  // from b toward a
   // A stepped body moves on a straight line with the whole step's gravity taken at its start
   // (island.cpp), so its velocity all step is the one it ends the step with; a free body meeting it
@@ -163,14 +167,14 @@ void detail::WorldState::resolve(const PredictedContact& c, std::vector<uint32_t
   // from still approaching.
   // A contact predicted as "pressing" (touching, not moving apart, pushed together by gravity) may read
   // as slightly separating after round-off: treat it as touching.
-  auto approach = [&] { return std::min(impactNormalVelocity(a, b, n, c.time, stepEnd), 0.0); };
+  auto approach = [&] { return std::min(impactNormalVelocity(w, a, b, n, c.time, stepEnd), 0.0); };
   double vn = approach();
 
   // A sleeping body holds like a static one against soft hits; a harder hit, or a kinematic body,
   // wakes it (and whatever it holds up) first.
-  const double restingSpeed = def.restingSpeed;
-  if (a.asleep && (b.type == BodyType::Kinematic || -vn > restingSpeed)) wakeUp(ia, c.time, woken);
-  if (b.asleep && (a.type == BodyType::Kinematic || -vn > restingSpeed)) wakeUp(ib, c.time, woken);
+  const double restingSpeed = w.def.restingSpeed;
+  if (a.asleep && (b.type == BodyType::Kinematic || -vn > restingSpeed)) wakeUp(w, ia, c.time, woken);
+  if (b.asleep && (a.type == BodyType::Kinematic || -vn > restingSpeed)) wakeUp(w, ib, c.time, woken);
   // The predictive mode's guard against a Zeno sequence, after the wakes (a body woken here and already
   // caught in one sleeps again at once); the hybrid step resolves such clusters at once instead (jam.cpp).
   // A body put to sleep here stops where it is: the approach is the other body's alone from then on.
@@ -178,8 +182,8 @@ void detail::WorldState::resolve(const PredictedContact& c, std::vector<uint32_t
   // against a resting one sent it off faster than it came in
   // (fuzz/regressions/world_api/energy-predictive-zeno-sleeper-kicks-its-neighbour).
   if (zenoGuard) {
-    sleepIfZeno(ia, c.time);
-    sleepIfZeno(ib, c.time);
+    sleepIfZeno(w, ia, c.time);
+    sleepIfZeno(w, ib, c.time);
     vn = approach();
   }
   const double inverseA = a.asleep ? 0.0 : a.inverseMass;
@@ -190,21 +194,21 @@ void detail::WorldState::resolve(const PredictedContact& c, std::vector<uint32_t
   // Newton's restitution law along the normal: the separation speed after is e times the approach
   // speed, with e the larger of the two fixtures' restitutions. j = (separation - vn) / (1/ma + 1/mb);
   // static, kinematic and sleeping bodies have 1/m = 0.
-  const double now = time + c.time;
+  const double now = w.time + c.time;
   // The collapse guard without gravity (collapse_guard.h); under gravity the stepped islands and jams
   // hold such clusters instead.
   bool collapsing = false;
-  if (def.gravity.x == 0 && def.gravity.y == 0) {
-    const int limit = detail::collapseCollisions(def.maxEventsPerStep);
+  if (w.def.gravity.x == 0 && w.def.gravity.y == 0) {
+    const int limit = detail::collapseCollisions(w.def.maxEventsPerStep);
     const bool aCollapsing = a.type == BodyType::Dynamic && a.countStepCollision() > limit;
     const bool bCollapsing = b.type == BodyType::Dynamic && b.countStepCollision() > limit;
     collapsing = aCollapsing || bCollapsing;
   }
   const bool rapid =
-      collapsing || now - a.lastContactTime < def.collapseTime || now - b.lastContactTime < def.collapseTime;
-  const double e = rapid ? 1.0 : std::max(fixtures[c.a].restitution, fixtures[c.b].restitution);
+      collapsing || now - a.lastContactTime < w.def.collapseTime || now - b.lastContactTime < w.def.collapseTime;
+  const double e = rapid ? 1.0 : std::max(w.fixtures[c.a].restitution, w.fixtures[c.b].restitution);
   double separation = -e * vn;
-  const FaceHold hold = holdOnFaces(a, inverseA, fixtures[c.a].geometry, b, inverseB, fixtures[c.b].geometry, n);
+  const FaceHold hold = holdOnFaces(a, inverseA, w.fixtures[c.a].geometry, b, inverseB, w.fixtures[c.b].geometry, n);
   double j = hold.impulse.bounce(a.velocity, b.velocity, vn, e);
 
   // Resting (resting.cpp): only when gravity presses the two together, so that a slow bounce would
@@ -217,12 +221,12 @@ void detail::WorldState::resolve(const PredictedContact& c, std::vector<uint32_t
     const bool bRests = inverseB > 0 && inverseA == 0;
     const uint32_t rester = aRests ? ia : ib;
     const uint32_t holderFixture = aRests ? c.b : c.a;
-    BodySlot& r = bodies[rester];
-    if ((aRests || bRests) && length(r.velocity) < restingSpeed && supportsAt(rester, c.time, supporters)) {
-      putToSleep(rester, supporters);
-    } else if ((aRests || bRests) && bodies[fixtures[holderFixture].body].type == BodyType::Static &&
-               isFlatFeature(holderFixture, c.feature) && aRests) {
-      startSliding(rester, holderFixture, c.feature, n);
+    BodySlot& r = w.bodies[rester];
+    if ((aRests || bRests) && length(r.velocity) < restingSpeed && supportsAt(w, rester, c.time, w.supporters)) {
+      putToSleep(w, rester, w.supporters);
+    } else if ((aRests || bRests) && w.bodies[w.fixtures[holderFixture].body].type == BodyType::Static &&
+               isFlatFeature(w, holderFixture, c.feature) && aRests) {
+      startSliding(w, rester, holderFixture, c.feature, n);
       slider = &r;
       j = -vn / inverseSum;
     } else {
@@ -249,11 +253,11 @@ void detail::WorldState::resolve(const PredictedContact& c, std::vector<uint32_t
     // Any other contact ends a slide: the body either leaves the face or is pushed into it, and then
     // the face's own contact (touching and approaching: now) resolves that, resting rules included.
     const bool held = (s == &a && hold.heldA) || (s == &b && hold.heldB);
-    if (s->sliding && s != slider && !held) stopSliding(*s);
+    if (s->sliding && s != slider && !held) stopSliding(w, *s);
   }
-  rememberFace(c);
+  rememberFace(w, c);
 
-  contactEvents.push_back(contactEventOf(c.a, c.b, c.time, c.point, n, j));
+  w.contactEvents.push_back(contactEventOf(w, c.a, c.b, c.time, c.point, n, j));
 }
 
 }  // namespace rattle

@@ -11,12 +11,15 @@
 //  - slide: the body still moves and the contact is a flat face of a static fixture: it keeps its
 //    tangential velocity and slides with gravity's tangential part until it leaves the face;
 //  - otherwise it bounces off at restingSpeed, which bounds the bounce rate at g / (2 restingSpeed).
+#include "contact/resting.h"
+
 #include <algorithm>
 #include <cmath>
 
 #include "collision/closest_point.h"
-#include "common/out_of_memory.h"
 #include "collision/polynomial.h"
+#include "common/out_of_memory.h"
+#include "contact/response.h"
 #include "world/world_impl.h"
 
 namespace rattle {
@@ -50,32 +53,32 @@ bool flatFeature(const Geometry& g, int feature, Vec2& a, Vec2& b) {
 
 }  // namespace
 
-bool detail::WorldState::isFlatFeature(uint32_t fixture, int feature) const {
+bool detail::isFlatFeature(const WorldState& w, uint32_t fixture, int feature) {
   Vec2 a, b;
-  return flatFeature(fixtures[fixture].geometry, feature, a, b);
+  return flatFeature(w.fixtures[fixture].geometry, feature, a, b);
 }
 
-bool detail::WorldState::leavesCorner(const BodySlot& b, uint32_t fixture, int feature, double now) const {
+bool detail::leavesCorner(const WorldState& w, const BodySlot& b, uint32_t fixture, int feature, double now) {
   // A point that reached the end of the face it slides on was resolved against the face it met there
   // (fixture, feature) and then began to slide at the same instant: it sits on both lines, in the corner
   // between them, on the side of the second face where the first one lies (it came along the first).
   // The slide took out only the first face's normal part of its velocity; in a corner of 90 degrees or
   // more that leaves it moving away from the second face, in an acute one it may turn it back in.
   Vec2 s0, s1, f0, f1;
-  if (!flatFeature(fixtures[b.support.fixture].geometry, b.support.feature, s0, s1)) return true;
-  if (!flatFeature(fixtures[fixture].geometry, feature, f0, f1)) return true;
-  const Vec2 supportAt = bodies[fixtures[b.support.fixture].body].position;
-  const Vec2 p = positionAt(b, now) + detail::circleCentre(fixtures[b.fixtures.front()].geometry);
+  if (!flatFeature(w.fixtures[b.support.fixture].geometry, b.support.feature, s0, s1)) return true;
+  if (!flatFeature(w.fixtures[fixture].geometry, feature, f0, f1)) return true;
+  const Vec2 supportAt = w.bodies[w.fixtures[b.support.fixture].body].position;
+  const Vec2 p = w.positionAt(b, now) + detail::circleCentre(w.fixtures[b.fixtures.front()].geometry);
   const Vec2 near = supportAt + s0, far = supportAt + s1;
   const Vec2 away = length(near - p) > length(far - p) ? near : far;  // the support's other end
   const Vec2 d = f1 - f0;
   const Vec2 normal{-d.y, d.x};
   const double side = dot(normal, away - p);
-  const Vec2 relative = velocityAt(b, now) - bodies[fixtures[fixture].body].velocity;
+  const Vec2 relative = w.velocityAt(b, now) - w.bodies[w.fixtures[fixture].body].velocity;
   return side == 0 || dot(relative, normal) * side >= 0;
 }
 
-int detail::WorldState::featureLeftByPoint(const BodySlot& b, uint32_t fixture, double now) const {
+int detail::featureLeftByPoint(const WorldState& w, const BodySlot& b, uint32_t fixture, double now) {
   // A point at rest in a corner of a box lies on two lines at once, where round-off left it, and Support
   // remembers its side of only the face it touched last. Another face whose line it is on cannot tell its
   // side either: a contact with it at this instant (from outside, the time of impact would take it, for
@@ -85,9 +88,9 @@ int detail::WorldState::featureLeftByPoint(const BodySlot& b, uint32_t fixture, 
   // it, as leavesCorner takes it), so a point leaving the remembered face, or just resolved against it,
   // that moves to that side of every other face it is on leaves them all: kEveryFeature. Otherwise the
   // remembered face alone.
-  const Geometry& g = fixtures[fixture].geometry;
-  const Vec2 at = bodies[fixtures[fixture].body].position;
-  const Vec2 p = positionAt(b, now) + detail::circleCentre(fixtures[b.fixtures.front()].geometry);
+  const Geometry& g = w.fixtures[fixture].geometry;
+  const Vec2 at = w.bodies[w.fixtures[fixture].body].position;
+  const Vec2 p = w.positionAt(b, now) + detail::circleCentre(w.fixtures[b.fixtures.front()].geometry);
   bool inCorner = false;
   Vec2 e0, e1;
   for (int f = 0; flatFeature(g, f, e0, e1); ++f) {
@@ -100,25 +103,25 @@ int detail::WorldState::featureLeftByPoint(const BodySlot& b, uint32_t fixture, 
     const double slack = detail::pointRoundOff(p, a0, d);
     const double across = dot(n, p - a0), along = dot(u, p - a0);
     if (std::fabs(across) > slack || along < -slack || along > len + slack) continue;
-    if (!leavesCorner(b, fixture, f, now)) return b.support.feature;
+    if (!leavesCorner(w, b, fixture, f, now)) return b.support.feature;
     inCorner = true;
   }
   return inCorner ? kEveryFeature : b.support.feature;
 }
 
-bool detail::WorldState::supportsAt(uint32_t bodyIndex, double now, std::vector<uint32_t>& supporters) const {
-  const BodySlot& body = bodies[bodyIndex];
-  const Vec2 up = -def.gravity * (1.0 / length(def.gravity));
+bool detail::supportsAt(const WorldState& w, uint32_t bodyIndex, double now, std::vector<uint32_t>& supporters) {
+  const BodySlot& body = w.bodies[bodyIndex];
+  const Vec2 up = -w.def.gravity * (1.0 / length(w.def.gravity));
   supporters.clear();
   Vec2 normals[16];
   int count = 0;
-  for (const auto& pair : pairsOfBody[bodyIndex]) {
-    const detail::FixtureSlot& own = fixtures[pair.own];
-    const detail::FixtureSlot& other = fixtures[pair.other];
+  for (const auto& pair : w.pairsOfBody[bodyIndex]) {
+    const detail::FixtureSlot& own = w.fixtures[pair.own];
+    const detail::FixtureSlot& other = w.fixtures[pair.other];
     if (own.sensor || other.sensor) continue;
-    const BodySlot& holder = bodies[other.body];
+    const BodySlot& holder = w.bodies[other.body];
     if (holder.type != BodyType::Static && !holder.asleep) continue;
-    const Vec2 centre = positionAt(body, now) + detail::circleCentre(own.geometry);
+    const Vec2 centre = w.positionAt(body, now) + detail::circleCentre(own.geometry);
     const double radius = detail::circleRadius(own.geometry);
     const auto closest = detail::closestPoint(other.geometry, holder.position, centre);
     if (!closest || !closest->collidable) continue;
@@ -126,7 +129,8 @@ bool detail::WorldState::supportsAt(uint32_t bodyIndex, double now, std::vector<
     const double distance = length(r);
     // Touching: within round-off, or within the height of a bounce at restingSpeed (v^2 / 2g, doubled),
     // since a body bouncing between two supports at that speed touches them one at a time.
-    const double reach = 1e-7 * std::max(radius, 1e-9) + def.restingSpeed * def.restingSpeed / length(def.gravity);
+    const double reach =
+        1e-7 * std::max(radius, 1e-9) + w.def.restingSpeed * w.def.restingSpeed / length(w.def.gravity);
     if (!(distance > 0) || distance - radius > reach) continue;
     const Vec2 n = r * (1.0 / distance);
     // Beside (a wall) still helps to hold it, together with something below; above holds nothing up.
@@ -148,41 +152,41 @@ bool detail::WorldState::supportsAt(uint32_t bodyIndex, double now, std::vector<
   return false;
 }
 
-void detail::WorldState::sleepIfZeno(uint32_t bodyIndex, double now) {
+void detail::sleepIfZeno(WorldState& w, uint32_t bodyIndex, double now) {
   // A body wedged where the independent-collision model needs infinitely many bounces (a narrowing gap
   // between a wall and a resting disk) collides ever faster without coming to rest. Once it has collided
   // kZenoCollisions times in one step while held up by static or sleeping bodies, it sleeps where it is,
   // before the contact at hand, so that contact sees it as resting. (The hybrid step resolves such
   // clusters at once instead: jam.cpp.)
   constexpr int kZenoCollisions = 64;
-  BodySlot& s = bodies[bodyIndex];
-  if (!(def.restingSpeed > 0) || (def.gravity.x == 0 && def.gravity.y == 0)) return;
+  BodySlot& s = w.bodies[bodyIndex];
+  if (!(w.def.restingSpeed > 0) || (w.def.gravity.x == 0 && w.def.gravity.y == 0)) return;
   if (s.type != BodyType::Dynamic || s.asleep) return;
-  if (s.countStepCollision() > kZenoCollisions && supportsAt(bodyIndex, now, supporters)) {
-    putToSleep(bodyIndex, supporters);
+  if (s.countStepCollision() > kZenoCollisions && supportsAt(w, bodyIndex, now, w.supporters)) {
+    putToSleep(w, bodyIndex, w.supporters);
   }
 }
 
-void detail::WorldState::putToSleep(uint32_t bodyIndex, const std::vector<uint32_t>& supporters) {
-  BodySlot& b = bodies[bodyIndex];
-  keep(b);
+void detail::putToSleep(WorldState& w, uint32_t bodyIndex, const std::vector<uint32_t>& supporters) {
+  BodySlot& b = w.bodies[bodyIndex];
+  w.keep(b);
   b.asleep = true;
   b.stepped = false;
   b.velocity = {};
   b.acceleration = {};
   b.clearSupport();
   ++b.collisionCount;
-  for (uint32_t s : supporters) dependents[s].push_back(bodyIndex);
+  for (uint32_t s : supporters) w.dependents[s].push_back(bodyIndex);
 }
 
-void detail::WorldState::wakeUp(uint32_t bodyIndex, double now, std::vector<uint32_t>& woken) {
+void detail::wakeUp(WorldState& w, uint32_t bodyIndex, double now, std::vector<uint32_t>& woken) {
   const size_t from = woken.size();
-  collectWake(bodyIndex, woken);
-  applyWake(woken, from, now);
+  collectWake(w, bodyIndex, woken);
+  applyWake(w, woken, from, now);
 }
 
-void detail::WorldState::collectWake(uint32_t bodyIndex, std::vector<uint32_t>& woken) const {
-  if (!bodies[bodyIndex].alive || !bodies[bodyIndex].asleep) return;  // a game's every tick: no allocation
+void detail::collectWake(const WorldState& w, uint32_t bodyIndex, std::vector<uint32_t>& woken) {
+  if (!w.bodies[bodyIndex].alive || !w.bodies[bodyIndex].asleep) return;  // a game's every tick: no allocation
   // Iterative, in a fixed order: a tall pile wakes layer by layer without deep recursion. A body is
   // listed once, at its first visit; `seen` (sorted) holds what `woken` holds.
   std::vector<uint32_t> seen(woken.begin(), woken.end());
@@ -191,40 +195,40 @@ void detail::WorldState::collectWake(uint32_t bodyIndex, std::vector<uint32_t>& 
   while (!stack.empty()) {
     const uint32_t i = stack.back();
     stack.pop_back();
-    const BodySlot& b = bodies[i];
+    const BodySlot& b = w.bodies[i];
     if (!b.alive || !b.asleep) continue;
     const auto at = std::lower_bound(seen.begin(), seen.end(), i);
     if (at != seen.end() && *at == i) continue;
     seen.insert(at, i);
     woken.push_back(i);
-    const std::vector<uint32_t>& held = dependents[i];
+    const std::vector<uint32_t>& held = w.dependents[i];
     for (auto it = held.rbegin(); it != held.rend(); ++it) stack.push_back(*it);
   }
 }
 
-void detail::WorldState::applyWake(const std::vector<uint32_t>& woken, size_t from, double now) {
+void detail::applyWake(WorldState& w, const std::vector<uint32_t>& woken, size_t from, double now) {
   for (size_t k = from; k < woken.size(); ++k) {
     const uint32_t i = woken[k];
-    BodySlot& b = bodies[i];
-    keep(b);
+    BodySlot& b = w.bodies[i];
+    w.keep(b);
     // It rested until now: its fall starts at this instant, not at the start of the step.
     b.asleep = false;
     b.localTime = now;
-    b.acceleration = def.gravity;
+    b.acceleration = w.def.gravity;
     ++b.collisionCount;
-    std::vector<uint32_t>& held = dependents[i];
-    if (stepStart.active && !held.empty()) {
+    std::vector<uint32_t>& held = w.dependents[i];
+    if (w.stepStart.active && !held.empty()) {
       // Kept whole for undoStep (the room made first, so that the move cannot fail half way).
-      detail::roomForOneMore(stepStart.dependents);
-      stepStart.dependents.emplace_back(i, std::move(held));
+      detail::roomForOneMore(w.stepStart.dependents);
+      w.stepStart.dependents.emplace_back(i, std::move(held));
     }
     held.clear();
   }
 }
 
-void detail::WorldState::startSliding(uint32_t bodyIndex, uint32_t fixture, int feature, Vec2 contactNormal) {
-  BodySlot& b = bodies[bodyIndex];
-  keep(b);
+void detail::startSliding(WorldState& w, uint32_t bodyIndex, uint32_t fixture, int feature, Vec2 contactNormal) {
+  BodySlot& b = w.bodies[bodyIndex];
+  w.keep(b);
   // An edge's normal is unit only to an ulp (a direction times a rounded reciprocal length): projecting
   // with it left a slide on a level floor a downward acceleration of 1e-16 g, and a point (which has no
   // overlap to hold it up) fell into the floor again and again at one instant until it fell through
@@ -232,26 +236,26 @@ void detail::WorldState::startSliding(uint32_t bodyIndex, uint32_t fixture, int 
   // upright face's normal is exact, and so is the slide along it.
   const double norm = length(contactNormal);
   const Vec2 normal{contactNormal.x / norm, contactNormal.y / norm};
-  b.setSupport(detail::Support{fixture, fixtures[fixture].generation, feature, normal});
+  b.setSupport(detail::Support{fixture, w.fixtures[fixture].generation, feature, normal});
   b.velocity -= normal * dot(b.velocity, normal);
-  b.acceleration = def.gravity - normal * dot(def.gravity, normal);
+  b.acceleration = w.def.gravity - normal * dot(w.def.gravity, normal);
 }
 
-void detail::WorldState::stopSliding(BodySlot& b) {
-  keep(b);
+void detail::stopSliding(WorldState& w, BodySlot& b) {
+  w.keep(b);
   b.clearSupport();
-  if (!b.asleep) b.acceleration = def.gravity;
+  if (!b.asleep) b.acceleration = w.def.gravity;
 }
 
-std::optional<double> detail::WorldState::slideEndTime(const BodySlot& b, double now, double dt) const {
-  const detail::FixtureSlot& face = fixtures[b.support.fixture];
+std::optional<double> detail::slideEndTime(const WorldState& w, const BodySlot& b, double now, double dt) {
+  const detail::FixtureSlot& face = w.fixtures[b.support.fixture];
   Vec2 a, e;
   flatFeature(face.geometry, b.support.feature, a, e);
-  const Vec2 origin = bodies[face.body].position + a;
+  const Vec2 origin = w.bodies[face.body].position + a;
   const double len = length(e - a);
   const Vec2 u = (e - a) * (1.0 / len);
-  const Vec2 centre = positionAt(b, now) + detail::circleCentre(fixtures[b.fixtures.front()].geometry);
-  const Vec2 v = velocityAt(b, now);
+  const Vec2 centre = w.positionAt(b, now) + detail::circleCentre(w.fixtures[b.fixtures.front()].geometry);
+  const Vec2 v = w.velocityAt(b, now);
   // tau(h) = u.(c - a) + (u.v) h + (u.g) h^2 / 2 leaves [0, len] at the first downward crossing of
   // tau or of len - tau.
   detail::Polynomial tau;
@@ -260,7 +264,7 @@ std::optional<double> detail::WorldState::slideEndTime(const BodySlot& b, double
   // A point's face reaches the round-off of its coordinates past its ends, as its time of impact does
   // (time_of_impact.h): one that came to rest in a corner an ulp beyond the floor's end is on the floor,
   // and does not fall off it at once to land on it again.
-  const bool point = detail::circleRadius(fixtures[b.fixtures.front()].geometry) == 0;
+  const bool point = detail::circleRadius(w.fixtures[b.fixtures.front()].geometry) == 0;
   const double slack = point ? detail::pointRoundOff(centre, origin, e - a) : 0.0;
   tau.c[0] += slack;
   detail::Polynomial rest = tau;

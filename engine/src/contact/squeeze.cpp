@@ -11,11 +11,14 @@
 // is never pushed through one. A body wedged between static bodies alone (put in a gap narrower than
 // itself) bounces between them at one instant; past the same count it stops moving into the one it
 // meets. StepStats::squeezes counts both.
+#include "contact/squeeze.h"
+
 #include <algorithm>
 #include <cmath>
 
 #include "collision/closest_point.h"
 #include "contact/islands.h"
+#include "contact/resting.h"
 #include "world/world_impl.h"
 
 namespace rattle {
@@ -27,44 +30,44 @@ namespace {
 constexpr double kWedgeAngle = 1e-9;
 }  // namespace
 
-bool detail::WorldState::squeezeExempt(uint32_t fa, uint32_t fb) const {
+bool detail::squeezeExempt(const WorldState& w, uint32_t fa, uint32_t fb) {
   const uint64_t key = islandKey(fa, fb);
-  for (const Squeeze& s : squeezes) {
+  for (const WorldState::Squeeze& s : w.squeezes) {
     if (s.key == key) return true;
   }
   return false;
 }
 
-void detail::WorldState::refreshSqueezes() {
+void detail::refreshSqueezes(WorldState& w) {
   // The counts start again each step (the predictive mode's step after a plain one does not reset them).
-  for (uint32_t body : squeezeCounted) bodies[body].stepCollisions = 0;
-  squeezeCounted.clear();
-  wedged.clear();
-  if (squeezes.empty()) return;
-  std::erase_if(squeezes, [&](const Squeeze& s) {
+  for (uint32_t body : w.squeezeCounted) w.bodies[body].stepCollisions = 0;
+  w.squeezeCounted.clear();
+  w.wedged.clear();
+  if (w.squeezes.empty()) return;
+  std::erase_if(w.squeezes, [&](const WorldState::Squeeze& s) {
     const uint32_t fa = static_cast<uint32_t>(s.key >> 32), fb = static_cast<uint32_t>(s.key);
-    const detail::FixtureSlot& a = fixtures[fa];
-    const detail::FixtureSlot& b = fixtures[fb];
+    const detail::FixtureSlot& a = w.fixtures[fa];
+    const detail::FixtureSlot& b = w.fixtures[fb];
     if (!a.alive || !b.alive || a.generation != s.generationA || b.generation != s.generationB) return true;
-    if (overlaps(a.geometry, bodies[a.body].position, b.geometry, bodies[b.body].position)) return false;
+    if (overlaps(a.geometry, w.bodies[a.body].position, b.geometry, w.bodies[b.body].position)) return false;
     // Parted: the pair collides again, and the predictive mode must predict it again.
-    touched(a.body);
-    touched(b.body);
+    w.touched(a.body);
+    w.touched(b.body);
     return true;
   });
 }
 
-bool detail::WorldState::squeezeAt(const detail::PredictedContact& c) {
-  const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
-  BodySlot& a = bodies[ia];
-  const BodySlot& b = bodies[ib];
-  if (a.type == BodyType::Dynamic && b.type == BodyType::Dynamic) return passesThrough(c);
+bool detail::squeezeAt(WorldState& w, const detail::PredictedContact& c) {
+  const uint32_t ia = w.fixtures[c.a].body, ib = w.fixtures[c.b].body;
+  BodySlot& a = w.bodies[ia];
+  const BodySlot& b = w.bodies[ib];
+  if (a.type == BodyType::Dynamic && b.type == BodyType::Dynamic) return passesThrough(w, c);
   // `a` is the dynamic body of a contact (PredictedContact); only a contact with what does not yield
   // counts, and only a kinematic body can give way.
   if (a.type != BodyType::Dynamic) return false;
   const int count = a.countStepCollision();
-  if (count == 1) squeezeCounted.push_back(ia);
-  if (count <= kSqueezeCollisions) return false;
+  if (count == 1) w.squeezeCounted.push_back(ia);
+  if (count <= w.kSqueezeCollisions) return false;
   if (b.type == BodyType::Static) {
     // Wedged between static bodies (a body larger than the gap it was put in): it bounces from one to the
     // other at one instant without end. Only such bounces, at the instant of its last collision, count
@@ -74,26 +77,27 @@ bool detail::WorldState::squeezeAt(const detail::PredictedContact& c) {
     // no bounce to stop, and stopping nothing found the same contact again at the same instant without
     // end (fuzz/regressions/world_api/budget-predictive-points-in-a-corner). resolve()'s resting rules
     // hold a pressed body: it sleeps or slides.
-    if (!(dot(velocityAt(a, c.time), c.normal) < 0)) return false;
-    advance(a, c.time);
+    if (!(dot(w.velocityAt(a, c.time), c.normal) < 0)) return false;
+    w.advance(a, c.time);
     // Stopped against two faces at one instant whose normals differ, it can move along neither: the
     // bounces between them are alternating projections onto their two tangents, which meet only at rest,
     // and converge there no faster than the cosine of the angle between the faces per pair. A disk
     // around a small polygon, put there by setPosition, took 20,000 of them between two of its corners
     // (fuzz/regressions/world_api/budget-hybrid-disk-around-a-static-polygon). Between parallel faces (a
     // slot) it slides on.
-    const auto w = std::find_if(wedged.begin(), wedged.end(), [&](const Wedged& e) { return e.body == ia; });
+    const auto found =
+        std::find_if(w.wedged.begin(), w.wedged.end(), [&](const WorldState::Wedged& e) { return e.body == ia; });
     const bool cornered =
-        w != wedged.end() && w->time == c.time && std::fabs(cross(w->normal, c.normal)) > kWedgeAngle;
+        found != w.wedged.end() && found->time == c.time && std::fabs(cross(found->normal, c.normal)) > kWedgeAngle;
     if (cornered) {
       a.velocity = Vec2{};
     } else {
       a.velocity -= c.normal * dot(a.velocity, c.normal);
     }
-    if (w != wedged.end()) {
-      *w = {ia, c.time, c.normal};
+    if (found != w.wedged.end()) {
+      *found = {ia, c.time, c.normal};
     } else {
-      wedged.push_back({ia, c.time, c.normal});
+      w.wedged.push_back({ia, c.time, c.normal});
     }
     ++a.collisionCount;
     a.setLast(detail::LastContact{std::min(c.a, c.b), std::max(c.a, c.b), c.feature, c.time});
@@ -101,35 +105,36 @@ bool detail::WorldState::squeezeAt(const detail::PredictedContact& c) {
     // stopped on the face with gravity still pulling it in, it was taken as leaving the face it had just
     // been resolved against and fell through the floor of a box
     // (fuzz/regressions/world_api/escape-predictive-disk-squeezed-on-a-floor).
-    if (dot(a.acceleration, c.normal) < 0 && isFlatFeature(c.b, c.feature)) startSliding(ia, c.b, c.feature, c.normal);
-    ++stats.squeezes;
+    if (dot(a.acceleration, c.normal) < 0 && isFlatFeature(w, c.b, c.feature))
+      startSliding(w, ia, c.b, c.feature, c.normal);
+    ++w.stats.squeezes;
     return true;
   }
-  advance(a, c.time);
+  w.advance(a, c.time);
   a.velocity -= c.normal * dot(a.velocity, c.normal);
   ++a.collisionCount;
   a.last = detail::LastContact{};
   a.stepLocalsSet = true;
-  exemptFromCollisions(c.a, c.b);
+  exemptFromCollisions(w, c.a, c.b);
   return true;
 }
 
-void detail::WorldState::exemptFromCollisions(uint32_t fa, uint32_t fb) {
-  squeezes.push_back(
-      {islandKey(fa, fb), fixtures[std::min(fa, fb)].generation, fixtures[std::max(fa, fb)].generation});
-  ++stats.squeezes;
+void detail::exemptFromCollisions(WorldState& w, uint32_t fa, uint32_t fb) {
+  w.squeezes.push_back(
+      {islandKey(fa, fb), w.fixtures[std::min(fa, fb)].generation, w.fixtures[std::max(fa, fb)].generation});
+  ++w.stats.squeezes;
 }
 
-bool detail::WorldState::passesThrough(const detail::PredictedContact& c) {
-  const uint32_t ia = fixtures[c.a].body, ib = fixtures[c.b].body;
+bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {
+  const uint32_t ia = w.fixtures[c.a].body, ib = w.fixtures[c.b].body;
   // One of the two was stopped against a static face at this very instant (above), and the other keeps
   // driving it there.
-  const bool held = std::any_of(wedged.begin(), wedged.end(), [&](const Wedged& e) {
+  const bool held = std::any_of(w.wedged.begin(), w.wedged.end(), [&](const WorldState::Wedged& e) {
     return (e.body == ia || e.body == ib) && e.time == c.time;
   });
   // Or this pair was resolved at this very instant already, and something drove them back together.
-  if (!held && !bodies[ia].last.is(c.a, c.b, c.time) && !bodies[ib].last.is(c.a, c.b, c.time)) return false;
-  if (squeezeExempt(c.a, c.b)) return true;  // a second prediction of the pair, made before the first came
+  if (!held && !w.bodies[ia].last.is(c.a, c.b, c.time) && !w.bodies[ib].last.is(c.a, c.b, c.time)) return false;
+  if (squeezeExempt(w, c.a, c.b)) return true;  // a second prediction of the pair, made before the first came
   // And the two overlap deeply: made so (a fixture created, a body set, over the other), not brought
   // together by this step's events, which leave them touching. A point inside a disk of radius 2.8, the
   // disk held by the floor and the wall the point was pressed into, drove it into the wall 27,000 times
@@ -139,27 +144,27 @@ bool detail::WorldState::passesThrough(const detail::PredictedContact& c) {
   // 5e10th of their approach per collision, all at one instant
   // (fuzz/regressions/world_api/budget-hybrid-light-disk-made-around-points). Such a pair passes
   // through each other, as a kinematic body passes over a squeezed one, until they no longer overlap.
-  const Vec2 ca = positionAt(bodies[ia], c.time) + detail::circleCentre(fixtures[c.a].geometry);
-  const Vec2 cb = positionAt(bodies[ib], c.time) + detail::circleCentre(fixtures[c.b].geometry);
-  const double ra = detail::circleRadius(fixtures[c.a].geometry), rb = detail::circleRadius(fixtures[c.b].geometry);
+  const Vec2 ca = w.positionAt(w.bodies[ia], c.time) + detail::circleCentre(w.fixtures[c.a].geometry);
+  const Vec2 cb = w.positionAt(w.bodies[ib], c.time) + detail::circleCentre(w.fixtures[c.b].geometry);
+  const double ra = detail::circleRadius(w.fixtures[c.a].geometry), rb = detail::circleRadius(w.fixtures[c.b].geometry);
   if (!(ra + rb - length(ca - cb) > Islands::kJamResidual * std::max(ra, rb))) return false;
   if (!held) {
-    exemptFromCollisions(c.a, c.b);
+    exemptFromCollisions(w, c.a, c.b);
     return true;
   }
   // The wedged one stops moving into the face it was stopped against: the push it took from the other
   // at this instant would carry it through (a point lies on the face, with nothing to tell its side).
-  for (const Wedged& e : wedged) {
+  for (const WorldState::Wedged& e : w.wedged) {
     if (e.time != c.time || (e.body != ia && e.body != ib)) continue;
-    BodySlot& held = bodies[e.body];
-    advance(held, c.time);
+    BodySlot& held = w.bodies[e.body];
+    w.advance(held, c.time);
     const double vn = dot(held.velocity, e.normal);
     if (vn < 0) held.velocity -= e.normal * vn;
     ++held.collisionCount;
     held.last = detail::LastContact{};
     held.stepLocalsSet = true;
   }
-  exemptFromCollisions(c.a, c.b);
+  exemptFromCollisions(w, c.a, c.b);
   return true;
 }
 

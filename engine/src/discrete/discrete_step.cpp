@@ -12,7 +12,9 @@
 
 #include "collision/closest_point.h"
 #include "contact/impulse.h"
+#include "contact/response.h"
 #include "contact/tolerances.h"
+#include "sensors/sensors.h"
 #include "world/stepper.h"
 #include "world/world_impl.h"
 
@@ -168,7 +170,7 @@ void DiscreteStepper::findOverlappingPairs() {
   const size_t pairLimit = 16 * w.fixtures.size() + static_cast<size_t>(w.def.maxEventsPerStep);
   bool tooMany = false;
   w.broadPhase.findPairs([&](uint32_t fa, uint32_t fb) {
-    if (!w.canCollide(fa, fb)) return;
+    if (!canCollide(w, fa, fb)) return;
     if (pairs.size() == pairLimit) {
       tooMany = true;
       return;
@@ -226,7 +228,7 @@ bool DiscreteStepper::crossesStatic(uint32_t own, Vec2 from, Vec2 travel) {
                  {std::max(from.x, from.x + travel.x), std::max(from.y, from.y + travel.y)}};
   bool crosses = false;
   w.broadPhase.query(path, [&](uint32_t g) {
-    if (crosses || w.bodyOf(g).type != BodyType::Static || !w.canCollide(own, g)) return;
+    if (crosses || w.bodyOf(g).type != BodyType::Static || !canCollide(w, own, g)) return;
     const auto hit = rayCast(w.fixtures[g].geometry, w.bodyOf(g).position, from, travel);
     crosses = hit && hit->fraction > 0;
   });
@@ -358,7 +360,7 @@ void DiscreteStepper::reflect(uint32_t own, uint32_t other, const Penetration& p
   // Where the two touch once pushed apart: on the circle, opposite its normal.
   const Vec2 point = body.position + detail::circleCentre(w.fixtures[own].geometry) -
                      pen.normal * detail::circleRadius(w.fixtures[own].geometry);
-  w.contactEvents.push_back(w.contactEventOf(own, other, dt, point, pen.normal, j));
+  w.contactEvents.push_back(contactEventOf(w, own, other, dt, point, pen.normal, j));
 }
 
 // 3b. A push may have carried a body's centre across a static fixture's surface (a thin wall, a
@@ -413,7 +415,7 @@ void DiscreteStepper::putBack(const Moved& m) {
   uint32_t firstFixture = 0;
   walls_.clear();
   w.broadPhase.query(path, [&](uint32_t g) {
-    if (w.bodyOf(g).type != BodyType::Static || !w.canCollide(own, g)) return;
+    if (w.bodyOf(g).type != BodyType::Static || !canCollide(w, own, g)) return;
     walls_.push_back(g);
     const auto hit = rayCast(w.fixtures[g].geometry, w.bodyOf(g).position, from, travel);
     if (!hit || !(hit->fraction > 0)) return;  // none, or the centre started on it or inside it
@@ -445,7 +447,7 @@ void DiscreteStepper::keepCentreOut(BodySlot& b, uint32_t own, Vec2 centre, Vec2
   const Vec2 at = b.position + centre;
   walls_.clear();
   w.broadPhase.query(Box{at, at}, [&](uint32_t g) {
-    if (w.bodyOf(g).type == BodyType::Static && w.canCollide(own, g)) walls_.push_back(g);
+    if (w.bodyOf(g).type == BodyType::Static && canCollide(w, own, g)) walls_.push_back(g);
   });
   std::sort(walls_.begin(), walls_.end());
   for (uint32_t g : walls_) {
@@ -479,17 +481,17 @@ void DiscreteStepper::senseOverlaps(double dt) {
       for (uint32_t f : b.fixtures) w.broadPhase.setBox(f, w.worldBox(f));
     }
     w.broadPhase.findSensorPairs([&](uint32_t fa, uint32_t fb) {
-      if (w.canSense(fa, fb)) sensing.push_back({std::min(fa, fb), std::max(fa, fb)});
+      if (canSense(w, fa, fb)) sensing.push_back({std::min(fa, fb), std::max(fa, fb)});
     });
     std::sort(sensing.begin(), sensing.end(), byIds);
     w.stats.candidatePairs += static_cast<int>(sensing.size());
   }
   const auto& fixtures = w.fixtures;
   for (const Pair& p : sensing) {
-    w.sensorOverlapsSeen(p.a, p.b);
+    sensorOverlapsSeen(w, p.a, p.b);
     const bool now = overlaps(fixtures[p.a].geometry, w.bodyOf(p.a).position, fixtures[p.b].geometry,
                               w.bodyOf(p.b).position);
-    if (now != w.isOverlapping(p.a, p.b)) w.recordSensorChange(p.a, p.b, dt, now, w.sensorEvents);
+    if (now != isOverlapping(w, p.a, p.b)) recordSensorChange(w, p.a, p.b, dt, now, w.sensorEvents);
   }
   std::vector<uint64_t> unseen;
   for (const auto& [key, seen] : w.sensorOverlaps) {
@@ -500,7 +502,7 @@ void DiscreteStepper::senseOverlaps(double dt) {
     const uint32_t sensor = static_cast<uint32_t>(key >> 32), visitor = static_cast<uint32_t>(key);
     if (!overlaps(fixtures[sensor].geometry, w.bodyOf(sensor).position, fixtures[visitor].geometry,
                   w.bodyOf(visitor).position)) {
-      w.recordSensorChange(sensor, visitor, dt, false, w.sensorEvents);
+      recordSensorChange(w, sensor, visitor, dt, false, w.sensorEvents);
     }
   }
 }

@@ -26,8 +26,10 @@
 //
 // Within a step each body keeps its position at its own local time (the time of its last collision), so
 // bodies that do not collide are moved once per step and times stay in [0, dt] where they are precise.
-#include <array>
+#include "hybrid/hybrid_step.h"
+
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -35,11 +37,14 @@
 #include "collision/closest_point.h"
 #include "collision/path_box.h"
 #include "contact/collapse_guard.h"
+#include "contact/response.h"
+#include "contact/resting.h"
+#include "contact/squeeze.h"
 #include "contact/tolerances.h"
-#include "world/stepper.h"
-#include "rattle/time_of_impact.h"
 #include "hybrid/hybrid_state.h"
-#include "hybrid/hybrid_step.h"
+#include "rattle/time_of_impact.h"
+#include "sensors/sensors.h"
+#include "world/stepper.h"
 #include "world/world_impl.h"
 
 namespace rattle {
@@ -111,7 +116,7 @@ class HybridStep final : public detail::EventPredictor {
   bool squeezeAndPredict(const detail::PredictedContact& c, double dt);
   /// Whether a contact would leave two bodies that both move (awake, not static) bouncing off each other
   /// slower than restingSpeed while gravity presses them together: they join a stepped island.
-  /// stepEnd as for WorldState::resolve.
+  /// stepEnd as for detail::resolve.
   bool joinsIsland(const detail::PredictedContact& c, double stepEnd) const;
   /// Asks for what the first pass will read of body i + kStreamAhead (a prefetch). Inline: a call to a
   /// function that only prefetches is one GCC may drop (it finds it has no effect), and did.
@@ -169,10 +174,10 @@ void HybridStep::predict(uint32_t own, uint32_t other, double now, double dt, in
   const BodySlot& a = w.bodyOf(own);
   const BodySlot& b = w.bodyOf(other);
   if (detail::Islands::heldByIsland(a, b)) return;  // the island's solve holds this contact (island.cpp)
-  if (!w.squeezes.empty() && w.squeezeExempt(own, other)) return;  // squeeze.cpp
+  if (!w.squeezes.empty() && squeezeExempt(w, own, other)) return;  // squeeze.cpp
   ++w.stats.timeOfImpactTests;
 
-  int resolved = w.resolvedFeature(a, b, own, other, now);
+  int resolved = resolvedFeature(w, a, b, own, other, now);
   if (dismissed != kNoFeature) resolved = dismissed;
 
   const Vec2 pa = w.positionAt(a, now);
@@ -236,7 +241,7 @@ void HybridStep::predictSlideEnd(uint32_t bodyIndex, double now, double dt) {
   detail::HybridState& h = h_;
   const BodySlot& b = w.bodies[bodyIndex];
   if (!b.sliding) return;
-  const auto t = w.slideEndTime(b, now, dt);
+  const auto t = slideEndTime(w, b, now, dt);
   if (!t) return;
   h.queue.push_back(PredictedContact{std::min(*t, dt),
                                    detail::EventKind::SlideEnd,
@@ -272,7 +277,7 @@ void HybridStep::repredict(uint32_t bodyIndex, double now, double dt, bool force
       if (p.own == f) h.stamp[p.other] = h.stampCounter;
     }
     w.broadPhase.queryAround(f, [&](uint32_t g) {
-      if (h.stamp[g] == h.stampCounter || !w.canCollide(f, g)) return;
+      if (h.stamp[g] == h.stampCounter || !canCollide(w, f, g)) return;
       h.stamp[g] = h.stampCounter;
       ++w.stats.candidatePairs;
       addPair(f, g);
@@ -298,7 +303,7 @@ bool HybridStep::joinsIsland(const PredictedContact& c, double stepEnd) const {
   // Pressed together by gravity, or one of them already held by an island that pushes it into the other.
   if (!a.stepped && !b.stepped && !(dot(a.acceleration - b.acceleration, c.normal) < 0)) return false;
   // The bounce resolve() would give (Newton's law with the TC model's exception), against restingSpeed.
-  const double vn = std::min(w.impactNormalVelocity(a, b, c.normal, c.time, stepEnd), 0.0);
+  const double vn = std::min(impactNormalVelocity(w, a, b, c.normal, c.time, stepEnd), 0.0);
   const double now = w.time + c.time;
   const bool rapid = now - a.lastContactTime < w.def.collapseTime || now - b.lastContactTime < w.def.collapseTime;
   const double e = rapid ? 1.0 : std::max(w.fixtures[c.a].restitution, w.fixtures[c.b].restitution);
@@ -386,7 +391,7 @@ double HybridStep::sweepBoxes(double dt) {
     }
     if (b.sliding &&
         (!w.fixtures[b.support.fixture].alive || w.fixtures[b.support.fixture].generation != b.support.generation)) {
-      w.stopSliding(b);
+      stopSliding(w, b);
     }
     if (b.type == BodyType::Dynamic && !b.asleep && !b.sliding) {
       storeIfChanged(b.acceleration, b.stepped ? Vec2{} : w.def.gravity);
@@ -457,7 +462,7 @@ double HybridStep::sweepBoxes(double dt) {
       w.broadPhase.setTag(f, detail::BroadPhase::kNoTag);
     }
   }
-  w.startPaths();
+  startPaths(w);
   return std::max(speedScale, std::sqrt(straightSpeedSquared));
 
 }
@@ -505,7 +510,7 @@ void HybridStep::predictCandidatePairs(double dt) {
       predictPlainPair(fa, fb, plainA, plainB, dt);
       return;
     }
-    if (w.canCollide(fa, fb)) {
+    if (canCollide(w, fa, fb)) {
       ++w.stats.candidatePairs;
       addPair(fa, fb);
       // Predict with a dynamic body's circle first (the time-of-impact functions' moving side); of two
@@ -554,7 +559,7 @@ void HybridStep::startIslandsAndPredict(double dt) {
 
 bool HybridStep::squeezeAndPredict(const PredictedContact& c, double dt) {
   detail::WorldState& w = w_;
-  if (!w.squeezeAt(c)) return false;
+  if (!squeezeAt(w, c)) return false;
   ++w.stats.eventsProcessed;
   repredict(w.fixtures[c.a].body, c.time, dt);
   // Two dynamic bodies (passesThrough): the other's motion may have changed too.
@@ -589,7 +594,7 @@ void HybridStep::dismissContact(const PredictedContact& c, double dt, double vn,
     const int absorbLimit =
         std::min<int>(detail::collapseCollisions(w.def.maxEventsPerStep), std::numeric_limits<uint16_t>::max() - 1);
     if (a.stepAbsorbs > absorbLimit || b.stepAbsorbs > absorbLimit) return;
-    w.absorb(c, vn);
+    absorb(w, c, vn);
     ++w.stats.eventsProcessed;  // bounded by the budget like any other change of motion
     for (uint32_t body : {w.fixtures[c.a].body, w.fixtures[c.b].body}) {
       if (w.bodies[body].type == BodyType::Dynamic) repredict(body, c.time, dt);
@@ -635,7 +640,7 @@ void HybridStep::collide(const PredictedContact& c, double dt, std::vector<uint3
   }
   woken.clear();
   const bool aAsleep = w.bodies[ia].asleep, bAsleep = w.bodies[ib].asleep;
-  w.resolve(c, woken, false, dt);
+  resolve(w, c, woken, false, dt);
   ++w.stats.eventsProcessed;
   // A body that has just gone to sleep holds its stepped neighbours from now on: the islands' solve
   // did not see it as fixed, so they keep clear of it for the rest of the step.
@@ -694,7 +699,7 @@ double HybridStep::processEvents(double dt, double approachTolerance) {
         continue;
       }
       w.advance(a, c.time);
-      w.stopSliding(a);
+      stopSliding(w, a);
       ++a.collisionCount;
       repredict(w.fixtures[c.a].body, c.time, dt);
       continue;
@@ -769,7 +774,7 @@ void HybridStep::run(double dt, int eventsBefore) {
   const double end = w.stats.eventBudgetReached ? budgetTime : dt;
   // 6. Sensor events, from the paths the bodies took (sensor_paths.cpp).
   if (w.pathLog.active) {
-    w.sensePaths(w.pathLog, end);
+    sensePaths(w, w.pathLog, end);
     w.pathLog.active = false;
   }
   h.islands.endIslands(end);

@@ -2,7 +2,7 @@
 // default filter), resolved on the compact copies (HotBody, ColdBody) instead of the two
 // BodySlots and FixtureSlots, which are written back later (the engine's attach()).
 //
-// It is detail::WorldState::resolve() (contact/response.cpp) for the case the predictive mode takes it in
+// It is detail::resolve() (contact/response.cpp) for the case the predictive mode takes it in
 // when the world has no gravity, no sensors and nobody asleep: no wake-ups, no Zeno guard (it counts only
 // under gravity), no resting rules (they need gravity pressing the pair together), no slides. What is
 // left is the same arithmetic (contact/impulse.h, which both call), so the same bits: Newton's law along

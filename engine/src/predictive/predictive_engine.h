@@ -4,8 +4,6 @@
 // Included only by those; predictive_step.cpp's opening comment describes the mode as a whole.
 #pragma once
 
-#include "predictive/predictive_step.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -14,10 +12,15 @@
 
 #include "collision/closest_point.h"
 #include "collision/path_box.h"
+#include "collision/plain_disk_impact.h"
+#include "contact/response.h"
+#include "contact/resting.h"
+#include "contact/squeeze.h"
 #include "contact/tolerances.h"
 #include "predictive/plain_collision.h"
-#include "collision/plain_disk_impact.h"
+#include "predictive/predictive_step.h"
 #include "rattle/time_of_impact.h"
+#include "sensors/sensors.h"
 #include "world/world_impl.h"
 
 namespace rattle {

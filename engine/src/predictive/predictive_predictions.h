@@ -31,13 +31,13 @@ void Engine::crossing(const Predicting& p, double& h, int& side) const {
 
 void Engine::predictPair(uint32_t own, uint32_t other, double now, double horizon, PredictiveEvent& best,
                             int dismissed) {
-  // detail::WorldState::predict, up to the body's horizon instead of the step's end.
+  // the hybrid step's HybridStep::predict, up to the body's horizon instead of the step's end.
   attachFixture(own);
   attachFixture(other);
   const BodySlot& a = w_.bodyOf(own);
   const BodySlot& b = w_.bodyOf(other);
   ++w_.stats.timeOfImpactTests;
-  const int resolved = dismissed != kNoFeature ? dismissed : w_.resolvedFeature(a, b, own, other, now);
+  const int resolved = dismissed != kNoFeature ? dismissed : resolvedFeature(w_, a, b, own, other, now);
   const Vec2 pa = w_.positionAt(a, now);
   const Vec2 pb = w_.positionAt(b, now);
   const Vec2 vb = w_.velocityAt(b, now);
@@ -97,7 +97,7 @@ void Engine::predictCircles(const Predicting& p, uint32_t j, double horizon, Pre
   }
   const ColdBody& ca = *p.cold;
   const ColdBody& cb = s_.cold[j];
-  // detail::WorldState::resolvedFeature() from the copies: both bodies' last contact is this pair, at this instant.
+  // detail::resolvedFeature() from the copies: both bodies' last contact is this pair, at this instant.
   int resolved = kNoFeature;
   if (ca.lastTime == now) {
     const uint32_t low = std::min(a.fixture, b.fixture), high = std::max(a.fixture, b.fixture);
@@ -168,8 +168,8 @@ void Engine::pairWith(Prediction& q, uint32_t j, double until) {
   }
   forEachPhysical(i, [&](uint32_t f) {
     forEachPhysical(j, [&](uint32_t g) {
-      if (!w_.canCollide(f, g) || (q.hasDismissals && isDismissed(i, f, g))) return;
-      if (!w_.squeezes.empty() && w_.squeezeExempt(f, g)) return;
+      if (!canCollide(w_, f, g) || (q.hasDismissals && isDismissed(i, f, g))) return;
+      if (!w_.squeezes.empty() && squeezeExempt(w_, f, g)) return;
       predictPair(f, g, q.p.now, until, q.best);
     });
   });
@@ -250,7 +250,7 @@ void Engine::finishPrediction(Prediction& q) {
     for (uint32_t k = s_.staticBegin[cell]; k < s_.staticBegin[cell + 1]; ++k) {
       const uint32_t g = s_.staticList[k];
       forEachPhysical(i, [&](uint32_t f) {
-        if (!w_.canCollide(f, g)) return;
+        if (!canCollide(w_, f, g)) return;
         const int dismissed = q.hasDismissals ? dismissedFeature(i, f, g) : kNotDismissed;
         if (dismissed == kWholePair) return;
         if (clearlyApart(ownBox(), w_.worldBox(g))) return;
@@ -264,10 +264,10 @@ void Engine::finishPrediction(Prediction& q) {
     const Box theirs = sweptBox(w_.fixtures[g].localBox, w_.positionAt(kinematic, now), w_.velocityAt(kinematic, now),
                                 kinematic.acceleration, horizon - now);
     forEachPhysical(i, [&](uint32_t f) {
-      if (!w_.canCollide(f, g)) return;
+      if (!canCollide(w_, f, g)) return;
       const int dismissed = q.hasDismissals ? dismissedFeature(i, f, g) : kNotDismissed;
       if (dismissed == kWholePair) return;
-      if (!w_.squeezes.empty() && w_.squeezeExempt(f, g)) return;
+      if (!w_.squeezes.empty() && squeezeExempt(w_, f, g)) return;
       if (clearlyApart(ownBox(), theirs)) return;
       predictPair(f, g, now, horizon, q.best, dismissed == kNotDismissed ? kNoFeature : dismissed);
     });
@@ -276,7 +276,7 @@ void Engine::finishPrediction(Prediction& q) {
     attach(i);
     const BodySlot& b = w_.bodies[s_.bodyOfSlot[i]];
     const double until = q.moving ? horizon : now + s_.capTime;
-    if (const auto t = w_.slideEndTime(b, now, until)) {
+    if (const auto t = slideEndTime(w_, b, now, until)) {
       const PredictiveEvent e{std::min(*t, until), b.fixtures.front(), b.support.fixture, b.support.feature, 0,
                               PredictiveKind::SlideEnd};
       if (earlier(e, q.best)) q.best = e;
@@ -533,11 +533,11 @@ void Engine::finishPlain(uint32_t i, double now, Vec2 position, Vec2 velocity, d
 }
 
 void Engine::fillPairs(uint32_t i) {
-  // The body's candidate pairs, for the resting rules (detail::WorldState::supportsAt reads them).
+  // The body's candidate pairs, for the resting rules (detail::supportsAt reads them).
   auto& pairs = w_.pairsOfBody[s_.bodyOfSlot[i]];
   pairs.clear();
   auto add = [&](uint32_t f, uint32_t g) {
-    if (w_.canCollide(f, g)) pairs.push_back({f, g});
+    if (canCollide(w_, f, g)) pairs.push_back({f, g});
   };
   forEachNeighbour(i, [&](uint32_t j) {
     forEachPhysical(i, [&](uint32_t f) { forEachPhysical(j, [&](uint32_t g) { add(f, g); }); });

@@ -22,7 +22,7 @@ void Engine::normalize(double dt) {
     b.stepCollisions = 0;
     if (b.sliding &&
         (!w_.fixtures[b.support.fixture].alive || w_.fixtures[b.support.fixture].generation != b.support.generation)) {
-      w_.stopSliding(b);
+      stopSliding(w_, b);
     }
     if (b.type == BodyType::Dynamic && !b.asleep && !b.sliding) b.acceleration = w_.def.gravity;
     if (b.type == BodyType::Dynamic) {
@@ -682,7 +682,7 @@ size_t Engine::gatherNeighbours(uint32_t slot, uint32_t* out, size_t capacity) c
 
 void Engine::gatherNeighbours(uint32_t slot, std::vector<uint32_t>& out) const {
   // The same bodies in the order of the cells, row by row, and of their lists: the general path's order
-  // (the resting rules keep the first supports found, detail::WorldState::supportsAt).
+  // (the resting rules keep the first supports found, detail::supportsAt).
   out.clear();
   uint32_t x, y;
   unfold(s_.hot[slot].cell, x, y);

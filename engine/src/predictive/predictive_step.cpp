@@ -114,7 +114,7 @@ double Engine::endPlain(double end, double& speed) {
 }
 
 void Engine::collidePlain(uint32_t i, uint32_t j, const PredictiveEvent& c, double tolerance) {
-  // detail::WorldState::resolve() for two plain disks, on their copies (plain_collision.h); the BodySlots
+  // detail::resolve() for two plain disks, on their copies (plain_collision.h); the BodySlots
   // catch up in attach(). The contact event as resolve() writes it.
   const detail::PlainOutcome out =
       detail::resolvePlainDisks({s_.hot[i], s_.cold[i]}, {s_.hot[j], s_.cold[j]}, c, w_.time,
@@ -177,7 +177,7 @@ bool Engine::startStep(double dt) {
   w_.sensorEvents.swap(w_.pendingSensorEvents);
   w_.stats = StepStats{};
   // The bodies' candidate pairs are read only by the resting rules and the Zeno guard, which need gravity
-  // (fillPairs, detail::WorldState::supportsAt): a world without it does not make them (a vector a body, fresh
+  // (fillPairs, detail::supportsAt): a world without it does not make them (a vector a body, fresh
   // memory written at the first step).
   if (!(w_.def.gravity == Vec2{}) && w_.pairsOfBody.size() < w_.bodies.size()) w_.pairsOfBody.resize(w_.bodies.size());
 
@@ -260,7 +260,7 @@ bool Engine::startStep(double dt) {
   // The calendar is laid again from the step's start; its width is measured again once a quarter of the
   // bodies' worth of events went by since (short steps see few events each).
   retune(0, /*keepWidth=*/!rebuild && s_.popsSinceRetune < s_.hot.size() / 4);
-  w_.startPaths();
+  startPaths(w_);
   return true;
 }
 
@@ -348,7 +348,7 @@ void Engine::endSlide(uint32_t i, const PredictiveEvent& c) {
     return;
   }
   w_.advance(a, c.time);
-  w_.stopSliding(a);
+  stopSliding(w_, a);
   ++a.collisionCount;
   sync(i);
   predictBody(i, c.time);
@@ -373,7 +373,7 @@ void Engine::absorbOrDismiss(uint32_t i, uint32_t j, const PredictiveEvent& c, c
     ++stepAbsorbs_;
     attach(i);
     if (j != PredictiveState::kNone) attach(j);
-    w_.absorb(contact, vn);
+    absorb(w_, contact, vn);
     ++w_.stats.eventsProcessed;
     sync(i);
     if (j != PredictiveState::kNone) sync(j);
@@ -491,7 +491,7 @@ bool Engine::collideAt(uint32_t i, uint32_t j, const PredictiveEvent& c) {
     budgetTime_ = c.time;
     return false;
   }
-  if (w_.squeezeAt(contact)) {
+  if (squeezeAt(w_, contact)) {
     ++w_.stats.eventsProcessed;
     sync(i);
     predictBody(i, c.time);
@@ -504,7 +504,7 @@ bool Engine::collideAt(uint32_t i, uint32_t j, const PredictiveEvent& c) {
     return true;
   }
   s_.woken.clear();
-  w_.resolve(contact, s_.woken, /*zenoGuard=*/true);
+  resolve(w_, contact, s_.woken, /*zenoGuard=*/true);
   ++w_.stats.eventsProcessed;
   {
     // The round-off guard (LastContact) takes a pair just resolved to be separating. When the resolution
@@ -546,7 +546,7 @@ double Engine::finishStep(double dt) {
   const bool pile = pile_;
   const double end = w_.stats.eventBudgetReached || pile ? budgetTime_ : dt;
   if (w_.pathLog.active) {
-    w_.sensePaths(w_.pathLog, end);
+    sensePaths(w_, w_.pathLog, end);
     w_.pathLog.active = false;
   }
   // The pass below changes every body. Nothing after it allocates, but for a pile handed over to the

@@ -84,7 +84,7 @@ struct alignas(64) ColdBody {
   int32_t lastFeature = -1;
   int32_t cx = 0, cy = 0;  // its cell
   uint32_t stepCollisions = 0;  // BodySlot::stepCollisions (the collapse guard without gravity)
-  // The rest of what detail::WorldState::resolve() reads from two BodySlots and two FixtureSlots, for a
+  // The rest of what detail::resolve() reads from two BodySlots and two FixtureSlots, for a
   // collision of two plain disks resolved on the copies (plain_collision.h).
   double inverseMass = 0;
   double restitution = 0;  // of the primary fixture

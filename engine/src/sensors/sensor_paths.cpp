@@ -16,8 +16,9 @@
 #include <cmath>
 
 #include "collision/path_box.h"
-#include "sensors/path_log.h"
 #include "rattle/time_of_impact.h"
+#include "sensors/path_log.h"
+#include "sensors/sensors.h"
 #include "world/world_impl.h"
 
 namespace rattle {
@@ -48,26 +49,26 @@ constexpr int kMaxChangesPerPair = 1024;
 
 }  // namespace
 
-void detail::WorldState::startPaths() {
-  PathLog& log = pathLog;
-  log.active = liveSensors > 0;
+void detail::startPaths(WorldState& w) {
+  PathLog& log = w.pathLog;
+  log.active = w.liveSensors > 0;
   if (!log.active) return;
-  const size_t nb = bodies.size();
+  const size_t nb = w.bodies.size();
   log.first.resize(nb);
   log.asleepAtStart.resize(nb);
   log.lastPiece.assign(nb, PathLog::kNoPiece);
   log.changes.clear();
   for (size_t i = 0; i < nb; ++i) {
-    const detail::BodySlot& b = bodies[i];
+    const detail::BodySlot& b = w.bodies[i];
     log.first[i] = {b.localTime, b.position, b.velocity, b.acceleration};
     log.asleepAtStart[i] = b.asleep;
   }
 }
 
-void detail::WorldState::sensePaths(PathLog& log, double end) {
-  ++stepStamp;
+void detail::sensePaths(WorldState& w, PathLog& log, double end) {
+  ++w.stepStamp;
   // Each body's changes, grouped by body in the order they happened (a counting sort).
-  const size_t nb = bodies.size();
+  const size_t nb = w.bodies.size();
   std::vector<uint32_t> begin(nb + 1, 0);
   for (const auto& c : log.changes) ++begin[c.body + 1];
   for (size_t i = 0; i < nb; ++i) begin[i + 1] += begin[i];
@@ -82,7 +83,7 @@ void detail::WorldState::sensePaths(PathLog& log, double end) {
 
   // 1. Boxes of the whole paths. A body asleep all step is at rest, as in the hybrid step.
   for (uint32_t i = 0; i < nb; ++i) {
-    const detail::BodySlot& b = bodies[i];
+    const detail::BodySlot& b = w.bodies[i];
     if (!b.alive || b.type == BodyType::Static) continue;
     const Path path = pathOf(i);
     const bool moving = !log.asleepAtStart[i] || path.restCount > 0;
@@ -96,16 +97,16 @@ void detail::WorldState::sensePaths(PathLog& log, double end) {
       }
     }
     for (uint32_t f : b.fixtures) {
-      broadPhase.setMoving(f, moving);
-      broadPhase.setBox(f, Box{box.min + fixtures[f].localBox.min, box.max + fixtures[f].localBox.max});
+      w.broadPhase.setMoving(f, moving);
+      w.broadPhase.setBox(f, Box{box.min + w.fixtures[f].localBox.min, box.max + w.fixtures[f].localBox.max});
     }
   }
 
   // 2. Each pair along the pieces of both paths.
   std::vector<SensorEvent> found;
   auto sense = [&](uint32_t sensor, uint32_t visitor) {
-    const Path a = pathOf(fixtures[sensor].body), b = pathOf(fixtures[visitor].body);
-    bool overlapping = isOverlapping(sensor, visitor);
+    const Path a = pathOf(w.fixtures[sensor].body), b = pathOf(w.fixtures[visitor].body);
+    bool overlapping = isOverlapping(w, sensor, visitor);
     double t = 0;
     size_t ka = 0, kb = 0;
     for (int changes = 0; changes < kMaxChangesPerPair;) {
@@ -114,14 +115,15 @@ void detail::WorldState::sensePaths(PathLog& log, double end) {
       double next = end;
       if (ka + 1 < a.size()) next = std::min(next, a[ka + 1].start);
       if (kb + 1 < b.size()) next = std::min(next, b[kb + 1].start);
-      ++stats.timeOfImpactTests;
+      ++w.stats.timeOfImpactTests;
       const Motion relative{velocityOn(a[ka], t) - velocityOn(b[kb], t), a[ka].acceleration - b[kb].acceleration};
-      const auto h = timeOfOverlapChange(fixtures[sensor].geometry, positionOn(a[ka], t), fixtures[visitor].geometry,
-                                         positionOn(b[kb], t), relative, std::max(next - t, 0.0), overlapping);
+      const auto h =
+          timeOfOverlapChange(w.fixtures[sensor].geometry, positionOn(a[ka], t), w.fixtures[visitor].geometry,
+                              positionOn(b[kb], t), relative, std::max(next - t, 0.0), overlapping);
       if (h) {
         t = std::min(t + *h, next);
         overlapping = !overlapping;
-        recordSensorChange(sensor, visitor, t, overlapping, found);
+        recordSensorChange(w, sensor, visitor, t, overlapping, found);
         ++changes;
         continue;
       }
@@ -129,10 +131,10 @@ void detail::WorldState::sensePaths(PathLog& log, double end) {
       t = next;
     }
   };
-  broadPhase.findSensorPairs([&](uint32_t fa, uint32_t fb) {
-    if (!canSense(fa, fb)) return;
-    sensorOverlapsSeen(fa, fb);
-    if (fixtures[fa].sensor) {
+  w.broadPhase.findSensorPairs([&](uint32_t fa, uint32_t fb) {
+    if (!canSense(w, fa, fb)) return;
+    sensorOverlapsSeen(w, fa, fb);
+    if (w.fixtures[fa].sensor) {
       sense(fa, fb);
     } else {
       sense(fb, fa);
@@ -141,7 +143,7 @@ void detail::WorldState::sensePaths(PathLog& log, double end) {
 
   // 3. Overlaps whose pair the sweep did not see: the body was moved away between steps (so they are
   // judged where the bodies were at the step's start).
-  endUnseenOverlaps([&](uint32_t body) { return positionOn(pathOf(body)[0], 0.0); });
+  endUnseenOverlaps(w, [&](uint32_t body) { return positionOn(pathOf(body)[0], 0.0); });
   // One pair's events are in time order already; a stable sort keeps them so at equal times.
   std::stable_sort(found.begin(), found.end(), [](const SensorEvent& x, const SensorEvent& y) {
     if (x.time != y.time) return x.time < y.time;
@@ -149,7 +151,7 @@ void detail::WorldState::sensePaths(PathLog& log, double end) {
     if (xl != yl) return xl < yl;
     return std::max(x.sensor.index, x.visitor.index) < std::max(y.sensor.index, y.visitor.index);
   });
-  sensorEvents.insert(sensorEvents.end(), found.begin(), found.end());
+  w.sensorEvents.insert(w.sensorEvents.end(), found.begin(), found.end());
 }
 
 }  // namespace rattle

@@ -16,6 +16,8 @@
 //
 // Nothing in undoStep allocates: the log holds the map's own nodes, and putting a node back cannot
 // rehash the map, as it never holds more than it held when the node was taken out.
+#include "world/step_undo.h"
+
 #include <algorithm>
 
 #include "common/out_of_memory.h"
@@ -24,54 +26,54 @@
 
 namespace rattle {
 
-detail::WorldState::BodyAtStepStart detail::WorldState::stateOf(uint32_t body, const detail::BodySlot& b) {
+detail::WorldState::BodyAtStepStart detail::stateOf(uint32_t body, const detail::BodySlot& b) {
   return {body, b.position, b.velocity, b.acceleration, b.localTime, b.support, b.lastContactTime,
           b.asleep, b.stepped, b.sliding};
 }
 
-void detail::WorldState::keepBody(uint32_t body) {
-  detail::roomForOneMore(stepStart.bodies);  // before the change it precedes: a failure here is clean
-  detail::BodySlot& b = bodies[body];
-  stepStart.bodies.push_back(stateOf(body, b));
+void detail::keepBody(WorldState& w, uint32_t body) {
+  detail::roomForOneMore(w.stepStart.bodies);  // before the change it precedes: a failure here is clean
+  detail::BodySlot& b = w.bodies[body];
+  w.stepStart.bodies.push_back(stateOf(body, b));
   b.kept = true;
 }
 
-void detail::WorldState::saveStepStart() {
+void detail::saveStepStart(WorldState& w) {
   // Room first: a failure here leaves everything as it was.
-  stepStart.keepEach = def.mode != StepMode::Discrete;
-  stepStart.keeping = false;
-  stepStart.bodies.clear();
-  if (!stepStart.keepEach && stepStart.motion.size() < bodies.size()) stepStart.motion.resize(bodies.size());
-  stepStart.pendingSensorEvents = pendingSensorEvents;
-  stepStart.squeezes = squeezes;
-  stepStart.sensorOverlaps.clear();
-  stepStart.dependents.clear();
-  stepStart.time = time;
-  stepStart.stats = stats;
-  stepStart.active = true;
-  stepStart.keeping = stepStart.keepEach;
+  w.stepStart.keepEach = w.def.mode != StepMode::Discrete;
+  w.stepStart.keeping = false;
+  w.stepStart.bodies.clear();
+  if (!w.stepStart.keepEach && w.stepStart.motion.size() < w.bodies.size()) w.stepStart.motion.resize(w.bodies.size());
+  w.stepStart.pendingSensorEvents = w.pendingSensorEvents;
+  w.stepStart.squeezes = w.squeezes;
+  w.stepStart.sensorOverlaps.clear();
+  w.stepStart.dependents.clear();
+  w.stepStart.time = w.time;
+  w.stepStart.stats = w.stats;
+  w.stepStart.active = true;
+  w.stepStart.keeping = w.stepStart.keepEach;
 }
 
-void detail::WorldState::endStep() {
-  stepStart.active = false;
-  stepStart.keeping = false;
-  if (stepStart.keepEach) {
-    for (const BodyAtStepStart& s : stepStart.bodies) bodies[s.body].kept = false;
+void detail::endStep(WorldState& w) {
+  w.stepStart.active = false;
+  w.stepStart.keeping = false;
+  if (w.stepStart.keepEach) {
+    for (const WorldState::BodyAtStepStart& s : w.stepStart.bodies) w.bodies[s.body].kept = false;
   }
-  stepStart.sensorOverlaps.clear();  // frees the ended overlaps' nodes
-  stepStart.dependents.clear();
+  w.stepStart.sensorOverlaps.clear();  // frees the ended overlaps' nodes
+  w.stepStart.dependents.clear();
 }
 
-void detail::WorldState::undoStep() {
-  contactEvents.clear();  // a failed step reports no events
-  sensorEvents.clear();
-  if (!stepStart.active) return;  // saveStepStart failed: nothing else changed
-  stepStart.active = false;
-  stepStart.keeping = false;
+void detail::undoStep(WorldState& w) {
+  w.contactEvents.clear();  // a failed step reports no events
+  w.sensorEvents.clear();
+  if (!w.stepStart.active) return;  // saveStepStart failed: nothing else changed
+  w.stepStart.active = false;
+  w.stepStart.keeping = false;
   // Latest first: a body kept twice (a jam undone puts back a copy of its slot from before it was kept)
   // ends with its first record, from the step's start.
-  for (auto it = stepStart.bodies.rbegin(); it != stepStart.bodies.rend(); ++it) {
-    detail::BodySlot& b = bodies[it->body];
+  for (auto it = w.stepStart.bodies.rbegin(); it != w.stepStart.bodies.rend(); ++it) {
+    detail::BodySlot& b = w.bodies[it->body];
     b.position = it->position;
     b.velocity = it->velocity;
     b.acceleration = it->acceleration;
@@ -84,41 +86,41 @@ void detail::WorldState::undoStep() {
     b.kept = false;
     b.stepLocalsSet = true;  // the next step resets them (stepHybrid's first pass)
   }
-  if (!stepStart.keepEach) {
+  if (!w.stepStart.keepEach) {
     // The discrete step moved these (discrete_step.cpp) and changed nothing else of a body that lasts.
-    for (uint32_t i = 0; i < bodies.size(); ++i) {
-      detail::BodySlot& b = bodies[i];
+    for (uint32_t i = 0; i < w.bodies.size(); ++i) {
+      detail::BodySlot& b = w.bodies[i];
       if (!b.alive || b.type == BodyType::Static || b.asleep) continue;
-      b.position = stepStart.motion[i].first;
-      b.velocity = stepStart.motion[i].second;
+      b.position = w.stepStart.motion[i].first;
+      b.velocity = w.stepStart.motion[i].second;
     }
   }
-  time = stepStart.time;
-  stats = stepStart.stats;
-  pendingSensorEvents.swap(stepStart.pendingSensorEvents);
-  squeezes.swap(stepStart.squeezes);
+  w.time = w.stepStart.time;
+  w.stats = w.stepStart.stats;
+  w.pendingSensorEvents.swap(w.stepStart.pendingSensorEvents);
+  w.squeezes.swap(w.stepStart.squeezes);
   // Newest first, so that each entry finds the map (and each list) as it was right after its change.
-  for (auto it = stepStart.sensorOverlaps.rbegin(); it != stepStart.sensorOverlaps.rend(); ++it) {
+  for (auto it = w.stepStart.sensorOverlaps.rbegin(); it != w.stepStart.sensorOverlaps.rend(); ++it) {
     if (it->ended.empty()) {
-      sensorOverlaps.erase(it->key);
+      w.sensorOverlaps.erase(it->key);
     } else {
-      sensorOverlaps.insert(std::move(it->ended));
+      w.sensorOverlaps.insert(std::move(it->ended));
     }
   }
-  stepStart.sensorOverlaps.clear();
+  w.stepStart.sensorOverlaps.clear();
   // A list wakeUp emptied goes back whole; what a failed step added to it named bodies that are awake
   // again, and a list may name an awake body (wakeUp passes it over).
-  for (auto it = stepStart.dependents.rbegin(); it != stepStart.dependents.rend(); ++it) {
-    dependents[it->first] = std::move(it->second);
+  for (auto it = w.stepStart.dependents.rbegin(); it != w.stepStart.dependents.rend(); ++it) {
+    w.dependents[it->first] = std::move(it->second);
   }
-  stepStart.dependents.clear();
+  w.stepStart.dependents.clear();
   // Scratch whose invariants hold between calls.
-  pathLog.active = false;
+  w.pathLog.active = false;
   // Caches of positions the step moved away from: void, rebuilt by the next step.
-  broadPhase.forgetStep();
-  if (stepper) stepper->forget();  // the event queues may be part built: the next step makes them afresh
-  changes.structureChanged = true;
-  ++changes.staticVersion;
+  w.broadPhase.forgetStep();
+  if (w.stepper) w.stepper->forget();  // the event queues may be part built: the next step makes them afresh
+  w.changes.structureChanged = true;
+  ++w.changes.staticVersion;
 }
 
 }  // namespace rattle

@@ -7,6 +7,10 @@
 
 #include "common/format.h"
 #include "common/out_of_memory.h"
+#include "contact/resting.h"
+#include "contact/squeeze.h"
+#include "sensors/sensors.h"
+#include "world/step_undo.h"
 #include "world/stepper.h"
 #include "world/world_impl.h"
 
@@ -55,84 +59,39 @@ uint32_t nextGeneration(uint32_t g) { return g == UINT32_MAX ? 1 : g + 1; }
 
 // ---- Impl helpers ------------------------------------------------------------------------------------
 
-bool detail::WorldState::canCollide(uint32_t fa, uint32_t fb) const {
-  const FixtureSlot& a = fixtures[fa];
-  const FixtureSlot& b = fixtures[fb];
+bool detail::canCollide(const WorldState& w, uint32_t fa, uint32_t fb) {
+  const FixtureSlot& a = w.fixtures[fa];
+  const FixtureSlot& b = w.fixtures[fb];
   if (a.body == b.body || a.sensor || b.sensor) return false;
-  if (bodies[a.body].type != BodyType::Dynamic && bodies[b.body].type != BodyType::Dynamic) return false;
+  if (w.bodies[a.body].type != BodyType::Dynamic && w.bodies[b.body].type != BodyType::Dynamic) return false;
   if (a.filter.group != 0 && a.filter.group == b.filter.group) return false;
   return (a.filter.categoryBits & b.filter.maskBits) != 0 && (b.filter.categoryBits & a.filter.maskBits) != 0;
 }
 
-bool detail::WorldState::canSense(uint32_t fa, uint32_t fb) const {
-  const FixtureSlot& a = fixtures[fa];
-  const FixtureSlot& b = fixtures[fb];
+bool detail::canSense(const WorldState& w, uint32_t fa, uint32_t fb) {
+  const FixtureSlot& a = w.fixtures[fa];
+  const FixtureSlot& b = w.fixtures[fb];
   if (a.body == b.body || a.sensor == b.sensor) return false;
-  if (bodies[a.body].type == BodyType::Static && bodies[b.body].type == BodyType::Static) return false;
+  if (w.bodies[a.body].type == BodyType::Static && w.bodies[b.body].type == BodyType::Static) return false;
   if (a.filter.group != 0 && a.filter.group == b.filter.group) return false;
   return (a.filter.categoryBits & b.filter.maskBits) != 0 && (b.filter.categoryBits & a.filter.maskBits) != 0;
 }
 
-bool detail::WorldState::isOverlapping(uint32_t fa, uint32_t fb) const {
-  const bool aIsSensor = fixtures[fa].sensor;
-  return sensorOverlaps.count(detail::overlapKey(aIsSensor ? fa : fb, aIsSensor ? fb : fa)) != 0;
-}
-
-void detail::WorldState::sensorOverlapsSeen(uint32_t fa, uint32_t fb) {
-  const uint32_t sensor = fixtures[fa].sensor ? fa : fb, visitor = fixtures[fa].sensor ? fb : fa;
-  auto it = sensorOverlaps.find(detail::overlapKey(sensor, visitor));
-  if (it != sensorOverlaps.end()) it->second = stepStamp;
-}
-
-void detail::WorldState::recordSensorChange(uint32_t fa, uint32_t fb, double time, bool begin,
-                                            std::vector<SensorEvent>& out) {
-  const uint32_t sensor = fixtures[fa].sensor ? fa : fb, visitor = fixtures[fa].sensor ? fb : fa;
-  const uint64_t key = detail::overlapKey(sensor, visitor);
-  // Inside a step every change is logged (the room made first), so that undoStep can take it back.
-  auto& log = stepStart.sensorOverlaps;
-  if (stepStart.active) detail::roomForOneMore(log);
-  if (begin) {
-    const auto [it, inserted] = sensorOverlaps.try_emplace(key, stepStamp);
-    it->second = stepStamp;
-    if (inserted && stepStart.active) log.push_back({key, {}});
-  } else if (stepStart.active) {
-    auto ended = sensorOverlaps.extract(key);
-    if (!ended.empty()) log.push_back({key, std::move(ended)});
-  } else {
-    sensorOverlaps.erase(key);
-  }
-  SensorEvent e;
-  e.time = time;
-  e.sensor = {sensor, fixtures[sensor].generation};
-  e.sensorBody = {fixtures[sensor].body, bodies[fixtures[sensor].body].generation};
-  e.visitor = {visitor, fixtures[visitor].generation};
-  e.visitorBody = {fixtures[visitor].body, bodies[fixtures[visitor].body].generation};
-  e.begin = begin;
-  out.push_back(e);
-}
-
-void detail::WorldState::endOverlaps(const std::vector<uint64_t>& ended) {
-  for (uint64_t key : ended) {
-    if (!sensorOverlaps.contains(key)) continue;  // both of an overlap's fixtures were ending
-    recordSensorChange(static_cast<uint32_t>(key >> 32), static_cast<uint32_t>(key), 0.0, false, pendingSensorEvents);
-  }
-}
-
-double detail::WorldState::physicalMass(const BodySlot& body) const {
+double detail::physicalMass(const WorldState& w, const BodySlot& body) {
   double mass = 0;
   for (uint32_t f : body.fixtures) {
-    if (!fixtures[f].sensor) mass += fixtures[f].density * areaOf(fixtures[f].geometry);
+    if (!w.fixtures[f].sensor) mass += w.fixtures[f].density * areaOf(w.fixtures[f].geometry);
   }
   return mass;
 }
 
-void detail::WorldState::recomputeMass(BodySlot& body) {
+void detail::recomputeMass(WorldState& w, BodySlot& body) {
   if (body.type != BodyType::Dynamic) {
     body.mass = std::numeric_limits<double>::infinity();
     body.inverseMass = 0;
     return;
   }
-  double mass = physicalMass(body);
+  double mass = physicalMass(w, body);
   // Like Box2D: a dynamic body with nothing that has area (points only) still needs a finite mass.
   if (!(mass > 0)) mass = 1;
   // Creation and setDensity keep it at most World::kMaxMass; below the smallest normal double its
@@ -239,7 +198,7 @@ BodyId World::createBody(const BodyDef& def) {
     b.velocity = def.velocity;
     w.userData[index] = def.userData;
     w.dependents[index].clear();
-    w.recomputeMass(b);
+    recomputeMass(w, b);
     ++w.liveBodies;
     w.changes.structureChanged = true;
     return BodyId{index, b.generation};
@@ -252,15 +211,17 @@ void World::destroyBody(BodyId id) {
   detail::unlessOutOfMemory("destroyBody", [&] {
     // What it held up falls, and its overlaps end: found first, with room for what follows.
     std::vector<uint32_t> woken;
-    for (uint32_t d : w.dependents[id.index]) w.collectWake(d, woken);
+    for (uint32_t d : w.dependents[id.index]) collectWake(w, d, woken);
     std::vector<uint64_t> ended;
-    for (uint32_t f : b.fixtures) w.overlapsToEnd(f, [](uint32_t) { return false; }, ended);
+    for (uint32_t f : b.fixtures)
+      overlapsToEnd(
+          w, f, [](uint32_t) { return false; }, ended);
     detail::roomFor(w.pendingSensorEvents, ended.size());
     detail::roomFor(w.freeFixtures, b.fixtures.size());
     detail::roomForOneMore(w.freeBodies);
     // Nothing below allocates.
-    w.applyWake(woken, 0, 0.0);
-    w.endOverlaps(ended);
+    applyWake(w, woken, 0, 0.0);
+    endOverlaps(w, ended);
   });
   w.dependents[id.index].clear();
   for (uint32_t f : b.fixtures) {
@@ -298,9 +259,9 @@ void World::wake(BodyId id) {
   lookUp(impl().bodies, id);
   detail::unlessOutOfMemory("wake", [&] {
     std::vector<uint32_t> woken;
-    impl().collectWake(id.index, woken);
+    detail::collectWake(impl(), id.index, woken);
     impl().changes.roomToTouch(woken.size());
-    impl().applyWake(woken, 0, 0.0);
+    detail::applyWake(impl(), woken, 0, 0.0);
     impl().touched(woken);
   });
 }
@@ -326,11 +287,11 @@ void World::setPosition(BodyId id, Vec2 position) {
   detail::unlessOutOfMemory("setPosition", [&] {
     // It wakes, and what rested on it falls: found first, with room for what follows.
     std::vector<uint32_t> woken;
-    impl().collectWake(id.index, woken);
-    for (uint32_t d : impl().dependents[id.index]) impl().collectWake(d, woken);
+    detail::collectWake(impl(), id.index, woken);
+    for (uint32_t d : impl().dependents[id.index]) detail::collectWake(impl(), d, woken);
     impl().changes.roomToTouch(1 + woken.size());
     // Nothing below allocates.
-    impl().applyWake(woken, 0, 0.0);
+    detail::applyWake(impl(), woken, 0, 0.0);
     impl().dependents[id.index].clear();
     b.clearSupport();
     b.position = position;
@@ -348,11 +309,11 @@ void World::setVelocity(BodyId id, Vec2 velocity) {
           [&] { return std::string("velocity = " + str(velocity) + ": a static body cannot move"); });
   detail::unlessOutOfMemory("setVelocity", [&] {
     std::vector<uint32_t> woken;
-    impl().collectWake(id.index, woken);
+    detail::collectWake(impl(), id.index, woken);
     impl().changes.roomToTouch(1 + woken.size());
     // Nothing below allocates.
-    impl().applyWake(woken, 0, 0.0);
-    if (b.sliding) impl().stopSliding(b);
+    detail::applyWake(impl(), woken, 0, 0.0);
+    if (b.sliding) detail::stopSliding(impl(), b);
     b.velocity = velocity;
     b.driven = b.type == BodyType::Dynamic;
     impl().touched(id.index);
@@ -405,7 +366,7 @@ FixtureId World::createFixture(BodyId bodyId, const FixtureDef& def) {
     }
     checkRestitution(def.restitution, "FixtureDef.restitution");
     if (body.type == BodyType::Dynamic && !def.sensor) {
-      const double mass = w.physicalMass(body) + def.density * areaOf(def.geometry);
+      const double mass = physicalMass(w, body) + def.density * areaOf(def.geometry);
       require(mass <= kMaxMass, [&] {
         return std::string("FixtureDef.density = " + str(def.density) + ": gives the body a mass of " + str(mass) +
                            ", more than 1e150 (World::kMaxMass)");
@@ -438,8 +399,8 @@ FixtureId World::createFixture(BodyId bodyId, const FixtureDef& def) {
     f.filter = def.filter;
     body.fixtures.push_back(index);
     body.diskShapeKnown = false;
-    if (body.sliding) w.stopSliding(body);  // as in destroyFixture
-    w.recomputeMass(body);
+    if (body.sliding) stopSliding(w, body);  // as in destroyFixture
+    recomputeMass(w, body);
     w.changes.structureChanged = true;
     w.changes.staticsChanged(body.type);
     w.broadPhase.add(index, w.worldBox(index), body.type != BodyType::Static, f.sensor, f.filter.categoryBits,
@@ -455,17 +416,18 @@ void World::destroyFixture(FixtureId id) {
   BodySlot& body = w.bodies[f.body];
   detail::unlessOutOfMemory("destroyFixture", [&] {
     std::vector<uint64_t> ended;
-    w.overlapsToEnd(id.index, [](uint32_t) { return false; }, ended);
+    overlapsToEnd(
+        w, id.index, [](uint32_t) { return false; }, ended);
     detail::roomFor(w.pendingSensorEvents, ended.size());
     detail::roomForOneMore(w.freeFixtures);
-    w.endOverlaps(ended);  // nothing from here on allocates
+    endOverlaps(w, ended);  // nothing from here on allocates
   });
   body.fixtures.erase(std::find(body.fixtures.begin(), body.fixtures.end(), id.index));
   body.diskShapeKnown = false;
   // A slide is the motion of the body's circle along a face: with the circle gone (or another left),
   // the next step finds its contacts again (fuzz/regressions/world_api/ub-predictive-slide-of-a-body-
   // without-fixtures).
-  if (body.sliding) w.stopSliding(body);
+  if (body.sliding) stopSliding(w, body);
   w.broadPhase.remove(id.index);
   if (f.sensor) --w.liveSensors;
   w.changes.structureChanged = true;
@@ -475,7 +437,7 @@ void World::destroyFixture(FixtureId id) {
   f.geometry = Point{};
   w.freeFixtures.push_back(id.index);
   ++w.changes.fixtureRemovals;
-  w.recomputeMass(body);
+  recomputeMass(w, body);
 }
 
 bool World::isValid(FixtureId id) const {
@@ -507,13 +469,13 @@ void World::setDensity(FixtureId id, double density) {
   detail::unlessOutOfMemory("setDensity", [&] { w.changes.roomToTouch(1); });
   const double old = f.density;
   f.density = density;
-  const double mass = w.physicalMass(body);
+  const double mass = physicalMass(w, body);
   if (body.type == BodyType::Dynamic && !f.sensor && !(mass <= kMaxMass)) {
     f.density = old;
     throw Error("density = " + str(density) + ": gives the body a mass of " + str(mass) +
                 ", more than 1e150 (World::kMaxMass)");
   }
-  w.recomputeMass(body);
+  recomputeMass(w, body);
   w.touched(f.body);
 }
 
@@ -534,7 +496,8 @@ void World::setFilter(FixtureId id, const Filter& filter) {
     fixture.filter = filter;
     std::vector<uint64_t> ended;
     try {
-      w.overlapsToEnd(id.index, [&](uint32_t other) { return w.canSense(id.index, other); }, ended);
+      overlapsToEnd(
+          w, id.index, [&](uint32_t other) { return canSense(w, id.index, other); }, ended);
       detail::roomFor(w.pendingSensorEvents, ended.size());
     } catch (...) {
       fixture.filter = old;
@@ -543,7 +506,7 @@ void World::setFilter(FixtureId id, const Filter& filter) {
     w.bodies[fixture.body].diskShapeKnown = false;
     w.broadPhase.setFilter(id.index, filter.categoryBits, filter.maskBits);
     w.changes.structureChanged = true;
-    w.endOverlaps(ended);
+    endOverlaps(w, ended);
   });
 }
 
@@ -568,17 +531,17 @@ void World::step(double dt) {
           [&] { return std::string("step: dt = " + str(dt) + ": must be finite and >= 0"); });
   Impl& w = impl();
   try {
-    w.saveStepStart();
-    w.refreshSqueezes();
+    saveStepStart(w);
+    refreshSqueezes(w);
     w.stepper->step(dt);
   } catch (const std::bad_alloc&) {
-    w.undoStep();
+    undoStep(w);
     throw Error("step: out of memory (the world is unchanged)");
   } catch (const std::length_error&) {
-    w.undoStep();
+    undoStep(w);
     throw Error("step: out of memory (the world is unchanged)");
   }
-  w.endStep();
+  endStep(w);
   // Every body setVelocity drove is in touchedBodies.
   for (uint32_t i : impl().changes.touchedBodies) impl().bodies[i].driven = false;
   impl().changes.clear();

@@ -1,6 +1,8 @@
-// Private: the world's state (bodies, fixtures, the broad phase, the squeezes, the step's results) and the
-// member functions the modes share: world/ creates, checks and reads it, contact/ and sensors/ serve
-// the modes, and each mode's step (hybrid/, predictive/, discrete/) is a class of its own over it.
+// Private: the world's state (bodies, fixtures, the broad phase, the squeezes, the step's results), a
+// plain struct with a few inline accessors (a body's motion within a step, keep, advance). world/
+// creates, checks and reads it; contact/ and sensors/ serve the modes with free functions over it
+// (contact/response.h, resting.h, squeeze.h, sensors/sensors.h); each mode's step (hybrid/,
+// predictive/, discrete/) is a class of its own over it.
 #pragma once
 
 #include <algorithm>
@@ -45,7 +47,7 @@ struct LastContact {
 // tangential part, and the feature is left out of its predictions until it slides off the end
 // (BodySlot::sliding). When it is not sliding, a point (radius 0) keeps here the feature of a fixture that
 // cannot move that it last touched, and the side it touched it from (`normal`, toward the point): a point
-// lying on a line has no overlap to tell its side, and this does (detail::WorldState::resolvedFeature).
+// lying on a line has no overlap to tell its side, and this does (detail::resolvedFeature).
 struct Support {
   uint32_t fixture = 0;
   uint32_t generation = 0;  // the fixture's: 0 names none
@@ -195,9 +197,14 @@ inline uint64_t overlapKey(uint32_t sensor, uint32_t visitor) { return (uint64_t
 inline uint64_t islandKey(uint32_t fa, uint32_t fb) { return (uint64_t{std::min(fa, fb)} << 32) | std::max(fa, fb); }
 
 // The world's state: every body and fixture, the broad phase, the last step's results, and the squeezes
-// (each mode's own state, the islands among it, is its stepper's, stepper.h). What the
-// modes share is written as its member functions (engine/src/README.md says which folder holds which);
-// World's pimpl is this struct (detail::WorldState below), so code outside World can name it.
+// (each mode's own state, the islands among it, is its stepper's, stepper.h). What the modes share is
+// written as free functions over it, each in its module's header (engine/src/README.md says which
+// folder holds which). World's pimpl derives from it (World::Impl below), so code outside World can
+// name it.
+struct WorldState;
+/// Keeps the body's state as the step found it (step_undo.h; WorldState::keep calls it).
+void keepBody(WorldState& w, uint32_t body);
+
 struct WorldState {
   WorldDef def;
   double time = 0;
@@ -225,9 +232,6 @@ struct WorldState {
   const detail::BodySlot& bodyOf(uint32_t fixture) const { return bodies[fixtures[fixture].body]; }
   bool moves(const detail::BodySlot& b) const { return b.type != BodyType::Static; }
   Box worldBox(uint32_t fixture) const { return fixtures[fixture].localBox.translated(bodyOf(fixture).position); }
-  bool canCollide(uint32_t fa, uint32_t fb) const;
-  /// One is a sensor, the other a physical fixture of another body, and the filters let them meet.
-  bool canSense(uint32_t fa, uint32_t fb) const;
 
   // Sensors: overlaps that hold now, keyed by overlapKey, with the step stamp of the last sweep that saw
   // the pair (an unordered map for membership only: anything read out of it is sorted first).
@@ -244,8 +248,6 @@ struct WorldState {
   // The paths bodies take through a step, recorded when the world has sensors: both the hybrid and the
   // predictive mode find sensor events from them once the step's collisions are done (sensor_paths.cpp).
   detail::PathLog pathLog;
-  /// Starts recording when the world has sensors: every body's motion at the step's start.
-  void startPaths();
   /// Records a body's motion from `now` on, after it changed.
   void recordPath(uint32_t body, double now) {
     if (pathLog.active) {
@@ -253,27 +255,6 @@ struct WorldState {
       pathLog.record(body, {now, positionAt(b, now), velocityAt(b, now), b.acceleration});
     }
   }
-  bool isOverlapping(uint32_t fa, uint32_t fb) const;
-  /// Stamps a sensor overlap found by this step's sweep as seen (world.cpp).
-  void sensorOverlapsSeen(uint32_t fa, uint32_t fb);
-  void recordSensorChange(uint32_t fa, uint32_t fb, double time, bool begin, std::vector<SensorEvent>& out);
-  /// Ends every overlap of `fixture` for which `keep(other)` is false, as pending end events.
-  /// The overlaps of `fixture` to end, all but those with a fixture `keep` keeps: appended to `ended`,
-  /// sorted (the map's order must not reach the events). Changes nothing.
-  template <class Keep>
-  void overlapsToEnd(uint32_t fixture, Keep&& keep, std::vector<uint64_t>& ended) const;
-  /// Ends the overlaps (those still in the map), their events reported at time 0 of the next step.
-  /// Allocates nothing when pendingSensorEvents has room for them.
-  void endOverlaps(const std::vector<uint64_t>& ended);
-  /// Ends at time 0 (into sensorEvents) every overlap the step's sweep did not see (its stamp is not
-  /// stepStamp) whose two fixtures no longer overlap where their bodies start the step
-  /// (`startOf(body)`): a body moved away between steps. Unseen because neither body moves (a sleeping
-  /// body in a static sensor) is no end.
-  template <class StartOf>
-  void endUnseenOverlaps(StartOf&& startOf);
-  /// The density x area of the body's physical fixtures (0 when none has area).
-  double physicalMass(const detail::BodySlot& body) const;
-  void recomputeMass(detail::BodySlot& body);
 
   // Motion inside a step: a parabola from the body's local time (a straight line without gravity).
   Vec2 positionAt(const detail::BodySlot& b, double t) const {
@@ -282,34 +263,8 @@ struct WorldState {
   }
   Vec2 velocityAt(const detail::BodySlot& b, double t) const { return b.velocity + b.acceleration * (t - b.localTime); }
 
-  // resting.cpp
-  void putToSleep(uint32_t body, const std::vector<uint32_t>& supporters);
-  /// The predictive mode's guard against a Zeno sequence: counts a collision of `body` in this step.
-  void sleepIfZeno(uint32_t body, double now);
-  /// Wakes the body and everything resting on it (through `dependents`), appending them to `woken`.
-  void wakeUp(uint32_t body, double now, std::vector<uint32_t>& woken);
-  /// wakeUp in two halves, for a call that must make room before it changes anything: the first finds
-  /// whom to wake (appending to `woken`, passing over those it already holds) and changes nothing; the
-  /// second wakes woken[from, end) and does not allocate between steps.
-  void collectWake(uint32_t body, std::vector<uint32_t>& woken) const;
-  void applyWake(const std::vector<uint32_t>& woken, size_t from, double now);
-  void startSliding(uint32_t body, uint32_t fixture, int feature, Vec2 normal);
-  void stopSliding(detail::BodySlot& b);
-  bool isFlatFeature(uint32_t fixture, int feature) const;
-  bool leavesCorner(const detail::BodySlot& b, uint32_t fixture, int feature, double now) const;
-  int featureLeftByPoint(const detail::BodySlot& b, uint32_t fixture, double now) const;
-  void rememberFace(const detail::PredictedContact& c);
-  int resolvedFeature(const detail::BodySlot& a, const detail::BodySlot& b, uint32_t own, uint32_t other,
-                      double now) const;
-  /// The ContactEvent of fixtures a and b (either order) at `time`; `normal` points from b toward a.
-  ContactEvent contactEventOf(uint32_t a, uint32_t b, double time, Vec2 point, Vec2 normal, double impulse) const;
-  bool supportsAt(uint32_t body, double now, std::vector<uint32_t>& supporters) const;
-  std::optional<double> slideEndTime(const detail::BodySlot& b, double now, double dt) const;
-
   // The mode's stepper (stepper.h), made from def.mode when the world is made.
   std::unique_ptr<detail::Stepper> stepper;
-  // sensor_paths.cpp: the sensor events of a step from the paths the bodies took (up to `end`).
-  void sensePaths(detail::PathLog& log, double end);
 
   /// Moves a dynamic body's clock to t within a step: every change of a body within a step starts here,
   /// or says so (step_undo.cpp). Kinematic paths are evaluated from the step's start.
@@ -323,24 +278,6 @@ struct WorldState {
     b.position = positionAt(b, t);
     b.velocity = velocityAt(b, t);
     b.localTime = t;
-  }
-  // response.cpp: the contact response every mode's events share.
-  /// stepEnd: where the hybrid step's stepped bodies end their straight paths (time since the step's
-  /// start); negative where no body is stepped (the predictive mode).
-  void resolve(const detail::PredictedContact& c, std::vector<uint32_t>& woken, bool zenoGuard = false,
-               double stepEnd = -1);
-  void absorb(const detail::PredictedContact& c, double vn);
-  /// The relative normal velocity (a's minus b's along n, which points from b toward a) that a contact's
-  /// impulse is computed from at time t: where one of the two is stepped and the other is not, the
-  /// slower approach of the straight path's and of the parabola's it stands in for, ending at stepEnd
-  /// (response.cpp says why). stepEnd < 0 (no stepped bodies): the straight one.
-  double impactNormalVelocity(const detail::BodySlot& a, const detail::BodySlot& b, Vec2 n, double t,
-                              double stepEnd) const {
-    const double straight = dot(velocityAt(a, t) - velocityAt(b, t), n);
-    if (stepEnd < 0 || a.stepped == b.stepped) return straight;
-    const Vec2 g = def.gravity * (stepEnd - t);  // what the stepped one has taken ahead of its parabola
-    const double parabola = straight + dot(a.stepped ? -g : g, n);
-    return std::max(straight, parabola);
   }
 
   /// The broad phase's pair-test budget for one sweep (BroadPhase::setPairTestBudget): kPairTestsPerFixture
@@ -368,22 +305,6 @@ struct WorldState {
     Vec2 normal;
   };
   std::vector<Wedged> wedged;
-  /// A contact of two dynamic bodies that overlap deeply, one of them stopped against a static face at
-  /// this instant or the pair resolved at this instant already: they pass through each other (exempt,
-  /// as a squeeze's pair). Else false.
-  bool passesThrough(const detail::PredictedContact& c);
-  /// Exempts the pair of fixtures from collisions until they no longer overlap (refreshSqueezes), and
-  /// counts a squeeze.
-  void exemptFromCollisions(uint32_t fa, uint32_t fb);
-  /// Whether the pair of fixtures is exempt from collisions because of a squeeze.
-  bool squeezeExempt(uint32_t fa, uint32_t fb) const;
-  /// At a step's start: forgets the squeezes whose pairs no longer overlap (or are gone), and starts the
-  /// bodies' counts again.
-  void refreshSqueezes();
-  /// Counts the contact's collision for its dynamic body; when it is a squeeze, stops the body along
-  /// the contact's normal, exempts the pair and returns true (the caller predicts the body again).
-  bool squeezeAt(const detail::PredictedContact& c);
-
 
   // What a step changes of the world's lasting state, kept from its start (step_undo.cpp): when memory
   // runs out inside a step it is put back, so that World::step throws rattle::Error with the world
@@ -420,45 +341,24 @@ struct WorldState {
   /// Keeps the body's state as the step found it, before the hybrid or predictive step first changes it.
   void keep(detail::BodySlot& b) {
     if (b.kept || !stepStart.keeping) return;
-    keepBody(static_cast<uint32_t>(&b - &bodies[0]));
+    keepBody(*this, static_cast<uint32_t>(&b - &bodies[0]));
   }
   void keep(uint32_t body) { keep(bodies[body]); }
-  void keepBody(uint32_t body);
-  static BodyAtStepStart stateOf(uint32_t body, const detail::BodySlot& b);
-  void saveStepStart();
-  void undoStep();
-  void endStep();
 };
+
+// world.cpp: the rules of the world's bookkeeping that the modes share.
+/// Two fixtures of different bodies, neither a sensor, at least one body dynamic, and the filters let
+/// them meet.
+bool canCollide(const WorldState& w, uint32_t fa, uint32_t fb);
+/// One is a sensor, the other a physical fixture of another body, and the filters let them meet.
+bool canSense(const WorldState& w, uint32_t fa, uint32_t fb);
+/// The density x area of the body's physical fixtures (0 when none has area).
+double physicalMass(const WorldState& w, const BodySlot& body);
+/// The body's mass and inverse mass from its fixtures (infinite for a static or kinematic body).
+void recomputeMass(WorldState& w, BodySlot& body);
 
 }  // namespace detail
 
 struct World::Impl : detail::WorldState {};
-
-template <class Keep>
-void detail::WorldState::overlapsToEnd(uint32_t fixture, Keep&& keep, std::vector<uint64_t>& ended) const {
-  const auto from = static_cast<std::ptrdiff_t>(ended.size());
-  for (const auto& [key, stamp] : sensorOverlaps) {
-    const uint32_t sensor = static_cast<uint32_t>(key >> 32), visitor = static_cast<uint32_t>(key);
-    if ((sensor == fixture && !keep(visitor)) || (visitor == fixture && !keep(sensor))) ended.push_back(key);
-  }
-  std::sort(ended.begin() + from, ended.end());
-}
-
-template <class StartOf>
-void detail::WorldState::endUnseenOverlaps(StartOf&& startOf) {
-  std::vector<uint64_t> unseen;
-  for (const auto& [key, seen] : sensorOverlaps) {
-    if (seen == stepStamp) continue;
-    const uint32_t sensor = static_cast<uint32_t>(key >> 32), visitor = static_cast<uint32_t>(key);
-    if (!overlaps(fixtures[sensor].geometry, startOf(fixtures[sensor].body), fixtures[visitor].geometry,
-                  startOf(fixtures[visitor].body))) {
-      unseen.push_back(key);
-    }
-  }
-  std::sort(unseen.begin(), unseen.end());  // the map's order must not reach the events
-  for (uint64_t key : unseen) {
-    recordSensorChange(static_cast<uint32_t>(key >> 32), static_cast<uint32_t>(key), 0.0, false, sensorEvents);
-  }
-}
 
 }  // namespace rattle

@@ -1,0 +1,37 @@
+// Private: the collision response every mode's events share (response.cpp says what it covers).
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "world/world_impl.h"
+
+namespace rattle::detail {
+
+/// stepEnd: where the hybrid step's stepped bodies end their straight paths (time since the step's
+/// start); negative where no body is stepped (the predictive mode).
+void resolve(WorldState& w, const detail::PredictedContact& c, std::vector<uint32_t>& woken, bool zenoGuard = false,
+             double stepEnd = -1);
+void absorb(WorldState& w, const detail::PredictedContact& c, double vn);
+void rememberFace(WorldState& w, const detail::PredictedContact& c);
+int resolvedFeature(const WorldState& w, const detail::BodySlot& a, const detail::BodySlot& b, uint32_t own,
+                    uint32_t other, double now);
+/// The ContactEvent of fixtures a and b (either order) at `time`; `normal` points from b toward a.
+ContactEvent contactEventOf(const WorldState& w, uint32_t a, uint32_t b, double time, Vec2 point, Vec2 normal,
+                            double impulse);
+
+/// The relative normal velocity (a's minus b's along n, which points from b toward a) that a contact's
+/// impulse is computed from at time t: where one of the two is stepped and the other is not, the
+/// slower approach of the straight path's and of the parabola's it stands in for, ending at stepEnd
+/// (response.cpp says why). stepEnd < 0 (no stepped bodies): the straight one.
+inline double impactNormalVelocity(const WorldState& w, const BodySlot& a, const BodySlot& b, Vec2 n, double t,
+                                   double stepEnd) {
+  const double straight = dot(w.velocityAt(a, t) - w.velocityAt(b, t), n);
+  if (stepEnd < 0 || a.stepped == b.stepped) return straight;
+  const Vec2 g = w.def.gravity * (stepEnd - t);  // what the stepped one has taken ahead of its parabola
+  const double parabola = straight + dot(a.stepped ? -g : g, n);
+  return std::max(straight, parabola);
+}
+
+}  // namespace rattle::detail

@@ -1,0 +1,27 @@
+// Private: squeezes (squeeze.cpp says what they are). Their state, the exempt pairs and the wedged
+// bodies, is plain data in WorldState, which both exact modes read.
+#pragma once
+
+#include <cstdint>
+
+#include "world/world_impl.h"
+
+namespace rattle::detail {
+
+/// A contact of two dynamic bodies that overlap deeply, one of them stopped against a static face at
+/// this instant or the pair resolved at this instant already: they pass through each other (exempt,
+/// as a squeeze's pair). Else false.
+bool passesThrough(WorldState& w, const detail::PredictedContact& c);
+/// Exempts the pair of fixtures from collisions until they no longer overlap (refreshSqueezes), and
+/// counts a squeeze.
+void exemptFromCollisions(WorldState& w, uint32_t fa, uint32_t fb);
+/// Whether the pair of fixtures is exempt from collisions because of a squeeze.
+bool squeezeExempt(const WorldState& w, uint32_t fa, uint32_t fb);
+/// At a step's start: forgets the squeezes whose pairs no longer overlap (or are gone), and starts the
+/// bodies' counts again.
+void refreshSqueezes(WorldState& w);
+/// Counts the contact's collision for its dynamic body; when it is a squeeze, stops the body along
+/// the contact's normal, exempts the pair and returns true (the caller predicts the body again).
+bool squeezeAt(WorldState& w, const detail::PredictedContact& c);
+
+}  // namespace rattle::detail
