@@ -9,12 +9,20 @@
 
 namespace rattle::detail {
 
-/// stepEnd: where the hybrid step's stepped bodies end their straight paths (time since the step's
+/// Resolves the contact at c.time: Newton's law with the pair's restitution (or e = 1 in a collapse,
+/// the TC model), the round-off clean-up, then resting (sleep, slide or a bounce at restingSpeed);
+/// bodies it wakes are appended to `woken`; `zenoGuard`: the predictive mode's (sleepIfZeno). The
+/// ContactEvent is the caller's. stepEnd: where the hybrid step's stepped bodies end their straight paths (time since the step's
 /// start); negative where no body is stepped (the predictive mode).
 void resolve(WorldState& w, const detail::PredictedContact& c, std::vector<uint32_t>& woken, bool zenoGuard = false,
              double stepEnd = -1);
+/// Takes out an approach `vn` (< 0) too small to be a collision, inelastically, at c.time.
 void absorb(WorldState& w, const detail::PredictedContact& c, double vn);
+/// A point's side of a feature of what cannot move (Support), kept at each contact with it.
 void rememberFace(WorldState& w, const detail::PredictedContact& c);
+/// The feature of `other` that `own` cannot be approaching now (TimeOfImpact's resolvedFeature): the
+/// face it slides on, the one the pair was last resolved on at this instant, or a point's remembered
+/// face it moves away from.
 int resolvedFeature(const WorldState& w, const detail::BodySlot& a, const detail::BodySlot& b, uint32_t own,
                     uint32_t other, double now);
 /// The ContactEvent of fixtures a and b (either order) at `time`; `normal` points from b toward a.

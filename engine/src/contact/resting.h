@@ -9,6 +9,8 @@
 
 namespace rattle::detail {
 
+/// Puts the body to sleep where it is (velocity and acceleration zero), held up by `supporters`, which
+/// wake it when they wake (WorldState::dependents).
 void putToSleep(WorldState& w, uint32_t body, const std::vector<uint32_t>& supporters);
 /// The predictive mode's guard against a Zeno sequence: counts a collision of `body` in this step.
 void sleepIfZeno(WorldState& w, uint32_t body, double now);
@@ -18,13 +20,25 @@ void wakeUp(WorldState& w, uint32_t body, double now, std::vector<uint32_t>& wok
 /// whom to wake (appending to `woken`, passing over those it already holds) and changes nothing; the
 /// second wakes woken[from, end) and does not allocate between steps.
 void collectWake(const WorldState& w, uint32_t body, std::vector<uint32_t>& woken);
+/// (wakeUp's second half.)
 void applyWake(WorldState& w, const std::vector<uint32_t>& woken, size_t from, double now);
+/// The body slides on the flat feature `feature` of `fixture`: its velocity and gravity lose their
+/// parts along `normal`, and the feature is its support until it slides off the end.
 void startSliding(WorldState& w, uint32_t body, uint32_t fixture, int feature, Vec2 normal);
+/// The body no longer slides: it falls with the whole of gravity again (unless asleep).
 void stopSliding(WorldState& w, detail::BodySlot& b);
+/// Whether `feature` of the fixture is a straight face (a segment, a polyline's or a polygon's edge).
 bool isFlatFeature(const WorldState& w, uint32_t fixture, int feature);
+/// A point at the end of the face it slides on, resolved against `feature` of `fixture` there: whether
+/// it moves away from that face (true) or could turn back into it.
 bool leavesCorner(const WorldState& w, const detail::BodySlot& b, uint32_t fixture, int feature, double now);
+/// The feature of `fixture` a point on its remembered face is leaving: that face, or kEveryFeature when it
+/// sits in a corner of several faces and leaves them all (resting.cpp says why).
 int featureLeftByPoint(const WorldState& w, const detail::BodySlot& b, uint32_t fixture, double now);
+/// Whether the static and sleeping bodies the body touches at `now` hold it up against gravity (up lies
+/// within the cone of their normals); they are put in `supporters`.
 bool supportsAt(const WorldState& w, uint32_t body, double now, std::vector<uint32_t>& supporters);
+/// When the sliding body leaves the end of its face, if it does before dt.
 std::optional<double> slideEndTime(const WorldState& w, const detail::BodySlot& b, double now, double dt);
 
 }  // namespace rattle::detail

@@ -15,7 +15,7 @@
 
 #include "contact/collapse_guard.h"
 #include "common/large_array.h"
-#include "sensors/path_log.h"
+#include "world/path_log.h"
 #include "rattle/types.h"
 #include "rattle/vec2.h"
 

@@ -17,7 +17,7 @@
 
 #include "collision/path_box.h"
 #include "rattle/time_of_impact.h"
-#include "sensors/path_log.h"
+#include "world/path_log.h"
 #include "sensors/sensors.h"
 #include "world/world_impl.h"
 

@@ -19,7 +19,7 @@
 #include "world/change_log.h"
 #include "world/fixture_list.h"
 #include "common/out_of_memory.h"
-#include "sensors/path_log.h"
+#include "world/path_log.h"
 #include "rattle/time_of_impact.h"
 #include "rattle/world.h"
 
