@@ -2,7 +2,7 @@
 // step to the next and reads this to know what to predict again: after a change of structure (a body or
 // fixture created or destroyed, a filter, a static or kinematic body moved) it starts afresh; the dynamic
 // bodies touched (moved, given a velocity, woken, given a mass) are predicted again. Every mutator of
-// World writes here (world.cpp), the step reads it, and World::step clears it.
+// World writes here (api/world.cpp), the step reads it, and World::step clears it.
 #pragma once
 
 #include <rattle/world.h>

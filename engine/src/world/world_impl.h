@@ -346,7 +346,7 @@ struct WorldState {
   void keep(uint32_t body) { keep(bodies[body]); }
 };
 
-// world.cpp: the rules of the world's bookkeeping that the modes share.
+// world_state.cpp: the rules of the world's state that the API and the modes share.
 /// Two fixtures of different bodies, neither a sensor, at least one body dynamic, and the filters let
 /// them meet.
 bool canCollide(const WorldState& w, uint32_t fa, uint32_t fb);
