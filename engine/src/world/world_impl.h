@@ -1,6 +1,6 @@
 // Private: the world's state (bodies, fixtures, the broad phase, the squeezes, the step's results), a
-// plain struct with a few inline accessors (a body's motion within a step, keep, advance). world/
-// creates, checks and reads it; contact/ and sensors/ serve the modes with free functions over it
+// plain struct with a few inline accessors (a body's motion within a step, keep, advance). The World
+// API (api/) creates, checks and reads it; contact/ and sensors/ serve the modes with free functions over it
 // (contact/response.h, resting.h, squeeze.h, sensors/sensors.h); each mode's step (hybrid/,
 // predictive/, discrete/) is a class of its own over it.
 #pragma once
