@@ -34,6 +34,13 @@ struct HybridState {
   std::vector<CandidatePair> deferred;    // pairs predicted after the islands
   std::vector<uint32_t> islandFreed;      // stepped bodies the start's solve set free
   Islands islands;
+
+  /// A step ran out of memory and the world was taken back to its start (Stepper::forget): events it
+  /// may have left queued go, and the islands take back their part (Islands::undoStep).
+  void forget() {
+    queue.clear();
+    islands.undoStep();
+  }
 };
 
 }  // namespace rattle::detail

@@ -809,11 +809,7 @@ class HybridStepper final : public detail::Stepper {
     state_.islands.beginStep();
     detail::stepHybrid(w_, state_, dt);
   }
-  // A step that ran out of memory may have left events queued.
-  void forget() override {
-    state_.queue.clear();
-    state_.islands.undoStep();
-  }
+  void forget() override { state_.forget(); }
 
  private:
   detail::WorldState& w_;

@@ -618,8 +618,7 @@ class PredictiveStepper final : public detail::Stepper {
   void step(double dt) override;
   void forget() override {
     state_.reset();
-    hybrid_.queue.clear();
-    hybrid_.islands.undoStep();
+    hybrid_.forget();
   }
 
  private:
