@@ -170,28 +170,37 @@ void forEachPiece(const Geometry& g, Vec2 position, Vec2 p, Found&& found) {
   }
 }
 
-// One sweep of projected Gauss-Seidel (over-relaxed by omega) over the rows, on the members' values x
-// (velocities in the solve, displacements in separateIsland): each row's multiplier stays >= 0 while its
-// relative normal value (a's minus b's) is pushed up to its target, in the metric of the masses. x holds
-// the `members` first, then one slot for each row whose b is held fixed (its value, never written:
-// scheduleSweeps), so that a row reads b's value without a branch and carries no copy of it. Returns the
-// largest change of a relative value.
+// One sweep of projected Gauss-Seidel over the rows, on the members' values x (velocities in the solve,
+// displacements in separateIsland): each row's multiplier stays >= 0 while its relative normal value
+// (a's minus b's) is pushed up to its target, in the metric of the masses. x holds the `members` first,
+// then one slot for each row whose b is held fixed (its value, never written: scheduleSweeps), so that a
+// row reads b's value without a branch and carries no copy of it. stepOf(at, row, gap) is the change of
+// the row's multiplier asked for its gap to the target before the projection: omega * gap / (inverseA +
+// inverseB), over-relaxed by omega. Returns the largest change of a relative value.
+template <typename StepOf>
 double projectedSweep(std::vector<detail::Islands::SweepRow>& rows, std::vector<Vec2>& x, size_t members,
-                      double omega) {
+                      StepOf stepOf) {
   double worst = 0;
-  for (detail::Islands::SweepRow& r : rows) {
+  for (size_t at = 0; at < rows.size(); ++at) {
+    detail::Islands::SweepRow& r = rows[at];
     const Vec2 xb = x[r.kb];  // a holder's value sits past the members' (scheduleSweeps)
-    const double inverseSum = r.inverseA + r.inverseB;
     const double value = dot(x[r.ka] - xb, r.normal);
-    const double next = std::max(0.0, r.lambda + omega * (r.target - value) / inverseSum);
+    const double next = std::max(0.0, r.lambda + stepOf(at, r, r.target - value));
     const double change = next - r.lambda;
     if (change == 0) continue;
     r.lambda = next;
     x[r.ka] += r.normal * (change * r.inverseA);
     if (static_cast<size_t>(r.kb) < members) x[r.kb] -= r.normal * (change * r.inverseB);
-    worst = std::max(worst, std::fabs(change) * inverseSum);
+    worst = std::max(worst, std::fabs(change) * (r.inverseA + r.inverseB));
   }
   return worst;
+}
+
+// Plain projected Gauss-Seidel: the step divides by the row's inverse mass sum.
+double projectedSweep(std::vector<detail::Islands::SweepRow>& rows, std::vector<Vec2>& x, size_t members) {
+  return projectedSweep(rows, x, members, [](size_t, const detail::Islands::SweepRow& r, double gap) {
+    return gap / (r.inverseA + r.inverseB);
+  });
 }
 
 }  // namespace
@@ -604,9 +613,16 @@ bool detail::Islands::sweepIsland(std::vector<Vec2>& v, double omega, double tol
   scheduleSweeps(members);
   std::vector<SweepRow>& rows = sweepSchedule.rows;
   v.insert(v.end(), sweepSchedule.holders.begin(), sweepSchedule.holders.end());
+  // Over-relaxed, each row's step is its gap times omega / (inverseA + inverseB), computed once here: a
+  // multiplication in the sweeps where a division would lengthen the chain of dependent arithmetic that
+  // a sweep is (each row waits on the values the rows before it wrote; bench/README.md, "Crowds").
+  std::vector<double>& scale = sweepSchedule.scale;
+  scale.resize(rows.size());
+  for (size_t at = 0; at < rows.size(); ++at) scale[at] = omega / (rows[at].inverseA + rows[at].inverseB);
+  const auto overRelaxed = [&scale](size_t at, const SweepRow&, double gap) { return gap * scale[at]; };
   bool converged = false;
   for (int iteration = 0; iteration < maxIterations && !converged; ++iteration) {
-    const double worst = projectedSweep(rows, v, members, omega);
+    const double worst = projectedSweep(rows, v, members, overRelaxed);
     converged = worst <= tolerance;
   }
   v.resize(members);
@@ -646,7 +662,7 @@ detail::Islands::SweepEnd detail::Islands::sweepIslandAccelerated(std::vector<Ve
   SweepEnd end = SweepEnd::Stopped;
   for (int iteration = 0; iteration < maxIterations; ++iteration) {
     for (size_t at = 0; at < rows.size(); ++at) previous[at] = rows[at].lambda;
-    const double worst = projectedSweep(rows, v, members, 1.0);
+    const double worst = projectedSweep(rows, v, members);
     if (worst <= tolerance) {
       end = SweepEnd::Converged;
       break;
@@ -757,7 +773,7 @@ void detail::Islands::separateIsland(const std::vector<uint32_t>& members, const
   }
   d.resize(members.size() + sweepSchedule.holders.size(), Vec2{});  // holders do not move
   for (int iteration = 0; iteration < kSeparateIterations; ++iteration) {
-    projectedSweep(rows, d, members.size(), 1.0);
+    projectedSweep(rows, d, members.size());
   }
   d.resize(members.size());
   for (int sweep = 0; sweep < 16; ++sweep) {
