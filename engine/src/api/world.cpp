@@ -90,22 +90,21 @@ const WorldDef& World::definition() const { return impl().def; }
 
 namespace {
 
-BodySlot& lookUp(detail::LargeArray<BodySlot>& bodies, BodyId id) {
-  if (id.isNull()) throw Error("BodyId is null");
-  if (id.index >= bodies.size() || !bodies[id.index].alive || bodies[id.index].generation != id.generation) {
-    throw Error("BodyId {index " + std::to_string(id.index) + ", generation " + std::to_string(id.generation) +
-                "} is stale: that body was destroyed");
+// The live slot an id names, or an Error that says why it names none ("BodyId", "body" for bodies).
+template <class Slot, class Id>
+Slot& lookUp(detail::LargeArray<Slot>& slots, Id id, const char* idName, const char* noun) {
+  if (id.isNull()) throw Error(std::string(idName) + " is null");
+  if (id.index >= slots.size() || !slots[id.index].alive || slots[id.index].generation != id.generation) {
+    throw Error(std::string(idName) + " {index " + std::to_string(id.index) + ", generation " +
+                std::to_string(id.generation) + "} is stale: that " + noun + " was destroyed");
   }
-  return bodies[id.index];
+  return slots[id.index];
 }
 
+BodySlot& lookUp(detail::LargeArray<BodySlot>& bodies, BodyId id) { return lookUp(bodies, id, "BodyId", "body"); }
+
 FixtureSlot& lookUp(detail::LargeArray<FixtureSlot>& fixtures, FixtureId id) {
-  if (id.isNull()) throw Error("FixtureId is null");
-  if (id.index >= fixtures.size() || !fixtures[id.index].alive || fixtures[id.index].generation != id.generation) {
-    throw Error("FixtureId {index " + std::to_string(id.index) + ", generation " + std::to_string(id.generation) +
-                "} is stale: that fixture was destroyed");
-  }
-  return fixtures[id.index];
+  return lookUp(fixtures, id, "FixtureId", "fixture");
 }
 
 // A free or new slot made live: defaults, but the generation it had (destroying it moved that on).
