@@ -83,6 +83,12 @@ constexpr int kIslandIterations = 300;
 constexpr int kStartIterations = 1000;
 constexpr int kIslandIterationsUnderGravity = 100;
 constexpr int kStartIterationsUnderGravity = 300;
+// How many times a solve may gather its contacts again at the speeds it reached (solveIsland).
+constexpr int kRegathers = 3;
+// A solve gathered again sweeps on for 1 / kCarriedShare of its sweeps: it starts where it stopped, and a
+// tenth kept a crowd's squeezed disks apart at about the cost the crowd had before (bench/README.md,
+// "Crowds").
+constexpr int kCarriedShare = 10;
 // Parts a settleAround tries, the last the whole island: without gravity hops, 4 x hops, 16 x hops, all.
 // A jam of thousands solved again whole for each part that failed spent most of its step there (1,228
 // whole solves in the first 30 ticks of rattle-demo --units 5000 --steering naive, two thirds of the
@@ -336,8 +342,12 @@ void detail::Islands::joinIslands(std::span<const uint32_t> joining, double now,
 
 // The members' contacts with one another and with what holds them (static, kinematic, sleeping and
 // stepped non-member bodies) within reach of the rest of the step, into islandScratch, with their clocks
-// moved to `now`. Returns the fastest speed at play (at least restingSpeed).
-double detail::Islands::gatherIslandContacts(const std::vector<uint32_t>& members, double now, double h) {
+// moved to `now`. Returns the fastest speed at play (at least restingSpeed), which sets every member's
+// reach, or reachSpeeds (by member) when given: the speeds a solve reached, which do not set its
+// tolerance (a part squeezed between moving holders can reach 1e11 units/s, and its solve is then
+// undone, not loosened).
+double detail::Islands::gatherIslandContacts(const std::vector<uint32_t>& members, double now, double h,
+                                             std::span<const double> reachSpeeds) {
   std::vector<int>& slot = jamSlot;  // body -> index into members; -1 outside (reset on the way out)
   if (slot.size() < w.bodies.size()) slot.resize(w.bodies.size(), -1);
   for (size_t k = 0; k < members.size(); ++k) slot[members[k]] = static_cast<int>(k);
@@ -347,6 +357,7 @@ double detail::Islands::gatherIslandContacts(const std::vector<uint32_t>& member
   contacts.clear();
   double speed = w.def.restingSpeed;
   for (uint32_t i : members) speed = std::max(speed, length(w.bodies[i].velocity));
+  const auto reachSpeed = [&](size_t k) { return reachSpeeds.empty() ? speed : reachSpeeds[k]; };
   for (size_t k = 0; k < members.size(); ++k) {
     const uint32_t i = members[k];
     const BodySlot& body = w.bodies[i];
@@ -365,9 +376,12 @@ double detail::Islands::gatherIslandContacts(const std::vector<uint32_t>& member
       const Vec2 holderVelocity = kj >= 0 ? Vec2{} : w.velocityAt(holder, now);
       forEachPiece(other.geometry, w.positionAt(holder, now), centre, [&](Vec2 point, Vec2 normal, double distance) {
         const double gap = distance - radius;
-        // Out of reach within the step even at twice the fastest speed at play (the members' and the
-        // holder's) and what gravity adds.
-        const double reach = 4 * (speed + length(holderVelocity)) * h + length(w.def.gravity) * h * h;
+        // Out of reach within the step even at twice the speeds at play (each member's, the holder's) and
+        // what gravity adds.
+        const double reach = (kj >= 0 ? 2 * (reachSpeed(k) + reachSpeed(static_cast<size_t>(kj)))
+                                      : 4 * (reachSpeed(k) + length(holderVelocity))) *
+                                 h +
+                             length(w.def.gravity) * h * h;
         if (gap > reach + 1e-9 * std::max(radius, 1.0)) return;
         IslandContact c;
         c.a = i;
@@ -464,20 +478,32 @@ int detail::Islands::reportIslandContacts(double now, double reportAbove, uint64
   return reported;
 }
 
-detail::Islands::IslandSolve detail::Islands::solveIsland(const std::vector<uint32_t>& members, double now,
-                                                                double dt, double reportAbove, uint64_t reportPair,
-                                                                bool warmStart, bool whole, int maxReports) {
-  const double h = dt - now;
-  const double speed = gatherIslandContacts(members, now, h);
-  std::vector<IslandContact>& contacts = islandScratch;
+bool detail::Islands::carryImpulses(const std::vector<IslandContact>& before, std::vector<IslandContact>& after) {
+  size_t next = 0;
+  for (IslandContact& c : after) {
+    if (next == before.size()) break;
+    const IslandContact& b = before[next];
+    if (b.fa != c.fa || b.fb != c.fb || !(b.normal == c.normal) || !(b.point == c.point)) continue;
+    c.lambda = b.lambda;
+    ++next;
+  }
+  if (next == before.size()) return true;
+  for (IslandContact& c : after) c.lambda = 0;
+  return false;
+}
 
-  std::vector<Vec2>& v = islandVelocities;
-  v.resize(members.size());
-  for (size_t k = 0; k < members.size(); ++k) v[k] = w.bodies[members[k]].velocity;
+bool detail::Islands::solveIslandVelocities(const std::vector<uint32_t>& members, std::vector<Vec2>& v, double speed,
+                                            double h, bool warmStart, bool whole, bool carried) {
+  std::vector<IslandContact>& contacts = islandScratch;
+  if (!carried) {
+    v.resize(members.size());
+    for (size_t k = 0; k < members.size(); ++k) v[k] = w.bodies[members[k]].velocity;
+  }
   // The approach of each contact before the solve, for what is reported as a collision.
   for (IslandContact& c : contacts) {
-    const Vec2 vb = c.kb >= 0 ? v[c.kb] : c.holderVelocity;
-    c.approach = -dot(v[c.ka] - vb, c.normal);
+    const Vec2 va = w.bodies[c.a].velocity;
+    const Vec2 vb = c.kb >= 0 ? w.bodies[c.b].velocity : c.holderVelocity;
+    c.approach = -dot(va - vb, c.normal);
   }
   // Converged when no impulse changes a velocity by more than 1e-6 of the speeds at play (the bodies'
   // and what the step's gravity adds): a contact then closes by at most that much too fast.
@@ -496,7 +522,7 @@ detail::Islands::IslandSolve detail::Islands::solveIsland(const std::vector<uint
   // left off (Catto 2005). Only at the start of a step: later the velocities hold this step's impulses.
   // An exact projection needs none.
   for (IslandContact& c : contacts) {
-    if (!warmStart || converged) break;
+    if (!warmStart || carried || converged) break;
     const uint64_t key = islandKey(c.fa, c.fb);
     auto it = std::lower_bound(islandImpulses.begin(), islandImpulses.end(), key,
                                [](const std::pair<uint64_t, double>& e, uint64_t k) { return e.first < k; });
@@ -505,9 +531,10 @@ detail::Islands::IslandSolve detail::Islands::solveIsland(const std::vector<uint
     v[c.ka] += c.normal * (c.lambda * c.inverseA);
     if (c.kb >= 0) v[c.kb] -= c.normal * (c.lambda * c.inverseB);
   }
-  const int maxIterations = noGravity ? (warmStart ? kStartIterations : whole ? kIslandIterations : kPartIterations)
-                                      : (warmStart ? kStartIterationsUnderGravity
-                                                   : whole ? kIslandIterationsUnderGravity : kPartIterations);
+  const int fullIterations = noGravity ? (warmStart ? kStartIterations : whole ? kIslandIterations : kPartIterations)
+                                       : (warmStart ? kStartIterationsUnderGravity
+                                                    : whole ? kIslandIterationsUnderGravity : kPartIterations);
+  const int maxIterations = carried ? fullIterations / kCarriedShare : fullIterations;
   bool closeEnough = false;
   if (!converged && noGravity) {
     converged = sweepIsland(v, kOverRelaxation, tolerance, maxIterations);
@@ -535,6 +562,38 @@ detail::Islands::IslandSolve detail::Islands::solveIsland(const std::vector<uint
     }
     if (!changed) break;
   }
+  return converged || closeEnough;
+}
+
+detail::Islands::IslandSolve detail::Islands::solveIsland(const std::vector<uint32_t>& members, double now,
+                                                                double dt, double reportAbove, uint64_t reportPair,
+                                                                bool warmStart, bool whole, int maxReports) {
+  const double h = dt - now;
+  double speed = gatherIslandContacts(members, now, h);
+  std::vector<Vec2>& v = islandVelocities;
+  bool converged = solveIslandVelocities(members, v, speed, h, warmStart, whole);
+  // The gather kept the contacts within reach of the speeds before the solve. A squeeze can send members
+  // off far faster (at a crowd's doorway mouth, 13 units/s out of 3) toward members whose contact it left
+  // out, and two members of one island meet in no event: they would pass into each other unseen until
+  // the next step (bench/README.md, "Crowds"). A solve whose members outran their reach gathers again,
+  // each member's reach set by the speed it reached, and sweeps on from where it stopped: the contacts
+  // it had keep their impulses (a wider reach gathers the same contacts in the same order, and more),
+  // the new ones start at none.
+  std::vector<double>& reached = islandReachSpeeds;
+  reached.clear();
+  for (int again = 0; again < kRegathers; ++again) {
+    bool outran = false;
+    for (size_t k = 0; k < v.size(); ++k) outran = outran || length(v[k]) > 2 * (reached.empty() ? speed : reached[k]);
+    if (!outran) break;
+    reached.resize(v.size(), speed);
+    for (size_t k = 0; k < v.size(); ++k) reached[k] = std::max(reached[k], length(v[k]));
+    islandScratchBefore.swap(islandScratch);
+    speed = gatherIslandContacts(members, now, h, reached);
+    const bool carried = carryImpulses(islandScratchBefore, islandScratch);
+    converged = solveIslandVelocities(members, v, speed, h, warmStart, whole, carried);
+  }
+  const std::vector<IslandContact>& contacts = islandScratch;
+  const bool noGravity = w.def.gravity.x == 0 && w.def.gravity.y == 0;
   keepIslandEnergy(members, v, h);
   if (warmStart && noGravity && h > 0) separateIsland(members, v, h);
   for (size_t k = 0; k < members.size(); ++k) {
@@ -553,7 +612,7 @@ detail::Islands::IslandSolve detail::Islands::solveIsland(const std::vector<uint
     const Vec2 vb = c.kb >= 0 ? w.bodies[c.b].velocity : c.holderVelocity;
     violation = std::max(violation, c.target - dot(w.bodies[c.a].velocity - vb, c.normal));
   }
-  return {reported, converged || closeEnough || violation <= 1e-4 * (speed + length(w.def.gravity) * h)};
+  return {reported, converged || violation <= 1e-4 * (speed + length(w.def.gravity) * h)};
 }
 
 void detail::Islands::scheduleSweeps(size_t memberCount) {

@@ -52,6 +52,8 @@ struct Islands {
   std::vector<uint32_t> stepped;         // this step's stepped bodies at its start
   std::vector<uint32_t> steppedCounts;   // their collision counters after the start's solve
   std::vector<IslandContact> islandScratch, islandScratchStart;
+  std::vector<IslandContact> islandScratchBefore;  // solveIsland's contacts before it gathered again
+  std::vector<double> islandReachSpeeds;           // and the speeds, by member, that set its reach
   // solveIsland's velocities and separateIsland's lists, kept so that a step's many solves do not
   // allocate (neither is called from within itself or the other's use of them).
   std::vector<Vec2> islandVelocities;
@@ -125,7 +127,16 @@ struct Islands {
                           uint64_t reportPair = ~uint64_t{0}, bool warmStart = false, bool whole = false,
                           int maxReports = std::numeric_limits<int>::max());
   // solveIsland's parts (island.cpp).
-  double gatherIslandContacts(const std::vector<uint32_t>& members, double now, double h);
+  double gatherIslandContacts(const std::vector<uint32_t>& members, double now, double h,
+                              std::span<const double> reachSpeeds = {});
+  /// The members' velocities after the solve over islandScratch's contacts, into v (true when it
+  /// converged or came close enough); `speed` is the fastest at play, as gathered. `carried`: v and the
+  /// contacts' impulses are where an earlier solve of the same members stopped, and it sweeps on.
+  bool solveIslandVelocities(const std::vector<uint32_t>& members, std::vector<Vec2>& v, double speed, double h,
+                             bool warmStart, bool whole, bool carried = false);
+  /// Gives `after` (a wider gather of the same members at the same time) the impulses of the contacts
+  /// of `before`, which it holds in the same order; false, and no impulses, when it does not hold them.
+  static bool carryImpulses(const std::vector<IslandContact>& before, std::vector<IslandContact>& after);
   void keepIslandEnergy(const std::vector<uint32_t>& members, std::vector<Vec2>& v, double h);
   /// The sweeps over islandScratch's contacts, on the members' velocities v, at most maxIterations:
   /// over-relaxed by omega (true when they converged to `tolerance`), or, under gravity, accelerated
