@@ -1,6 +1,7 @@
 // The predictive step's Engine: the helpers every part shares and the class, whose members are defined
-// by part: predictive_setup.h (the tracked bodies and the cell grid), predictive_predictions.h (each
-// body's next event), predictive_queue.h (the calendar of events) and predictive_step.cpp (the step).
+// by part: predictive_setup.cpp (the tracked bodies and the cell grid), predictive_predictions.cpp (each
+// body's next event), predictive_queue.cpp (the calendar of events) and predictive_step.cpp (the step);
+// the few that every part calls per event are inline in predictive_engine_inl.h.
 // Included only by those; predictive_step.cpp's opening comment describes the mode as a whole.
 #pragma once
 
@@ -23,7 +24,7 @@
 #include "sensors/sensors.h"
 #include "world/world_impl.h"
 
-namespace rattle {
+namespace rattle::predictive {
 
 using detail::BodySlot;
 using detail::PathLog;
@@ -31,14 +32,12 @@ using detail::PredictiveEvent;
 using detail::PredictiveKind;
 using detail::PredictiveState;
 
-namespace {
-
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 
 // The total order of events: by time, then kind, then ids (as detail::later, of which this is the
 // reverse for contacts), so no two distinct events compare equal.
-bool earlier(const PredictiveEvent& x, const PredictiveEvent& y) {
+inline bool earlier(const PredictiveEvent& x, const PredictiveEvent& y) {
   if (x.time != y.time) return x.time < y.time;
   if (x.kind != y.kind) return x.kind < y.kind;
   const uint32_t xl = std::min(x.a, x.b), yl = std::min(y.a, y.b);
@@ -53,7 +52,7 @@ bool earlier(const PredictiveEvent& x, const PredictiveEvent& y) {
 // The first h >= 0 at which s(h) = c + b h + A h^2, positive inside a cell, turns negative: when a
 // coordinate moving along a line or a parabola leaves the cell through one side. Outside already
 // (c <= 0) and moving out: now. Roots in cancellation-free forms. +infinity when it never leaves.
-double exitTime(double c, double b, double A) {
+inline double exitTime(double c, double b, double A) {
   if (A == 0) {
     if (!(b < 0)) return kInf;
     return c <= 0 ? 0.0 : c / -b;
@@ -84,21 +83,21 @@ double exitTime(double c, double b, double A) {
 // now + h (the margin covers the round-off of best - now and of now + h), and the time of impact depends
 // on its limit only through the final t <= maxTime. The last term keeps a time of impact that would
 // underflow to 0 (best = now = 0) from being cut.
-double searchBound(double horizon, double best, double now) {
+inline double searchBound(double horizon, double best, double now) {
   return std::min(horizon - now, (best - now) * (1 + 1e-9) + 8 * kEps * (std::fabs(best) + std::fabs(now)) + 1e-300);
 }
 
 // The box a fixture sweeps over a time h along its body's path, from position p with velocity v and
 // acceleration a (`local`: the fixture's box about its body): the path's box (its ends and turning
 // points) grown by the fixture's box.
-Box sweptBox(const Box& local, Vec2 p, Vec2 v, Vec2 a, double h) {
+inline Box sweptBox(const Box& local, Vec2 p, Vec2 v, Vec2 a, double h) {
   const Box path = detail::pathBox(p, v, a, h);
   return Box{path.min + local.min, path.max + local.max};
 }
 
 // Whether two boxes are apart by more than the round-off of their coordinates (relative 1e-9, far above
 // it): shapes inside them cannot touch, so a time of impact between them would find nothing.
-bool clearlyApart(const Box& a, const Box& b) {
+inline bool clearlyApart(const Box& a, const Box& b) {
   const double scale = std::max({std::fabs(a.min.x), std::fabs(a.max.x), std::fabs(a.min.y), std::fabs(a.max.y),
                                  std::fabs(b.min.x), std::fabs(b.max.x), std::fabs(b.min.y), std::fabs(b.max.y)});
   const double margin = 1e-9 * (1 + scale);
@@ -113,8 +112,8 @@ static_assert(kNeighbourBuffer >= 9);
 
 // PredictiveState::heads: an entry's first slot, and the entry for a first slot (-1: none) and whether
 // more follow.
-int32_t headSlot(int32_t entry) { return entry < 0 ? -1 : entry >> 1; }
-int32_t headEntry(int32_t slot, bool more) { return slot < 0 ? -1 : 2 * slot + (more ? 1 : 0); }
+inline int32_t headSlot(int32_t entry) { return entry < 0 ? -1 : entry >> 1; }
+inline int32_t headEntry(int32_t slot, bool more) { return slot < 0 ? -1 : 2 * slot + (more ? 1 : 0); }
 
 // Cell coordinates are clamped to +-kMaxCoord; the cells there reach to infinity.
 constexpr int32_t kMaxCoord = int32_t{1} << 30;
@@ -123,7 +122,7 @@ constexpr int32_t kMaxCoord = int32_t{1} << 30;
 // bodies' region may take more (a few entries a body). 2^18 entries: 2 MiB of tables.
 constexpr size_t kStaticTableLimit = size_t{1} << 18;
 
-int32_t cellCoord(double x, double origin, double size) {
+inline int32_t cellCoord(double x, double origin, double size) {
   const double k = std::floor((x - origin) / size);
   if (k != k) return 0;  // NaN
   if (k <= -kMaxCoord) return -kMaxCoord;
@@ -136,23 +135,23 @@ using detail::HotBody;
 
 // Motion of a hot copy: the same expressions as detail::WorldState::positionAt and velocityAt, so the same
 // values (the acceleration is read only when it is not zero).
-Vec2 accelerationOf(const HotBody& h, const detail::RareBody& r) {
+inline Vec2 accelerationOf(const HotBody& h, const detail::RareBody& r) {
   return (h.flags & HotBody::kAccelerating) ? r.acceleration : Vec2{};
 }
 using detail::positionAt;
 using detail::velocityAt;
-bool isMoving(const HotBody& b) { return !(b.velocity == Vec2{}) || (b.flags & HotBody::kAccelerating) != 0; }
+inline bool isMoving(const HotBody& b) { return !(b.velocity == Vec2{}) || (b.flags & HotBody::kAccelerating) != 0; }
 // The common body of a gas: one circle centred on the body, no acceleration, the default filter. Two such
 // bodies need nothing from their ColdBody until a contact is found (Engine::pairPlain).
-bool isPlain(const HotBody& b) {
+inline bool isPlain(const HotBody& b) {
   constexpr uint8_t mask = HotBody::kSingle | HotBody::kAccelerating | HotBody::kOffCentre | HotBody::kCustomFilter;
   return (b.flags & mask) == HotBody::kSingle;
 }
 
 // The contact event of the predicted body's fixture `own` with body `b` (slot `j`): `point` in the world
 // at `time`, `normal` from b toward own (PredictiveEvent).
-PredictiveEvent contactEvent(double time, uint32_t own, const HotBody& b, uint32_t j, int32_t feature, Vec2 point,
-                             Vec2 normal) {
+inline PredictiveEvent contactEvent(double time, uint32_t own, const HotBody& b, uint32_t j, int32_t feature,
+                                    Vec2 point, Vec2 normal) {
   return PredictiveEvent{time, own, b.fixture, feature, b.collisionCount, PredictiveKind::Contact, j, point, normal};
 }
 
@@ -165,9 +164,7 @@ struct Predicting {
   const ColdBody* cold;
 };
 
-// The predictive step over the world's state (detail::WorldState) and its own (PredictiveState). Its
-// parts are in predictive_setup.h, predictive_predictions.h and predictive_queue.h, which only
-// predictive_step.cpp includes: one translation unit, so that the per-event calls stay inlined. Indices
+// The predictive step over the world's state (detail::WorldState) and its own (PredictiveState). Indices
 // named `i`, `j`, `slot` are slots of tracked bodies (PredictiveState); `body` is an index into
 // detail::WorldState::bodies.
 class Engine {
@@ -438,5 +435,4 @@ class Engine {
   void resetQueue();
 };
 
-}  // namespace
-}  // namespace rattle
+}  // namespace rattle::predictive

@@ -58,13 +58,10 @@
 #include "hybrid/hybrid_state.h"
 #include "hybrid/hybrid_step.h"
 #include "predictive/predictive_engine.h"
-#include "predictive/predictive_predictions.h"
-#include "predictive/predictive_queue.h"
-#include "predictive/predictive_setup.h"
+#include "predictive/predictive_engine_inl.h"
 #include "world/stepper.h"
 
-namespace rattle {
-namespace {
+namespace rattle::predictive {
 
 double Engine::endPlain(double end, double& speed) {
   // The step's end in a plain world, for the tracked bodies: attach(), detail::WorldState::advance() to `end`,
@@ -606,9 +603,12 @@ double Engine::finishStep(double dt) {
   return dt;
 }
 
-}  // namespace
+}  // namespace rattle::predictive
 
+namespace rattle {
 namespace {
+
+using predictive::Engine;
 
 // The predictive mode's stepper: its state (the cell grid and the event queue) lasts from one step to the
 // next, and a pile it hands over goes to the hybrid step for the rest of the step.

@@ -1,13 +1,11 @@
 // The predictive step's predictions: each tracked body's next event (a collision or a cell crossing),
 // found among the bodies of the cells around it.
-// Part of the predictive step's Engine (predictive_engine.h); included only by predictive_step.cpp, whose
-// opening comment describes the mode as a whole.
-#pragma once
-
+// Part of the predictive step's Engine (predictive_engine.h); predictive_step.cpp's opening comment
+// describes the mode as a whole.
 #include "predictive/predictive_engine.h"
+#include "predictive/predictive_engine_inl.h"
 
-namespace rattle {
-namespace {
+namespace rattle::predictive {
 
 void Engine::crossing(const Predicting& p, double& h, int& side) const {
   const Vec2 c = p.position + p.centre;
@@ -175,7 +173,7 @@ void Engine::pairWith(Prediction& q, uint32_t j, double until) {
   });
 }
 
-inline void Engine::pairPlain(Prediction& q, uint32_t j) {
+void Engine::pairPlain(Prediction& q, uint32_t j) {
   // pairWith() and predictCircles() for two plain bodies (isPlain(), the predicted one without dismissals),
   // the moving one's neighbour up to its horizon: the same expressions with the zero acceleration and
   // centre written in, so the same values, without the branches on flags and the call per pair. A scene
@@ -551,5 +549,4 @@ void Engine::fillPairs(uint32_t i) {
   }
 }
 
-}  // namespace
-}  // namespace rattle
+}  // namespace rattle::predictive

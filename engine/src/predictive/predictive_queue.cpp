@@ -1,13 +1,11 @@
 // The predictive step's queue of events: a calendar of buckets by time, a 4-ary heap for the current one
 // and an overflow array past the last; top() reads the buckets ahead in stages.
-// Part of the predictive step's Engine (predictive_engine.h); included only by predictive_step.cpp, whose
-// opening comment describes the mode as a whole.
-#pragma once
-
+// Part of the predictive step's Engine (predictive_engine.h); predictive_step.cpp's opening comment
+// describes the mode as a whole.
 #include "predictive/predictive_engine.h"
+#include "predictive/predictive_engine_inl.h"
 
-namespace rattle {
-namespace {
+namespace rattle::predictive {
 
 void Engine::resetQueue() {
   const size_t n = s_.hot.size();
@@ -299,5 +297,4 @@ void Engine::unschedule(uint32_t slot) {
   s_.event[slot].kind = PredictiveKind::None;
 }
 
-}  // namespace
-}  // namespace rattle
+}  // namespace rattle::predictive
