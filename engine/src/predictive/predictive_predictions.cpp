@@ -319,6 +319,7 @@ void Engine::predictBody(uint32_t i, double now) {
   finishPrediction(q);
 }
 
+[[gnu::always_inline]] inline
 void Engine::crossingStraight(Vec2 c, Vec2 v, const ColdBody& cell, double& h, int& side) const {
   // crossing() for a centre `c` moving in a straight line at `v`: exitTime() with no acceleration leaves
   // each side's time infinite unless the centre moves toward that side, so at most one side of each axis
@@ -471,6 +472,7 @@ void Engine::predictPlainAmong(uint32_t i, double now, const uint32_t* neighbour
   finishPlain(i, now, position, velocity, horizon, h, side, bestTime, impact);
 }
 
+[[gnu::always_inline]] inline
 bool Engine::plainJustResolved(const ColdBody& own, uint32_t fixture, uint32_t other, double now) const {
   const uint32_t otherFixture = s_.hot[other].fixture;
   const uint32_t low = std::min(fixture, otherFixture), high = std::max(fixture, otherFixture);
@@ -492,23 +494,23 @@ bool Engine::beatsHeldContact(double time, uint32_t fixture, const HotBody& b, u
   return earlier(e, h);
 }
 
+[[gnu::always_inline]] inline
 void Engine::finishPlain(uint32_t i, double now, Vec2 position, Vec2 velocity, double horizon, double h, int side,
                          double bestTime, const PlainImpact& impact) {
   const HotBody& hb = s_.hot[i];
   const ColdBody& cb = s_.cold[i];
   const uint32_t fixture = hb.fixture;
 
-  const PredictiveEvent best = [&] {
-    if (impact.partner == PredictiveState::kNone) {
-      return PredictiveEvent{horizon, fixture, fixture, h < kInf ? side : -1, 0, PredictiveKind::Cross};
-    }
+  // The cell crossing, unless a contact comes first.
+  PredictiveEvent best{horizon, fixture, fixture, h < kInf ? side : -1, 0, PredictiveKind::Cross};
+  if (impact.partner != PredictiveState::kNone) {
     const HotBody& b = s_.hot[impact.partner];
     Vec2 point, normal;
     detail::plainContact(impact.r, impact.v, b.radius, impact.time, point, normal);
     point += impact.pb;
     const Vec2 travelOfB = impact.vb * impact.time + Vec2{} * (0.5 * impact.time * impact.time);
-    return contactEvent(bestTime, fixture, b, impact.partner, 0, point + travelOfB, normal);
-  }();
+    best = contactEvent(bestTime, fixture, b, impact.partner, 0, point + travelOfB, normal);
+  }
   if ((hb.flags & (HotBody::kStaticNear | HotBody::kSliding)) == 0 && s_.kinematicFixtures.empty()) {
     // Nothing else to look at (finishPrediction()): into the queue.
     schedule(i, best);

@@ -1,5 +1,5 @@
 // The predictive step's queue of events: a calendar of buckets by time, a 4-ary heap for the current one
-// and an overflow array past the last; top() reads the buckets ahead in stages.
+// and an overflow array past the last; top() (predictive_engine_inl.h) reads the buckets ahead in stages.
 // Part of the predictive step's Engine (predictive_engine.h); predictive_step.cpp's opening comment
 // describes the mode as a whole.
 #include "predictive/predictive_engine.h"
@@ -116,107 +116,6 @@ void Engine::retune(double now, bool keepWidth) {
     if (s_.event[k].kind != PredictiveKind::None) enqueue(k);
   }
   s_.popsSinceRetune = 0;
-}
-
-uint32_t Engine::top() {
-  // The earliest event's slot, moving later buckets into the heap as it runs empty.
-  while (s_.heap.empty()) {
-    // Every event of the buckets up to the step's end has been taken: what is left is due after it.
-    if (s_.current >= s_.stepBucket) return PredictiveState::kNone;
-    if (s_.inBuckets == 0) {
-      if (s_.inOverflow == 0) return PredictiveState::kNone;
-      // Nothing left but the overflow: skip to its first bucket.
-      int64_t first = int64_t{1} << 62;
-      for (const auto& e : s_.overflow) {
-        if (s_.queue[e.slot].ticket == e.ticket) first = std::min(first, bucketOf(e.time));
-      }
-      if (first > s_.stepBucket) return PredictiveState::kNone;
-      s_.current = std::max(s_.current, first - 1);
-      s_.limit = s_.current + 1;
-    }
-    ++s_.current;
-    if (s_.current >= s_.limit && s_.inOverflow > scheduledCount() / 2 && s_.popsSinceRetune > s_.hot.size() / 4) {
-      // A new round of the buckets, and most events are still beyond it: the buckets are too narrow.
-      retune(s_.base + static_cast<double>(s_.current) * s_.width);
-      continue;
-    }
-    if (s_.current >= s_.limit) {
-      // A new round of the buckets: the overflow events now within reach move in.
-      s_.limit = roundLimit();
-      std::vector<PredictiveState::QueueEntry> waiting;
-      waiting.swap(s_.overflow);
-      s_.inOverflow = 0;
-      for (const auto& e : waiting) {
-        if (s_.queue[e.slot].ticket != e.ticket) continue;
-        s_.queue[e.slot].where = PredictiveState::kNotQueued;
-        enqueue(e.slot);
-      }
-      waiting.clear();
-      if (s_.overflow.empty()) waiting.swap(s_.overflow);  // keep the memory
-    }
-    const size_t mask = s_.buckets.size() - 1;
-    const size_t here = static_cast<size_t>(s_.current) & mask;
-    const auto bucket = s_.buckets[here];
-    // The buckets ahead are read a little at a time, so that by the time each moves into the heap what
-    // its events read is in cache: three buckets ahead its entries; two ahead the records that its
-    // events read first (tickets, event records, the bodies and their partners); one ahead what those
-    // records lead to (the cells around the bodies, what a collision reads). A bucket moved in because
-    // the heap ran empty hands over its earliest event at once, so this cannot wait until then.
-    // (Entries appended since are asked for below, as the bucket moves in.)
-    auto ahead = [&](int64_t d) {
-      return s_.current + d < s_.limit ? s_.buckets[static_cast<size_t>(s_.current + d) & mask]
-                                       : PredictiveState::Buckets::View{nullptr, nullptr};
-    };
-    {
-      const auto later = ahead(3);
-      const char* data = reinterpret_cast<const char*>(later.begin());
-      for (size_t b = 0; b < later.size() * sizeof(PredictiveState::QueueEntry); b += 64) __builtin_prefetch(data + b);
-    }
-    for (const auto& e : ahead(2)) {
-      __builtin_prefetch(&s_.queue[e.slot]);
-      __builtin_prefetch(&s_.event[e.slot]);
-      __builtin_prefetch(&s_.hot[e.slot]);
-    }
-    for (const auto& e : ahead(1)) {
-      __builtin_prefetch(&s_.cold[e.slot]);
-      prefetchNeighbourhood(e.slot);
-      // (A stale entry's: wasted prefetches.)
-      const PredictiveEvent& event = s_.event[e.slot];
-      const uint32_t partner = event.partner;
-      if (partner != PredictiveState::kNone) {
-        // A collision reads the partner's records and writes its event and its place in the queue.
-        __builtin_prefetch(&s_.hot[partner]);
-        __builtin_prefetch(&s_.cold[partner]);
-        __builtin_prefetch(&s_.queue[partner]);
-        __builtin_prefetch(&s_.event[partner], 1);
-      }
-      // A crossing moves the body from one cell's list to another's.
-      if (event.kind == PredictiveKind::Cross) __builtin_prefetch(&s_.links[e.slot]);
-    }
-    for (const auto& e : bucket) __builtin_prefetch(&s_.queue[e.slot]);
-    for (const auto& e : bucket) {
-      if (s_.queue[e.slot].ticket != e.ticket) continue;
-      // Asked for already, unless appended since (or this is the calendar's first bucket).
-      __builtin_prefetch(&s_.cold[e.slot]);
-      prefetchNeighbourhood(e.slot);
-      const uint32_t partner = s_.event[e.slot].partner;
-      if (partner != PredictiveState::kNone) {
-        prefetchNeighbourhood(partner);
-        // A collision's contact event names the bodies.
-        __builtin_prefetch(&s_.bodyOfSlot[e.slot]);
-        __builtin_prefetch(&s_.bodyOfSlot[partner]);
-      }
-      --s_.inBuckets;
-      s_.queue[e.slot].heapPos = static_cast<int32_t>(s_.heap.size());
-      s_.heap.push_back({e.time, e.slot, partner});
-      s_.queue[e.slot].where = PredictiveState::kInHeap;
-    }
-    s_.buckets.clear(here);
-    for (size_t p = s_.heap.size() / 4 + 1; p-- > 0;) {
-      if (p < s_.heap.size()) siftDown(p);
-    }
-  }
-  return s_.heap.front().slot;
 }
 
 void Engine::siftUp(size_t k) {

@@ -110,6 +110,7 @@ double Engine::endPlain(double end, double& speed) {
   return extent;
 }
 
+[[gnu::always_inline]] inline
 void Engine::collidePlain(uint32_t i, uint32_t j, const PredictiveEvent& c, double tolerance) {
   // detail::resolve() for two plain disks, on their copies (plain_collision.h); the BodySlots
   // catch up in attach(). The contact event as resolve() writes it.
@@ -315,7 +316,7 @@ void Engine::runEvents(double dt) {
 }
 
 // A cell crossing: the body moves to its neighbour cell, and is predicted there.
-void Engine::crossCell(uint32_t i, const PredictiveEvent& c) {
+[[gnu::always_inline]] inline void Engine::crossCell(uint32_t i, const PredictiveEvent& c) {
   if (c.feature >= 0) {
     unlink(i);
     ColdBody& cell = s_.cold[i];
@@ -335,7 +336,7 @@ void Engine::crossCell(uint32_t i, const PredictiveEvent& c) {
 }
 
 // The end of a slide: the body leaves the face and falls freely from here.
-void Engine::endSlide(uint32_t i, const PredictiveEvent& c) {
+[[gnu::always_inline]] inline void Engine::endSlide(uint32_t i, const PredictiveEvent& c) {
   const uint32_t ia = s_.bodyOfSlot[i];
   attach(i);
   BodySlot& a = w_.bodies[ia];
@@ -424,7 +425,7 @@ bool Engine::collidePlainPair(uint32_t i, uint32_t j, const PredictiveEvent& c, 
 
 // A contact: stale, dismissed or absorbed (not approaching), or a collision. False: the step stops here
 // (the event budget, or a pile or a jam handed over: budgetTime_, pile_).
-bool Engine::collideAt(uint32_t i, uint32_t j, const PredictiveEvent& c) {
+[[gnu::always_inline]] inline bool Engine::collideAt(uint32_t i, uint32_t j, const PredictiveEvent& c) {
   const double restTolerance = s_.restTolerance;
   const double approachTolerance = s_.approachTolerance;
   // A contact. Static and kinematic bodies never change their counters; the body's own event is never
