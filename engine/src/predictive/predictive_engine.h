@@ -168,10 +168,10 @@ struct Predicting {
 // named `i`, `j`, `slot` are slots of tracked bodies (PredictiveState); `body` is an index into
 // detail::WorldState::bodies.
 // The members on the per-event path that have one caller (top, collideAt, crossCell, endSlide,
-// collidePlain, finishPlain, crossingStraight, plainJustResolved) are marked [[gnu::always_inline]]: GCC
-// inlines a function called once by itself only when it has internal linkage, as they had while the
-// mode was one file, and without it the gas of 10^5 disks took about 10% longer (bench/README.md,
-// "The engine's house").
+// collidePlain, predictCircles, pairPlain, finishPlain, crossingStraight, plainJustResolved) are marked
+// [[gnu::always_inline]]: GCC inlines a function called once by itself only when it has internal
+// linkage, as they had while the mode was one file, and without it the gas of 10^5 disks took about 10%
+// longer (bench/README.md, "The engine's house").
 class Engine {
  public:
   Engine(detail::WorldState& w, PredictiveState& s) : w_(w), s_(s) {}

@@ -59,6 +59,7 @@ void Engine::predictPair(uint32_t own, uint32_t other, double now, double horizo
   if (earlier(e, best)) best = e;
 }
 
+[[gnu::always_inline]] inline
 void Engine::predictCircles(const Predicting& p, uint32_t j, double horizon, PredictiveEvent& best) {
   // Two single-circle dynamic bodies, from their copies: the same arithmetic as predictPair through the
   // dispatcher (timeOfImpact's circle-circle entry), with a cheap rejection of receding pairs first.
@@ -173,7 +174,7 @@ void Engine::pairWith(Prediction& q, uint32_t j, double until) {
   });
 }
 
-void Engine::pairPlain(Prediction& q, uint32_t j) {
+[[gnu::always_inline]] inline void Engine::pairPlain(Prediction& q, uint32_t j) {
   // pairWith() and predictCircles() for two plain bodies (isPlain(), the predicted one without dismissals),
   // the moving one's neighbour up to its horizon: the same expressions with the zero acceleration and
   // centre written in, so the same values, without the branches on flags and the call per pair. A scene
