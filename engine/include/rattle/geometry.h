@@ -3,6 +3,7 @@
 // Coordinates of a fixture's geometry are relative to its body's position (bodies do not rotate).
 #pragma once
 
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <variant>
@@ -68,7 +69,11 @@ struct Box {
   Box translated(Vec2 d) const { return {min + d, max + d}; }
 };
 
-Box unionOf(const Box& a, const Box& b);
+/// The smallest box around both (inline: the hybrid step's first pass calls it for every moving disk).
+inline Box unionOf(const Box& a, const Box& b) {
+  return {{std::min(a.min.x, b.min.x), std::min(a.min.y, b.min.y)},
+          {std::max(a.max.x, b.max.x), std::max(a.max.y, b.max.y)}};
+}
 
 /// The smallest box around the geometry.
 Box boxOf(const Geometry& g);

@@ -70,11 +70,6 @@ const char* nameOf(GeometryType type) {
   return "?";
 }
 
-Box unionOf(const Box& a, const Box& b) {
-  return {{std::min(a.min.x, b.min.x), std::min(a.min.y, b.min.y)},
-          {std::max(a.max.x, b.max.x), std::max(a.max.y, b.max.y)}};
-}
-
 Box boxOf(const Geometry& g) {
   return std::visit(Overloaded{
                         [](const Point& s) {
