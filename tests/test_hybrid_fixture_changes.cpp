@@ -1,9 +1,9 @@
 // A body's fixtures changed between hybrid steps are what the next step collides with.
 //
-// The hybrid step's first pass keeps, for a body whose fixtures are one centred circle, that circle's
-// radius, fixture and group apart from the fixtures (World::Impl::diskShapes), so that it need not read
-// them every step; every change World allows to a body's fixtures (a filter, a fixture created or
-// destroyed, a body destroyed and its slot reused) must reach the next step. Each case steps once before
+// The world keeps, for a body whose fixtures are one centred circle, that circle's radius, fixture and
+// group apart from the fixtures (detail::WorldState::diskShapes), so that the hybrid step's first pass
+// need not read them every step; every change World allows to a body's fixtures (a filter, a fixture
+// created or destroyed, a body destroyed and its slot reused) must reach the next step. Each case steps once before
 // the change, so the shape is known, and checks the next steps against the closed form of a head-on
 // collision of two equal disks: they meet when the gap between their centres has closed to the sum of
 // the radii, and swap velocities (restitution 1).

@@ -136,6 +136,7 @@ BodyId World::createBody(const BodyDef& def) {
       detail::roomForOneMore(w.bodies);
       detail::roomForOneMore(w.userData);
       detail::roomForOneMore(w.dependents);
+      detail::roomForOneMore(w.diskShapes);
     }
     uint32_t index;
     if (!w.freeBodies.empty()) {
@@ -146,6 +147,7 @@ BodyId World::createBody(const BodyDef& def) {
       w.bodies.emplace_back();
       w.userData.emplace_back();
       w.dependents.emplace_back();
+      w.diskShapes.emplace_back();
     }
     BodySlot& b = renewed(w.bodies[index]);
     b.type = def.type;
@@ -189,7 +191,7 @@ void World::destroyBody(BodyId id) {
     w.freeFixtures.push_back(f);
   }
   b.fixtures.clear();
-  b.diskShapeKnown = false;
+  detail::refreshDiskShape(w, id.index);
   w.changes.staticsChanged(b.type);
   ++w.changes.fixtureRemovals;
   b.alive = false;
@@ -353,7 +355,7 @@ FixtureId World::createFixture(BodyId bodyId, const FixtureDef& def) {
     f.sensor = def.sensor;
     f.filter = def.filter;
     body.fixtures.push_back(index);
-    body.diskShapeKnown = false;
+    detail::refreshDiskShape(w, f.body);
     if (body.sliding) stopSliding(w, body);  // as in destroyFixture
     recomputeMass(w, body);
     w.changes.structureChanged = true;
@@ -378,7 +380,7 @@ void World::destroyFixture(FixtureId id) {
     endOverlaps(w, ended);  // nothing from here on allocates
   });
   body.fixtures.erase(std::find(body.fixtures.begin(), body.fixtures.end(), id.index));
-  body.diskShapeKnown = false;
+  detail::refreshDiskShape(w, f.body);
   // A slide is the motion of the body's circle along a face: with the circle gone (or another left),
   // the next step finds its contacts again (fuzz/regressions/world_api/ub-predictive-slide-of-a-body-
   // without-fixtures).
@@ -458,7 +460,7 @@ void World::setFilter(FixtureId id, const Filter& filter) {
       fixture.filter = old;
       throw;
     }
-    w.bodies[fixture.body].diskShapeKnown = false;
+    detail::refreshDiskShape(w, fixture.body);
     w.broadPhase.setFilter(id.index, filter.categoryBits, filter.maskBits);
     w.changes.structureChanged = true;
     endOverlaps(w, ended);

@@ -13,23 +13,12 @@
 
 namespace rattle::detail {
 
-// A body's fixtures when the only one that is not a sensor is a circle centred on the body, as the hybrid
-// step needs them (BodySlot::diskShapeKnown says when this holds): its first pass reads these 16 bytes in
-// body order instead of the body's fixture list and its fixture's two lines, and a candidate pair of two
-// plain disks (predictPlainPair) reads them with the bodies' first lines instead of their fixtures.
-struct DiskShape {
-  double radius = 0;  // the circle's; its box relative to the body is exactly [-radius, radius]^2
-  uint32_t fixture = 0;
-  int32_t group = 0;  // its filter's collision group
-};
-
 struct HybridState {
   explicit HybridState(WorldState& world) : islands(world) {}
 
   std::vector<PredictedContact> queue;  // binary heap ordered by detail::later
   LargeArray<uint32_t> stamp;           // by fixture index, for de-duplication
   uint32_t stampCounter = 0;
-  LargeArray<DiskShape> diskShapes;       // by body index; see BodySlot::diskShapeKnown
   std::vector<uint32_t> slidingAtStart;   // the bodies that start the step sliding
   std::vector<CandidatePair> deferred;    // pairs predicted after the islands
   std::vector<uint32_t> islandFreed;      // stepped bodies the start's solve set free

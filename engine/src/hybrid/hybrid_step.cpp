@@ -31,11 +31,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstring>
 #include <limits>
 
 #include "collision/closest_point.h"
 #include "collision/path_box.h"
+#include "common/same_bits.h"
 #include "contact/collapse_guard.h"
 #include "contact/response.h"
 #include "contact/resting.h"
@@ -51,16 +51,10 @@ namespace rattle {
 
 namespace {
 
-// Whether two values have the very same bits (a signed zero differs from the other).
-template <class T>
-bool sameBits(const T& a, const T& b) {
-  return std::memcmp(&a, &b, sizeof(T)) == 0;
-}
-
 // Stores `value` unless `to` already holds its very bits.
 template <class T>
 void storeIfChanged(T& to, const T& value) {
-  if (!sameBits(to, value)) to = value;
+  if (!detail::sameBits(to, value)) to = value;
 }
 
 }  // namespace
@@ -121,10 +115,6 @@ class HybridStep final : public detail::EventPredictor {
   /// Asks for what the first pass will read of body i + kStreamAhead (a prefetch). Inline: a call to a
   /// function that only prefetches is one GCC may drop (it finds it has no effect), and did.
   inline void prefetchFirstPass(uint32_t i, uint32_t count, const detail::DiskShape* shapes) const;
-  /// Sets diskShapes[body] and BodySlot::diskShapeKnown when the only fixture of the body that is not a
-  /// sensor is a circle centred on it. Not inlined: the first pass calls it about once in a body's life,
-  /// and inlined into the pass it crowds the loop that runs for every body every step.
-  [[gnu::noinline]] void learnDiskShape(uint32_t body);
   /// The sweep's pair of two plain disks (fixtures fa and fb of bodies ba and bb) at the step's start, as
   /// canCollide, addPair and predict would take it, from their bodies' first lines and DiskShapes.
   void predictPlainPair(uint32_t fa, uint32_t fb, uint32_t ba, uint32_t bb, double dt);
@@ -206,14 +196,13 @@ void HybridStep::queueContact(const Impact& impact, uint32_t own, uint32_t other
 
 void HybridStep::predictPlainPair(uint32_t fa, uint32_t fb, uint32_t ba, uint32_t bb, double dt) {
   detail::WorldState& w = w_;
-  detail::HybridState& h = h_;
   // The sweep's candidate pair of two plain disks at the step's start: canCollide, addPair and
   // predict(own, other, 0, dt) as for any pair, reading each body's first line and its DiskShape instead
   // of its fixture. The arithmetic is predict's and timeOfImpact's for two circles centred on their
   // bodies, step by step, so the prediction has the same bits. (The broad phase has checked the filter
   // bits; neither is a sensor.)
-  const detail::DiskShape& sa = h.diskShapes[ba];
-  const detail::DiskShape& sb = h.diskShapes[bb];
+  const detail::DiskShape& sa = w.diskShapes[ba];
+  const detail::DiskShape& sb = w.diskShapes[bb];
   if (ba == bb || (sa.group != 0 && sa.group == sb.group)) return;
   ++w.stats.candidatePairs;
   w.pairsOfBody[ba].push_back({fa, fb});
@@ -310,32 +299,6 @@ bool HybridStep::joinsIsland(const PredictedContact& c, double stepEnd) const {
   return -e * vn < w.def.restingSpeed;
 }
 
-void HybridStep::learnDiskShape(uint32_t bodyIndex) {
-  detail::WorldState& w = w_;
-  detail::HybridState& h = h_;
-  BodySlot& b = w.bodies[bodyIndex];
-  uint32_t physical = 0, f = 0;
-  for (uint32_t g : b.fixtures) {
-    if (w.fixtures[g].sensor) continue;  // the step's collisions never see it
-    ++physical;
-    f = g;
-  }
-  if (physical != 1) return;
-  const detail::FixtureSlot& fixture = w.fixtures[f];
-  const Circle* circle = std::get_if<Circle>(&fixture.geometry);
-  if (circle == nullptr) return;
-  const Vec2 zero{0.0, 0.0};
-  const Box box{Vec2{-circle->radius, -circle->radius}, Vec2{circle->radius, circle->radius}};
-  // Exactly, bit for bit (a radius of 0 gives a box from +0 where -radius is -0): the first pass then
-  // adds the same box to the path as it would read from the fixture.
-  if (!sameBits(circle->center, zero) || !sameBits(fixture.localBox.min, box.min) ||
-      !sameBits(fixture.localBox.max, box.max)) {
-    return;
-  }
-  h.diskShapes[bodyIndex] = {circle->radius, f, fixture.filter.group};
-  b.diskShapeKnown = true;
-}
-
 [[gnu::always_inline]] inline void HybridStep::prefetchFirstPass(uint32_t i, uint32_t count,
                                                                 const detail::DiskShape* shapes) const {
   const detail::WorldState& w = w_;
@@ -351,10 +314,10 @@ void HybridStep::learnDiskShape(uint32_t bodyIndex) {
   if (i + kHalf >= count) return;
   const BodySlot& b = w.bodies[i + kHalf];
   if (!b.alive) return;
-  if (b.diskShapeKnown) {
+  if (b.diskShape) {
     w.broadPhase.prefetch(shapes[i + kHalf].fixture);
   }
-  if (b.stepLocalsSet || b.sliding || !b.diskShapeKnown) {
+  if (b.stepLocalsSet || b.sliding || !b.diskShape) {
     const char* slot = reinterpret_cast<const char*>(&b);
     for (size_t line = 64; line < sizeof(BodySlot); line += 64) __builtin_prefetch(slot + line, 1);
   }
@@ -366,7 +329,7 @@ double HybridStep::sweepBoxes(double dt) {
   detail::WorldState& w = w_;
   detail::HybridState& h = h_;
   // Read once: stores into the bodies below could alias the array's pointer for all the compiler knows.
-  const detail::DiskShape* const shapes = h.diskShapes.data();
+  const detail::DiskShape* const shapes = w.diskShapes.data();
   double speedScale = 0, straightSpeedSquared = 0;
   h.slidingAtStart.clear();
   h.islands.stepped.clear();
@@ -425,8 +388,7 @@ double HybridStep::sweepBoxes(double dt) {
     }
     // A sensor takes no part in the collisions (the collision sweep and queries never see one): its box
     // is set by the sweep of the paths after the step (sensor_paths.cpp).
-    if (!b.diskShapeKnown) learnDiskShape(i);
-    if (b.diskShapeKnown) {
+    if (b.diskShape) {
       // One physical circle centred on the body (DiskShape). Moving on a straight line, awake, in no
       // island and sliding on nothing, it is a plain disk: its proxy is tagged with its body, and a
       // candidate pair of two plain disks is predicted from their bodies' first lines and DiskShapes
@@ -498,8 +460,8 @@ void HybridStep::predictCandidatePairs(double dt) {
     if (plain) {
       __builtin_prefetch(&w.bodies[plainA]);
       __builtin_prefetch(&w.bodies[plainB]);
-      __builtin_prefetch(&h.diskShapes[plainA]);
-      __builtin_prefetch(&h.diskShapes[plainB]);
+      __builtin_prefetch(&w.diskShapes[plainA]);
+      __builtin_prefetch(&w.diskShapes[plainB]);
       __builtin_prefetch(&w.pairsOfBody[plainA], 1);
       __builtin_prefetch(&w.pairsOfBody[plainB], 1);
     }
@@ -746,7 +708,6 @@ void HybridStep::run(double dt, int eventsBefore) {
   h.queue.clear();
   if (w.pairsOfBody.size() < w.bodies.size()) w.pairsOfBody.resize(w.bodies.size());
   if (h.stamp.size() < w.fixtures.size()) h.stamp.resize(w.fixtures.size(), 0);
-  if (h.diskShapes.size() < w.bodies.size()) h.diskShapes.resize(w.bodies.size());
 
   const double speedScale = sweepBoxes(dt);
   // Approach speeds below this are round-off: 1e-13 of the fastest speed in the world this step.

@@ -81,9 +81,9 @@ struct alignas(64) BodySlot {
   // last, jamTime or stepCollisions may differ from their values at a step's start (every write of them
   // sets it: setLast, countStepCollision, settleJam; the hybrid step's first pass resets them only then).
   bool stepLocalsSet : 1 = false;
-  // detail::HybridState::diskShapes[this body] holds its one fixture that is not a sensor, a circle centred on
-  // it (the hybrid step learns it; World's changes to the body's fixtures or their filters clear it).
-  bool diskShapeKnown : 1 = false;
+  // detail::WorldState::diskShapes[this body] holds its one fixture that is not a sensor, a circle
+  // centred on it (refreshDiskShape keeps it with the fixtures).
+  bool diskShape : 1 = false;
   // World::setVelocity gave it a velocity since the last step: the game drives it (a unit steered each
   // tick). Without gravity only a cluster with a driven body is held as a jam (jam.cpp); a gas's
   // clusters stay exact events. World::step clears it.
@@ -126,6 +126,16 @@ struct alignas(64) BodySlot {
     stepLocalsSet = true;
     return ++stepCollisions;
   }
+};
+
+// A body's fixtures when the only one that is not a sensor is a circle centred on the body
+// (BodySlot::diskShape): the hybrid step's first pass reads these 16 bytes in body order instead of the
+// body's fixture list and its fixture's two lines, and a candidate pair of two plain disks reads them with
+// the bodies' first lines instead of their fixtures.
+struct DiskShape {
+  double radius = 0;  // the circle's; its box relative to the body is exactly [-radius, radius]^2
+  uint32_t fixture = 0;
+  int32_t group = 0;  // its filter's collision group
 };
 
 struct FixtureSlot {
@@ -213,6 +223,7 @@ struct WorldState {
   // and the sleeping bodies each body holds up (may hold stale entries; resting.cpp).
   detail::LargeArray<uint64_t> userData;
   detail::LargeArray<std::vector<uint32_t>> dependents;
+  detail::LargeArray<detail::DiskShape> diskShapes;  // where BodySlot::diskShape holds
   std::vector<uint32_t> freeBodies;  // reused last-freed first
   detail::LargeArray<detail::FixtureSlot> fixtures;
   std::vector<uint32_t> freeFixtures;
@@ -356,6 +367,9 @@ bool canSense(const WorldState& w, uint32_t fa, uint32_t fb);
 double physicalMass(const WorldState& w, const BodySlot& body);
 /// The body's mass and inverse mass from its fixtures (infinite for a static or kinematic body).
 void recomputeMass(WorldState& w, BodySlot& body);
+/// BodySlot::diskShape and diskShapes[body] from the body's fixtures; after every change of them or of
+/// their filters.
+void refreshDiskShape(WorldState& w, uint32_t body);
 
 }  // namespace detail
 

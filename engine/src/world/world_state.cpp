@@ -1,8 +1,9 @@
 // The rules of the world's state that the World API and every mode share: which fixtures may collide
-// or sense each other (their bodies and filters), and a body's mass from its fixtures.
+// or sense each other (their bodies and filters), and a body's mass and disk shape from its fixtures.
 #include <algorithm>
 #include <limits>
 
+#include "common/same_bits.h"
 #include "world/world_impl.h"
 
 namespace rattle {
@@ -50,6 +51,31 @@ void detail::recomputeMass(WorldState& w, BodySlot& body) {
   mass = std::clamp(mass, std::numeric_limits<double>::min(), World::kMaxMass);
   body.mass = mass;
   body.inverseMass = 1 / mass;
+}
+
+void detail::refreshDiskShape(WorldState& w, uint32_t bodyIndex) {
+  BodySlot& b = w.bodies[bodyIndex];
+  b.diskShape = false;
+  uint32_t physical = 0, f = 0;
+  for (uint32_t g : b.fixtures) {
+    if (w.fixtures[g].sensor) continue;  // the step's collisions never see it
+    ++physical;
+    f = g;
+  }
+  if (physical != 1) return;
+  const FixtureSlot& fixture = w.fixtures[f];
+  const Circle* circle = std::get_if<Circle>(&fixture.geometry);
+  if (circle == nullptr) return;
+  const Vec2 zero{0.0, 0.0};
+  const Box box{Vec2{-circle->radius, -circle->radius}, Vec2{circle->radius, circle->radius}};
+  // Exactly, bit for bit (a radius of 0 gives a box from +0 where -radius is -0): the hybrid step's first
+  // pass then adds the same box to the path as it would read from the fixture.
+  if (!detail::sameBits(circle->center, zero) || !detail::sameBits(fixture.localBox.min, box.min) ||
+      !detail::sameBits(fixture.localBox.max, box.max)) {
+    return;
+  }
+  w.diskShapes[bodyIndex] = {circle->radius, f, fixture.filter.group};
+  b.diskShape = true;
 }
 
 }  // namespace rattle
