@@ -502,9 +502,12 @@ void Engine::finishPlain(uint32_t i, double now, Vec2 position, Vec2 velocity, d
   const ColdBody& cb = s_.cold[i];
   const uint32_t fixture = hb.fixture;
 
-  // The cell crossing, unless a contact comes first.
-  PredictiveEvent best{horizon, fixture, fixture, h < kInf ? side : -1, 0, PredictiveKind::Cross};
-  if (impact.partner != PredictiveState::kNone) {
+  // The cell crossing, unless a contact comes first: one or the other, each built in its own branch
+  // (the crossing built first and then overwritten by the contact was stored twice).
+  PredictiveEvent best;
+  if (impact.partner == PredictiveState::kNone) {
+    best = PredictiveEvent{horizon, fixture, fixture, h < kInf ? side : -1, 0, PredictiveKind::Cross};
+  } else {
     const HotBody& b = s_.hot[impact.partner];
     Vec2 point, normal;
     detail::plainContact(impact.r, impact.v, b.radius, impact.time, point, normal);
