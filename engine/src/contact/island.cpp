@@ -465,11 +465,12 @@ void detail::Islands::keepIslandEnergy(const std::vector<uint32_t>& members, std
 // reportAbove (and reportPair's), at most maxReports. Returns how many it reported.
 int detail::Islands::reportIslandContacts(double now, double reportAbove, uint64_t reportPair, int maxReports) {
   const std::vector<IslandContact>& contacts = islandScratch;
+  if (steppedHeld.size() < w.bodies.size()) steppedHeld.resize(w.bodies.size(), 0);
   int reported = 0;
   for (const IslandContact& c : contacts) {
     if (!(c.lambda > 0)) continue;
-    w.bodies[c.a].steppedHeld = true;
-    if (c.kb >= 0) w.bodies[c.b].steppedHeld = true;
+    steppedHeld[c.a] = 1;
+    if (c.kb >= 0) steppedHeld[c.b] = 1;
     if (!(c.approach > reportAbove) && islandKey(c.fa, c.fb) != reportPair) continue;
     if (reported >= maxReports) continue;
     ++reported;
@@ -891,6 +892,7 @@ void detail::Islands::separateIsland(const std::vector<uint32_t>& members, const
 void detail::Islands::beginStep() {
   jamCounterAtStart_ = jamCounter;
   swapped_ = false;
+  clearJamMarks();
   // The warm start is kept by fixture index, and a destroyed fixture's index is reused.
   if (w.changes.fixtureRemovals != fixtureRemovalsSeen_) {
     islandNext.clear();
@@ -916,11 +918,12 @@ void detail::Islands::startIslands(double dt, std::vector<uint32_t>& freed) {
   islandScratchStart.clear();
   freed.clear();
   if (gravityAllowance.size() < w.bodies.size()) gravityAllowance.resize(w.bodies.size(), 0.0);
+  if (steppedHeld.size() < w.bodies.size()) steppedHeld.resize(w.bodies.size(), 0);
   for (uint32_t i : stepped) {  // gathered by the step's first pass over the bodies
     BodySlot& b = w.bodies[i];
     w.keep(b);
     b.velocity += w.def.gravity * dt;
-    b.steppedHeld = false;
+    steppedHeld[i] = 0;
     gravityAllowance[i] = 0.5 * b.mass * dot(w.def.gravity, w.def.gravity) * dt * dt;
   }
   if (stepped.empty()) return;
@@ -939,7 +942,7 @@ void detail::Islands::startIslands(double dt, std::vector<uint32_t>& freed) {
   size_t kept = 0;
   for (uint32_t i : stepped) {
     BodySlot& b = w.bodies[i];
-    if (b.steppedHeld) {
+    if (steppedHeld[i]) {
       stepped[kept++] = i;
       continue;
     }

@@ -11,6 +11,7 @@
 #include <span>
 #include <vector>
 
+#include "common/large_array.h"
 #include "contact/exact_projection.h"
 #include "world/world_impl.h"
 
@@ -147,6 +148,9 @@ struct Islands {
   /// By body, for stepped bodies: the energy its island's solves may still give back of what its straight
   /// path lost against the parabola it stands in for (keepIslandEnergy). Set when the path begins.
   std::vector<double> gravityAllowance;
+  /// By body: a contact of an island solve pushed it this step (reportIslandContacts marks it, and
+  /// startIslands, which clears the stepped bodies' marks before its solve, reads them).
+  std::vector<uint8_t> steppedHeld;
   int reportIslandContacts(double now, double reportAbove, uint64_t reportPair, int maxReports);
   /// Moves the seeds' part of their island after their motion changed at `now` (a hit, a join): the
   /// stepped bodies within `hops` pairs of them, or the whole island when that part cannot keep clear of
@@ -180,9 +184,19 @@ struct Islands {
   static constexpr int kJamCollisions = 64;
   std::vector<int> jamSlot;  // scratch of settleJam, all -1 between calls
   uint32_t jamCounter = 0;   // numbers the jams, so that two clusters settled at one instant differ
+  /// The jam that last settled a body in this step (jamCounter) and when, in step time.
+  struct JamMark {
+    double time = -1;  // < 0: none this step (kJamRefused: refused)
+    uint32_t jam = 0;
+  };
+  /// Its mark, by body index: none for a body no jam marked this step.
+  JamMark jamMarkOf(uint32_t body) const {
+    return jamMarked_.empty() || body >= jamMarks_.size() ? JamMark{} : jamMarks_[body];
+  }
+  void markJam(uint32_t body, JamMark mark);
   /// Whether a jam settled this pair's contact at this very instant: both dynamic bodies were in it (or
   /// the other one was held fixed), so any approach left between them is the solve's round-off.
-  bool settledTogether(const detail::BodySlot& a, const detail::BodySlot& b, double now) const;
+  bool settledTogether(uint32_t a, uint32_t b, double now) const;
   /// Counts a collision of `body` in this step; true once it has had more than kJamCollisions.
   bool isJammed(uint32_t body);
   bool bodyIsPoint(const BodySlot& b) const;
@@ -190,7 +204,7 @@ struct Islands {
   /// returns the contact events it took (at least 1, at most `budget` >= 1), or
   /// returns 0 when it is refused (below).
   int settleJam(uint32_t seed, double now, double dt, int budget);
-  /// BodySlot::jamTime of a body whose jam was refused this step (no jam is tried for it again).
+  /// JamMark::time of a body whose jam was refused this step (no jam is tried for it again).
   static constexpr double kJamRefused = -2;
   /// Without gravity, the overlap a jam's solve may add within the step, in radii.
   static constexpr double kJamResidual = 0.01;
@@ -209,6 +223,11 @@ struct Islands {
   uint32_t jamCounterAtStart_ = 0;
   bool swapped_ = false;
   uint64_t fixtureRemovalsSeen_ = 0;
+  // The jams' marks by body index, and the bodies marked this step: only theirs differ from JamMark{}
+  // (in a gas nothing is marked, and a collision does not look up the array). Cleared by beginStep.
+  LargeArray<JamMark> jamMarks_;
+  std::vector<uint32_t> jamMarked_;
+  void clearJamMarks();
 };
 
 }  // namespace rattle::detail

@@ -43,7 +43,7 @@ bool detail::Islands::bodyIsPoint(const BodySlot& b) const {
 
 bool detail::Islands::isJammed(uint32_t bodyIndex) {
   BodySlot& s = w.bodies[bodyIndex];
-  if (s.type != BodyType::Dynamic || s.asleep || s.jamTime == kJamRefused) return false;
+  if (s.type != BodyType::Dynamic || s.asleep || jamMarkOf(bodyIndex).time == kJamRefused) return false;
   if (!(w.def.restingSpeed > 0)) return false;
   // An island's contacts are built from distances (island.cpp), which cannot tell a point's side of a
   // face it lies on: a point's contacts stay events, where its slide and LastContact tell it.
@@ -67,20 +67,33 @@ bool detail::Islands::settleJamAt(const detail::PredictedContact& c, double dt) 
   return events > 0;
 }
 
-bool detail::Islands::settledTogether(const BodySlot& a, const BodySlot& b, double now) const {
+bool detail::Islands::settledTogether(uint32_t ia, uint32_t ib, double now) const {
+  if (jamMarked_.empty()) return false;
+  const BodySlot& a = w.bodies[ia];
+  const BodySlot& b = w.bodies[ib];
   const bool aFree = a.type == BodyType::Dynamic && !a.asleep, bFree = b.type == BodyType::Dynamic && !b.asleep;
   if (!aFree && !bFree) return false;
-  const BodySlot& settled = aFree ? a : b;
-  const BodySlot& other = aFree ? b : a;
-  if (settled.jamTime != now) return false;
-  return !(other.type == BodyType::Dynamic && !other.asleep) || (other.jam == settled.jam && other.jamTime == now);
+  const JamMark settled = jamMarkOf(aFree ? ia : ib);
+  const JamMark other = jamMarkOf(aFree ? ib : ia);
+  const BodySlot& otherBody = aFree ? b : a;
+  if (settled.time != now) return false;
+  return !(otherBody.type == BodyType::Dynamic && !otherBody.asleep) ||
+         (other.jam == settled.jam && other.time == now);
+}
+
+void detail::Islands::markJam(uint32_t body, JamMark mark) {
+  if (jamMarks_.size() < w.bodies.size()) jamMarks_.resize(w.bodies.size());
+  if (jamMarks_[body].time == JamMark{}.time) jamMarked_.push_back(body);
+  jamMarks_[body] = mark;
+}
+
+void detail::Islands::clearJamMarks() {
+  for (uint32_t body : jamMarked_) jamMarks_[body] = JamMark{};
+  jamMarked_.clear();
 }
 
 void detail::Islands::refuseJam(const std::vector<uint32_t>& cluster) {
-  for (uint32_t i : cluster) {
-    w.bodies[i].jamTime = kJamRefused;
-    w.bodies[i].stepLocalsSet = true;
-  }
+  for (uint32_t i : cluster) markJam(i, {kJamRefused, 0});
 }
 
 double detail::Islands::islandResidual(double h) const {
@@ -152,8 +165,7 @@ int detail::Islands::settleJam(uint32_t seed, double now, double dt, int budget)
   for (uint32_t i : cluster) {
     BodySlot& b = w.bodies[i];
     w.keep(b);
-    b.jam = jamCounter;
-    b.jamTime = now;
+    markJam(i, {now, jamCounter});
     b.stepCollisions = 0;
     b.stepLocalsSet = true;
     b.lastContactTime = w.time + now;

@@ -109,14 +109,14 @@ FaceHold holdOnFaces(const BodySlot& a, double inverseA, const Geometry& ga, con
 
 }  // namespace
 
-void detail::absorb(WorldState& w, const PredictedContact& c, double vn) {
+bool detail::absorb(WorldState& w, const PredictedContact& c, double vn) {
   BodySlot& a = w.bodyOf(c.a);
   BodySlot& b = w.bodyOf(c.b);
   w.advance(a, c.time);
   w.advance(b, c.time);
   const double inverseA = a.asleep ? 0.0 : a.inverseMass;
   const double inverseB = b.asleep ? 0.0 : b.inverseMass;
-  if (!(inverseA + inverseB > 0)) return;
+  if (!(inverseA + inverseB > 0)) return false;
   const FaceHold hold =
       holdOnFaces(a, inverseA, w.fixtures[c.a].geometry, b, inverseB, w.fixtures[c.b].geometry, c.normal);
   hold.impulse.apply(a.velocity, b.velocity, -vn / hold.impulse.inverseSum());
@@ -124,10 +124,10 @@ void detail::absorb(WorldState& w, const PredictedContact& c, double vn) {
   for (BodySlot* s : {&a, &b}) {
     if (s->type != BodyType::Dynamic) continue;
     ++s->collisionCount;
-    if (s->stepAbsorbs < std::numeric_limits<uint16_t>::max()) ++s->stepAbsorbs;
     s->setLast(last);
   }
   rememberFace(w, c);
+  return true;
 }
 
 // A point's side of a feature of what cannot move (Support): kept at each contact with it.

@@ -16,8 +16,9 @@ namespace rattle::detail {
 /// start); negative where no body is stepped (the predictive mode).
 void resolve(WorldState& w, const detail::PredictedContact& c, std::vector<uint32_t>& woken, bool zenoGuard = false,
              double stepEnd = -1);
-/// Takes out an approach `vn` (< 0) too small to be a collision, inelastically, at c.time.
-void absorb(WorldState& w, const detail::PredictedContact& c, double vn);
+/// Takes out an approach `vn` (< 0) too small to be a collision, inelastically, at c.time; false when
+/// neither body can take an impulse (nothing changed).
+bool absorb(WorldState& w, const detail::PredictedContact& c, double vn);
 /// A point's side of a feature of what cannot move (Support), kept at each contact with it.
 void rememberFace(WorldState& w, const detail::PredictedContact& c);
 /// The feature of `other` that `own` cannot be approaching now (TimeOfImpact's resolvedFeature): the

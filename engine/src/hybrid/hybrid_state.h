@@ -23,12 +23,30 @@ struct HybridState {
   std::vector<CandidatePair> deferred;    // pairs predicted after the islands
   std::vector<uint32_t> islandFreed;      // stepped bodies the start's solve set free
   Islands islands;
+  // Round-off approaches absorbed in the current step, by body (the hybrid step's dismissContact): a
+  // disk wedged between two others can absorb against each in turn at one instant, without end, where
+  // coordinates are large. Past collapseCollisions() such an approach is left as it is. Only the
+  // bodies in `absorbed` have a count; each hybrid step starts with none (clearAbsorbs).
+  LargeArray<uint16_t> absorbs;
+  std::vector<uint32_t> absorbed;
+  int absorbsOf(uint32_t body) const { return absorbed.empty() || body >= absorbs.size() ? 0 : absorbs[body]; }
+  /// Counts one; saturates.
+  void countAbsorb(uint32_t body) {
+    if (absorbs.size() < body + size_t{1}) absorbs.resize(body + size_t{1}, 0);
+    if (absorbs[body] == 0) absorbed.push_back(body);
+    if (absorbs[body] < UINT16_MAX) ++absorbs[body];
+  }
+  void clearAbsorbs() {
+    for (uint32_t body : absorbed) absorbs[body] = 0;
+    absorbed.clear();
+  }
 
   /// A step ran out of memory and the world was taken back to its start (Stepper::forget): events it
   /// may have left queued go, and the islands take back their part (Islands::undoStep).
   void forget() {
     queue.clear();
     islands.undoStep();
+    clearAbsorbs();
   }
 };
 

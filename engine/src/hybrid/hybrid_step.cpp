@@ -347,9 +347,7 @@ double HybridStep::sweepBoxes(double dt) {
     // its lines (and the support's) are left unread (BodySlot::stepLocalsSet, BodySlot::sliding).
     if (b.stepLocalsSet) {
       b.last = detail::LastContact{};
-      b.jamTime = -1;
       b.stepCollisions = 0;
-      b.stepAbsorbs = 0;
       b.stepLocalsSet = false;
     }
     if (b.sliding &&
@@ -540,7 +538,7 @@ void HybridStep::dismissContact(const PredictedContact& c, double dt, double vn,
   ++w.stats.staleEvents;
   // A jam just settled these two together: what approach is left is its solve's round-off, and
   // absorbing it (or settling the cluster again) would repeat at this instant without end.
-  if (h_.islands.settledTogether(a, b, c.time)) return;
+  if (h_.islands.settledTogether(w.fixtures[c.a].body, w.fixtures[c.b].body, c.time)) return;
   // Absorbing is pointless (and would repeat forever) when vn is itself the round-off of the
   // velocities, or when the two are at rest relative to each other. The round-off of a relative
   // velocity is that of the two velocities it is the difference of: two disks moving together at
@@ -555,8 +553,13 @@ void HybridStep::dismissContact(const PredictedContact& c, double dt, double vn,
     // round-off of their coordinates over the step, and ends a run of absorbs that would not.
     const int absorbLimit =
         std::min<int>(detail::collapseCollisions(w.def.maxEventsPerStep), std::numeric_limits<uint16_t>::max() - 1);
-    if (a.stepAbsorbs > absorbLimit || b.stepAbsorbs > absorbLimit) return;
-    absorb(w, c, vn);
+    const uint32_t ia = w.fixtures[c.a].body, ib = w.fixtures[c.b].body;
+    if (h_.absorbsOf(ia) > absorbLimit || h_.absorbsOf(ib) > absorbLimit) return;
+    if (absorb(w, c, vn)) {
+      for (uint32_t body : {ia, ib}) {
+        if (w.bodies[body].type == BodyType::Dynamic) h_.countAbsorb(body);
+      }
+    }
     ++w.stats.eventsProcessed;  // bounded by the budget like any other change of motion
     for (uint32_t body : {w.fixtures[c.a].body, w.fixtures[c.b].body}) {
       if (w.bodies[body].type == BodyType::Dynamic) repredict(body, c.time, dt);
@@ -706,6 +709,7 @@ void HybridStep::run(double dt, int eventsBefore) {
   w.stats = StepStats{};
   w.stats.eventsProcessed = eventsBefore;
   h.queue.clear();
+  h.clearAbsorbs();
   if (w.pairsOfBody.size() < w.bodies.size()) w.pairsOfBody.resize(w.bodies.size());
   if (h.stamp.size() < w.fixtures.size()) h.stamp.resize(w.fixtures.size(), 0);
 

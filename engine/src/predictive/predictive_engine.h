@@ -206,7 +206,7 @@ class Engine {
   // insertion); until then it counts as having no event.
   uint32_t popped_ = PredictiveState::kNone;
   // Round-off approaches absorbed at pop in this step. Past collapseCollisions() they are left as they
-  // are, as the hybrid step leaves a body's past its own count (BodySlot::stepAbsorbs): near y = 1e9 a
+  // are, as the hybrid step leaves a body's past its own count (HybridState::absorbs): near y = 1e9 a
   // disk wedged between two others absorbs against each in turn without end
   // (fuzz/regressions/world_api/budget-predictive-collapse-far-from-the-origin). Counted for the whole
   // step, not a body, so that nothing is reset per body.

@@ -78,8 +78,8 @@ struct alignas(64) BodySlot {
   // The hybrid step's first pass reads only this line of a body whose state allows it; these three say
   // whether it does. `sliding`: `support` is the face it slides on (setSupport, clearSupport).
   bool sliding : 1 = false;
-  // last, jamTime or stepCollisions may differ from their values at a step's start (every write of them
-  // sets it: setLast, countStepCollision, settleJam; the hybrid step's first pass resets them only then).
+  // last or stepCollisions may differ from their values at a step's start (every write of them sets it:
+  // setLast, countStepCollision, settleJam; the hybrid step's first pass resets them only then).
   bool stepLocalsSet : 1 = false;
   // detail::WorldState::diskShapes[this body] holds its one fixture that is not a sensor, a circle
   // centred on it (refreshDiskShape keeps it with the fixtures).
@@ -95,15 +95,6 @@ struct alignas(64) BodySlot {
   uint32_t generation = 1;
   int stepCollisions = 0;  // collisions in the current step, for the Zeno guard
   FixtureList fixtures;  // in place for up to four (fixture_list.h)
-  // The jam that last settled it (detail::Islands::jamCounter) and when, in step time; < 0: none this step.
-  double jamTime = -1;
-  uint32_t jam = 0;
-  bool steppedHeld = false;  // a contact of an island solve pushed it this step
-  // Round-off approaches absorbed in the current step (the hybrid step's dismissContact): a disk wedged
-  // between two others can absorb against each in turn at one instant, without end, where coordinates
-  // are large. Past collapseCollisions() such an approach is left as it is. Reset with stepCollisions;
-  // saturates (16 bits fit the padding before lastContactTime).
-  uint16_t stepAbsorbs = 0;
   double lastContactTime = -std::numeric_limits<double>::infinity();  // world time of its last collision
   double mass = std::numeric_limits<double>::infinity();
   double inverseMass = 0;
