@@ -465,7 +465,6 @@ void detail::Islands::keepIslandEnergy(const std::vector<uint32_t>& members, std
 // reportAbove (and reportPair's), at most maxReports. Returns how many it reported.
 int detail::Islands::reportIslandContacts(double now, double reportAbove, uint64_t reportPair, int maxReports) {
   const std::vector<IslandContact>& contacts = islandScratch;
-  if (steppedHeld.size() < w.bodies.size()) steppedHeld.resize(w.bodies.size(), 0);
   int reported = 0;
   for (const IslandContact& c : contacts) {
     if (!(c.lambda > 0)) continue;
@@ -892,7 +891,7 @@ void detail::Islands::separateIsland(const std::vector<uint32_t>& members, const
 void detail::Islands::beginStep() {
   jamCounterAtStart_ = jamCounter;
   swapped_ = false;
-  clearJamMarks();
+  jamMarks_.clear();
   // The warm start is kept by fixture index, and a destroyed fixture's index is reused.
   if (w.changes.fixtureRemovals != fixtureRemovalsSeen_) {
     islandNext.clear();

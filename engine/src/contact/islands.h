@@ -11,7 +11,7 @@
 #include <span>
 #include <vector>
 
-#include "common/large_array.h"
+#include "common/body_marks.h"
 #include "contact/exact_projection.h"
 #include "world/world_impl.h"
 
@@ -149,7 +149,8 @@ struct Islands {
   /// path lost against the parabola it stands in for (keepIslandEnergy). Set when the path begins.
   std::vector<double> gravityAllowance;
   /// By body: a contact of an island solve pushed it this step (reportIslandContacts marks it, and
-  /// startIslands, which clears the stepped bodies' marks before its solve, reads them).
+  /// startIslands, which clears the stepped bodies' marks before its solve, reads them). Sized by
+  /// startIslands, which every hybrid step runs before any solve.
   std::vector<uint8_t> steppedHeld;
   int reportIslandContacts(double now, double reportAbove, uint64_t reportPair, int maxReports);
   /// Moves the seeds' part of their island after their motion changed at `now` (a hit, a join): the
@@ -188,12 +189,10 @@ struct Islands {
   struct JamMark {
     double time = -1;  // < 0: none this step (kJamRefused: refused)
     uint32_t jam = 0;
+    bool operator==(const JamMark&) const = default;
   };
   /// Its mark, by body index: none for a body no jam marked this step.
-  JamMark jamMarkOf(uint32_t body) const {
-    return jamMarked_.empty() || body >= jamMarks_.size() ? JamMark{} : jamMarks_[body];
-  }
-  void markJam(uint32_t body, JamMark mark);
+  JamMark jamMarkOf(uint32_t body) const { return jamMarks_.get(body); }
   /// Whether a jam settled this pair's contact at this very instant: both dynamic bodies were in it (or
   /// the other one was held fixed), so any approach left between them is the solve's round-off.
   bool settledTogether(uint32_t a, uint32_t b, double now) const;
@@ -223,11 +222,7 @@ struct Islands {
   uint32_t jamCounterAtStart_ = 0;
   bool swapped_ = false;
   uint64_t fixtureRemovalsSeen_ = 0;
-  // The jams' marks by body index, and the bodies marked this step: only theirs differ from JamMark{}
-  // (in a gas nothing is marked, and a collision does not look up the array). Cleared by beginStep.
-  LargeArray<JamMark> jamMarks_;
-  std::vector<uint32_t> jamMarked_;
-  void clearJamMarks();
+  BodyMarks<JamMark> jamMarks_;  // cleared by beginStep
 };
 
 }  // namespace rattle::detail

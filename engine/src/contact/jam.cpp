@@ -68,7 +68,6 @@ bool detail::Islands::settleJamAt(const detail::PredictedContact& c, double dt) 
 }
 
 bool detail::Islands::settledTogether(uint32_t ia, uint32_t ib, double now) const {
-  if (jamMarked_.empty()) return false;
   const BodySlot& a = w.bodies[ia];
   const BodySlot& b = w.bodies[ib];
   const bool aFree = a.type == BodyType::Dynamic && !a.asleep, bFree = b.type == BodyType::Dynamic && !b.asleep;
@@ -81,19 +80,8 @@ bool detail::Islands::settledTogether(uint32_t ia, uint32_t ib, double now) cons
          (other.jam == settled.jam && other.time == now);
 }
 
-void detail::Islands::markJam(uint32_t body, JamMark mark) {
-  if (jamMarks_.size() < w.bodies.size()) jamMarks_.resize(w.bodies.size());
-  if (jamMarks_[body].time == JamMark{}.time) jamMarked_.push_back(body);
-  jamMarks_[body] = mark;
-}
-
-void detail::Islands::clearJamMarks() {
-  for (uint32_t body : jamMarked_) jamMarks_[body] = JamMark{};
-  jamMarked_.clear();
-}
-
 void detail::Islands::refuseJam(const std::vector<uint32_t>& cluster) {
-  for (uint32_t i : cluster) markJam(i, {kJamRefused, 0});
+  for (uint32_t i : cluster) jamMarks_.set(i, {kJamRefused, 0});
 }
 
 double detail::Islands::islandResidual(double h) const {
@@ -165,7 +153,7 @@ int detail::Islands::settleJam(uint32_t seed, double now, double dt, int budget)
   for (uint32_t i : cluster) {
     BodySlot& b = w.bodies[i];
     w.keep(b);
-    markJam(i, {now, jamCounter});
+    jamMarks_.set(i, {now, jamCounter});
     b.stepCollisions = 0;
     b.stepLocalsSet = true;
     b.lastContactTime = w.time + now;

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "common/body_marks.h"
 #include "common/large_array.h"
 #include "contact/islands.h"
 #include "world/world_impl.h"
@@ -26,19 +27,12 @@ struct HybridState {
   // Round-off approaches absorbed in the current step, by body (the hybrid step's dismissContact): a
   // disk wedged between two others can absorb against each in turn at one instant, without end, where
   // coordinates are large. Past collapseCollisions() such an approach is left as it is. Only the
-  // bodies in `absorbed` have a count; each hybrid step starts with none (clearAbsorbs).
-  LargeArray<uint16_t> absorbs;
-  std::vector<uint32_t> absorbed;
-  int absorbsOf(uint32_t body) const { return absorbed.empty() || body >= absorbs.size() ? 0 : absorbs[body]; }
+  // bodies that absorbed have a count; each hybrid step starts with none.
+  BodyMarks<uint16_t> absorbs;
   /// Counts one; saturates.
   void countAbsorb(uint32_t body) {
-    if (absorbs.size() < body + size_t{1}) absorbs.resize(body + size_t{1}, 0);
-    if (absorbs[body] == 0) absorbed.push_back(body);
-    if (absorbs[body] < UINT16_MAX) ++absorbs[body];
-  }
-  void clearAbsorbs() {
-    for (uint32_t body : absorbed) absorbs[body] = 0;
-    absorbed.clear();
+    const uint16_t count = absorbs.get(body);
+    if (count < UINT16_MAX) absorbs.set(body, static_cast<uint16_t>(count + 1));
   }
 
   /// A step ran out of memory and the world was taken back to its start (Stepper::forget): events it
@@ -46,7 +40,7 @@ struct HybridState {
   void forget() {
     queue.clear();
     islands.undoStep();
-    clearAbsorbs();
+    absorbs.clear();
   }
 };
 

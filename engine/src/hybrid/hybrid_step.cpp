@@ -554,14 +554,14 @@ void HybridStep::dismissContact(const PredictedContact& c, double dt, double vn,
     const int absorbLimit =
         std::min<int>(detail::collapseCollisions(w.def.maxEventsPerStep), std::numeric_limits<uint16_t>::max() - 1);
     const uint32_t ia = w.fixtures[c.a].body, ib = w.fixtures[c.b].body;
-    if (h_.absorbsOf(ia) > absorbLimit || h_.absorbsOf(ib) > absorbLimit) return;
+    if (h_.absorbs.get(ia) > absorbLimit || h_.absorbs.get(ib) > absorbLimit) return;
     if (absorb(w, c, vn)) {
       for (uint32_t body : {ia, ib}) {
         if (w.bodies[body].type == BodyType::Dynamic) h_.countAbsorb(body);
       }
     }
     ++w.stats.eventsProcessed;  // bounded by the budget like any other change of motion
-    for (uint32_t body : {w.fixtures[c.a].body, w.fixtures[c.b].body}) {
+    for (uint32_t body : {ia, ib}) {
       if (w.bodies[body].type == BodyType::Dynamic) repredict(body, c.time, dt);
     }
   } else if (hasSeveralFeatures(w.fixtures[c.b].geometry) && featureRepredictions < w.def.maxEventsPerStep) {
@@ -709,7 +709,7 @@ void HybridStep::run(double dt, int eventsBefore) {
   w.stats = StepStats{};
   w.stats.eventsProcessed = eventsBefore;
   h.queue.clear();
-  h.clearAbsorbs();
+  h.absorbs.clear();
   if (w.pairsOfBody.size() < w.bodies.size()) w.pairsOfBody.resize(w.bodies.size());
   if (h.stamp.size() < w.fixtures.size()) h.stamp.resize(w.fixtures.size(), 0);
 
