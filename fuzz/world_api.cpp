@@ -33,7 +33,8 @@
 //            in the predictive mode may reach it today; checked when every speed is at most kBudgetSpeed
 //            at the step's start (a disk at 1e9 units/s in a small box needs more events than any budget);
 //   error    a step with a valid dt (finite, >= 0) throws rattle::Error, or one with an invalid dt does not;
-//   query    queries return live fixtures, sorted, with ray fractions in [0, 1].
+//   query    queries return live fixtures, sorted, with ray fractions in [0, 1];
+//   save     World::load takes the world's save, and the loaded world saves the same bytes.
 // The discrete mode is held to inside and escape in steps where every body's own travel is less than its
 // radius, the bound it documents (a faster body may pass a wall: README).
 // A moving kinematic body may crush a disk into a wall, which no engine can prevent: during a step in
@@ -105,6 +106,7 @@ enum Check : unsigned {
   kQuery = 1u << 7,
   kExtreme = 1u << 8,  // not a check: off, the program never makes extreme values (triage only)
   kGravityEnergy = 1u << 9,  // energy under gravity, a part of kEnergy
+  kSave = 1u << 10,
 };
 
 struct CheckName {
@@ -114,7 +116,8 @@ struct CheckName {
 constexpr CheckName kCheckNames[] = {{"finite", kFinite}, {"inside", kInside}, {"escape", kEscape},
                                      {"energy", kEnergy}, {"events", kEvents}, {"budget", kBudget},
                                      {"error", kStepError}, {"query", kQuery},
-                                     {"extreme", kExtreme}, {"gravity-energy", kGravityEnergy}};
+                                     {"extreme", kExtreme}, {"gravity-energy", kGravityEnergy},
+                                     {"save", kSave}};
 
 bool listed(const char* list, const char* word) {
   const size_t n = std::strlen(word);
@@ -803,6 +806,7 @@ class Program {
       heldAtEnd_.push_back({o.disk, o.polygon, world_.position(o.disk), world_.position(wall)});
     }
     if (checks & kEscape) checkContainers();
+    if (checks & kSave) checkSave();
     destroyedBodies_.clear();
     destroyedFixtures_.clear();
   }
@@ -846,6 +850,18 @@ class Program {
   bool knownFixture(FixtureId f) const {
     return world_.isValid(f) ||
            std::find(destroyedFixtures_.begin(), destroyedFixtures_.end(), f) != destroyedFixtures_.end();
+  }
+
+  // A save loads, and the loaded world saves the same bytes and hashes the same.
+  void checkSave() const {
+    const std::vector<uint8_t> bytes = world_.save();
+    try {
+      const rattle::World loaded = rattle::World::load(bytes);
+      if (loaded.save() != bytes || loaded.stateHash() != world_.stateHash())
+        finding("save", "the loaded world's save (%zu bytes) or hash differs from the saved one's", bytes.size());
+    } catch (const rattle::Error& e) {
+      finding("save", "World::load refused a save of %zu bytes: %s", bytes.size(), e.what());
+    }
   }
 
   void checkEvents(double dt) const {

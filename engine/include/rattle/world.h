@@ -110,6 +110,19 @@ class World {
 
   const WorldDef& definition() const;
 
+  // Saving. A save holds the world's lasting state: every body and fixture (so handles stay valid), who
+  // sleeps, the sensors' overlaps and the end events still to report, the squeezes and the contact
+  // solve's warm start. Bytes, not text; the same on every machine (doubles as their bits).
+  /// The world as bytes, between steps. The last step's events and stats are not in it.
+  std::vector<uint8_t> save() const;
+  /// A world from save()'s bytes, made by this version of rattle. Throws rattle::Error naming the byte
+  /// and the field when the bytes are not such a save (a checksum catches bytes changed or cut short).
+  /// The loaded world has no events until it steps. What the modes keep only for speed (the broad
+  /// phase's order, the predictive mode's grid) is built anew, so two worlds loaded from one save step
+  /// alike bit for bit, on every machine, but the saved world may part from them in the last bits:
+  /// lockstep peers load together, at one tick (README, "Saving a world").
+  static World load(std::span<const uint8_t> bytes);
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;

@@ -215,6 +215,10 @@ struct Islands {
   /// (counting its events against the step's budget, which must have room for one) and returns true.
   bool settleJamAt(const detail::PredictedContact& c, double dt);
 
+  /// Whether islandNext is the next step's warm start: no fixture was destroyed since it was kept
+  /// (beginStep drops it otherwise, as indices are reused).
+  bool warmStartKept() const { return w.changes.fixtureRemovals == fixtureRemovalsSeen_; }
+
  private:
   // beginStep's: the jams' numbering at the step's start, whether startIslands has made islandNext the
   // warm start since, and the world's count of destroyed fixtures when the warm start was last kept

@@ -775,6 +775,7 @@ class HybridStepper final : public detail::Stepper {
     detail::stepHybrid(w_, state_, dt);
   }
   void forget() override { state_.forget(); }
+  detail::Islands* islands() override { return &state_.islands; }
 
  private:
   detail::WorldState& w_;

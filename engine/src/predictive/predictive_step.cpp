@@ -621,6 +621,7 @@ class PredictiveStepper final : public detail::Stepper {
     state_.reset();
     hybrid_.forget();
   }
+  detail::Islands* islands() override { return &hybrid_.islands; }
 
  private:
   detail::WorldState& w_;

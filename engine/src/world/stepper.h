@@ -16,6 +16,7 @@
 namespace rattle::detail {
 
 struct WorldState;
+struct Islands;  // contact/islands.h
 
 /// What the persistent contact (islands and jams, contact/) tells the step that runs it and predicts
 /// events: a body's motion changed at `now`, so its events for the rest of the step (of length dt) are
@@ -36,6 +37,9 @@ class Stepper {
   /// A step failed (out of memory) and the world was taken back to its start: drop whatever was kept
   /// that the failed step may have left part built.
   virtual void forget() {}
+  /// The islands whose warm start and jam count carry from step to step (World::save keeps them), or
+  /// null for a mode without them.
+  virtual Islands* islands() { return nullptr; }
 };
 
 /// StepMode::Hybrid (hybrid/hybrid_step.cpp): it keeps the hybrid step's state (HybridState: the event
