@@ -20,6 +20,10 @@ enum class CommandType : uint8_t {
   Move = 1,        ///< `units` go to `target`
   Stop = 2,        ///< `units` drop their orders
   ToggleGate = 3,  ///< gate number `gate` starts opening if closed, closing if open
+  /// No fields: the engine's world is saved and loaded again before the tick (rattle::World::load), so
+  /// that a spectator starting from the game's state at this tick (Game::saveState) steps as the
+  /// players do. A lockstep host issues it when a spectator joins (net/README.md, "Spectators").
+  ReloadWorld = 4,
 };
 
 struct Command {

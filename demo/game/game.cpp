@@ -104,6 +104,10 @@ bool Game::apply(const Command& c) {
           applied = true;
         }
         break;
+      case CommandType::ReloadWorld:
+        reloadPending_ = true;
+        applied = true;
+        break;
     }
   }
   ++(applied ? stats_.commandsApplied : stats_.commandsIgnored);
@@ -111,6 +115,11 @@ bool Game::apply(const Command& c) {
 }
 
 void Game::tick() {
+  // 0. The world as a spectator loads it from this state (commands.h, ReloadWorld).
+  if (reloadPending_) {
+    physics_.reload();
+    reloadPending_ = false;
+  }
   // 1. Decide: gates move, units steer and fire, all from the state at the end of the last tick.
   driveGates();
   steer();

@@ -19,6 +19,8 @@
 #include <cstdint>
 #include <memory>
 #include <stdexcept>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "game/commands.h"
@@ -174,6 +176,15 @@ class Game {
   Navigation& navigation() { return navigation_; }
   const Physics& physics() const { return physics_; }
   int alive(int team) const { return aliveCount_[team & 1]; }
+  // The state between ticks (game_state.cpp): what a spectator starts from.
+  /// Everything the game carries from one tick to the next, its world's World::save among it, as bytes
+  /// (the map and the config are not in it: a Game built from the same ones takes it). Between ticks.
+  std::string saveState() const;
+  /// This game becomes the one saveState() saved, on a game built from the same map and config. Throws
+  /// GameError naming the byte and the field when the bytes are not such a state; the game is then
+  /// unchanged. A hostile state never crashes: every id, body and count is checked.
+  void restoreState(std::string_view bytes);
+
   /// The current outline of gate g (absolute coordinates).
   std::vector<Vec2> gateOutline(size_t g) const;
 
@@ -217,6 +228,8 @@ class Game {
   Navigation navigation_;
   std::array<int, kUnitTypes.size()> navigationLayer_{};  // by unit type: its clearance's layer
   uint32_t tick_ = 0;
+  // A ReloadWorld command came: the world is saved and loaded again before the next tick (Physics::reload).
+  bool reloadPending_ = false;
   std::vector<Unit> units_;
   std::vector<Shot> shots_;  // live shots, in id order
   std::vector<Shot> spentShots_;  // removed in the last tick, in id order

@@ -109,6 +109,10 @@ std::shared_ptr<const FlowField> Navigation::field(Vec2 target, uint32_t gatesOp
     }
     if (best >= 0) cell = best;
   }
+  return fieldForCell(cell, gatesOpen, tick, layer);
+}
+
+std::shared_ptr<const FlowField> Navigation::fieldForCell(int cell, uint32_t gatesOpen, uint32_t tick, int layer) {
   for (Cached& c : cache_) {
     if (c.field->targetCell == cell && c.field->gatesOpen == gatesOpen && c.field->layer == layer) {
       c.lastUsed = tick;

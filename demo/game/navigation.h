@@ -34,6 +34,10 @@ class Navigation {
   /// The field toward `target` with the given gates open (bit g for gate g), for units of the given
   /// layer; cached.
   std::shared_ptr<const FlowField> field(Vec2 target, uint32_t gatesOpen, uint32_t tick, int layer = 0);
+  /// The field toward the centre of `cell` (a FlowField's targetCell), cached likewise: a field is a
+  /// function of its cell, gates and layer alone, so this gives one equal to any made for them.
+  std::shared_ptr<const FlowField> fieldForCell(int cell, uint32_t gatesOpen, uint32_t tick, int layer);
+  int cellCount() const { return nx_ * ny_; }
   /// The walking distance from p to the field's target, or infinity.
   double distance(const FlowField& field, Vec2 p) const;
   /// Which way to walk from p: a unit vector downhill, or {0, 0} when no way is known from here.

@@ -6,6 +6,8 @@
 #include <chrono>
 #include <variant>
 
+#include "game/game.h"  // GameError
+
 namespace rts {
 namespace {
 
@@ -147,6 +149,59 @@ rattle::BodyId Physics::addShot(uint32_t id, int team, Vec2 position, Vec2 veloc
 }
 
 void Physics::remove(rattle::BodyId body) { world_.destroyBody(body); }
+
+void Physics::adopt(rattle::World world, const std::vector<std::pair<rattle::BodyId, uint32_t>>& units,
+                    const std::vector<std::pair<rattle::BodyId, uint32_t>>& shots) {
+  const rattle::WorldDef& mine = world_.definition();
+  const rattle::WorldDef& theirs = world.definition();
+  if (theirs.mode != mine.mode || theirs.collapseTime != mine.collapseTime || !(theirs.gravity == mine.gravity) ||
+      theirs.restingSpeed != mine.restingSpeed || theirs.maxEventsPerStep != mine.maxEventsPerStep) {
+    throw GameError("world: its definition (mode, gravity, collapse time, budget) is not this game's");
+  }
+  // The map's bodies: made first, by every game of this map, so their ids are the same everywhere.
+  for (uint32_t i = 0; i < tags_.size(); ++i) {
+    const SlotTag& t = tags_[i];
+    if (t.tag != Tag::Wall && t.tag != Tag::Doorway && t.tag != Tag::Gate) continue;
+    const rattle::BodyId body{i, t.generation};
+    if (!world_.isValid(body)) continue;
+    if (!world.isValid(body) || world.type(body) != world_.type(body) ||
+        world.fixtures(body).size() != world_.fixtures(body).size()) {
+      throw GameError("world: body " + std::to_string(i) + " is not the map's " +
+                      (t.tag == Tag::Wall   ? "wall"
+                       : t.tag == Tag::Gate ? "gate"
+                                            : "doorway") +
+                      " it is here");
+    }
+  }
+  std::vector<uint8_t> listed;  // by body index
+  auto check = [&](const std::pair<rattle::BodyId, uint32_t>& b, const char* what) {
+    const rattle::BodyId body = b.first;
+    if (!world.isValid(body) || world.type(body) != rattle::BodyType::Dynamic) {
+      throw GameError(std::string(what) + " " + std::to_string(b.second) + ": its body {" + std::to_string(body.index) +
+                      ", " + std::to_string(body.generation) + "} is not a live dynamic body of the world");
+    }
+    if (body.index < tags_.size()) {
+      const SlotTag& t = tags_[body.index];
+      if ((t.tag == Tag::Wall || t.tag == Tag::Doorway || t.tag == Tag::Gate) && t.generation == body.generation) {
+        throw GameError(std::string(what) + " " + std::to_string(b.second) + ": its body is one of the map's");
+      }
+    }
+    if (body.index >= listed.size()) listed.resize(size_t(body.index) + 1, 0);
+    if (listed[body.index]) {
+      throw GameError(std::string(what) + " " + std::to_string(b.second) + ": its body is another unit's or shot's");
+    }
+    listed[body.index] = 1;
+  };
+  for (const auto& u : units) check(u, "unit");
+  for (const auto& s : shots) check(s, "shot");
+  // Checked: nothing below throws but for memory.
+  world_ = std::move(world);
+  for (SlotTag& t : tags_) {
+    if (t.tag == Tag::Unit || t.tag == Tag::Shot) t = SlotTag{};
+  }
+  for (const auto& [body, id] : units) setTag(body, Tag::Unit, id);
+  for (const auto& [body, id] : shots) setTag(body, Tag::Shot, id);
+}
 
 void Physics::placeGate(size_t gate, Vec2 position) {
   world_.setVelocity(gates_[gate], {0, 0});

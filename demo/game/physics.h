@@ -61,6 +61,18 @@ class Physics {
   rattle::BodyId addShot(uint32_t id, int team, Vec2 position, Vec2 velocity, double radius);
   void remove(rattle::BodyId body);
 
+  // A spectator's start (game_state.cpp).
+  /// The world saved and loaded again (rattle::World::load), as a ReloadWorld command asks before a tick:
+  /// a spectator that loads the same save then steps as this world does, bit for bit.
+  void reload() { world_ = rattle::World::load(world_.save()); }
+  std::vector<uint8_t> saveWorld() const { return world_.save(); }
+  /// Takes `world` (a World::load of a save of this map's game) in place of its own, its units' and
+  /// shots' bodies as listed (body, id). Throws GameError, and changes nothing, when the world is not one
+  /// of this map's (the walls, doorways and gates where this world has them, the same definition) or a
+  /// listed body is not a live dynamic body of its own.
+  void adopt(rattle::World world, const std::vector<std::pair<rattle::BodyId, uint32_t>>& units,
+             const std::vector<std::pair<rattle::BodyId, uint32_t>>& shots);
+
   Vec2 position(rattle::BodyId body) const { return world_.position(body); }
   Vec2 velocity(rattle::BodyId body) const { return world_.velocity(body); }
   void setVelocity(rattle::BodyId body, Vec2 v) { world_.setVelocity(body, v); }

@@ -60,12 +60,13 @@ int runInfo(const std::vector<std::string>& args) {
   const ReplayConfig& c = r.config;
   std::error_code ec;
   const auto bytes = std::filesystem::file_size(file, ec);
-  size_t moves = 0, stops = 0, gates = 0;
+  size_t moves = 0, stops = 0, gates = 0, reloads = 0;
   for (const TickRecord& t : r.ticks) {
     for (const Command& cmd : t.commands) {
       moves += cmd.type == CommandType::Move;
       stops += cmd.type == CommandType::Stop;
       gates += cmd.type == CommandType::ToggleGate;
+      reloads += cmd.type == CommandType::ReloadWorld;
     }
   }
   std::printf("replay    %s (%llu bytes, format version %u)\n", file.c_str(), static_cast<unsigned long long>(ec ? 0 : bytes), r.version);
@@ -79,7 +80,8 @@ int runInfo(const std::vector<std::string>& args) {
     std::printf("played by commands from a script or a person only; recorded by %s\n", printable(c.recordedBy).c_str());
   }
   std::printf("ticks     %u (%.1f s of game time at 30 ticks a second)\n", r.tickCount(), r.tickCount() / 30.0);
-  std::printf("commands  %zu (%zu move, %zu stop, %zu gate)\n", r.commandCount(), moves, stops, gates);
+  std::printf("commands  %zu (%zu move, %zu stop, %zu gate, %zu reload)\n", r.commandCount(), moves, stops, gates,
+              reloads);
   std::printf("keyframes %zu (every %u ticks, and the last tick)\n", r.keyframes.size(), c.keyframeEvery);
   const Snapshot& last = r.keyframes.back().state;  // the reader guarantees one at the last tick
   int alive[2] = {0, 0};
@@ -98,6 +100,10 @@ int runInfo(const std::vector<std::string>& args) {
       for (const Command& cmd : t.commands) {
         if (cmd.type == CommandType::ToggleGate) {
           std::printf("  %u gate %s %u\n", cmd.tick, teamName(cmd.team), cmd.gate);
+          continue;
+        }
+        if (cmd.type == CommandType::ReloadWorld) {
+          std::printf("  %u reload %s\n", cmd.tick, teamName(cmd.team));
           continue;
         }
         std::string units;

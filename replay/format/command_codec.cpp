@@ -16,6 +16,11 @@ void encodeCommand(ByteWriter& out, const Command& c) {
       }
       break;
     case CommandType::ToggleGate: out.varint(c.gate); break;
+    // No fields but a reserved 0: every command takes at least three bytes, which bounds what a count of
+    // commands may make a reader allocate.
+    case CommandType::ReloadWorld:
+      out.varint(0);
+      break;
   }
 }
 
@@ -47,8 +52,13 @@ Command decodeCommand(ByteReader& in, const ReplayConfig& config, uint32_t tick,
       if (config.gateCount == 0) in.fail(field + " gate", "a gate command on a map without gates");
       c.gate = uint32_t(in.varint(field + " gate", 0, config.gateCount - 1));
       break;
+    case uint8_t(CommandType::ReloadWorld):
+      c.type = CommandType::ReloadWorld;
+      in.varint(field + " reserved", 0, 0);
+      break;
     default:
-      in.failAt(typeAt, field + " type", "unknown command type " + std::to_string(type) + " (1 move, 2 stop, 3 toggle gate)");
+      in.failAt(typeAt, field + " type",
+                "unknown command type " + std::to_string(type) + " (1 move, 2 stop, 3 toggle gate, 4 reload world)");
   }
   return c;
 }

@@ -21,7 +21,7 @@ namespace rts::replay {
 struct ReadError {
   size_t offset = 0;    ///< byte offset in the file where the problem is
   std::string field;    ///< what was being read, e.g. "tick 17 command 2 type"
-  std::string message;  ///< why, e.g. "unknown command type 9 (1 move, 2 stop, 3 toggle gate)"
+  std::string message;  ///< why, e.g. "unknown command type 9 (1 move, 2 stop, 3 toggle gate, 4 reload world)"
   /// "byte 1234: tick 17 command 2 type: unknown command type 9 (...)"
   std::string describe() const;
 };

@@ -4,6 +4,7 @@
 #include "format/byte_reader.h"
 #include "format/byte_writer.h"
 #include "format/checksum.h"
+#include "format/command_codec.h"
 #include "format/snapshot_codec.h"
 #include "replay_test_support.h"
 #include "tool/command_script.h"
@@ -84,8 +85,37 @@ TEST(ReplayFormat, SnapshotsRoundTrip) {
   }
 }
 
+// ReloadWorld (a spectator's start: net/README.md) has no fields but a reserved 0, so that every command
+// takes at least three bytes.
+TEST(ReplayFormat, AReloadWorldCommandRoundTripsAndItsReservedByteIsZero) {
+  rts::Command c;
+  c.team = 1;
+  c.type = rts::CommandType::ReloadWorld;
+  ByteWriter w;
+  encodeCommand(w, c);
+  EXPECT_EQ(w.data(), std::string("\x04\x01\x00", 3));
+  ReplayConfig config;
+  config.unitCount = 8;
+  ByteReader r(w.data(), 0);
+  const rts::Command back = decodeCommand(r, config, 12, "command");
+  EXPECT_EQ(back.type, rts::CommandType::ReloadWorld);
+  EXPECT_EQ(back.team, 1);
+  EXPECT_EQ(back.tick, 12u);
+  EXPECT_TRUE(r.atEnd());
+  const std::string reservedOne("\x04\x01\x01", 3);
+  ByteReader bad(reservedOne, 0);
+  try {
+    decodeCommand(bad, config, 12, "command");
+    ADD_FAILURE() << "a reserved byte of 1 was read";
+  } catch (const FormatError& e) {
+    EXPECT_EQ(e.field(), "command reserved");
+  }
+}
+
 TEST(ReplayFormat, CommandScriptsNameTheLineOfAMistake) {
-  EXPECT_EQ(CommandScript::parse("# nothing\n\n0 move blue 3 4\n5 stop red 0-3,7\n9 gate 1 0\n", "s").size(), 3u);
+  EXPECT_EQ(
+      CommandScript::parse("# nothing\n\n0 move blue 3 4\n5 stop red 0-3,7\n9 gate 1 0\n12 reload blue\n", "s").size(),
+      4u);
   auto error = [](const std::string& text) {
     try {
       CommandScript::parse(text, "s.commands");
@@ -95,7 +125,7 @@ TEST(ReplayFormat, CommandScriptsNameTheLineOfAMistake) {
     return std::string("no error");
   };
   EXPECT_EQ(error("0 move blue 3 4\nx move blue 1 1\n"), "s.commands:2: 'x': expected a tick number");
-  EXPECT_EQ(error("0 jump blue\n"), "s.commands:1: 'jump': expected move, stop or gate");
+  EXPECT_EQ(error("0 jump blue\n"), "s.commands:1: 'jump': expected move, stop, gate or reload");
   EXPECT_EQ(error("0 move green 1 1\n"), "s.commands:1: 'green': expected a team (blue, red, 0 or 1)");
   EXPECT_EQ(error("0 move blue 1 nan\n"), "s.commands:1: move: '1 nan': expected two numbers");
   EXPECT_EQ(error("0 stop blue 5-2\n"), "s.commands:1: '5-2': an empty range");

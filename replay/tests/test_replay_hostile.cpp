@@ -178,7 +178,7 @@ TEST(ReplayHostile, UnknownCommandTypesAndBadFields) {
                 w.u8(0);
                 w.u8(0);
               }),
-              "tick 1 command 0 type: unknown command type 9 (1 move, 2 stop, 3 toggle gate)");
+              "tick 1 command 0 type: unknown command type 9 (1 move, 2 stop, 3 toggle gate, 4 reload world)");
   expectError(oneCommand([](ByteWriter& w) {
                 w.u8(1);
                 w.u8(7);

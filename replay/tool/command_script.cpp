@@ -38,7 +38,7 @@ CommandScript CommandScript::parse(const std::string& text, const std::string& n
     if (!parseUnsigned(tickWord, 100'000'000, v)) throw fail("'" + tickWord + "': expected a tick number");
     s.tick = uint32_t(v);
     s.command.tick = s.tick;
-    if (!(words >> kind)) throw fail("expected move, stop or gate after the tick");
+    if (!(words >> kind)) throw fail("expected move, stop, gate or reload after the tick");
     if (!(words >> teamWord)) throw fail("expected a team (blue, red, 0 or 1)");
     if (teamWord == "blue" || teamWord == "0") {
       s.command.team = 0;
@@ -68,10 +68,12 @@ CommandScript CommandScript::parse(const std::string& text, const std::string& n
       std::string g;
       if (!(words >> g) || !parseUnsigned(g, 31, v)) throw fail("gate: expected a gate number (0 to 31)");
       s.command.gate = uint32_t(v);
+    } else if (kind == "reload") {
+      s.command.type = CommandType::ReloadWorld;
     } else {
-      throw fail("'" + kind + "': expected move, stop or gate");
+      throw fail("'" + kind + "': expected move, stop, gate or reload");
     }
-    if (s.command.type != CommandType::ToggleGate) {
+    if (s.command.type == CommandType::Move || s.command.type == CommandType::Stop) {
       if (unitsWord == "all") {
         s.allUnits = true;
       } else {
@@ -119,7 +121,7 @@ void CommandScript::commandsFor(uint32_t tick, const Game& game, std::vector<Com
     const ScriptLine& s = lines_[next_];
     Command c = s.command;
     c.tick = tick;
-    if (c.type != CommandType::ToggleGate) {
+    if (c.type == CommandType::Move || c.type == CommandType::Stop) {
       for (const Unit& u : game.units()) {
         if (!u.alive || u.team != c.team) continue;
         const bool chosen = s.allUnits || std::any_of(s.ranges.begin(), s.ranges.end(), [&](auto r) { return u.id >= r.first && u.id <= r.second; });
