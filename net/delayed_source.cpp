@@ -20,6 +20,12 @@ const std::vector<Command>& DelayedSource::issue(uint32_t tick, const Game& game
   return pending_.back();
 }
 
+void DelayedSource::addToLastIssued(Command command) {
+  if (pending_.empty()) throw std::logic_error("DelayedSource: addToLastIssued() before issue()");
+  command.tick = firstPending_ + uint32_t(pending_.size()) - 1;
+  pending_.back().push_back(std::move(command));
+}
+
 void DelayedSource::takeDue(uint32_t tick, std::vector<Command>& out) {
   if (pending_.empty() || tick < firstPending_) return;
   if (tick != firstPending_) {

@@ -19,6 +19,9 @@ class DelayedSource : public CommandSource {
   /// Asks the inner source for tick `tick`'s commands and keeps them for tick + delay, stamped so.
   /// Returns them (what a lockstep side sends). Ticks must come in order, one call each.
   const std::vector<Command>& issue(uint32_t tick, const Game& game);
+  /// Adds `command` to what the last issue() kept, stamped for the same tick: a command of the session's
+  /// own (a ReloadWorld for a spectator), applied where the inner source's would be.
+  void addToLastIssued(Command command);
   /// Appends the commands kept for `tick` to `out` and forgets them; the first `delay` ticks have none.
   void takeDue(uint32_t tick, std::vector<Command>& out);
 

@@ -169,6 +169,15 @@ void LockstepSession::commandsFor(uint32_t tick, const Game& game, std::vector<C
   mine.tick = tick + delay_;
   mine.team = team();
   mine.commands = local_.issue(tick, game);
+  if (spectator_ == SpectatorState::AwaitingReload && startTick_ == mine.tick) {
+    // The spectator starts from this side's state at that tick: both players load their worlds then too.
+    Command reload;
+    reload.tick = mine.tick;
+    reload.team = team();
+    reload.type = CommandType::ReloadWorld;
+    local_.addToLastIssued(reload);
+    mine.commands.push_back(reload);
+  }
   for (const Command& c : mine.commands) {
     if (c.team != team()) {
       throw std::logic_error("LockstepSession: the local source issued a command for team " + std::to_string(c.team) +
@@ -202,17 +211,49 @@ void LockstepSession::commandsFor(uint32_t tick, const Game& game, std::vector<C
 }
 
 void LockstepSession::afterTick(const Game& game) {
-  if (config_.acceptSpectator) {
+  if (spectator_ == SpectatorState::Watching) {
     Ticks::Entry entry;
     entry.commands = std::move(applying_);
-    applying_.clear();
     if (game.tickCount() % hashEvery_ == 0 || game.tickCount() == config_.hello.ticks) {
       entry.stateHash = game.stateHash();
     }
-    history_.push_back(std::move(entry));
+    toSpectator_.push_back(std::move(entry));
     feedSpectator();
   }
+  applying_.clear();
+  if (spectator_ == SpectatorState::AwaitingReload && game.tickCount() == startTick_) startSpectator(game);
   if (game.tickCount() % hashEvery_ == 0) myHash(game);
+}
+
+void LockstepSession::startSpectator(const Game& game) {
+  const std::string state = game.saveState();
+  if (state.size() > kMaxGameStateBytes) {
+    dropSpectator("the game's state (" + std::to_string(state.size()) + " bytes) is over the " +
+                      std::to_string(kMaxGameStateBytes) + " a spectator is sent; it is dropped",
+                  "the game is too large to watch", false);
+    return;
+  }
+  try {
+    for (size_t at = 0; at < state.size(); at += kMaxGameStatePartBytes) {
+      GameState part;
+      part.tick = game.tickCount();
+      part.totalBytes = uint32_t(state.size());
+      part.offset = uint32_t(at);
+      part.bytes = state.substr(at, kMaxGameStatePartBytes);
+      transport_.sendToSpectator(part);
+    }
+  } catch (const std::exception& e) {
+    dropSpectator(std::string("cannot send the spectator this side's state (") + e.what() + "); it is dropped", "",
+                  false);
+    return;
+  }
+  stateFragments_ = transport_.spectatorBacklog();
+  spectator_ = SpectatorState::Watching;
+  spectatorNext_ = game.tickCount();
+  toSpectator_.clear();
+  ++spectatorsServed_;
+  say("a spectator is watching from tick " + std::to_string(game.tickCount()) + " (" + std::to_string(state.size()) +
+      " bytes of state sent)");
 }
 
 void LockstepSession::handleSpectator(TransportEvent& event) {
@@ -234,6 +275,7 @@ void LockstepSession::handleSpectator(TransportEvent& event) {
     case TransportEvent::Kind::Disconnected:
       if (spectator_ != SpectatorState::None) say("the spectator left; the game goes on");
       spectator_ = SpectatorState::None;
+      toSpectator_.clear();
       return;
     case TransportEvent::Kind::Garbage:
       dropSpectator("the spectator sent garbage (" + event.error + "); it is dropped, the game goes on",
@@ -264,48 +306,46 @@ void LockstepSession::handleSpectator(TransportEvent& event) {
     dropSpectator("a spectator was refused: " + *mismatch, *mismatch, true);
     return;
   }
-  // Where the spectator's own game will be checked in full: this side's state now, after the ticks in
-  // history_. The spectator plays those ticks from the start (a game is its map, its settings and its
-  // commands) and compares its state at this tick with this one.
-  Snapshot checkpoint{game_->tickCount(), game_->worldHash(), replay::snapshotOf(*game_)};
-  try {
-    try {
-      transport_.sendToSpectator(checkpoint);
-    } catch (const std::invalid_argument&) {
-      checkpoint.state.reset();  // over a packet: the hashes still check the game
-      transport_.sendToSpectator(checkpoint);
-    }
-  } catch (const std::exception& e) {
-    dropSpectator(std::string("cannot send the spectator this side's state (") + e.what() + "); it is dropped", "",
-                  false);
+  // The spectator starts from this side's state at the first tick whose commands this side has not sent
+  // yet: its own set for that tick then carries a ReloadWorld, so that the players' worlds are loaded from
+  // their saves there, as the spectator's is (commands.h, ReloadWorld). Until then the game goes on.
+  const uint32_t at = uint32_t(std::max<int64_t>(sentThrough_ + 1, int64_t(delay_)));
+  if (at >= config_.hello.ticks) {
+    dropSpectator("a spectator came too late: the game ends before tick " + std::to_string(at) +
+                      ", the first it could start from",
+                  "the game ends before a spectator could start (tick " + std::to_string(at) + ")", true);
     return;
   }
-  spectator_ = SpectatorState::Watching;
-  spectatorNext_ = 0;
-  ++spectatorsServed_;
-  say("a spectator is watching from tick " + std::to_string(game_->tickCount()));
-  feedSpectator();
+  spectator_ = SpectatorState::AwaitingReload;
+  startTick_ = at;
+  say("a spectator is let in: it starts from this side's state at tick " + std::to_string(at));
+  if (game_->tickCount() == at) startSpectator(*game_);
 }
 
 void LockstepSession::feedSpectator() {
   if (spectator_ != SpectatorState::Watching) return;
   if (!transport_.spectatorConnected()) {
     spectator_ = SpectatorState::None;
+    toSpectator_.clear();
     return;
   }
   const size_t backlog = transport_.spectatorBacklog();
-  if (backlog > kMaxSpectatorBacklog) {
+  // The state's fragments (about one a kilobyte) went first: until they have drained, they do not count
+  // against the spectator.
+  if (backlog <= kMaxSpectatorBacklog) stateFragments_ = 0;
+  if (backlog > kMaxSpectatorBacklog + stateFragments_) {
     dropSpectator("the spectator fell behind (" + std::to_string(backlog) +
                       " messages not acknowledged); it is dropped, the game goes on",
                   "you fell behind the game", false);
     return;
   }
-  while (spectatorNext_ < history_.size()) {
+  size_t next = 0;  // into toSpectator_
+  while (next < toSpectator_.size()) {
     Ticks m;
     m.firstTick = uint32_t(spectatorNext_);
     size_t bytes = 7;
-    while (spectatorNext_ < history_.size() && m.entries.size() < kMaxTicksPerMessage) {
-      const Ticks::Entry& e = history_[spectatorNext_];
+    while (next < toSpectator_.size() && m.entries.size() < kMaxTicksPerMessage) {
+      const Ticks::Entry& e = toSpectator_[next];
       // A move is at most a few bytes a unit: a generous bound, so that a message stays under a packet.
       size_t entryBytes = 11;
       for (const Command& c : e.commands) entryBytes += 32 + 5 * c.units.size();
@@ -313,6 +353,7 @@ void LockstepSession::feedSpectator() {
       bytes += entryBytes;
       m.entries.push_back(e);
       ++spectatorNext_;
+      ++next;
     }
     try {
       transport_.sendToSpectator(m);
@@ -321,6 +362,7 @@ void LockstepSession::feedSpectator() {
       return;
     }
   }
+  toSpectator_.clear();
 }
 
 void LockstepSession::dropSpectator(const std::string& line, const std::string& toSpectator, bool refuse) {
@@ -338,6 +380,7 @@ void LockstepSession::dropSpectator(const std::string& line, const std::string& 
   // A short linger for the last word: the players are not kept waiting for a spectator.
   transport_.closeSpectator(0.2);
   spectator_ = SpectatorState::None;
+  toSpectator_.clear();
 }
 
 void LockstepSession::finish(const Game& game) {

@@ -140,10 +140,13 @@ class LockstepSession : public CommandSource {
   uint32_t spectatorsServed() const { return spectatorsServed_; }
 
  private:
-  enum class SpectatorState { None, AwaitingHello, Watching };
+  enum class SpectatorState { None, AwaitingHello, AwaitingReload, Watching };
   void handleSpectator(TransportEvent& event);
   /// Sends the spectator the ticks played that it has not had yet, or drops it when it is too far behind.
   void feedSpectator();
+  /// At the spectator's start tick, before its commands: sends the spectator the game's state in parts
+  /// (GameState) and starts feeding it ticks from there.
+  void startSpectator(const class Game& game);
   /// Tells the spectator why (a Refuse or a Bye), closes its connection; the game goes on.
   void dropSpectator(const std::string& line, const std::string& toSpectator, bool refuse);
 
@@ -216,12 +219,15 @@ class LockstepSession : public CommandSource {
   double waited_ = 0;
   double longestWait_ = 0;
 
-  // What a spectator is sent: every tick played, with the commands applied before it and the hash after
-  // it when one is due (the interval, the last tick).
-  std::vector<Ticks::Entry> history_;
-  std::vector<Command> applying_;  // the commands of the tick being played, for history_
+  // What a spectator is sent: from its start tick on, every tick played, with the commands applied
+  // before it and the hash after it when one is due (the interval, the last tick). Sent as soon as
+  // played: toSpectator_ holds only what feedSpectator has not sent yet.
+  std::vector<Ticks::Entry> toSpectator_;
+  std::vector<Command> applying_;  // the commands of the tick being played, for toSpectator_
   SpectatorState spectator_ = SpectatorState::None;
-  size_t spectatorNext_ = 0;  // the first tick of history_ the spectator has not been sent
+  uint32_t startTick_ = 0;     // the spectator's: this side's ReloadWorld command is in that tick's set
+  size_t spectatorNext_ = 0;   // the tick of toSpectator_[0]
+  size_t stateFragments_ = 0;  // the spectator's backlog right after its state went, until it drains
   uint32_t spectatorsServed_ = 0;
 };
 

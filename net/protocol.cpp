@@ -59,6 +59,8 @@ const char* nameOf(MessageType t) {
       return "Snapshot";
     case MessageType::Ticks:
       return "Ticks";
+    case MessageType::GameState:
+      return "GameState";
   }
   return nullptr;
 }
@@ -69,6 +71,7 @@ const char* nameOf(const Hash&) { return "Hash"; }
 const char* nameOf(const Bye&) { return "Bye"; }
 const char* nameOf(const Snapshot&) { return "Snapshot"; }
 const char* nameOf(const Ticks&) { return "Ticks"; }
+const char* nameOf(const GameState&) { return "GameState"; }
 
 // ---- The rules, shared by decode (as it reads) and encode (before it writes) ----
 
@@ -158,8 +161,8 @@ void checkCommandTeam(size_t i, uint8_t commandTeam, uint8_t messageTeam) {
 // words are the codec's.
 void checkCommandFields(const std::string& field, const Command& c) {
   const uint8_t type = uint8_t(c.type);
-  if (type < uint8_t(CommandType::Move) || type > uint8_t(CommandType::ToggleGate)) {
-    refuse(field + " type: unknown command type " + str(type) + " (1 move, 2 stop, 3 toggle gate)");
+  if (type < uint8_t(CommandType::Move) || type > uint8_t(CommandType::ReloadWorld)) {
+    refuse(field + " type: unknown command type " + str(type) + " (1 move, 2 stop, 3 toggle gate, 4 reload world)");
   }
   if (c.type == CommandType::Move) {
     if (!std::isfinite(c.target.x)) refuse(field + " target.x: not a finite number");
@@ -326,6 +329,28 @@ void write(ByteWriter& out, const Ticks& m) {
   }
 }
 
+// The part's place in the state: decode's rule, which encode keeps too.
+void checkGameStatePart(uint32_t total, uint32_t offset, size_t n) {
+  if (total < 1 || total > kMaxGameStateBytes) {
+    refuse("GameState.totalBytes = " + str(total) + ": expected 1 to " + str(kMaxGameStateBytes));
+  }
+  if (n < 1 || n > kMaxGameStatePartBytes) {
+    refuse("GameState.bytes: " + str(n) + " bytes: expected 1 to " + str(kMaxGameStatePartBytes));
+  }
+  if (uint64_t(offset) + n > total) {
+    refuse("GameState.offset = " + str(offset) + ": its " + str(n) + " bytes run past totalBytes = " + str(total));
+  }
+}
+
+void write(ByteWriter& out, const GameState& m) {
+  checkGameStatePart(m.totalBytes, m.offset, m.bytes.size());
+  out.u8(uint8_t(MessageType::GameState));
+  out.u32(m.tick);
+  out.u32(m.totalBytes);
+  out.u32(m.offset);
+  out.bytes(m.bytes);
+}
+
 // ---- Decoding ----
 
 // Reads one packet. Fixed-width fields are checked for length here, so that truncations read the same
@@ -345,7 +370,8 @@ class Decoder {
     const uint8_t type = in_.u8("message type");
     name_ = nameOf(MessageType(type));
     if (name_ == nullptr)
-      refuse("message type " + str(type) + " is unknown (1 Hello, 2 Refuse, 3 Commands, 4 Hash, 5 Bye, 6 Snapshot, 7 Ticks)");
+      refuse("message type " + str(type) +
+             " is unknown (1 Hello, 2 Refuse, 3 Commands, 4 Hash, 5 Bye, 6 Snapshot, 7 Ticks, 8 GameState)");
     if (size_ > kMaxPacketBytes) refuse(packetTooLarge(name_, size_));
     try {
       Message m = body(MessageType(type));
@@ -383,6 +409,16 @@ class Decoder {
         return snapshot();
       case MessageType::Ticks:
         return ticks();
+      case MessageType::GameState: {
+        GameState g;
+        g.tick = u32("GameState.tick");
+        g.totalBytes = u32("GameState.totalBytes");
+        g.offset = u32("GameState.offset");
+        const size_t n = in_.remaining();
+        checkGameStatePart(g.totalBytes, g.offset, n);
+        g.bytes = std::string(in_.bytes("GameState.bytes", n));
+        return g;
+      }
     }
     refuse("message type " + str(uint8_t(type)) + " is unknown");
   }

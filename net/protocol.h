@@ -26,8 +26,9 @@ namespace rts::net {
 /// a peer whose version differs, so a newer build never misreads an older one's commands.
 /// Version 2 added Snapshot (type 6), the state each side sends the other after a desync. Version 3
 /// added Hello.ticks and Hello.steering (the handshake compares them) and Ticks (type 7), what a host
-/// sends a spectator.
-inline constexpr uint32_t kProtocolVersion = 3;
+/// sends a spectator. Version 4 added the ReloadWorld command (type 4) and GameState (type 8): a spectator
+/// starts from the host's state instead of playing the game from tick 0.
+inline constexpr uint32_t kProtocolVersion = 4;
 
 // ---- Limits (decode refuses anything beyond them, encode throws) ----
 
@@ -64,13 +65,29 @@ inline constexpr uint32_t kMaxGameTicks = 100'000'000;
 /// most this many ticks (and well under a packet); an entry takes at least 3 bytes, so this also caps
 /// what one message decodes to.
 inline constexpr size_t kMaxTicksPerMessage = 4096;
+/// GameState.totalBytes: a game's state (Game::saveState) at most. About 250 bytes a unit (the world's
+/// body and its two fixtures, the game's unit), so 256 MiB holds the largest game a replay allows.
+inline constexpr uint32_t kMaxGameStateBytes = uint32_t(1) << 28;
+/// GameState's fields before its part of the state: type, tick, totalBytes, offset.
+inline constexpr size_t kGameStateHeaderBytes = 13;
+/// The most of the state one GameState carries: what is left of a packet.
+inline constexpr size_t kMaxGameStatePartBytes = kMaxPacketBytes - kGameStateHeaderBytes;
 /// Ticks entry's command count: both teams' commands of one tick.
 inline constexpr size_t kMaxCommandsPerTick = 2 * kMaxCommandsPerMessage;
 
 // ---- Messages ----
 
 /// The first byte of every packet. The numbers are stable: changing one takes a new kProtocolVersion.
-enum class MessageType : uint8_t { Hello = 1, Refuse = 2, Commands = 3, Hash = 4, Bye = 5, Snapshot = 6, Ticks = 7 };
+enum class MessageType : uint8_t {
+  Hello = 1,
+  Refuse = 2,
+  Commands = 3,
+  Hash = 4,
+  Bye = 5,
+  Snapshot = 6,
+  Ticks = 7,
+  GameState = 8,
+};
 
 enum class Role : uint8_t { Player = 0, Spectator = 1 };
 
@@ -140,9 +157,20 @@ struct Ticks {
   std::vector<Entry> entries;  ///< 1 to kMaxTicksPerMessage
 };
 
-using Message = std::variant<Hello, Refuse, Commands, Hash, Bye, Snapshot, Ticks>;
+/// A part of the host's game state at the start of tick `tick` (Game::saveState, before the commands of
+/// `tick`, one of which is the ReloadWorld that makes the players' worlds the spectator's): what a spectator
+/// starts from. A state over a packet goes in parts, in order, each starting where the last ended.
+struct GameState {
+  uint32_t tick = 0;
+  uint32_t totalBytes = 0;  ///< the whole state's, 1 to kMaxGameStateBytes
+  uint32_t offset = 0;      ///< where `bytes` starts within the state
+  std::string bytes;        ///< to the end of the packet: 1 to kMaxGameStatePartBytes, within totalBytes
+};
 
-/// "Hello", "Refuse", "Commands", "Hash", "Bye", "Snapshot", "Ticks": how errors and logs name a message.
+using Message = std::variant<Hello, Refuse, Commands, Hash, Bye, Snapshot, Ticks, GameState>;
+
+/// "Hello", "Refuse", "Commands", "Hash", "Bye", "Snapshot", "Ticks", "GameState": how errors and logs
+/// name a message.
 const char* messageName(const Message& m);
 
 // ---- Bytes ----

@@ -5,7 +5,6 @@
 
 #include "game/game.h"
 #include "net/text.h"
-#include "tool/snapshot.h"
 
 namespace rts::net {
 namespace {}  // namespace
@@ -32,15 +31,12 @@ void SpectatorSession::fail(SessionError::Kind kind, const std::string& line, co
   throw SessionError(kind, line);
 }
 
-void SpectatorSession::desync(uint32_t tick, uint64_t mine, uint64_t theirs, uint32_t stateTick,
-                              const SideState& mineThen, const SideState& hostThen, const std::string& note) {
+void SpectatorSession::desync(uint32_t tick, uint64_t mine, uint64_t theirs) {
   const std::string line =
       "desync at tick " + std::to_string(tick) + ": mine " + hexHash(mine) + ", the host's " + hexHash(theirs);
-  std::string details = note;
-  if (hostThen.state) {
-    details +=
-        desyncDetails(stateTick, mineThen, hostThen, *game_, std::max<uint32_t>(1, config_.hello.hashIntervalTicks));
-  }
+  const std::string details = "  the host sends a spectator its state only at the tick it joined (" +
+                              std::to_string(joinedAt_) +
+                              "), where the spectator started from it: there is nothing to compare body by body\n";
   if (transport_.connected()) {
     try {
       transport_.send(Bye{reasonText("the spectator's game differs: " + line)});
@@ -51,7 +47,7 @@ void SpectatorSession::desync(uint32_t tick, uint64_t mine, uint64_t theirs, uin
   throw SessionError(SessionError::Kind::Desync, line, details);
 }
 
-void SpectatorSession::handshake(const Game& game) {
+void SpectatorSession::handshake(Game& game) {
   if (handshaken_) throw std::logic_error("SpectatorSession: handshake() twice");
   game_ = &game;
   context_ = decodeContextOf(game);
@@ -79,11 +75,24 @@ void SpectatorSession::handshake(const Game& game) {
     fail(SessionError::Kind::Refused, "the handshake failed: " + *mismatch, *mismatch, true);
   }
   handshaken_ = true;
-  waitFor([&] { return checkpoint_.has_value(); }, "its state (the game so far)");
-  checkpointTick_ = checkpoint_->tick;
-  say("watching: the host's game is at tick " + std::to_string(checkpointTick_) +
-      "; playing it from the start to there, then following it");
-  afterTick(game);  // a checkpoint at tick 0 is checked now
+  waitFor([&] { return stateComplete_; }, "its state (the game under way)");
+  try {
+    game.restoreState(state_);
+  } catch (const GameError& e) {
+    const std::string why = std::string("its game's state does not load: ") + e.what();
+    fail(SessionError::Kind::Protocol, "the host sent a bad state: " + why,
+         std::string("your state does not load here: ") + e.what());
+  }
+  if (game.tickCount() != joinedAt_) {
+    fail(SessionError::Kind::Protocol,
+         "the host sent a bad state: it is of tick " + std::to_string(game.tickCount()) + ", its GameState said " +
+             std::to_string(joinedAt_),
+         "your state's tick differs from its GameState's");
+  }
+  std::string().swap(state_);
+  nextPlay_ = joinedAt_;
+  say("watching from tick " + std::to_string(joinedAt_) + ", the host's state loaded (" + std::to_string(stateSize_) +
+      " bytes)");
 }
 
 void SpectatorSession::commandsFor(uint32_t tick, const Game&, std::vector<Command>& out) {
@@ -106,38 +115,12 @@ void SpectatorSession::commandsFor(uint32_t tick, const Game&, std::vector<Comma
 }
 
 void SpectatorSession::afterTick(const Game& game) {
-  const uint32_t tick = game.tickCount();
-  if (dueHash_) {
-    const uint64_t mine = game.stateHash();
-    const uint64_t theirs = *dueHash_;
-    dueHash_.reset();
-    if (tick == checkpointTick_) checkpointHash_ = theirs;
-    ++hashesCompared_;
-    if (mine != theirs && tick < checkpointTick_) {
-      if (!firstMismatch_) firstMismatch_ = Mismatch{tick, mine, theirs};
-    } else if (mine != theirs && tick > checkpointTick_) {
-      desync(tick, mine, theirs, tick, SideState{}, SideState{},
-             "  the host sends a spectator its state only at the tick it joined (" + std::to_string(checkpointTick_) +
-                 "), where the two matched: there is nothing to compare body by body\n");
-    }
-  }
-  if (tick == checkpointTick_ && !checkpointChecked_) {
-    checkpointChecked_ = true;
-    SideState mine{game.stateHash(), game.worldHash(), replay::snapshotOf(game)};
-    const bool same = mine.worldHash == checkpoint_->worldHash &&
-                      (!checkpoint_->state || *checkpoint_->state == *mine.state) &&
-                      (!checkpointHash_ || *checkpointHash_ == mine.stateHash) && !firstMismatch_;
-    if (!same) {
-      const SideState host{checkpointHash_.value_or(0), checkpoint_->worldHash, std::move(checkpoint_->state)};
-      if (firstMismatch_) {
-        desync(firstMismatch_->tick, firstMismatch_->mine, firstMismatch_->theirs, tick, mine, host,
-               "  the host's state is known at tick " + std::to_string(tick) +
-                   ", where the spectator joined: the report is of that tick (differences may have spread)\n");
-      }
-      desync(tick, mine.stateHash, host.stateHash, tick, mine, host, "");
-    }
-    checkpoint_->state.reset();  // compared: no longer needed
-  }
+  if (!dueHash_) return;
+  const uint64_t mine = game.stateHash();
+  const uint64_t theirs = *dueHash_;
+  dueHash_.reset();
+  ++hashesCompared_;
+  if (mine != theirs) desync(game.tickCount(), mine, theirs);
 }
 
 void SpectatorSession::finish(const Game& game) {
@@ -235,19 +218,38 @@ void SpectatorSession::handle(TransportEvent event) {
     if (nextReceive_ < config_.hello.ticks) hostGone_ = true;
   } else if (!hostHello_) {
     outOfTurn(std::string(messageName(m)) + " before its Hello");
-  } else if (auto* snapshot = std::get_if<Snapshot>(&m)) {
-    if (checkpoint_) outOfTurn("a second Snapshot (the host sends its state once, when the spectator joins)");
-    if (snapshot->tick > config_.hello.ticks) {
-      outOfTurn("Snapshot for tick " + std::to_string(snapshot->tick) + ", past the game's " +
-                std::to_string(config_.hello.ticks) + " ticks");
-    }
-    checkpoint_ = std::move(*snapshot);
+  } else if (auto* state = std::get_if<GameState>(&m)) {
+    receiveState(*state);
   } else if (auto* ticks = std::get_if<Ticks>(&m)) {
-    if (!checkpoint_) outOfTurn("Ticks before its state (a Snapshot)");
+    if (!stateComplete_) outOfTurn("Ticks before its whole state (GameState)");
     receiveTicks(*ticks);
   } else {
-    outOfTurn(std::string(messageName(m)) + ": a host sends a spectator Hello, Snapshot, Ticks and Bye only");
+    outOfTurn(std::string(messageName(m)) + ": a host sends a spectator Hello, GameState, Ticks and Bye only");
   }
+}
+
+void SpectatorSession::receiveState(GameState& m) {
+  const auto why = [&](const std::string& text) {
+    const std::string line =
+        "GameState of tick " + std::to_string(m.tick) + " at byte " + std::to_string(m.offset) + ": " + text;
+    fail(SessionError::Kind::Protocol, "the host broke the protocol: " + line, "you broke the protocol: " + line);
+  };
+  if (stateComplete_) why("the state came whole already (a host sends it once)");
+  if (state_.empty()) {
+    // The first part: the game's length was agreed, so the tick it starts at must leave some to play.
+    if (m.offset != 0) why("the first part must start at byte 0");
+    if (m.tick >= config_.hello.ticks) {
+      why("past the game's " + std::to_string(config_.hello.ticks) + " ticks, nothing would be left to watch");
+    }
+    joinedAt_ = m.tick;
+    stateSize_ = m.totalBytes;
+    nextReceive_ = m.tick;
+  } else if (m.tick != joinedAt_ || m.totalBytes != stateSize_ || m.offset != state_.size()) {
+    why("expected tick " + std::to_string(joinedAt_) + ", " + std::to_string(stateSize_) + " bytes in all, from byte " +
+        std::to_string(state_.size()));
+  }
+  state_ += m.bytes;
+  stateComplete_ = state_.size() == stateSize_;
 }
 
 void SpectatorSession::receiveTicks(Ticks& m) {

@@ -1,13 +1,13 @@
 // A spectator of a lockstep game (rattle-demo --watch): a third process that follows a game under way
 // from its host, never sends a command, and is never waited for by the players.
 //
-// A game is its map, its settings and the commands applied before each tick, so the spectator builds
-// the game as the players did and plays the ticks the host sends it: the game so far in a few messages,
-// then each tick as the host plays it (Ticks, net/protocol.h). A keyframe's state cannot be loaded into a
-// Game (the game keeps more than a keyframe holds: flow fields, sensor contents, the engine's contacts),
-// so the host's state at the tick the spectator joined (a Snapshot) is where the spectator checks its
-// own in full, body by body; from then on the host's state hashes, on the players' interval and at the
-// last tick, are compared with its own. A difference ends it as a player's desync does (exit status 4).
+// It starts from the host's state: the host puts a ReloadWorld command in its next set of commands (tick
+// T), and at T, before that set, sends its game's state (Game::saveState, in GameState parts). The
+// spectator's game takes it (Game::restoreState) and plays on from T with the commands the host sends
+// (Ticks, net/protocol.h); the ReloadWorld makes the players' worlds load from their saves at T as the
+// spectator's did, so the three step alike. From T on the host's state hashes, on the players' interval
+// and at the last tick, are compared with its own. A difference ends it as a player's desync does
+// (exit status 4).
 #pragma once
 
 #include <chrono>
@@ -19,7 +19,6 @@
 #include <vector>
 
 #include "game/commands.h"
-#include "net/desync_report.h"
 #include "net/lockstep.h"
 #include "net/protocol.h"
 #include "net/transport.h"
@@ -32,13 +31,13 @@ class SpectatorSession : public CommandSource {
   /// timeout bounds the connection attempt).
   SpectatorSession(Transport& transport, LockstepConfig config);
 
-  /// Connects, exchanges Hellos (a difference: Refused), and waits for the host's state of the tick it
-  /// joined at. Call once, with the game built as the players built theirs.
-  void handshake(const class Game& game);
+  /// Connects, exchanges Hellos (a difference: Refused), waits for the host's state and gives it to
+  /// `game` (built from the same map and settings as the players'), which is then at the tick the
+  /// spectator joined. A state the game refuses ends the session as the host's garbage (Protocol).
+  void handshake(class Game& game);
   /// The commands both players applied before `tick`, as the host sent them; waits for them.
   void commandsFor(uint32_t tick, const class Game& game, std::vector<Command>& out) override;
-  /// After each Game::tick(): compares the state hash with the host's when it sent one, and the whole
-  /// state with the host's at the tick it joined.
+  /// After each Game::tick(): compares the state hash with the host's when it sent one.
   void afterTick(const class Game& game);
   /// After the last tick: waits for the host's Bye and leaves.
   void finish(const class Game& game);
@@ -50,8 +49,10 @@ class SpectatorSession : public CommandSource {
   /// plays them faster to catch up (a window paced by the clock).
   size_t ticksReceived() const { return ticks_.size(); }
 
-  /// The tick the spectator joined at: the host's state of it was compared in full.
-  uint32_t joinedAt() const { return checkpointTick_; }
+  /// The tick the spectator joined at: its game started from the host's state there.
+  uint32_t joinedAt() const { return joinedAt_; }
+  /// The bytes of that state.
+  size_t stateBytes() const { return stateSize_; }
   uint32_t hashesCompared() const { return hashesCompared_; }
   double waitedSeconds() const { return waited_; }
 
@@ -64,12 +65,11 @@ class SpectatorSession : public CommandSource {
   double roundSeconds(double limit) const;
   void handle(TransportEvent event);
   void receiveTicks(Ticks& m);
+  void receiveState(GameState& m);
   [[noreturn]] void fail(SessionError::Kind kind, const std::string& line, const std::string& toPeer,
                          bool refuse = false);
-  /// Ends the game as a desync: the line names `tick` and the two hashes there; the report compares the
-  /// two states at `stateTick` when the host's is known (`host.state`), after `note`.
-  [[noreturn]] void desync(uint32_t tick, uint64_t mine, uint64_t theirs, uint32_t stateTick, const SideState& mineThen,
-                           const SideState& hostThen, const std::string& note);
+  /// Ends the game as a desync: the line names `tick` and the two hashes there.
+  [[noreturn]] void desync(uint32_t tick, uint64_t mine, uint64_t theirs);
   void say(const std::string& line) const;
 
   Transport& transport_;
@@ -78,17 +78,11 @@ class SpectatorSession : public CommandSource {
   const class Game* game_ = nullptr;
   bool handshaken_ = false;
   std::optional<Hello> hostHello_;
-  std::optional<Snapshot> checkpoint_;
-  uint32_t checkpointTick_ = 0;
-  std::optional<uint64_t> checkpointHash_;  // the host's hash of the checkpoint's tick, when it sent one
-  bool checkpointChecked_ = false;
-  struct Mismatch {
-    uint32_t tick;
-    uint64_t mine, theirs;
-  };
-  // The first hash that differed while the game so far was played: reported at the checkpoint, where
-  // the host's state is known and the fields that differ can be named.
-  std::optional<Mismatch> firstMismatch_;
+  // The host's state as its GameState parts come: `state_` grows to stateSize_ bytes.
+  std::string state_;
+  size_t stateSize_ = 0;
+  bool stateComplete_ = false;
+  uint32_t joinedAt_ = 0;
   std::deque<Ticks::Entry> ticks_;  // received, not yet played: ticks_[0] is of tick nextPlay_
   uint32_t nextPlay_ = 0;           // the tick commandsFor gives next
   uint32_t nextReceive_ = 0;        // the tick the host's next Ticks message must start at

@@ -116,7 +116,8 @@ int runHeadless(Game& game, const Options& o, const std::string& mapJson, replay
 
   if (renderer && !frame()) return 1;
   try {
-    for (long t = 0; t < o.ticks; ++t) {
+    // To the game's length from where it is: a spectator's game starts at the host's tick.
+    while (long(game.tickCount()) < o.ticks) {
       const std::vector<Command>& commands = loop.tick();
       // Recorded before the hashes are compared: a desync's replay holds the tick that differs.
       if (recorder) recorder->afterTick(game, commands);

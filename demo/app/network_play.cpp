@@ -75,7 +75,7 @@ int endedEarly(const net::SessionError& e, const Game& game, const Options& o, r
   return exitStatus(e.kind());
 }
 
-Network connectNetwork(const Game& game, const Options& o, const std::string& mapJson, CommandSource& local,
+Network connectNetwork(Game& game, const Options& o, const std::string& mapJson, CommandSource& local,
                        std::function<bool(const std::string&, double)> whileWaiting) {
   // A line in the middle of the headless progress line would be lost at its end: start a line of its own.
   const bool newline = !o.window && !o.quiet && isatty(2);
@@ -133,9 +133,9 @@ void printNetworkEnd(const Network& network, const Game& game, const Options& o)
     std::printf("Network game over after %u ticks: final state hash %016llx, the same as the host's.\n",
                 game.tickCount(), static_cast<unsigned long long>(game.stateHash()));
     std::fprintf(stderr,
-                 "rattle-demo: joined at tick %u (the state compared in full there), %u state hashes compared "
-                 "with the host's; waited %.2f s for the host in all\n",
-                 network.spectator->joinedAt(), network.spectator->hashesCompared(),
+                 "rattle-demo: joined at tick %u (started from the host's state there, %zu bytes), %u state "
+                 "hashes compared with the host's; waited %.2f s for the host in all\n",
+                 network.spectator->joinedAt(), network.spectator->stateBytes(), network.spectator->hashesCompared(),
                  network.spectator->waitedSeconds());
     printTraffic(network, "the host", game.tickCount());
   }

@@ -32,10 +32,11 @@ struct Network {
 const char* teamName(int team);
 
 /// Hosts, joins or watches as the options say and passes the handshake. `local` gives this side's
-/// commands (not asked when watching); `whileWaiting` is LockstepConfig's (empty headless). Throws
+/// commands (not asked when watching); `whileWaiting` is LockstepConfig's (empty headless). Watching,
+/// `game` takes the host's state (it is then at the tick the spectator joined). Throws
 /// net::SessionError (and net::LeftGame when whileWaiting asks to leave, net::TransportError when the
 /// port or the name will not do).
-Network connectNetwork(const Game& game, const Options& options, const std::string& mapJson, CommandSource& local,
+Network connectNetwork(Game& game, const Options& options, const std::string& mapJson, CommandSource& local,
                        std::function<bool(const std::string&, double)> whileWaiting = {});
 
 /// rattle-demo's exit status for a game that ended early this way (app/run.h).

@@ -62,9 +62,9 @@ const char* kUsage =
     "                  blue (team 0); waits for a player to join, then takes one spectator at a time\n"
     "  --join HOST[:PORT]  join the game hosted at HOST (a name or an IPv4 address; port default 47800)\n"
     "                  and play red (team 1)\n"
-    "  --watch HOST[:PORT]  watch the game hosted at HOST, from any tick once a player has joined: the game\n"
-    "                  so far is played from the start, then followed; sends no commands, is never waited\n"
-    "                  for, and checks its state hashes against the host's\n"
+    "  --watch HOST[:PORT]  watch the game hosted at HOST, from any tick once a player has joined: it starts\n"
+    "                  from the host's state a few ticks later, then follows; sends no commands, is never\n"
+    "                  waited for, and checks its state hashes against the host's (not with --record)\n"
     "  --input-delay N ticks between issuing a command and applying it, 0 to 300 (default 3: 100 ms of\n"
     "                  round trip at 30 ticks a second)\n"
     "  --hash-every K  compare the state hash with the peer's every K ticks, 1 to 65535 (default 1)\n"
@@ -280,6 +280,11 @@ ParseResult parseOptions(int argc, char** argv) {
   if (o.steering != Steering::KeepApart && !o.record.empty()) {
     return fail("--steering naive cannot go with --record: a replay does not record the steering, and is played "
                 "with the default (keep-apart)");
+  }
+  if (o.network == Options::Network::Watch && !o.record.empty()) {
+    return fail(
+        "--watch cannot go with --record: a spectator starts from the host's state under way, and a "
+        "replay starts at tick 0 (record on the host's or the joiner's side)");
   }
   if (o.network != Options::Network::None) {
     // Two sides on one machine would otherwise write over each other's frames.

@@ -10,6 +10,7 @@
 #include <functional>
 #include <iterator>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -159,7 +160,8 @@ inline SideResult watchSide(rts::net::Transport& transport, const GameSettings& 
     if (joinedAt) *joinedAt = session.joinedAt();
     rts::TickLoop loop(*game);
     loop.add(session);
-    for (uint32_t t = 0; t < s.ticks; ++t) {
+    // From the tick it joined at: its game took the host's state there.
+    while (game->tickCount() < s.ticks) {
       const std::vector<rts::Command>& commands = loop.tick();
       r.applied.insert(r.applied.end(), commands.begin(), commands.end());
       session.afterTick(*game);
@@ -215,10 +217,37 @@ inline LocalGame playLocal(const GameSettings& s, const std::vector<rts::Command
 
 /// The networked game of `s` as one loop plays it: each team's scripted opponent behind the input delay,
 /// team 0's first (test_net_lockstep.cpp shows the two are the same game).
-inline LocalGame playDelayedLocal(const GameSettings& s) {
+/// Team 0's ReloadWorld at one tick, after team 0's other commands: what a host adds for its spectator.
+class ReloadWorldAt : public rts::CommandSource {
+ public:
+  explicit ReloadWorldAt(std::optional<uint32_t> tick) : tick_(tick) {}
+  void commandsFor(uint32_t tick, const rts::Game&, std::vector<rts::Command>& out) override {
+    if (tick != tick_) return;
+    rts::Command c;
+    c.tick = tick;
+    c.team = 0;
+    c.type = rts::CommandType::ReloadWorld;
+    out.push_back(c);
+  }
+
+ private:
+  std::optional<uint32_t> tick_;
+};
+
+/// With `reloadAt`: the host took a spectator, whose state is of that tick (the ReloadWorld's).
+inline LocalGame playDelayedLocal(const GameSettings& s, std::optional<uint32_t> reloadAt = std::nullopt) {
   rts::ScriptedOpponent blue(s.seed, 1), red(s.seed, 2);
   rts::net::DelayedSource blueLater(blue, s.inputDelay), redLater(red, s.inputDelay);
-  return playLocal(s, {&blueLater, &redLater});
+  ReloadWorldAt reload(reloadAt);
+  return playLocal(s, {&blueLater, &reload, &redLater});
+}
+
+/// The tick of the ReloadWorld a side applied (the host took a spectator then), if any.
+inline std::optional<uint32_t> reloadTickOf(const SideResult& r) {
+  for (const rts::Command& c : r.applied) {
+    if (c.type == rts::CommandType::ReloadWorld) return c.tick;
+  }
+  return std::nullopt;
 }
 
 /// What the session decodes the peer's packets with in `game`.

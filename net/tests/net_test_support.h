@@ -286,17 +286,17 @@ inline void expectCleanError(const std::vector<uint8_t>& input, const std::strin
   EXPECT_FALSE(error.empty()) << where;
   EXPECT_EQ(error.find('\n'), std::string::npos) << where << ": " << error;
   EXPECT_LE(error.size(), 400u) << where << ": " << error;
-  static const char* const names[] = {"Hello", "Refuse", "Commands", "Hash", "Bye", "Snapshot", "Ticks"};
+  static const char* const names[] = {"Hello", "Refuse", "Commands", "Hash", "Bye", "Snapshot", "Ticks", "GameState"};
   if (input.empty()) {
     EXPECT_EQ(error, "empty packet: no message type") << where;
-  } else if (input[0] >= 1 && input[0] <= 7) {
+  } else if (input[0] >= 1 && input[0] <= 8) {
     const std::string name = names[input[0] - 1];
     EXPECT_EQ(error.rfind(name, 0), 0u) << where << ": " << error;
     const char next = error.size() > name.size() ? error[name.size()] : '\0';
     EXPECT_TRUE(next == '.' || next == ':') << where << ": " << error;
   } else {
     EXPECT_EQ(error, "message type " + std::to_string(input[0]) +
-                         " is unknown (1 Hello, 2 Refuse, 3 Commands, 4 Hash, 5 Bye, 6 Snapshot, 7 Ticks)")
+                         " is unknown (1 Hello, 2 Refuse, 3 Commands, 4 Hash, 5 Bye, 6 Snapshot, 7 Ticks, 8 GameState)")
         << where;
   }
 }

@@ -109,12 +109,17 @@ TEST(NetProgram, TwoProcessesPlayOneGameThroughTheFaultyRelay) {
 TEST(NetProgram, AThirdProcessWatchesAGameUnderWay) {
   const std::string game =
       "--map " + sourcePath("assets/maps/small.json") + " --units 6 --ticks 9000 --no-render --quiet --seed 3";
-  HostProcess host(game);
+  HostProcess host(game + " --record " + scratch("host.replay"));
   ASSERT_GT(host.port(), 0) << host.finish().output;
   const std::string at = "127.0.0.1:" + std::to_string(host.port());
   Background joiner("--join " + at + " " + game, scratch("join.log"));
   ASSERT_TRUE(host.readUntil("playing blue (team 0) against red (team 1)")) << host.finish().output;
-  const Outcome watcher = run(RATTLE_DEMO_BINARY, "--watch " + at + " " + game + " --record " + scratch("watch.replay"));
+  // A spectator starts under way, and a replay at tick 0: the two do not go together.
+  const Outcome recording =
+      run(RATTLE_DEMO_BINARY, "--watch " + at + " " + game + " --record " + scratch("watch.replay"));
+  EXPECT_EQ(recording.status, 2) << recording.output;
+  EXPECT_TRUE(has(recording, "--watch cannot go with --record")) << recording.output;
+  const Outcome watcher = run(RATTLE_DEMO_BINARY, "--watch " + at + " " + game);
   const Outcome joined = joiner.finish();
   const Outcome hosted = host.finish();
   ASSERT_EQ(hosted.status, 0) << hosted.output;
@@ -129,13 +134,16 @@ TEST(NetProgram, AThirdProcessWatchesAGameUnderWay) {
   const long tick = std::atol(watcher.output.c_str() + joinedAt + std::strlen("joined at tick "));
   EXPECT_GT(tick, 0) << watcher.output;
   EXPECT_TRUE(has(hosted, "rattle-demo: a spectator is watching from tick " + std::to_string(tick))) << hosted.output;
+  EXPECT_TRUE(has(watcher, "watching from tick " + std::to_string(tick) + ", the host's state loaded ("))
+      << watcher.output;
   for (const Outcome* o : {&hosted, &joined, &watcher}) {
     EXPECT_TRUE(has(*o, "Network traffic over 9000 ticks (300.0 s of game time;")) << o->output;
     EXPECT_TRUE(has(*o, "UDP socket, ENet's headers, acknowledgements, pings and resends included: sent ")) << o->output;
   }
   EXPECT_TRUE(has(hosted, "To the spectator (1 served): ")) << hosted.output;
-  // The spectator's replay is of the whole game, and verifies.
-  const Outcome verified = run(RATTLE_REPLAY_BINARY, "verify " + scratch("watch.replay"));
+  // The host's replay holds the ReloadWorld it issued for the spectator, and verifies: its world loaded
+  // from its save there, as replaying the command does.
+  const Outcome verified = run(RATTLE_REPLAY_BINARY, "verify " + scratch("host.replay"));
   EXPECT_EQ(verified.status, 0) << verified.output;
   EXPECT_TRUE(has(verified, "all 9000 ticks match")) << verified.output;
 }

@@ -356,9 +356,10 @@ TEST(NetProtocol, AByteAfterTheMessageIsAnError) {
 }
 
 TEST(NetProtocol, UnknownMessageTypesAreErrors) {
-  for (const uint8_t type : {0, 8, 9, 127, 255}) {
-    const std::string line = "message type " + std::to_string(type) +
-                             " is unknown (1 Hello, 2 Refuse, 3 Commands, 4 Hash, 5 Bye, 6 Snapshot, 7 Ticks)";
+  for (const uint8_t type : {0, 9, 127, 255}) {
+    const std::string line =
+        "message type " + std::to_string(type) +
+        " is unknown (1 Hello, 2 Refuse, 3 Commands, 4 Hash, 5 Bye, 6 Snapshot, 7 Ticks, 8 GameState)";
     EXPECT_EQ(errorOf({type, 1, 2, 3}), line);
     EXPECT_EQ(errorOf({type}), line);
   }
@@ -416,7 +417,7 @@ TEST(NetProtocol, HelloFieldsOneOverTheirLimitsAreErrors) {
 }
 
 TEST(NetProtocol, AnotherProtocolVersionDecodesAndItsErrorsSaySo) {
-  ASSERT_EQ(kProtocolVersion, 3u);
+  ASSERT_EQ(kProtocolVersion, 4u);
   RawHello r;
   r.version = 1;  // a build from before Snapshot
   const Decoded d = decodeBytes(raw(r), largestGame());
@@ -425,7 +426,7 @@ TEST(NetProtocol, AnotherProtocolVersionDecodesAndItsErrorsSaySo) {
   r.stepMode = 9;
   EXPECT_EQ(errorOf(raw(r)),
             "Hello.stepMode = 9 is not a step mode (0 hybrid, 1 discrete, 2 predictive) "
-            "(the peer speaks protocol version 1; this build speaks 3)");
+            "(the peer speaks protocol version 1; this build speaks 4)");
 }
 
 TEST(NetProtocol, ReasonsOneOverTheirLimitsAreErrors) {
@@ -461,9 +462,11 @@ TEST(NetProtocol, CommandsFieldsOneOverTheirLimitsAreErrors) {
             "Commands.commands[0] target.x: not a finite number");
   EXPECT_EQ(errorOf(oneCommand(1, command(5, 1, CommandType::Move, {1}, {0, -HUGE_VAL}))),
             "Commands.commands[0] target.y: not a finite number");
-  std::vector<uint8_t> unknown = oneCommand(1, command(5, 1, CommandType(4)));
+  EXPECT_TRUE(decodeBytes(oneCommand(1, command(5, 1, CommandType::ReloadWorld)), small).ok());
+  std::vector<uint8_t> unknown = oneCommand(1, command(5, 1, CommandType(5)));
   unknown.push_back(0);
-  EXPECT_EQ(errorOf(unknown), "Commands.commands[0] type: unknown command type 4 (1 move, 2 stop, 3 toggle gate)");
+  EXPECT_EQ(errorOf(unknown),
+            "Commands.commands[0] type: unknown command type 5 (1 move, 2 stop, 3 toggle gate, 4 reload world)");
 
   // The count: the limit, then one over (with the commands really there), then a huge one in a small packet.
   auto stops = [](uint16_t count, size_t present) {
@@ -577,7 +580,8 @@ TEST(NetProtocol, EncodeRefusesWhatDecodeWouldRefuseInTheSameWords) {
   EXPECT_EQ(encodeError(m), "Commands.commands[1] target.y: not a finite number");
   m = everyCommandType();
   m.commands[2].type = CommandType(0);
-  EXPECT_EQ(encodeError(m), "Commands.commands[2] type: unknown command type 0 (1 move, 2 stop, 3 toggle gate)");
+  EXPECT_EQ(encodeError(m),
+            "Commands.commands[2] type: unknown command type 0 (1 move, 2 stop, 3 toggle gate, 4 reload world)");
 }
 
 TEST(NetProtocol, HelloTicksAndSteeringOutOfRangeAreErrors) {
@@ -703,7 +707,7 @@ TEST(NetProtocol, HandshakeNamesEachDifferenceWithBothValues) {
     std::string expected;
   };
   const Case cases[] = {
-      {[](Hello& h) { h.protocolVersion = 1; }, "protocol version: mine 3, theirs 1"},
+      {[](Hello& h) { h.protocolVersion = 1; }, "protocol version: mine 4, theirs 1"},
       {[](Hello& h) { h.engineVersion = "rattle 0.2.0"; },
        "engine version: mine \"rattle 0.1.0\", theirs \"rattle 0.2.0\""},
       {[](Hello& h) { h.mapDigest = 0xab; }, "map digest: mine 0x0123456789abcdef, theirs 0x00000000000000ab"},
@@ -796,6 +800,64 @@ TEST(NetProtocol, MutatedPacketsAreRefusedCleanlyOrRoundTrip) {
   EXPECT_GT(decoded, 300);
   EXPECT_GT(refused, 300);
   EXPECT_GT(exact, 100);
+}
+
+}  // namespace
+
+namespace {
+
+using rts::net::GameState;
+
+// GameState: the part of a game's state runs to the end of the packet, so a shorter packet is a shorter
+// part (no truncation to find); what decode checks is where the part lies in the whole.
+TEST(NetProtocol, GameStatePartsRoundTripAndLieWithinTheState) {
+  GameState part;
+  part.tick = 106;
+  part.totalBytes = 5000;
+  part.offset = 1000;
+  part.bytes = std::string(300, 'x');
+  const std::vector<uint8_t> bytes = encode(part);
+  ByteWriter w;
+  w.u8(8);
+  w.u32(106);
+  w.u32(5000);
+  w.u32(1000);
+  w.bytes(part.bytes);
+  EXPECT_EQ(bytes, bytesOf(w.data()));
+  ASSERT_EQ(bytes.size(), kGameStateHeaderBytes + 300);
+  const Decoded d = decodeBytes(bytes, DecodeContext{});
+  ASSERT_TRUE(d.ok()) << d.error;
+  const GameState& back = std::get<GameState>(*d.message);
+  EXPECT_EQ(back.tick, 106u);
+  EXPECT_EQ(back.totalBytes, 5000u);
+  EXPECT_EQ(back.offset, 1000u);
+  EXPECT_EQ(back.bytes, part.bytes);
+
+  auto rawPart = [](uint32_t total, uint32_t offset, size_t n) {
+    ByteWriter r;
+    r.u8(8);
+    r.u32(1);
+    r.u32(total);
+    r.u32(offset);
+    r.bytes(std::string(n, 'y'));
+    return bytesOf(r.data());
+  };
+  EXPECT_EQ(errorOf(rawPart(0, 0, 1)), "GameState.totalBytes = 0: expected 1 to 268435456");
+  EXPECT_EQ(errorOf(rawPart(kMaxGameStateBytes + 1, 0, 1)),
+            "GameState.totalBytes = 268435457: expected 1 to 268435456");
+  EXPECT_EQ(errorOf(rawPart(10, 0, 0)), "GameState.bytes: 0 bytes: expected 1 to 1048563");
+  EXPECT_EQ(errorOf(rawPart(10, 8, 3)), "GameState.offset = 8: its 3 bytes run past totalBytes = 10");
+  EXPECT_EQ(errorOf(rawPart(UINT32_MAX, UINT32_MAX, 1)), "GameState.totalBytes = 4294967295: expected 1 to 268435456");
+  EXPECT_TRUE(decodeBytes(rawPart(10, 7, 3), DecodeContext{}).ok());
+  // The largest part fills a packet; one byte more is over it.
+  EXPECT_TRUE(decodeBytes(rawPart(kMaxGameStateBytes, 0, kMaxGameStatePartBytes), DecodeContext{}).ok());
+  EXPECT_EQ(errorOf(rawPart(kMaxGameStateBytes, 0, kMaxGameStatePartBytes + 1)).rfind("GameState", 0), 0u);
+  std::vector<uint8_t> header = rawPart(10, 0, 1);
+  header.resize(9);
+  EXPECT_EQ(errorOf(header), "GameState.offset: truncated at byte 9 of 9 (needs 4 bytes, 0 left)");
+  // encode refuses what decode would, in the same words.
+  part.offset = 4900;
+  EXPECT_EQ(encodeError(part), "GameState.offset = 4900: its 300 bytes run past totalBytes = 5000");
 }
 
 }  // namespace
