@@ -51,6 +51,8 @@ Scenes, each in the discrete, hybrid and predictive step modes:
   sensors    the benchmark's sensors: disks crossing six sensor strips
   crowd      the benchmark's crowd: disks steered naively through two doorways every step, dt 1/30
   kinematic  disks pushed by two kinematic bodies, one carrying a sensor ring
+  .../loaded each of those but game, saved half way (World::save; a line "<name> save <FNV-1a 64 of
+             the bytes> <size>") and loaded (World::load), the loaded world stepped to the end
 
 options:
   --map FILE        the game's map (default: assets/maps/arena.json of the source tree)
@@ -173,6 +175,32 @@ int main(int argc, char** argv) {
         rattle_trace::EngineScene s = rattle_trace::buildEngineScene(scene, mode, o.disks);
         int step = 0;
         runScene(name, o.engineSteps, [&] {
+          if (s.beforeStep) s.beforeStep(s, step);
+          ++step;
+          s.world.step(s.dt);
+          return rattle_trace::stepHash(s.world);
+        });
+      }
+    }
+    // Saved half way and loaded (World::save, World::load): the save's bytes, and the loaded world's
+    // steps, are the same on every build and processor.
+    for (const std::string& scene : rattle_trace::engineSceneNames()) {
+      for (rattle::StepMode mode : modes) {
+        const std::string name = scene + "/" + modeName(mode) + "/loaded";
+        if (!wanted(name)) continue;
+        rattle_trace::EngineScene s = rattle_trace::buildEngineScene(scene, mode, o.disks);
+        const int half = o.engineSteps / 2;
+        int step = 0;
+        for (; step < half; ++step) {
+          if (s.beforeStep) s.beforeStep(s, step);
+          s.world.step(s.dt);
+        }
+        const std::vector<uint8_t> bytes = s.world.save();
+        uint64_t digest = 0xcbf29ce484222325ull;  // FNV-1a 64 of the save
+        for (uint8_t b : bytes) digest = (digest ^ b) * 0x100000001b3ull;
+        std::printf("%s save %016" PRIx64 " %zu\n", name.c_str(), digest, bytes.size());
+        s.world = rattle::World::load(bytes);
+        runScene(name, o.engineSteps - half, [&] {
           if (s.beforeStep) s.beforeStep(s, step);
           ++step;
           s.world.step(s.dt);
