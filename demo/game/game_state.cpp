@@ -37,9 +37,29 @@ void writeVec(ByteWriter& out, Vec2 v) {
   out.f64(v.x);
   out.f64(v.y);
 }
-Vec2 readVec(ByteReader& in, const std::string& field) {
+// Every vector of a state within a limit: places within placeLimit of the origin, speeds, normals and the
+// like within kMotionLimit. A hostile state of finite but huge values would otherwise overflow the
+// game's arithmetic (squares, sums of distances) into infinities and NaNs; within these no product in the
+// game comes near overflowing.
+constexpr double kMotionLimit = 1e4;
+// The map and as far again around it: nothing in a game goes further (walls hold units; shots are spent
+// on walls or run out of range).
+double placeLimit(const Map& map) { return 2 * std::max(map.width, map.height) + 100; }
+Vec2 readVec(ByteReader& in, const std::string& field, double limit) {
+  const size_t at = in.offset();
   const double x = in.finite(field + ".x");
-  return {x, in.finite(field + ".y")};
+  const double y = in.finite(field + ".y");
+  if (std::fabs(x) > limit || std::fabs(y) > limit) {
+    in.failAt(at, field, "(" + std::to_string(x) + ", " + std::to_string(y) + ") is beyond +-" + std::to_string(limit));
+  }
+  return {x, y};
+}
+double readBounded(ByteReader& in, const std::string& field, double lo, double hi) {
+  const size_t at = in.offset();
+  const double v = in.finite(field);
+  if (v < lo || v > hi)
+    in.failAt(at, field, std::to_string(v) + " is not in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  return v;
 }
 void writeBody(ByteWriter& out, rattle::BodyId b) {
   out.u32(b.index);
@@ -63,7 +83,7 @@ void writeShot(ByteWriter& out, const Shot& s) {
   out.zigzag(s.ticksLeft);
 }
 
-Shot readShot(ByteReader& in, const std::string& f, size_t unitCount) {
+Shot readShot(ByteReader& in, const std::string& f, size_t unitCount, double place) {
   Shot s;
   s.id = uint32_t(in.varint(f + ".id", 0, UINT32_MAX));
   s.team = uint8_t(in.varint(f + ".team", 0, 1));
@@ -71,9 +91,9 @@ Shot readShot(ByteReader& in, const std::string& f, size_t unitCount) {
   s.alive = in.flag(f + ".alive");
   s.shooter = uint32_t(in.varint(f + ".shooter", 0, unitCount > 0 ? unitCount - 1 : 0));
   s.body = readBody(in, f + ".body");
-  s.position = readVec(in, f + ".position");
-  s.velocity = readVec(in, f + ".velocity");
-  s.previous = readVec(in, f + ".previous");
+  s.position = readVec(in, f + ".position", place);
+  s.velocity = readVec(in, f + ".velocity", kMotionLimit);
+  s.previous = readVec(in, f + ".previous", place);
   s.ticksLeft = int(in.zigzag(f + ".ticksLeft", -1'000'000, 1'000'000));
   return s;
 }
@@ -196,6 +216,7 @@ void Game::restoreState(std::string_view bytes) {
       in.failAt(unitAt, "unit count", std::to_string(unitCount) + ": this game has " + std::to_string(units.size()));
     }
     const size_t cells = size_t(navigation_.cellCount());
+    const double place = placeLimit(map_);
     for (size_t i = 0; i < units.size(); ++i) {
       Unit& u = units[i];
       const std::string f = "units[" + std::to_string(i) + "]";
@@ -210,32 +231,34 @@ void Game::restoreState(std::string_view bytes) {
       u.hitPoints = int(in.zigzag(f + ".hitPoints", -1'000'000, 1'000'000));
       u.reloadTicks = int(in.zigzag(f + ".reloadTicks", -1'000'000, 1'000'000));
       u.body = readBody(in, f + ".body");
-      u.position = readVec(in, f + ".position");
-      u.previous = readVec(in, f + ".previous");
-      u.velocity = readVec(in, f + ".velocity");
+      u.position = readVec(in, f + ".position", place);
+      u.previous = readVec(in, f + ".previous", place);
+      u.velocity = readVec(in, f + ".velocity", kMotionLimit);
       Order& o = u.order;
       o = Order{};
       o.active = in.flag(f + ".order.active");
-      o.target = readVec(in, f + ".order.target");
-      o.arrivalRadius = in.finite(f + ".order.arrivalRadius");
+      o.target = readVec(in, f + ".order.target", place);
+      o.arrivalRadius = readBounded(in, f + ".order.arrivalRadius", 0, place);
       if (in.flag(f + ".order.field")) {
         FieldKey key;
         key.cell = int(in.varint(f + ".order.field.cell", 0, cells > 0 ? cells - 1 : 0));
         key.gates = in.u32(f + ".order.field.gates");
         key.layer = int(in.varint(f + ".order.field.layer", 0, uint64_t(navigation_.layers() - 1)));
         fields[i] = key;
+      } else if (o.active) {
+        in.failAt(in.offset() - 1, f + ".order.field", "an order under way has a flow field");
       }
       const size_t bestAt = in.offset();
       o.bestDistance = in.f64(f + ".order.bestDistance");
-      if (std::isnan(o.bestDistance)) in.failAt(bestAt, f + ".order.bestDistance", "not a number");
+      if (!(o.bestDistance >= 0)) in.failAt(bestAt, f + ".order.bestDistance", "must be >= 0 (or infinity)");
       o.stuckTicks = int(in.zigzag(f + ".order.stuckTicks", 0, 1'000'000'000));
       o.stuckSpells = int(in.zigzag(f + ".order.stuckSpells", 0, 1'000'000'000));
       for (size_t k = 0; k < u.touches.size(); ++k) {
         const std::string t = f + ".touches[" + std::to_string(k) + "]";
-        u.touches[k].normal = readVec(in, t + ".normal");
+        u.touches[k].normal = readVec(in, t + ".normal", kMotionLimit);
         u.touches[k].ticksLeft = int(in.zigzag(t + ".ticksLeft", -1'000'000, 1'000'000));
       }
-      u.makeWay = readVec(in, f + ".makeWay");
+      u.makeWay = readVec(in, f + ".makeWay", kMotionLimit);
       u.inSensor.resize(in.count(f + ".inSensor count", 1, units.size()));
       for (uint32_t& id : u.inSensor) id = uint32_t(in.varint(f + ".inSensor", 0, units.size() - 1));
       u.doorways.resize(in.count(f + ".doorways count", 2, doorways.size()));
@@ -250,7 +273,7 @@ void Game::restoreState(std::string_view bytes) {
       for (size_t k = 0; k < list->size(); ++k) {
         const size_t at = in.offset();
         const std::string f = std::string(name) + "[" + std::to_string(k) + "]";
-        (*list)[k] = readShot(in, f, units.size());
+        (*list)[k] = readShot(in, f, units.size(), place);
         if (list == &shots && (!(*list)[k].alive || (k > 0 && (*list)[k].id <= (*list)[k - 1].id))) {
           in.failAt(at, f, "live shots are alive and in ascending id order");
         }
@@ -264,7 +287,7 @@ void Game::restoreState(std::string_view bytes) {
     }
     impacts.resize(in.count("impact count", 21, SIZE_MAX));
     for (Impact& i : impacts) {
-      i.point = readVec(in, "impacts.point");
+      i.point = readVec(in, "impacts.point", place);
       i.tick = in.u32("impacts.tick");
       i.wall = in.flag("impacts.wall");
     }
@@ -312,7 +335,7 @@ void Game::restoreState(std::string_view bytes) {
   }
   for (const Shot& s : shots) shotBodies.push_back({s.body, s.id});
   try {
-    physics_.adopt(std::move(*world), unitBodies, shotBodies);
+    physics_.adopt(std::move(*world), unitBodies, shotBodies, placeLimit(map_), kMotionLimit);
   } catch (const GameError& e) {
     throw GameError(std::string("game state: ") + e.what());
   }

@@ -4,6 +4,7 @@
 #include <time.h>
 
 #include <chrono>
+#include <cmath>
 #include <variant>
 
 #include "game/game.h"  // GameError
@@ -151,7 +152,7 @@ rattle::BodyId Physics::addShot(uint32_t id, int team, Vec2 position, Vec2 veloc
 void Physics::remove(rattle::BodyId body) { world_.destroyBody(body); }
 
 void Physics::adopt(rattle::World world, const std::vector<std::pair<rattle::BodyId, uint32_t>>& units,
-                    const std::vector<std::pair<rattle::BodyId, uint32_t>>& shots) {
+                    const std::vector<std::pair<rattle::BodyId, uint32_t>>& shots, double place, double speed) {
   const rattle::WorldDef& mine = world_.definition();
   const rattle::WorldDef& theirs = world.definition();
   if (theirs.mode != mine.mode || theirs.collapseTime != mine.collapseTime || !(theirs.gravity == mine.gravity) ||
@@ -185,6 +186,11 @@ void Physics::adopt(rattle::World world, const std::vector<std::pair<rattle::Bod
       if ((t.tag == Tag::Wall || t.tag == Tag::Doorway || t.tag == Tag::Gate) && t.generation == body.generation) {
         throw GameError(std::string(what) + " " + std::to_string(b.second) + ": its body is one of the map's");
       }
+    }
+    const Vec2 p = world.position(body), v = world.velocity(body);
+    if (!(std::fabs(p.x) <= place && std::fabs(p.y) <= place && std::fabs(v.x) <= speed && std::fabs(v.y) <= speed)) {
+      throw GameError(std::string(what) + " " + std::to_string(b.second) +
+                      ": its body is too far off the map or too fast");
     }
     if (body.index >= listed.size()) listed.resize(size_t(body.index) + 1, 0);
     if (listed[body.index]) {

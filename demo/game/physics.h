@@ -69,9 +69,10 @@ class Physics {
   /// Takes `world` (a World::load of a save of this map's game) in place of its own, its units' and
   /// shots' bodies as listed (body, id). Throws GameError, and changes nothing, when the world is not one
   /// of this map's (the walls, doorways and gates where this world has them, the same definition) or a
-  /// listed body is not a live dynamic body of its own.
+  /// listed body is not a live dynamic body of its own, within `place` of the origin and slower than
+  /// `speed` on each axis.
   void adopt(rattle::World world, const std::vector<std::pair<rattle::BodyId, uint32_t>>& units,
-             const std::vector<std::pair<rattle::BodyId, uint32_t>>& shots);
+             const std::vector<std::pair<rattle::BodyId, uint32_t>>& shots, double place, double speed);
 
   Vec2 position(rattle::BodyId body) const { return world_.position(body); }
   Vec2 velocity(rattle::BodyId body) const { return world_.velocity(body); }

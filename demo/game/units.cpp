@@ -378,8 +378,9 @@ void Game::steer() {
       u.velocity = desired;
       continue;
     }
-    if (!o.active && u.makeWay != Vec2{0, 0}) {
-      const double l = rattle::length(u.makeWay);
+    // By its length, not by != 0: a makeWay too small for its square (a state given by a host) has a
+    // length of 0, and the division would make a NaN velocity.
+    if (const double l = rattle::length(u.makeWay); !o.active && l > 0) {
       desired = u.makeWay * (std::min(l, 0.5 * type.speed) / l);
     }
     u.makeWay = {0, 0};

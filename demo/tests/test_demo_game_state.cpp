@@ -109,35 +109,50 @@ TEST(DemoGameState, AGameStartedFromTheStateAtAReloadPlaysAsThePlayersGame) {
 }
 
 // The bytes of a small game's state, each changed in turn (by 0x01 and by 0xFF): refused with a
-// GameError that names the byte, leaving the game unchanged, or taken into a game that then ticks.
+// GameError that names the byte, leaving the game unchanged, or taken into a game that then ticks. In
+// the discrete mode a 0x01 in a zero makeWay made it subnormal, its length 0 and the unit's velocity NaN
+// (the game_state fuzzer's fuzz/regressions/game_state/nan-velocity-from-a-subnormal-make-way).
 TEST(DemoGameState, EveryByteChangedIsRefusedAndLeavesTheGameOrTicks) {
-  Game g(rts::loadMap(assetPath("small.json")), config(2));
-  play(g, 40, 1000, nullptr);
-  const std::string state = g.saveState();
-  Game target(rts::loadMap(assetPath("small.json")), config(2));
-  const std::string before = target.saveState();
   int refused = 0, taken = 0;
-  // The world's bytes are checked by World::load (tests/test_world_save.cpp): here every byte of the
-  // game's own part, and every 29th of the world's, whose checksum World::load then refuses.
-  const size_t worldAt = state.find("RTLW");
-  ASSERT_NE(worldAt, std::string::npos);
-  for (size_t at = 0; at < state.size(); at += at < worldAt + 8 ? 1 : 29) {
-    for (uint8_t change : {uint8_t{0x01}, uint8_t{0xFF}}) {
-      std::string bad = state;
-      bad[at] = char(uint8_t(bad[at]) ^ change);
-      Game t(rts::loadMap(assetPath("small.json")), config(2));
-      try {
-        t.restoreState(bad);
-        t.tick();
-        t.tick();
-        ++taken;
-      } catch (const rts::GameError& e) {
-        ++refused;
-        EXPECT_EQ(std::string(e.what()).rfind("game state: ", 0), 0u) << e.what();
-        EXPECT_EQ(t.saveState(), before) << "a refused state changed the game (byte " << at << ")";
+  for (rattle::StepMode mode : {rattle::StepMode::Hybrid, rattle::StepMode::Discrete}) {
+    Game g(rts::loadMap(assetPath("small.json")), config(3, mode));
+    {
+      rts::ScriptedOpponent opponent(5);
+      rts::TickLoop loop(g);
+      loop.add(opponent);
+      for (int t = 0; t < 40; ++t) loop.tick();
+    }
+    const std::string state = g.saveState();
+    Game target(rts::loadMap(assetPath("small.json")), config(3, mode));
+    const std::string before = target.saveState();
+    // The world's bytes are checked by World::load (tests/test_world_save.cpp): here every byte of the
+    // game's own part, and every 29th of the world's, whose checksum World::load then refuses.
+    const size_t worldAt = state.find("RTLW");
+    ASSERT_NE(worldAt, std::string::npos);
+    for (size_t at = 0; at < state.size(); at += at < worldAt + 8 ? 1 : 29) {
+      for (uint8_t change : {uint8_t{0x01}, uint8_t{0xFF}}) {
+        std::string bad = state;
+        bad[at] = char(uint8_t(bad[at]) ^ change);
+        Game t(rts::loadMap(assetPath("small.json")), config(3, mode));
+        try {
+          t.restoreState(bad);
+          for (int k = 0; k < 3; ++k) t.tick();
+          ++taken;
+        } catch (const rts::GameError& e) {
+          ++refused;
+          EXPECT_EQ(std::string(e.what()).rfind("game state: ", 0), 0u) << e.what();
+          EXPECT_EQ(t.saveState(), before) << "a refused state changed the game (byte " << at << ")";
+        }
       }
     }
   }
+  const std::string state = [] {
+    Game g(rts::loadMap(assetPath("small.json")), config(2));
+    play(g, 40, 1000, nullptr);
+    return g.saveState();
+  }();
+  Game target(rts::loadMap(assetPath("small.json")), config(2));
+  const std::string before = target.saveState();
   EXPECT_GT(refused, 0);
   EXPECT_GT(taken, 0);
   for (size_t n = 0; n < state.size(); n += 7) {
