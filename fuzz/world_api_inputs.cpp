@@ -1,7 +1,8 @@
 // rattle-world-api-inputs: runs files through the world_api fuzz target's entry point
 // (fuzz/world_api.cpp) in an ordinary build, without libFuzzer, so that `make test` replays the seeds
 // and the kept findings under g++ (and under ASan+UBSan in make test-sanitize). A violated invariant
-// aborts with the fuzzer's message, after the line naming the file.
+// aborts with the fuzzer's message, after the line naming the file. Built with RATTLE_FUZZ_TARGET set to
+// another target's name (fuzz/CMakeLists.txt), it is that target's runner (rattle-game-state-inputs).
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
@@ -14,17 +15,25 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size);
 
+#ifndef RATTLE_FUZZ_TARGET
+#define RATTLE_FUZZ_TARGET "world_api"
+#define RATTLE_FUZZ_PROGRAM "rattle-world-api-inputs"
+#define RATTLE_FUZZ_ENVIRONMENT "RATTLE_WORLD_API_OFF and RATTLE_WORLD_API_MODES apply as in the fuzzer (fuzz/README.md).\n"
+#endif
+#ifndef RATTLE_FUZZ_ENVIRONMENT
+#define RATTLE_FUZZ_ENVIRONMENT ""
+#endif
+
 namespace {
 
 void usage(FILE* out) {
   std::fputs(
-      "usage: rattle-world-api-inputs [--quiet] FILE|DIR...\n"
+      "usage: " RATTLE_FUZZ_PROGRAM " [--quiet] FILE|DIR...\n"
       "\n"
       "Runs each FILE, and each file of each DIR (in name order; README.md and seeds.txt skipped), as one\n"
-      "input of the world_api fuzz target (fuzz/world_api.cpp). Prints the file's name before running it;\n"
-      "a violated invariant aborts there with the fuzzer's message. Exit status 0 when every input passes,\n"
-      "2 on a usage error or a missing file. RATTLE_WORLD_API_OFF and RATTLE_WORLD_API_MODES apply as in\n"
-      "the fuzzer (fuzz/README.md).\n"
+      "input of the " RATTLE_FUZZ_TARGET " fuzz target (fuzz/" RATTLE_FUZZ_TARGET ".cpp). Prints the file's name\n"
+      "before running it; a violated invariant aborts there with the fuzzer's message. Exit status 0 when\n"
+      "every input passes, 2 on a usage error or a missing file.\n" RATTLE_FUZZ_ENVIRONMENT
       "\n"
       "  --quiet   print only the summary line\n"
       "  --help    this text\n",
@@ -47,7 +56,7 @@ int main(int argc, char** argv) {
       continue;
     }
     if (arg.rfind("-", 0) == 0) {
-      std::fprintf(stderr, "rattle-world-api-inputs: %s: unknown option (see --help)\n", arg.c_str());
+      std::fprintf(stderr, RATTLE_FUZZ_PROGRAM ": %s: unknown option (see --help)\n", arg.c_str());
       return 2;
     }
     const std::filesystem::path path(arg);
@@ -62,7 +71,7 @@ int main(int argc, char** argv) {
     } else if (std::filesystem::is_regular_file(path)) {
       files.push_back(path);
     } else {
-      std::fprintf(stderr, "rattle-world-api-inputs: %s: no such file or directory\n", arg.c_str());
+      std::fprintf(stderr, RATTLE_FUZZ_PROGRAM ": %s: no such file or directory\n", arg.c_str());
       return 2;
     }
   }
@@ -77,6 +86,6 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
     LLVMFuzzerTestOneInput(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size());
   }
-  std::printf("rattle-world-api-inputs: %zu inputs, every invariant held\n", files.size());
+  std::printf(RATTLE_FUZZ_PROGRAM ": %zu inputs, every invariant held\n", files.size());
   return 0;
 }
