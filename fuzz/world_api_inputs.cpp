@@ -18,7 +18,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size);
 #ifndef RATTLE_FUZZ_TARGET
 #define RATTLE_FUZZ_TARGET "world_api"
 #define RATTLE_FUZZ_PROGRAM "rattle-world-api-inputs"
-#define RATTLE_FUZZ_ENVIRONMENT "RATTLE_WORLD_API_OFF and RATTLE_WORLD_API_MODES apply as in the fuzzer (fuzz/README.md).\n"
+#define RATTLE_FUZZ_ENVIRONMENT \
+  "RATTLE_WORLD_API_OFF and RATTLE_WORLD_API_MODES apply as in the fuzzer (fuzz/README.md).\n"
 #endif
 #ifndef RATTLE_FUZZ_ENVIRONMENT
 #define RATTLE_FUZZ_ENVIRONMENT ""
