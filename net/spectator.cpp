@@ -49,7 +49,6 @@ void SpectatorSession::desync(uint32_t tick, uint64_t mine, uint64_t theirs) {
 
 void SpectatorSession::handshake(Game& game) {
   if (handshaken_) throw std::logic_error("SpectatorSession: handshake() twice");
-  game_ = &game;
   context_ = decodeContextOf(game);
   transport_.setPeerTimeout(config_.peerTimeoutSeconds + 1);
   const Clock::time_point start = Clock::now();

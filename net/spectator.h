@@ -75,7 +75,6 @@ class SpectatorSession : public CommandSource {
   Transport& transport_;
   LockstepConfig config_;
   DecodeContext context_;
-  const class Game* game_ = nullptr;
   bool handshaken_ = false;
   std::optional<Hello> hostHello_;
   // The host's state as its GameState parts come: `state_` grows to stateSize_ bytes.

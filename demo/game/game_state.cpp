@@ -98,6 +98,76 @@ Shot readShot(ByteReader& in, const std::string& f, size_t unitCount, double pla
   return s;
 }
 
+// A flow field as a state keeps it: a field is a function of these alone (Navigation::fieldForCell).
+struct FieldKey {
+  int cell;
+  uint32_t gates;
+  int layer;
+};
+
+// What a unit's fields are checked against: the game's sizes and the limits above.
+struct UnitLimits {
+  size_t cells;  // Navigation's
+  int layers;
+  double place;
+  size_t unitCount;
+  size_t doorwayCount;
+};
+
+// Reads unit i into u, which holds this game's unit i (its team and type must be the state's); returns
+// its order's flow field, when it has one.
+std::optional<FieldKey> readUnit(ByteReader& in, Unit& u, size_t i, const UnitLimits& l) {
+  std::optional<FieldKey> field;
+  const std::string f = "units[" + std::to_string(i) + "]";
+  const size_t at = in.offset();
+  const uint64_t team = in.varint(f + ".team", 0, 1), type = in.varint(f + ".type", 0, 255);
+  if (team != u.team || type != u.type) {
+    in.failAt(at, f + ".team",
+              "team " + std::to_string(team) + ", type " + std::to_string(type) + ": this game's unit " +
+                  std::to_string(i) + " is of team " + std::to_string(u.team) + ", type " + std::to_string(u.type));
+  }
+  u.alive = in.flag(f + ".alive");
+  u.hitPoints = int(in.zigzag(f + ".hitPoints", -1'000'000, 1'000'000));
+  u.reloadTicks = int(in.zigzag(f + ".reloadTicks", -1'000'000, 1'000'000));
+  u.body = readBody(in, f + ".body");
+  u.position = readVec(in, f + ".position", l.place);
+  u.previous = readVec(in, f + ".previous", l.place);
+  u.velocity = readVec(in, f + ".velocity", kMotionLimit);
+  Order& o = u.order;
+  o = Order{};
+  o.active = in.flag(f + ".order.active");
+  o.target = readVec(in, f + ".order.target", l.place);
+  o.arrivalRadius = readBounded(in, f + ".order.arrivalRadius", 0, l.place);
+  if (in.flag(f + ".order.field")) {
+    FieldKey key;
+    key.cell = int(in.varint(f + ".order.field.cell", 0, l.cells > 0 ? l.cells - 1 : 0));
+    key.gates = in.u32(f + ".order.field.gates");
+    key.layer = int(in.varint(f + ".order.field.layer", 0, uint64_t(l.layers - 1)));
+    field = key;
+  } else if (o.active) {
+    in.failAt(in.offset() - 1, f + ".order.field", "an order under way has a flow field");
+  }
+  const size_t bestAt = in.offset();
+  o.bestDistance = in.f64(f + ".order.bestDistance");
+  if (!(o.bestDistance >= 0)) in.failAt(bestAt, f + ".order.bestDistance", "must be >= 0 (or infinity)");
+  o.stuckTicks = int(in.zigzag(f + ".order.stuckTicks", 0, 1'000'000'000));
+  o.stuckSpells = int(in.zigzag(f + ".order.stuckSpells", 0, 1'000'000'000));
+  for (size_t k = 0; k < u.touches.size(); ++k) {
+    const std::string t = f + ".touches[" + std::to_string(k) + "]";
+    u.touches[k].normal = readVec(in, t + ".normal", kMotionLimit);
+    u.touches[k].ticksLeft = int(in.zigzag(t + ".ticksLeft", -1'000'000, 1'000'000));
+  }
+  u.makeWay = readVec(in, f + ".makeWay", kMotionLimit);
+  u.inSensor.resize(in.count(f + ".inSensor count", 1, l.unitCount));
+  for (uint32_t& id : u.inSensor) id = uint32_t(in.varint(f + ".inSensor", 0, l.unitCount - 1));
+  u.doorways.resize(in.count(f + ".doorways count", 2, l.doorwayCount));
+  for (Unit::DoorTouch& d : u.doorways) {
+    d.doorway = uint32_t(in.varint(f + ".doorways.doorway", 0, l.doorwayCount == 0 ? 0 : l.doorwayCount - 1));
+    d.entrySide = int8_t(in.zigzag(f + ".doorways.entrySide", -128, 127));
+  }
+  return field;
+}
+
 }  // namespace
 
 std::string Game::saveState() const {
@@ -192,11 +262,6 @@ void Game::restoreState(std::string_view bytes) {
   GameStats stats;
   uint32_t tick = 0, nextShotId = 0;
   bool reloadPending = false;
-  struct FieldKey {
-    int cell;
-    uint32_t gates;
-    int layer;
-  };
   std::vector<std::optional<FieldKey>> fields(units.size());
   std::optional<rattle::World> world;
   try {
@@ -215,58 +280,10 @@ void Game::restoreState(std::string_view bytes) {
     if (unitCount != units.size()) {
       in.failAt(unitAt, "unit count", std::to_string(unitCount) + ": this game has " + std::to_string(units.size()));
     }
-    const size_t cells = size_t(navigation_.cellCount());
     const double place = placeLimit(map_);
-    for (size_t i = 0; i < units.size(); ++i) {
-      Unit& u = units[i];
-      const std::string f = "units[" + std::to_string(i) + "]";
-      const size_t at = in.offset();
-      const uint64_t team = in.varint(f + ".team", 0, 1), type = in.varint(f + ".type", 0, 255);
-      if (team != u.team || type != u.type) {
-        in.failAt(at, f + ".team",
-                  "team " + std::to_string(team) + ", type " + std::to_string(type) + ": this game's unit " +
-                      std::to_string(i) + " is of team " + std::to_string(u.team) + ", type " + std::to_string(u.type));
-      }
-      u.alive = in.flag(f + ".alive");
-      u.hitPoints = int(in.zigzag(f + ".hitPoints", -1'000'000, 1'000'000));
-      u.reloadTicks = int(in.zigzag(f + ".reloadTicks", -1'000'000, 1'000'000));
-      u.body = readBody(in, f + ".body");
-      u.position = readVec(in, f + ".position", place);
-      u.previous = readVec(in, f + ".previous", place);
-      u.velocity = readVec(in, f + ".velocity", kMotionLimit);
-      Order& o = u.order;
-      o = Order{};
-      o.active = in.flag(f + ".order.active");
-      o.target = readVec(in, f + ".order.target", place);
-      o.arrivalRadius = readBounded(in, f + ".order.arrivalRadius", 0, place);
-      if (in.flag(f + ".order.field")) {
-        FieldKey key;
-        key.cell = int(in.varint(f + ".order.field.cell", 0, cells > 0 ? cells - 1 : 0));
-        key.gates = in.u32(f + ".order.field.gates");
-        key.layer = int(in.varint(f + ".order.field.layer", 0, uint64_t(navigation_.layers() - 1)));
-        fields[i] = key;
-      } else if (o.active) {
-        in.failAt(in.offset() - 1, f + ".order.field", "an order under way has a flow field");
-      }
-      const size_t bestAt = in.offset();
-      o.bestDistance = in.f64(f + ".order.bestDistance");
-      if (!(o.bestDistance >= 0)) in.failAt(bestAt, f + ".order.bestDistance", "must be >= 0 (or infinity)");
-      o.stuckTicks = int(in.zigzag(f + ".order.stuckTicks", 0, 1'000'000'000));
-      o.stuckSpells = int(in.zigzag(f + ".order.stuckSpells", 0, 1'000'000'000));
-      for (size_t k = 0; k < u.touches.size(); ++k) {
-        const std::string t = f + ".touches[" + std::to_string(k) + "]";
-        u.touches[k].normal = readVec(in, t + ".normal", kMotionLimit);
-        u.touches[k].ticksLeft = int(in.zigzag(t + ".ticksLeft", -1'000'000, 1'000'000));
-      }
-      u.makeWay = readVec(in, f + ".makeWay", kMotionLimit);
-      u.inSensor.resize(in.count(f + ".inSensor count", 1, units.size()));
-      for (uint32_t& id : u.inSensor) id = uint32_t(in.varint(f + ".inSensor", 0, units.size() - 1));
-      u.doorways.resize(in.count(f + ".doorways count", 2, doorways.size()));
-      for (Unit::DoorTouch& d : u.doorways) {
-        d.doorway = uint32_t(in.varint(f + ".doorways.doorway", 0, doorways.empty() ? 0 : doorways.size() - 1));
-        d.entrySide = int8_t(in.zigzag(f + ".doorways.entrySide", -128, 127));
-      }
-    }
+    const UnitLimits limits{size_t(navigation_.cellCount()), navigation_.layers(), place, units.size(),
+                            doorways.size()};
+    for (size_t i = 0; i < units.size(); ++i) fields[i] = readUnit(in, units[i], i, limits);
     for (std::vector<Shot>* list : {&shots, &spent}) {
       const char* name = list == &shots ? "shots" : "spentShots";
       list->resize(in.count(std::string(name) + " count", 40, SIZE_MAX));

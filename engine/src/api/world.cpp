@@ -6,6 +6,7 @@
 #include <string>
 
 #include "common/format.h"
+#include "api/value_ranges.h"
 #include "common/out_of_memory.h"
 #include "contact/resting.h"
 #include "contact/squeeze.h"
@@ -18,6 +19,7 @@ namespace rattle {
 
 using detail::BodySlot;
 using detail::FixtureSlot;
+using detail::inRange;
 using detail::require;
 using detail::str;
 
@@ -31,15 +33,10 @@ void checkFinite(Vec2 v, const char* field) {
 // below 2^511 (about 1.3e154) units per second. Gravity likewise.
 void checkVelocity(Vec2 v, const char* field) {
   checkFinite(v, field);
-  require(std::isfinite(dot(v, v)), [&] {
+  require(detail::finiteSquare(v), [&] {
     return std::string(field) + " = " + str(v) + ": its length squared overflows (its length must be below 1.3e154)";
   });
 }
-
-// Within the documented range of coordinates (World::kMaxCoordinate): differences and products of
-// coordinates, which the broad phase and the times of impact form, then stay finite.
-bool inRange(Vec2 v) { return std::fabs(v.x) <= World::kMaxCoordinate && std::fabs(v.y) <= World::kMaxCoordinate; }
-bool inRange(const Box& b) { return inRange(b.min) && inRange(b.max); }
 
 void checkRestitution(double e, const char* field) {
   require(std::isfinite(e) && e >= 0 && e <= 1,

@@ -21,6 +21,7 @@
 #include <type_traits>
 #include <variant>
 
+#include "api/value_ranges.h"
 #include "common/byte_io.h"
 #include "common/format.h"
 #include "contact/islands.h"
@@ -33,7 +34,9 @@ namespace rattle {
 using detail::BodySlot;
 using detail::ByteReader;
 using detail::ByteWriter;
+using detail::finiteSquare;
 using detail::FixtureSlot;
+using detail::inRange;
 
 namespace {
 
@@ -94,10 +97,6 @@ Geometry readGeometry(ByteReader& in) {
       in.fail(at, "geometry type", " = " + std::to_string(type) + ": not a GeometryType (0 to 4)");
   }
 }
-
-bool finiteSquare(Vec2 v) { return isFinite(v) && std::isfinite(dot(v, v)); }
-bool inRange(Vec2 v) { return std::fabs(v.x) <= World::kMaxCoordinate && std::fabs(v.y) <= World::kMaxCoordinate; }
-bool inRange(const Box& b) { return inRange(b.min) && inRange(b.max); }
 
 void writeId(ByteWriter& out, uint32_t index, uint32_t generation) {
   out.u32(index);
@@ -215,6 +214,339 @@ std::vector<uint8_t> World::save() const {
   return std::move(out.bytes());
 }
 
+namespace {
+
+// World::load's reading, part by part, into a new world's state. Every part checks what it reads the way
+// the World API checks what it is given, and fails naming the byte and the field.
+class SaveReader {
+ public:
+  SaveReader(ByteReader& in, detail::WorldState& w) : in_(in), w_(w) {}
+
+  void bodies();
+  void fixtures();
+  /// What follows a body's fixtures: its mass, disk shape and place in the broad phase, the rules
+  /// createFixture holds a dynamic body to, and its support.
+  void finishBodies();
+  void sensors();
+  void squeezes();
+  void islands();
+
+ private:
+  template <class Message>
+  void check(bool ok, size_t at, const char* field, Message&& message) {
+    if (!ok) in_.fail(at, field, message());
+  }
+  /// A slot's alive flag and generation, which every slot has, live or free.
+  template <class Slot>
+  void slotHead(Slot& slot) {
+    slot.alive = in_.flag("alive");
+    const size_t at = in_.offset();
+    slot.generation = in_.u32("generation");
+    check(slot.generation != 0, at, "generation", [] { return " = 0: generations start at 1"; });
+  }
+  /// A free list: each free slot of `slots` once, in the saved order (`noun`: "body" or "fixture").
+  template <class Slots>
+  void freeList(const Slots& slots, std::vector<uint32_t>& list, const char* noun);
+  void body(uint32_t i);
+  void fixture(uint32_t k);
+
+  ByteReader& in_;
+  detail::WorldState& w_;
+  uint32_t bodyCount_ = 0, fixtureCount_ = 0;
+  std::vector<uint32_t> fixtureOwner_;  // by fixture index: the body listing it + 1 (0: none)
+};
+
+template <class Slots>
+void SaveReader::freeList(const Slots& slots, std::vector<uint32_t>& list, const char* noun) {
+  in_.entry(nullptr);
+  const std::string countField = std::string("free ") + noun + " count", field = std::string("free ") + noun;
+  std::vector<uint8_t> listed(slots.size(), 0);
+  const uint32_t count = in_.count(countField.c_str(), 4);
+  for (uint32_t k = 0; k < count; ++k) {
+    const size_t at = in_.offset();
+    const uint32_t i = in_.u32(field.c_str());
+    check(i < slots.size() && !slots[i].alive && !listed[i], at, field.c_str(),
+          [&] { return " = " + std::to_string(i) + ": not a free " + noun + " slot, or listed twice"; });
+    listed[i] = 1;
+    list.push_back(i);
+  }
+  const auto dead = std::count_if(slots.begin(), slots.end(), [](const auto& s) { return !s.alive; });
+  check(count == static_cast<uint32_t>(dead), in_.offset(), countField.c_str(),
+        [&] { return " = " + std::to_string(count) + ": every free " + noun + " slot must be listed once"; });
+}
+
+void SaveReader::bodies() {
+  bodyCount_ = in_.count("body slot count", 5);
+  w_.bodies.resize(bodyCount_);
+  w_.userData.resize(bodyCount_);
+  w_.dependents.resize(bodyCount_);
+  w_.diskShapes.resize(bodyCount_);
+  for (uint32_t i = 0; i < bodyCount_; ++i) body(i);
+  freeList(w_.bodies, w_.freeBodies, "body");
+}
+
+void SaveReader::body(uint32_t i) {
+  in_.entry("bodies", i);
+  BodySlot& b = w_.bodies[i];
+  slotHead(b);
+  if (!b.alive) return;
+  size_t at = in_.offset();
+  const uint8_t type = in_.u8("type");
+  check(type <= static_cast<uint8_t>(BodyType::Kinematic), at, "type",
+        [&] { return " = " + std::to_string(type) + ": not a BodyType (0 to 2)"; });
+  b.type = static_cast<BodyType>(type);
+  at = in_.offset();
+  const uint8_t flags = in_.u8("flags");
+  check(flags < 32 && (b.type == BodyType::Dynamic || (flags & ~kStepLocalsSet) == 0), at, "flags",
+        [&] { return " = " + std::to_string(flags) + ": unknown bits, or a static or kinematic body's"; });
+  b.asleep = flags & kAsleep;
+  b.stepped = flags & kStepped;
+  b.sliding = flags & kSliding;
+  b.driven = flags & kDriven;
+  b.stepLocalsSet = flags & kStepLocalsSet;
+  at = in_.offset();
+  b.position = in_.vec2("position");
+  check(isFinite(b.position) && inRange(b.position), at, "position",
+        [&] { return " = " + detail::str(b.position) + ": must be finite, within +-1e150"; });
+  at = in_.offset();
+  b.velocity = in_.vec2("velocity");
+  check(finiteSquare(b.velocity) && (b.type != BodyType::Static || b.velocity == Vec2{}), at, "velocity",
+        [&] { return " = " + detail::str(b.velocity) + ": not finite, too fast, or a static body's"; });
+  at = in_.offset();
+  // Gravity, its part along a face a body slides on, or nothing: never more than gravity, and nothing
+  // on a body that is not dynamic.
+  b.acceleration = in_.vec2("acceleration");
+  const double g = length(w_.def.gravity);
+  check(finiteSquare(b.acceleration) && length(b.acceleration) <= g * (1 + 1e-9) &&
+            (b.type == BodyType::Dynamic || b.acceleration == Vec2{}),
+        at, "acceleration",
+        [&] { return " = " + detail::str(b.acceleration) + ": more than gravity, or a static or kinematic body's"; });
+  // Every body's clock is at 0 between steps: a step moves them all to its end. Another time would move
+  // the body by its velocity times that time at the next step's start (the world_load fuzzer found
+  // -1.6e306, which overflowed to a NaN in the broad phase).
+  at = in_.offset();
+  b.localTime = in_.f64("localTime");
+  check(b.localTime == 0, at, "localTime",
+        [&] { return " = " + detail::str(b.localTime) + ": must be 0 between steps"; });
+  b.collisionCount = in_.u32("collisionCount");
+  at = in_.offset();
+  b.stepCollisions = in_.i32("stepCollisions");
+  check(b.stepCollisions >= 0, at, "stepCollisions",
+        [&] { return " = " + std::to_string(b.stepCollisions) + ": must be >= 0"; });
+  b.last.fixtureLow = in_.u32("last.fixtureLow");
+  b.last.fixtureHigh = in_.u32("last.fixtureHigh");
+  b.last.feature = in_.i32("last.feature");
+  at = in_.offset();
+  b.last.time = in_.f64("last.time");
+  check(std::isfinite(b.last.time), at, "last.time",
+        [&] { return " = " + detail::str(b.last.time) + ": must be finite"; });
+  b.support.fixture = in_.u32("support.fixture");
+  b.support.generation = in_.u32("support.generation");
+  b.support.feature = in_.i32("support.feature");
+  at = in_.offset();
+  b.support.normal = in_.vec2("support.normal");
+  check(isFinite(b.support.normal) && std::fabs(b.support.normal.x) <= 1 && std::fabs(b.support.normal.y) <= 1, at,
+        "support.normal", [&] { return " = " + detail::str(b.support.normal) + ": a unit normal or none"; });
+  at = in_.offset();
+  b.lastContactTime = in_.f64("lastContactTime");
+  check(!std::isnan(b.lastContactTime) && b.lastContactTime != INFINITY, at, "lastContactTime",
+        [&] { return " = " + detail::str(b.lastContactTime) + ": must be finite or -inf (none)"; });
+  w_.userData[i] = in_.u64("userData");
+  w_.dependents[i].resize(in_.count("dependent count", 4));
+  for (uint32_t& d : w_.dependents[i]) {
+    at = in_.offset();
+    d = in_.u32("dependent");
+    check(d < bodyCount_, at, "dependent", [&] { return " = " + std::to_string(d) + ": no such body slot"; });
+  }
+  const uint32_t fixtures = in_.count("fixture count", 4);
+  for (uint32_t k = 0; k < fixtures; ++k) {
+    at = in_.offset();
+    const uint32_t f = in_.u32("fixture");
+    // Checked once the fixture slots are read; here only that no fixture is listed twice. The owners'
+    // list grows no larger than the bytes left could hold fixture slots.
+    if (f >= fixtureOwner_.size()) fixtureOwner_.resize(std::min<size_t>(size_t{f} + 1, in_.left() + 1), 0);
+    check(f < fixtureOwner_.size() && fixtureOwner_[f] == 0, at, "fixture",
+          [&] { return " = " + std::to_string(f) + ": listed twice, or no such fixture slot"; });
+    fixtureOwner_[f] = i + 1;
+    b.fixtures.push_back(f);
+  }
+  ++w_.liveBodies;
+}
+
+void SaveReader::fixtures() {
+  fixtureCount_ = in_.count("fixture slot count", 5);
+  check(fixtureOwner_.size() <= fixtureCount_, in_.offset(), "fixture slot count", [&] {
+    return " = " + std::to_string(fixtureCount_) + ": a body lists fixture " + std::to_string(fixtureOwner_.size() - 1);
+  });
+  fixtureOwner_.resize(fixtureCount_, 0);
+  w_.fixtures.resize(fixtureCount_);
+  for (uint32_t k = 0; k < fixtureCount_; ++k) fixture(k);
+  freeList(w_.fixtures, w_.freeFixtures, "fixture");
+}
+
+void SaveReader::fixture(uint32_t k) {
+  in_.entry("fixtures", k);
+  FixtureSlot& f = w_.fixtures[k];
+  size_t at = in_.offset();
+  slotHead(f);
+  if (!f.alive) {
+    f.geometry = Point{};
+    check(fixtureOwner_[k] == 0, at, "alive", [] { return " = 0: a body lists it"; });
+    return;
+  }
+  at = in_.offset();
+  f.body = in_.u32("body");
+  check(f.body < bodyCount_ && fixtureOwner_[k] == f.body + 1, at, "body",
+        [&] { return " = " + std::to_string(f.body) + ": that body does not list this fixture"; });
+  at = in_.offset();
+  Geometry g = readGeometry(in_);
+  if (auto error = validationError(g)) in_.fail(at, "geometry", ": " + *error);
+  f.geometry = normalized(g);
+  f.localBox = boxOf(f.geometry);
+  const BodySlot& b = w_.bodies[f.body];
+  check(inRange(f.localBox.translated(b.position)), at, "geometry",
+        [] { return std::string(": its box reaches outside +-1e150 at its body's position"); });
+  at = in_.offset();
+  f.density = in_.f64("density");
+  check(std::isfinite(f.density) && (b.type == BodyType::Dynamic ? f.density > 0 : f.density >= 0), at, "density",
+        [&] { return " = " + detail::str(f.density) + ": must be finite and > 0 (>= 0 off a dynamic body)"; });
+  at = in_.offset();
+  f.restitution = in_.f64("restitution");
+  check(std::isfinite(f.restitution) && f.restitution >= 0 && f.restitution <= 1, at, "restitution",
+        [&] { return " = " + detail::str(f.restitution) + ": must be in [0, 1]"; });
+  f.sensor = in_.flag("sensor");
+  f.filter.categoryBits = in_.u32("filter.categoryBits");
+  f.filter.maskBits = in_.u32("filter.maskBits");
+  f.filter.group = in_.i32("filter.group");
+  if (f.sensor) ++w_.liveSensors;
+}
+
+void SaveReader::finishBodies() {
+  for (uint32_t i = 0; i < bodyCount_; ++i) {
+    BodySlot& b = w_.bodies[i];
+    if (!b.alive) continue;
+    in_.entry("bodies", i);
+    const size_t at = in_.offset();
+    if (b.type == BodyType::Dynamic) {
+      std::optional<Vec2> centre;
+      for (uint32_t f : b.fixtures) {
+        const Geometry& g = w_.fixtures[f].geometry;
+        const Circle* c = std::get_if<Circle>(&g);
+        const Point* p = std::get_if<Point>(&g);
+        check(c || p, at, "fixtures",
+              [&] { return ": fixture " + std::to_string(f) + " is not a circle or a point (a dynamic body's)"; });
+        const Vec2 here = c ? c->center : p->position;
+        check(!centre || *centre == here, at, "fixtures",
+              [&] { return ": fixture " + std::to_string(f) + "'s centre differs from the others'"; });
+        centre = here;
+      }
+      check(detail::physicalMass(w_, b) <= World::kMaxMass, at, "fixtures",
+            [] { return std::string(": their mass is more than 1e150 (World::kMaxMass)"); });
+    }
+    detail::recomputeMass(w_, b);
+    detail::refreshDiskShape(w_, i);
+    const uint32_t s = b.support.fixture;
+    if (b.sliding) {
+      check(s < fixtureCount_ && w_.fixtures[s].alive && w_.fixtures[s].generation == b.support.generation &&
+                w_.bodies[w_.fixtures[s].body].type != BodyType::Dynamic &&
+                detail::isFlatFeature(w_, s, b.support.feature),
+            at, "support",
+            [] { return std::string(": it slides, but not on a flat face of a fixture that cannot move"); });
+    } else {
+      check(b.support.generation == 0 || s < fixtureCount_, at, "support.fixture",
+            [&] { return " = " + std::to_string(s) + ": no such fixture slot"; });
+    }
+  }
+  in_.entry(nullptr);
+  for (uint32_t k = 0; k < fixtureCount_; ++k) {
+    const FixtureSlot& f = w_.fixtures[k];
+    if (!f.alive) continue;
+    w_.broadPhase.add(k, w_.worldBox(k), w_.bodies[f.body].type != BodyType::Static, f.sensor, f.filter.categoryBits,
+                      f.filter.maskBits);
+  }
+}
+
+void SaveReader::sensors() {
+  const uint32_t overlaps = in_.count("sensor overlap count", 12);
+  for (uint32_t k = 0; k < overlaps; ++k) {
+    in_.entry("sensorOverlaps", k);
+    const size_t at = in_.offset();
+    const uint64_t key = in_.u64("key");
+    const uint32_t sensor = static_cast<uint32_t>(key >> 32), visitor = static_cast<uint32_t>(key);
+    const auto live = [&](uint32_t f, bool isSensor) {
+      return f < fixtureCount_ && w_.fixtures[f].alive && w_.fixtures[f].sensor == isSensor;
+    };
+    check(live(sensor, true) && live(visitor, false) && w_.fixtures[sensor].body != w_.fixtures[visitor].body, at,
+          "key", [&] {
+            return ": sensor " + std::to_string(sensor) + ", visitor " + std::to_string(visitor) +
+                   ": not a live sensor and a live physical fixture of another body";
+          });
+    const uint32_t stamp = in_.u32("stamp");
+    check(w_.sensorOverlaps.emplace(key, stamp).second, at, "key", [] { return std::string(": listed twice"); });
+  }
+  const uint32_t pending = in_.count("pending sensor event count", 41);
+  for (uint32_t k = 0; k < pending; ++k) {
+    in_.entry("pendingSensorEvents", k);
+    SensorEvent e;
+    const size_t at = in_.offset();
+    e.time = in_.f64("time");
+    check(std::isfinite(e.time), at, "time", [&] { return " = " + detail::str(e.time) + ": must be finite"; });
+    e.sensor = {in_.u32("sensor.index"), in_.u32("sensor.generation")};
+    e.sensorBody = {in_.u32("sensorBody.index"), in_.u32("sensorBody.generation")};
+    e.visitor = {in_.u32("visitor.index"), in_.u32("visitor.generation")};
+    e.visitorBody = {in_.u32("visitorBody.index"), in_.u32("visitorBody.generation")};
+    e.begin = in_.flag("begin");
+    w_.pendingSensorEvents.push_back(e);
+  }
+}
+
+void SaveReader::squeezes() {
+  const uint32_t squeezes = in_.count("squeeze count", 16);
+  for (uint32_t k = 0; k < squeezes; ++k) {
+    in_.entry("squeezes", k);
+    const size_t at = in_.offset();
+    detail::WorldState::Squeeze s{};
+    s.key = in_.u64("key");
+    check(static_cast<uint32_t>(s.key >> 32) < fixtureCount_ && static_cast<uint32_t>(s.key) < fixtureCount_, at, "key",
+          [] { return std::string(": names no fixture slot"); });
+    s.generationA = in_.u32("generationA");
+    s.generationB = in_.u32("generationB");
+    w_.squeezes.push_back(s);
+  }
+  in_.entry(nullptr);
+  const uint32_t counted = in_.count("squeeze-counted body count", 4);
+  for (uint32_t k = 0; k < counted; ++k) {
+    const size_t at = in_.offset();
+    const uint32_t i = in_.u32("squeeze-counted body");
+    check(i < bodyCount_, at, "squeeze-counted body",
+          [&] { return " = " + std::to_string(i) + ": no such body slot"; });
+    w_.squeezeCounted.push_back(i);
+  }
+}
+
+void SaveReader::islands() {
+  const size_t at = in_.offset();
+  const uint8_t hasIslands = in_.u8("has islands");
+  detail::Islands* islands = w_.stepper->islands();
+  check(hasIslands == (islands ? 1 : 0), at, "has islands",
+        [&] { return " = " + std::to_string(hasIslands) + ": the mode's is " + (islands ? "1" : "0"); });
+  if (!islands) return;
+  islands->jamCounter = in_.u32("jam counter");
+  const uint32_t warm = in_.count("warm start count", 16);
+  for (uint32_t k = 0; k < warm; ++k) {
+    in_.entry("warmStart", k);
+    const uint64_t key = in_.u64("key");
+    const size_t impulseAt = in_.offset();
+    const double impulse = in_.f64("impulse");
+    check(std::isfinite(impulse) && impulse >= 0, impulseAt, "impulse",
+          [&] { return " = " + detail::str(impulse) + ": must be finite and >= 0"; });
+    islands->islandNext.emplace_back(key, impulse);
+  }
+  in_.entry(nullptr);
+}
+
+}  // namespace
+
 World World::load(std::span<const uint8_t> bytes) {
   if (bytes.size() < sizeof kMagic + 4 + 8 || !std::equal(std::begin(kMagic), std::end(kMagic), bytes.begin())) {
     throw Error(std::string(kWhat) + ": not a saved world (it does not start with \"RTLW\")");
@@ -229,8 +561,8 @@ World World::load(std::span<const uint8_t> bytes) {
   in.u32("magic");
   const uint32_t version = in.u32("version");
   if (version != kSaveVersion) {
-    in.fail(4, "version", " = " + std::to_string(version) + ": this build reads version " +
-                              std::to_string(kSaveVersion));
+    in.fail(4, "version",
+            " = " + std::to_string(version) + ": this build reads version " + std::to_string(kSaveVersion));
   }
   WorldDef def;
   in.entry("def");
@@ -251,315 +583,27 @@ World World::load(std::span<const uint8_t> bytes) {
     in.fail(defAt, "", std::string(": ") + e.what());
   }
   World world = std::move(*made);
-  Impl& w = world.impl();
+  detail::WorldState& w = world.impl();
   in.entry(nullptr);
-  size_t at = in.offset();
+  const size_t timeAt = in.offset();
   w.time = in.f64("time");
-  if (!std::isfinite(w.time) || w.time < 0) in.fail(at, "time", " = " + detail::str(w.time) + ": must be finite and >= 0");
+  if (!std::isfinite(w.time) || w.time < 0) {
+    in.fail(timeAt, "time", " = " + detail::str(w.time) + ": must be finite and >= 0");
+  }
   w.stepStamp = in.u32("stepStamp");
-
-  // Bodies: each slot as saved; their fixture lists are checked against the fixtures below.
-  const uint32_t bodyCount = in.count("body slot count", 5);
-  w.bodies.resize(bodyCount);
-  w.userData.resize(bodyCount);
-  w.dependents.resize(bodyCount);
-  w.diskShapes.resize(bodyCount);
-  std::vector<uint32_t> fixtureOwner;  // by fixture index: the body listing it + 1 (0: none)
-  auto check = [&](bool ok, size_t fieldAt, const char* field, auto&& message) {
-    if (!ok) in.fail(fieldAt, field, message());
-  };
-  for (uint32_t i = 0; i < bodyCount; ++i) {
-    in.entry("bodies", i);
-    BodySlot& b = w.bodies[i];
-    at = in.offset();
-    const uint8_t alive = in.u8("alive");
-    check(alive <= 1, at, "alive", [&] { return " = " + std::to_string(alive) + ": must be 0 or 1"; });
-    b.alive = alive == 1;
-    b.generation = in.u32("generation");
-    check(b.generation != 0, at + 1, "generation", [] { return " = 0: generations start at 1"; });
-    if (!b.alive) continue;
-    at = in.offset();
-    const uint8_t type = in.u8("type");
-    check(type <= static_cast<uint8_t>(BodyType::Kinematic), at, "type",
-          [&] { return " = " + std::to_string(type) + ": not a BodyType (0 to 2)"; });
-    b.type = static_cast<BodyType>(type);
-    at = in.offset();
-    const uint8_t flags = in.u8("flags");
-    check(flags < 32 && (b.type == BodyType::Dynamic || (flags & ~kStepLocalsSet) == 0), at, "flags",
-          [&] { return " = " + std::to_string(flags) + ": unknown bits, or a static or kinematic body's"; });
-    b.asleep = flags & kAsleep;
-    b.stepped = flags & kStepped;
-    b.sliding = flags & kSliding;
-    b.driven = flags & kDriven;
-    b.stepLocalsSet = flags & kStepLocalsSet;
-    at = in.offset();
-    b.position = in.vec2("position");
-    check(isFinite(b.position) && inRange(b.position), at, "position",
-          [&] { return " = " + detail::str(b.position) + ": must be finite, within +-1e150"; });
-    at = in.offset();
-    b.velocity = in.vec2("velocity");
-    check(finiteSquare(b.velocity) && (b.type != BodyType::Static || b.velocity == Vec2{}), at, "velocity",
-          [&] { return " = " + detail::str(b.velocity) + ": not finite, too fast, or a static body's"; });
-    at = in.offset();
-    // Gravity, its part along a face a body slides on, or nothing: never more than gravity, and nothing
-    // on a body that is not dynamic.
-    b.acceleration = in.vec2("acceleration");
-    const double g = length(def.gravity);
-    check(finiteSquare(b.acceleration) && length(b.acceleration) <= g * (1 + 1e-9) &&
-              (b.type == BodyType::Dynamic || b.acceleration == Vec2{}),
-          at, "acceleration",
-          [&] { return " = " + detail::str(b.acceleration) + ": more than gravity, or a static or kinematic body's"; });
-    // Every body's clock is at 0 between steps: a step moves them all to its end. Another time would move
-    // the body by its velocity times that time at the next step's start (the world_load fuzzer found
-    // -1.6e306, which overflowed to a NaN in the broad phase).
-    at = in.offset();
-    b.localTime = in.f64("localTime");
-    check(b.localTime == 0, at, "localTime",
-          [&] { return " = " + detail::str(b.localTime) + ": must be 0 between steps"; });
-    b.collisionCount = in.u32("collisionCount");
-    at = in.offset();
-    b.stepCollisions = in.i32("stepCollisions");
-    check(b.stepCollisions >= 0, at, "stepCollisions",
-          [&] { return " = " + std::to_string(b.stepCollisions) + ": must be >= 0"; });
-    b.last.fixtureLow = in.u32("last.fixtureLow");
-    b.last.fixtureHigh = in.u32("last.fixtureHigh");
-    b.last.feature = in.i32("last.feature");
-    at = in.offset();
-    b.last.time = in.f64("last.time");
-    check(std::isfinite(b.last.time), at, "last.time", [&] { return " = " + detail::str(b.last.time) + ": must be finite"; });
-    b.support.fixture = in.u32("support.fixture");
-    b.support.generation = in.u32("support.generation");
-    b.support.feature = in.i32("support.feature");
-    at = in.offset();
-    b.support.normal = in.vec2("support.normal");
-    check(isFinite(b.support.normal) && std::fabs(b.support.normal.x) <= 1 && std::fabs(b.support.normal.y) <= 1, at,
-          "support.normal", [&] { return " = " + detail::str(b.support.normal) + ": a unit normal or none"; });
-    at = in.offset();
-    b.lastContactTime = in.f64("lastContactTime");
-    check(!std::isnan(b.lastContactTime) && b.lastContactTime != INFINITY, at, "lastContactTime",
-          [&] { return " = " + detail::str(b.lastContactTime) + ": must be finite or -inf (none)"; });
-    w.userData[i] = in.u64("userData");
-    const uint32_t dependents = in.count("dependent count", 4);
-    w.dependents[i].resize(dependents);
-    for (uint32_t& d : w.dependents[i]) {
-      at = in.offset();
-      d = in.u32("dependent");
-      check(d < bodyCount, at, "dependent", [&] { return " = " + std::to_string(d) + ": no such body slot"; });
-    }
-    const uint32_t fixtures = in.count("fixture count", 4);
-    for (uint32_t k = 0; k < fixtures; ++k) {
-      at = in.offset();
-      const uint32_t f = in.u32("fixture");
-      // Checked once the fixture slots are read; here only that no fixture is listed twice.
-      if (f >= fixtureOwner.size()) fixtureOwner.resize(std::min<size_t>(size_t{f} + 1, bytes.size()), 0);
-      check(f < fixtureOwner.size() && fixtureOwner[f] == 0, at, "fixture",
-            [&] { return " = " + std::to_string(f) + ": listed twice, or no such fixture slot"; });
-      fixtureOwner[f] = i + 1;
-      b.fixtures.push_back(f);
-    }
-    ++w.liveBodies;
-  }
-  in.entry(nullptr);
-  std::vector<uint8_t> listedFree(bodyCount, 0);
-  const uint32_t freeBodies = in.count("free body count", 4);
-  for (uint32_t k = 0; k < freeBodies; ++k) {
-    at = in.offset();
-    const uint32_t i = in.u32("free body");
-    check(i < bodyCount && !w.bodies[i].alive && !listedFree[i], at, "free body",
-          [&] { return " = " + std::to_string(i) + ": not a free body slot, or listed twice"; });
-    listedFree[i] = 1;
-    w.freeBodies.push_back(i);
-  }
-  check(freeBodies == bodyCount - static_cast<uint32_t>(w.liveBodies), in.offset(), "free body count",
-        [&] { return " = " + std::to_string(freeBodies) + ": every free body slot must be listed once"; });
-
-  const uint32_t fixtureCount = in.count("fixture slot count", 5);
-  check(fixtureOwner.size() <= fixtureCount, in.offset(), "fixture slot count",
-        [&] { return " = " + std::to_string(fixtureCount) + ": a body lists fixture " +
-                     std::to_string(fixtureOwner.size() - 1); });
-  fixtureOwner.resize(fixtureCount, 0);
-  w.fixtures.resize(fixtureCount);
-  for (uint32_t k = 0; k < fixtureCount; ++k) {
-    in.entry("fixtures", k);
-    FixtureSlot& f = w.fixtures[k];
-    at = in.offset();
-    const uint8_t alive = in.u8("alive");
-    check(alive <= 1, at, "alive", [&] { return " = " + std::to_string(alive) + ": must be 0 or 1"; });
-    f.alive = alive == 1;
-    f.generation = in.u32("generation");
-    check(f.generation != 0, at + 1, "generation", [] { return " = 0: generations start at 1"; });
-    if (!f.alive) {
-      f.geometry = Point{};
-      check(fixtureOwner[k] == 0, at, "alive", [] { return " = 0: a body lists it"; });
-      continue;
-    }
-    at = in.offset();
-    f.body = in.u32("body");
-    check(f.body < bodyCount && fixtureOwner[k] == f.body + 1, at, "body",
-          [&] { return " = " + std::to_string(f.body) + ": that body does not list this fixture"; });
-    at = in.offset();
-    Geometry g = readGeometry(in);
-    if (auto error = validationError(g)) in.fail(at, "geometry", ": " + *error);
-    f.geometry = normalized(g);
-    f.localBox = boxOf(f.geometry);
-    const BodySlot& b = w.bodies[f.body];
-    check(inRange(f.localBox.translated(b.position)), at, "geometry",
-          [] { return std::string(": its box reaches outside +-1e150 at its body's position"); });
-    at = in.offset();
-    f.density = in.f64("density");
-    check(std::isfinite(f.density) && (b.type == BodyType::Dynamic ? f.density > 0 : f.density >= 0), at, "density",
-          [&] { return " = " + detail::str(f.density) + ": must be finite and > 0 (>= 0 off a dynamic body)"; });
-    at = in.offset();
-    f.restitution = in.f64("restitution");
-    check(std::isfinite(f.restitution) && f.restitution >= 0 && f.restitution <= 1, at, "restitution",
-          [&] { return " = " + detail::str(f.restitution) + ": must be in [0, 1]"; });
-    at = in.offset();
-    const uint8_t sensor = in.u8("sensor");
-    check(sensor <= 1, at, "sensor", [&] { return " = " + std::to_string(sensor) + ": must be 0 or 1"; });
-    f.sensor = sensor == 1;
-    f.filter.categoryBits = in.u32("filter.categoryBits");
-    f.filter.maskBits = in.u32("filter.maskBits");
-    f.filter.group = in.i32("filter.group");
-    if (f.sensor) ++w.liveSensors;
-  }
-  in.entry(nullptr);
-  for (uint32_t k = 0; k < fixtureCount; ++k) {
-    check(fixtureOwner[k] == 0 || w.fixtures[k].alive, in.offset(), "fixture slots",
-          [&] { return ": a body lists fixture " + std::to_string(k) + ", which is free"; });
-  }
-  std::vector<uint8_t> listedFreeFixture(fixtureCount, 0);
-  const uint32_t freeFixtures = in.count("free fixture count", 4);
-  uint32_t deadFixtures = 0;
-  for (const FixtureSlot& f : w.fixtures) deadFixtures += f.alive ? 0 : 1;
-  for (uint32_t k = 0; k < freeFixtures; ++k) {
-    at = in.offset();
-    const uint32_t f = in.u32("free fixture");
-    check(f < fixtureCount && !w.fixtures[f].alive && !listedFreeFixture[f], at, "free fixture",
-          [&] { return " = " + std::to_string(f) + ": not a free fixture slot, or listed twice"; });
-    listedFreeFixture[f] = 1;
-    w.freeFixtures.push_back(f);
-  }
-  check(freeFixtures == deadFixtures, in.offset(), "free fixture count",
-        [&] { return " = " + std::to_string(freeFixtures) + ": every free fixture slot must be listed once"; });
-
-  // What follows a body's fixtures: its mass, its disk shape, its place in the broad phase, and the rules
-  // createFixture holds a dynamic body to (circles and points sharing one centre, a bounded mass).
-  for (uint32_t i = 0; i < bodyCount; ++i) {
-    BodySlot& b = w.bodies[i];
-    if (!b.alive) continue;
-    in.entry("bodies", i);
-    if (b.type == BodyType::Dynamic) {
-      std::optional<Vec2> centre;
-      for (uint32_t f : b.fixtures) {
-        const Geometry& g = w.fixtures[f].geometry;
-        const Circle* c = std::get_if<Circle>(&g);
-        const Point* p = std::get_if<Point>(&g);
-        check(c || p, in.offset(), "fixtures",
-              [&] { return ": fixture " + std::to_string(f) + " is not a circle or a point (a dynamic body's)"; });
-        const Vec2 at2 = c ? c->center : p->position;
-        check(!centre || *centre == at2, in.offset(), "fixtures",
-              [&] { return ": fixture " + std::to_string(f) + "'s centre differs from the others'"; });
-        centre = at2;
-      }
-      check(detail::physicalMass(w, b) <= kMaxMass, in.offset(), "fixtures",
-            [] { return std::string(": their mass is more than 1e150 (World::kMaxMass)"); });
-    }
-    detail::recomputeMass(w, b);
-    detail::refreshDiskShape(w, i);
-    if (b.sliding) {
-      const uint32_t s = b.support.fixture;
-      check(s < fixtureCount && w.fixtures[s].alive && w.fixtures[s].generation == b.support.generation &&
-                w.bodies[w.fixtures[s].body].type != BodyType::Dynamic && detail::isFlatFeature(w, s, b.support.feature),
-            in.offset(), "support", [] { return std::string(": it slides, but not on a flat face of a fixture that cannot move"); });
-    } else {
-      check(b.support.generation == 0 || b.support.fixture < fixtureCount, in.offset(), "support.fixture",
-            [&] { return " = " + std::to_string(b.support.fixture) + ": no such fixture slot"; });
-    }
-  }
-  in.entry(nullptr);
-  for (uint32_t k = 0; k < fixtureCount; ++k) {
-    const FixtureSlot& f = w.fixtures[k];
-    if (!f.alive) continue;
-    w.broadPhase.add(k, w.worldBox(k), w.bodies[f.body].type != BodyType::Static, f.sensor, f.filter.categoryBits,
-                     f.filter.maskBits);
-  }
-
-  const uint32_t overlaps = in.count("sensor overlap count", 12);
-  for (uint32_t k = 0; k < overlaps; ++k) {
-    in.entry("sensorOverlaps", k);
-    at = in.offset();
-    const uint64_t key = in.u64("key");
-    const uint32_t sensor = static_cast<uint32_t>(key >> 32), visitor = static_cast<uint32_t>(key);
-    check(sensor < fixtureCount && visitor < fixtureCount && w.fixtures[sensor].alive && w.fixtures[sensor].sensor &&
-              w.fixtures[visitor].alive && !w.fixtures[visitor].sensor &&
-              w.fixtures[sensor].body != w.fixtures[visitor].body,
-          at, "key", [&] { return ": sensor " + std::to_string(sensor) + ", visitor " + std::to_string(visitor) +
-                                  ": not a live sensor and a live physical fixture of another body"; });
-    const uint32_t stamp = in.u32("stamp");
-    check(w.sensorOverlaps.emplace(key, stamp).second, at, "key", [] { return std::string(": listed twice"); });
-  }
-  const uint32_t pending = in.count("pending sensor event count", 41);
-  for (uint32_t k = 0; k < pending; ++k) {
-    in.entry("pendingSensorEvents", k);
-    SensorEvent e;
-    at = in.offset();
-    e.time = in.f64("time");
-    check(std::isfinite(e.time), at, "time", [&] { return " = " + detail::str(e.time) + ": must be finite"; });
-    e.sensor = {in.u32("sensor.index"), in.u32("sensor.generation")};
-    e.sensorBody = {in.u32("sensorBody.index"), in.u32("sensorBody.generation")};
-    e.visitor = {in.u32("visitor.index"), in.u32("visitor.generation")};
-    e.visitorBody = {in.u32("visitorBody.index"), in.u32("visitorBody.generation")};
-    at = in.offset();
-    const uint8_t begin = in.u8("begin");
-    check(begin <= 1, at, "begin", [&] { return " = " + std::to_string(begin) + ": must be 0 or 1"; });
-    e.begin = begin == 1;
-    w.pendingSensorEvents.push_back(e);
-  }
-  const uint32_t squeezes = in.count("squeeze count", 16);
-  for (uint32_t k = 0; k < squeezes; ++k) {
-    in.entry("squeezes", k);
-    at = in.offset();
-    detail::WorldState::Squeeze s{};
-    s.key = in.u64("key");
-    check(static_cast<uint32_t>(s.key >> 32) < fixtureCount && static_cast<uint32_t>(s.key) < fixtureCount, at, "key",
-          [] { return std::string(": names no fixture slot"); });
-    s.generationA = in.u32("generationA");
-    s.generationB = in.u32("generationB");
-    w.squeezes.push_back(s);
-  }
-  in.entry(nullptr);
-  const uint32_t counted = in.count("squeeze-counted body count", 4);
-  for (uint32_t k = 0; k < counted; ++k) {
-    at = in.offset();
-    const uint32_t i = in.u32("squeeze-counted body");
-    check(i < bodyCount, at, "squeeze-counted body", [&] { return " = " + std::to_string(i) + ": no such body slot"; });
-    w.squeezeCounted.push_back(i);
-  }
-  at = in.offset();
-  const uint8_t hasIslands = in.u8("has islands");
-  detail::Islands* islands = w.stepper->islands();
-  check(hasIslands == (islands ? 1 : 0), at, "has islands",
-        [&] { return " = " + std::to_string(hasIslands) + ": the mode's is " + (islands ? "1" : "0"); });
-  if (islands) {
-    islands->jamCounter = in.u32("jam counter");
-    const uint32_t warm = in.count("warm start count", 16);
-    for (uint32_t k = 0; k < warm; ++k) {
-      in.entry("warmStart", k);
-      const uint64_t key = in.u64("key");
-      at = in.offset();
-      const double impulse = in.f64("impulse");
-      check(std::isfinite(impulse) && impulse >= 0, at, "impulse",
-            [&] { return " = " + detail::str(impulse) + ": must be finite and >= 0"; });
-      islands->islandNext.emplace_back(key, impulse);
-    }
-  }
-  in.entry(nullptr);
+  SaveReader reader(in, w);
+  reader.bodies();
+  reader.fixtures();
+  reader.finishBodies();
+  reader.sensors();
+  reader.squeezes();
+  reader.islands();
   if (in.offset() != body.size()) {
     in.fail(in.offset(), "", std::to_string(body.size() - in.offset()) + " bytes after the last field");
   }
   // A body setVelocity drove before the save is driven in the first step too (World::step clears the
   // mark through touchedBodies). Every other change list starts as a new world's: all changed.
-  for (uint32_t i = 0; i < bodyCount; ++i) {
+  for (uint32_t i = 0; i < w.bodies.size(); ++i) {
     if (w.bodies[i].alive && w.bodies[i].driven) w.changes.touchedBodies.push_back(i);
   }
   return world;

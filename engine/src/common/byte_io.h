@@ -53,6 +53,13 @@ class ByteReader {
   uint8_t u8(const char* field) { return static_cast<uint8_t>(little(1, field)); }
   uint32_t u32(const char* field) { return static_cast<uint32_t>(little(4, field)); }
   int32_t i32(const char* field) { return static_cast<int32_t>(u32(field)); }
+  /// A byte that must be 0 or 1.
+  bool flag(const char* field) {
+    const size_t at = offset_;
+    const uint8_t v = u8(field);
+    if (v > 1) fail(at, field, " = " + std::to_string(v) + ": must be 0 or 1");
+    return v == 1;
+  }
   uint64_t u64(const char* field) { return little(8, field); }
   double f64(const char* field) {
     const uint64_t bits = u64(field);
@@ -76,6 +83,7 @@ class ByteReader {
     return n;
   }
   size_t offset() const { return offset_; }
+  size_t left() const { return bytes_.size() - offset_; }
   /// Throws rattle::Error for `field` of the current entry, which starts at byte `at`.
   [[noreturn]] void fail(size_t at, const char* field, const std::string& message) const {
     std::string name = list_ ? std::string(list_) : std::string();
