@@ -86,6 +86,15 @@ struct Islands {
     std::vector<Vec2> displacements;
     std::vector<double> lower;
   } separateScratch;
+  /// Without gravity, at a step's start when the sweeps stopped short (before separateIsland): stops the
+  /// members whose velocities in v would close a contact more than kTrimSlack of its smaller radius
+  /// beyond its gap within the h seconds left, and those that then would (island.cpp).
+  void trimIsland(const std::vector<uint32_t>& members, std::vector<Vec2>& v, double h);
+  struct TrimScratch {
+    std::vector<uint32_t> first, next;        // by member: where its contacts start in contactsOf
+    std::vector<uint32_t> contactsOf, queue;  // contacts by member; the worklist
+    std::vector<char> queued;                 // by contact
+  } trimScratch;
   /// Without gravity, at a step's start: moves the members (advanced to the step's start, their
   /// velocities solved) apart where they overlap, without touching a velocity (island.cpp).
   void separateIsland(const std::vector<uint32_t>& members, const std::vector<Vec2>& v, double h);
