@@ -44,7 +44,8 @@ class World {
   void setPosition(BodyId body, Vec2 position);
   /// Static bodies accept only zero. A dynamic body given a velocity is *driven* for the next step (a
   /// game steering it): without gravity, a cluster the game keeps driving into itself is held by the
-  /// hybrid step's contact solve instead of endless collisions (README, "Driven bodies").
+  /// hybrid step's contact solve instead of endless collisions, and a body the solve leaves pressing
+  /// into the cluster stops for that step (README, "Driven bodies").
   void setVelocity(BodyId body, Vec2 velocity);
   std::vector<FixtureId> fixtures(BodyId body) const;
   int bodyCount() const;
