@@ -913,12 +913,11 @@ void detail::Islands::trimIsland(const std::vector<uint32_t>& members, std::vect
   // the contact then does not ask about. As in the solve, a straight path's distance to a disk or a convex
   // piece is convex in time, so meeting the bound at the step's end meets it all step.
   //
-  // Stopping rather than slowing by the share a contact asks: on rattle-bench's crowd of 10,000 (14 s)
-  // slowing, up to 8 times a body before it stops, cost 14.4 ms a step against 9.7, with 2.77 million
-  // collisions against 2.17 (what is slowed is still met by the bodies behind it), a worst overlap of
-  // 0.82% of a radius against 0.05%, and as many through the doorway (294 and 294). Every stop lowers the
-  // kinetic energy; what is lost is momentum the exact answer would pass on through the jam, and a
-  // contact event's impulse is the solve's, without the stop.
+  // Stopping rather than slowing each body by the share a contact asks: a slowed body is still met by
+  // the bodies behind it within the step, as events and solves, and the crowd cost more, overlapped more
+  // and got no more through its doorway (bench/README.md, "Crowds"). Every stop lowers the kinetic
+  // energy; what is lost is momentum the exact answer would pass on through the jam, and a contact
+  // event's impulse is the solve's, without the stop.
   const std::vector<IslandContact>& contacts = islandScratch;
   const size_t n = members.size();
   TrimScratch& t = trimScratch;
