@@ -68,6 +68,7 @@ class DiscreteStepper final : public detail::Stepper {
   bool crossesStatic(uint32_t own, Vec2 from, Vec2 travel);
   bool movedSlowly(uint32_t body, Vec2 ownMotionEnd, double radius) const;
   void keepCentreOut(detail::BodySlot& b, uint32_t own, Vec2 centre, Vec2 from);
+  void stayOnItsSide(detail::BodySlot& b, uint32_t own, Vec2 centre, Vec2 origin);
   void notePush(uint32_t body, Vec2 before, bool byKinematic);
 
   detail::WorldState& w_;
@@ -424,17 +425,48 @@ void DiscreteStepper::putBack(const Moved& m) {
       firstFixture = g;
     }
   });
-  if (!first) {
-    keepCentreOut(b, own, centre, from);
-    return;
+  if (first) {
+    b.position = first->point + first->normal * radius - centre;
+    const double vn = dot(b.velocity, first->normal);
+    if (vn < 0) b.velocity -= first->normal * vn;
+    // Put back on its side, it may overlap another wall there (a corner): out of those too.
+    std::sort(walls_.begin(), walls_.end());
+    pushOutOf(b, centre, radius, walls_, own);
   }
-  b.position = first->point + first->normal * radius - centre;
+  keepCentreOut(b, own, centre, from);
+  stayOnItsSide(b, own, centre, origin);
+}
+
+// The last word of 3b. Each correction above looks at one surface at a time, and one can carry the
+// centre across another: a radius out of a static circle is below a floor that runs through it
+// (fuzz/regressions/world_api/escape-discrete-pushed-out-of-a-corner), and the second wall of a corner
+// pushes across the first, which a segment, having no inside, cannot see afterwards
+// (escape-discrete-row-pushes-a-disk-into-a-corner). If the centre's straight path from `origin` still
+// crosses a static surface, the body goes back to `origin`, which is on the container's side by the same
+// rule one step earlier: a closed container's inside is the set of points a straight path leaves only
+// across its surface. It stops moving into the surface it would have crossed.
+void DiscreteStepper::stayOnItsSide(BodySlot& b, uint32_t own, Vec2 centre, Vec2 origin) {
+  detail::WorldState& w = w_;
+  const Vec2 from = origin + centre;
+  const Vec2 travel = b.position - origin;
+  if (travel == Vec2{}) return;
+  const Box path{{std::min(from.x, from.x + travel.x), std::min(from.y, from.y + travel.y)},
+                 {std::max(from.x, from.x + travel.x), std::max(from.y, from.y + travel.y)}};
+  std::optional<RayCastHit> first;
+  uint32_t firstFixture = 0;
+  w.broadPhase.query(path, [&](uint32_t g) {
+    if (w.bodyOf(g).type != BodyType::Static || !canCollide(w, own, g)) return;
+    const auto hit = rayCast(w.fixtures[g].geometry, w.bodyOf(g).position, from, travel);
+    if (!hit || !(hit->fraction > 0)) return;
+    if (!first || hit->fraction < first->fraction || (hit->fraction == first->fraction && g < firstFixture)) {
+      first = hit;
+      firstFixture = g;
+    }
+  });
+  if (!first) return;
+  b.position = origin;
   const double vn = dot(b.velocity, first->normal);
   if (vn < 0) b.velocity -= first->normal * vn;
-  // Put back on its side, it may overlap another wall there (a corner): out of those too.
-  std::sort(walls_.begin(), walls_.end());
-  pushOutOf(b, centre, radius, walls_, own);
-  keepCentreOut(b, own, centre, from);
 }
 
 // A disk wider than the gap between two walls cannot be clear of both: pushed out of one it went into
