@@ -85,6 +85,7 @@ struct Islands {
   struct SeparateScratch {
     std::vector<Vec2> displacements;
     std::vector<double> lower;
+    std::vector<SweepRow> nearRows;  // the rows the sweeps look at (separateIsland)
   } separateScratch;
   /// Without gravity, at a step's start when the sweeps stopped short (before separateIsland): stops the
   /// members whose velocities in v would close a contact more than kTrimSlack of its smaller radius
