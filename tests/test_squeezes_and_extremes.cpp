@@ -269,6 +269,43 @@ TEST(DiscreteContainer, ASlowDiskDeepInTheCornerOfABareSegmentBoxStaysInside) {
   }
 }
 
+// The fuzzer's scene (fuzz/regressions/world_api/escape-discrete-pushed-out-of-a-corner), written out:
+// under gravity, three disks (radius 0.65) made with their centres inside a static circle (radius 3.18)
+// that runs through the floor of a box of bare Segments, move at 19 units/s (0.32 a step, under their
+// radius) near the box's corner. A floor's push left one centre inside the circle, and the put-back set
+// it a radius out of the circle along the circle's normal, which was below the floor: its centre ended
+// 0.29 below it at step 3. Each correction of the put-back looks at one surface at a time; the last
+// (stayOnItsSide) sends a centre whose path from where it began the step still crosses one back there.
+TEST(DiscreteContainer, ADiskPushedOutOfAStaticCircleIsNotPutBelowTheFloor) {
+  World w(defOf(StepMode::Discrete, {0, -9.81}));
+  const auto box = [&w](BodyId body, double halfWidth, double halfHeight) {
+    const double x = halfWidth, y = halfHeight;
+    for (const auto& [a, b] : std::vector<std::pair<Vec2, Vec2>>{
+             {{-x, -y}, {x, -y}}, {{x, -y}, {x, y}}, {{x, y}, {-x, y}}, {{-x, y}, {-x, -y}}}) {
+      w.createFixture(body, {.geometry = Segment{a, b}, .density = 1, .restitution = 0});
+    }
+  };
+  const BodyId post = w.createBody({.type = BodyType::Static, .position = {0.11734685841196324, 0.057492084993782555}});
+  box(post, 3.7581079591097386, 1.0766141099752706);
+  w.createFixture(post, {.geometry = Circle{{0, 0}, 3.1759218422669204}, .restitution = 0.052404429253232944});
+  const Vec2 centre{9.9114779403657423, 9.9114779403657423};
+  const double half = 12.998487879408382;
+  box(w.createBody({.type = BodyType::Static, .position = centre}), half, half);
+  const double r = 0.64992439397041912, e = 0.63149936207412538;
+  const std::vector<BodyId> disks = {
+      disk(w, {-2.1121233480870107, -2.1121233480870107}, {18.484691177064846, 5.6072697660685229}, r, e),
+      disk(w, {-0.16235016617575315, -2.1121233480870107}, {-14.931818603006084, -12.254226835987923}, r, e),
+      disk(w, {1.787423015735504, -2.1121233480870107}, {-14.931818603006084, -12.254226835987923}, r, e)};
+  const double floor = centre.y - half, left = centre.x - half;
+  for (int i = 0; i < 60; ++i) {
+    w.step(1.0 / 60);
+    for (BodyId d : disks) {
+      const Vec2 p = w.position(d);
+      ASSERT_TRUE(p.x > left && p.y > floor) << "step " << i + 1 << " at (" << p.x << ", " << p.y << ")";
+    }
+  }
+}
+
 TEST(DiscreteContainer, ADiskWiderThanItsSlotNeverHasItsCentreInAWall) {
   World w(defOf(StepMode::Discrete));
   const BodyId d = disk(w, {0, 0}, {-40.9, -1.05}, 2.33, 0.4);
