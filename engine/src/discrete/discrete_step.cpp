@@ -439,12 +439,14 @@ void DiscreteStepper::putBack(const Moved& m) {
 
 // The last word of 3b. Each correction above looks at one surface at a time, and one can carry the
 // centre across another: a radius out of a static circle is below a floor that runs through it
-// (fuzz/regressions/world_api/escape-discrete-pushed-out-of-a-corner), and the second wall of a corner
+// (fuzz/regressions/world_api/escape-discrete-pushed-out-of-a-corner), the second wall of a corner
 // pushes across the first, which a segment, having no inside, cannot see afterwards
-// (escape-discrete-row-pushes-a-disk-into-a-corner). If the centre's straight path from `origin` still
-// crosses a static surface, the body goes back to `origin`, which is on the container's side by the same
-// rule one step earlier: a closed container's inside is the set of points a straight path leaves only
-// across its surface. It stops moving into the surface it would have crossed.
+// (escape-discrete-row-pushes-a-disk-into-a-corner), and a centre on the seam of two wall polygons,
+// pushed out of one through its nearest edge, goes into the other (inside-discrete-seam-of-two-walls).
+// If the centre's straight path from `origin` still crosses a static surface, or ends inside a static
+// fixture that `origin` was not inside, the body goes back to `origin`, which is on the container's
+// side by the same rule one step earlier: a closed container's inside is the set of points a straight
+// path leaves only across its surface. It stops moving into the surface it would have crossed.
 void DiscreteStepper::stayOnItsSide(BodySlot& b, uint32_t own, Vec2 centre, Vec2 origin) {
   detail::WorldState& w = w_;
   const Vec2 from = origin + centre;
@@ -452,21 +454,37 @@ void DiscreteStepper::stayOnItsSide(BodySlot& b, uint32_t own, Vec2 centre, Vec2
   if (travel == Vec2{}) return;
   const Box path{{std::min(from.x, from.x + travel.x), std::min(from.y, from.y + travel.y)},
                  {std::max(from.x, from.x + travel.x), std::max(from.y, from.y + travel.y)}};
-  std::optional<RayCastHit> first;
-  uint32_t firstFixture = 0;
+  std::optional<Vec2> into;  // the normal of the surface it crossed or went into
+  uint32_t intoFixture = 0;
+  double intoFraction = 2;
+  const Vec2 at = from + travel;
   w.broadPhase.query(path, [&](uint32_t g) {
     if (w.bodyOf(g).type != BodyType::Static || !canCollide(w, own, g)) return;
-    const auto hit = rayCast(w.fixtures[g].geometry, w.bodyOf(g).position, from, travel);
-    if (!hit || !(hit->fraction > 0)) return;
-    if (!first || hit->fraction < first->fraction || (hit->fraction == first->fraction && g < firstFixture)) {
-      first = hit;
-      firstFixture = g;
+    const Geometry& wall = w.fixtures[g].geometry;
+    const Vec2 wallAt = w.bodyOf(g).position;
+    double fraction = 2;
+    Vec2 normal;
+    if (const auto hit = rayCast(wall, wallAt, from, travel); hit && hit->fraction > 0) {
+      fraction = hit->fraction;
+      normal = hit->normal;
+    } else if (const auto inside = penetration(at, 0.0, wall, wallAt); inside && inside->depth > 0) {
+      const auto before = penetration(from, 0.0, wall, wallAt);
+      if (before && before->depth > 0) return;
+      fraction = 1;
+      normal = inside->normal;
+    } else {
+      return;
+    }
+    if (fraction < intoFraction || (fraction == intoFraction && g < intoFixture)) {
+      into = normal;
+      intoFraction = fraction;
+      intoFixture = g;
     }
   });
-  if (!first) return;
+  if (!into) return;
   b.position = origin;
-  const double vn = dot(b.velocity, first->normal);
-  if (vn < 0) b.velocity -= first->normal * vn;
+  const double vn = dot(b.velocity, *into);
+  if (vn < 0) b.velocity -= *into * vn;
 }
 
 // A disk wider than the gap between two walls cannot be clear of both: pushed out of one it went into
