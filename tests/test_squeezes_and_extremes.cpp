@@ -811,6 +811,26 @@ TEST(ExtremeValues, TheHeaviestAndLightestBodiesCollide) {
   }
 }
 
+// A density far below the range (the smallest subnormal double): the mass is taken as World::kMinMass, so
+// that its inverse times a distance stays finite. Made overlapping another disk by 5.3, the discrete mode's
+// push-apart moved it by 5.3 x 4.5e307 (the inverse of the smallest normal double, the old floor): to
+// infinity (fuzz/regressions/world_api/finite-discrete-density-min). Every mode keeps it finite.
+TEST(ExtremeValues, AMassBelowTheDocumentedMinimumIsTakenAsTheMinimum) {
+  for (StepMode mode : kAllModes) {
+    SCOPED_TRACE(nameOf(mode));
+    World w(defOf(mode));
+    const BodyId heavy = disk(w, {0, 0.43}, {8.3, 8.3}, 2.94);
+    const BodyId light = w.createBody({.type = BodyType::Dynamic, .position = {0, 0}, .velocity = {-49.6, 0}});
+    w.createFixture(light, {.geometry = Circle{{0, 0}, 2.79}, .density = 4.9406564584124654e-324});
+    EXPECT_EQ(w.mass(light), World::kMinMass);
+    for (int i = 0; i < 30; ++i) {
+      w.step(i == 0 ? 0.0 : 1.0 / 60);
+      ASSERT_TRUE(isFinite(w.position(light)) && isFinite(w.velocity(light))) << "step " << i;
+      ASSERT_TRUE(isFinite(w.position(heavy)) && isFinite(w.velocity(heavy))) << "step " << i;
+    }
+  }
+}
+
 TEST(TinyBodies, RadiiBelowTheDocumentedMinimumAreRefused) {
   World w;
   const BodyId near = w.createBody({.type = BodyType::Dynamic});

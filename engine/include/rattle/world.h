@@ -59,8 +59,10 @@ class World {
   /// A dynamic body's mass (the density x area of its physical fixtures) must be at most kMaxMass:
   /// creation and setDensity refuse a fixture or a density that would take it beyond, where its inverse
   /// mass loses its digits (it is subnormal near 1e308) and a collision's impulses overflow. A mass
-  /// below the smallest normal double (about 2.2e-308), whose inverse would overflow, is taken as that.
+  /// below kMinMass is taken as kMinMass: the inverse of a smaller one, times a distance, can overflow (a
+  /// density of 4.9e-324 sent a disk to infinity when pushed apart in the discrete mode).
   static constexpr double kMaxMass = 1e150;
+  static constexpr double kMinMass = 1e-150;
   void destroyFixture(FixtureId fixture);
   bool isValid(FixtureId fixture) const;
   BodyId body(FixtureId fixture) const;

@@ -46,9 +46,9 @@ void detail::recomputeMass(WorldState& w, BodySlot& body) {
   double mass = physicalMass(w, body);
   // Like Box2D: a dynamic body with nothing that has area (points only) still needs a finite mass.
   if (!(mass > 0)) mass = 1;
-  // Creation and setDensity keep it at most World::kMaxMass; below the smallest normal double its
-  // inverse would overflow.
-  mass = std::clamp(mass, std::numeric_limits<double>::min(), World::kMaxMass);
+  // Creation and setDensity keep it at most World::kMaxMass. Below World::kMinMass its inverse times a
+  // distance or a speed can overflow (fuzz/regressions/world_api/finite-discrete-density-min).
+  mass = std::clamp(mass, World::kMinMass, World::kMaxMass);
   body.mass = mass;
   body.inverseMass = 1 / mass;
 }
