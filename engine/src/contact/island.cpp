@@ -856,18 +856,22 @@ void detail::Islands::separateIsland(const std::vector<uint32_t>& members, const
   // order of contacts). If the displacements then break a row left out, every row is swept from the
   // start.
   std::vector<SweepRow>& near = separateScratch.nearRows;
+  std::vector<uint32_t>& leftOut = separateScratch.leftOut;
   near.clear();
+  leftOut.clear();
   for (size_t at = 0; at < rows.size(); ++at) {
-    if (rows[at].target > -kSeparateReach * contacts[sweepSchedule.contactAt[at]].radius) near.push_back(rows[at]);
+    if (rows[at].target > -kSeparateReach * contacts[sweepSchedule.contactAt[at]].radius) {
+      near.push_back(rows[at]);
+    } else {
+      leftOut.push_back(static_cast<uint32_t>(at));
+    }
   }
   for (int iteration = 0; iteration < kSeparateIterations; ++iteration) projectedSweep(near, d, members.size());
-  bool reached = near.size() == rows.size();
-  for (size_t at = 0; !reached && at < rows.size(); ++at) {
+  const bool reached = std::any_of(leftOut.begin(), leftOut.end(), [&](uint32_t at) {
     const SweepRow& r = rows[at];
-    reached = r.target <= -kSeparateReach * contacts[sweepSchedule.contactAt[at]].radius &&
-              dot(d[r.ka] - d[r.kb], r.normal) < r.target;
-  }
-  if (near.size() < rows.size() && reached) {
+    return dot(d[r.ka] - d[r.kb], r.normal) < r.target;
+  });
+  if (reached) {
     std::fill(d.begin(), d.end(), Vec2{});
     for (int iteration = 0; iteration < kSeparateIterations; ++iteration) projectedSweep(rows, d, members.size());
   }

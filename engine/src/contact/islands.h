@@ -86,6 +86,7 @@ struct Islands {
     std::vector<Vec2> displacements;
     std::vector<double> lower;
     std::vector<SweepRow> nearRows;  // the rows the sweeps look at (separateIsland)
+    std::vector<uint32_t> leftOut;   // the positions of the others in the schedule
   } separateScratch;
   /// Without gravity, at a step's start when the sweeps stopped short (before separateIsland): stops the
   /// members whose velocities in v would close a contact more than kTrimSlack of its smaller radius

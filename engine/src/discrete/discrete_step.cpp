@@ -11,6 +11,7 @@
 #include <span>
 
 #include "collision/closest_point.h"
+#include "collision/path_box.h"
 #include "contact/impulse.h"
 #include "contact/response.h"
 #include "contact/tolerances.h"
@@ -225,8 +226,7 @@ void DiscreteStepper::pushOutOf(BodySlot& b, Vec2 centre, double radius, std::sp
 // with (starting on or inside one is not a crossing).
 bool DiscreteStepper::crossesStatic(uint32_t own, Vec2 from, Vec2 travel) {
   detail::WorldState& w = w_;
-  const Box path{{std::min(from.x, from.x + travel.x), std::min(from.y, from.y + travel.y)},
-                 {std::max(from.x, from.x + travel.x), std::max(from.y, from.y + travel.y)}};
+  const Box path = detail::pathBox(from, travel, Vec2{}, 1.0);
   bool crosses = false;
   w.broadPhase.query(path, [&](uint32_t g) {
     if (crosses || w.bodyOf(g).type != BodyType::Static || !canCollide(w, own, g)) return;
@@ -410,8 +410,7 @@ void DiscreteStepper::putBack(const Moved& m) {
   const Vec2 travel = b.position - origin;
   const Vec2 centre = detail::circleCentre(w.fixtures[own].geometry);
   const Vec2 from = origin + centre;
-  Box path{{std::min(from.x, from.x + travel.x), std::min(from.y, from.y + travel.y)},
-           {std::max(from.x, from.x + travel.x), std::max(from.y, from.y + travel.y)}};
+  const Box path = detail::pathBox(from, travel, Vec2{}, 1.0);
   std::optional<RayCastHit> first;
   uint32_t firstFixture = 0;
   walls_.clear();
@@ -452,8 +451,7 @@ void DiscreteStepper::stayOnItsSide(BodySlot& b, uint32_t own, Vec2 centre, Vec2
   const Vec2 from = origin + centre;
   const Vec2 travel = b.position - origin;
   if (travel == Vec2{}) return;
-  const Box path{{std::min(from.x, from.x + travel.x), std::min(from.y, from.y + travel.y)},
-                 {std::max(from.x, from.x + travel.x), std::max(from.y, from.y + travel.y)}};
+  const Box path = detail::pathBox(from, travel, Vec2{}, 1.0);
   std::optional<Vec2> into;  // the normal of the surface it crossed or went into
   uint32_t intoFixture = 0;
   double intoFraction = 2;
