@@ -34,7 +34,9 @@
 //            at the step's start (a disk at 1e9 units/s in a small box needs more events than any budget);
 //   error    a step with a valid dt (finite, >= 0) throws rattle::Error, or one with an invalid dt does not;
 //   query    queries return live fixtures, sorted, with ray fractions in [0, 1];
-//   save     World::load takes the world's save, and the loaded world saves the same bytes.
+//   save     World::load takes the world's save, and the loaded world saves the same bytes; at the end
+//            of the program, two worlds loaded from the last save step alike, bit for bit, for
+//            kLoadedSteps steps of the last valid dt (README, "Saving a world": lockstep peers rely on it).
 // The discrete mode is held to inside and escape in steps where every body's own travel is less than its
 // radius, the bound it documents (a faster body may pass a wall: README).
 // A moving kinematic body may crush a disk into a wall, which no engine can prevent: during a step in
@@ -77,6 +79,8 @@ using rattle::Vec2;
 constexpr int kMaxBodies = 64;
 constexpr int kMaxCalls = 200;
 constexpr int kMaxSteps = 20;
+// Steps each of two worlds loaded from the program's last save takes (the save check).
+constexpr int kLoadedSteps = 3;
 constexpr int kEventBudget = 20000;
 constexpr double kEnergyTolerance = 1e-12;
 // Under gravity the islands take a step's gravity as one impulse, and on longer steps that accounting can
@@ -360,6 +364,7 @@ class Program {
         if (verbose()) std::fprintf(stderr, "world_api: call %d (op %d) refused: %s\n", calls, op % 16, e.what());
       }
     }
+    if (enabledChecks() & kSave) checkLoadsStepAlike();
     if (verbose())
       std::fprintf(stderr, "world_api: %s mode, gravity %s: %d calls (%d refused), %d steps, %d live bodies, %zu containers\n",
                    modeName(where.mode), where.gravity ? "on" : "off", calls, refused_, steps_, world_.bodyCount(),
@@ -384,6 +389,7 @@ class Program {
   int created_ = 0;
   int steps_ = 0;
   int refused_ = 0;
+  double lastValidDt_ = 1.0 / 60;  // of the last step that took a valid dt (checkLoadsStepAlike)
 
   bool gravity() const { return world_.definition().gravity.y != 0; }
 
@@ -783,6 +789,7 @@ class Program {
       }
     }
     if (!valid && (checks & kStepError)) finding("error", "step(%.17g) was accepted; dt must be finite and >= 0", dt);
+    if (valid) lastValidDt_ = dt;
     if (checks & kFinite) checkFinite();
     if ((checks & kBudget) && world_.stats().eventBudgetReached && fastest <= kBudgetSpeed) {
       constexpr const char* kReached = "the step reached WorldDef::maxEventsPerStep = %d (%d events processed, %d bodies)";
@@ -861,6 +868,27 @@ class Program {
         finding("save", "the loaded world's save (%zu bytes) or hash differs from the saved one's", bytes.size());
     } catch (const rattle::Error& e) {
       finding("save", "World::load refused a save of %zu bytes: %s", bytes.size(), e.what());
+    }
+  }
+
+  // What a load builds anew (the broad phase, the predictive grid) may depend on the bytes alone: no
+  // uninitialised memory, address or earlier history may reach a step of a loaded world.
+  void checkLoadsStepAlike() {
+    const std::vector<uint8_t> bytes = world_.save();
+    where.step = steps_ + 1;
+    where.dt = lastValidDt_;
+    try {
+      rattle::World a = rattle::World::load(bytes);
+      rattle::World b = rattle::World::load(bytes);
+      for (int i = 0; i < kLoadedSteps; ++i) {
+        a.step(lastValidDt_);
+        b.step(lastValidDt_);
+        if (a.save() != b.save())
+          finding("save", "two worlds loaded from one save (%zu bytes) differ after %d step(s) of %.17g", bytes.size(),
+                  i + 1, lastValidDt_);
+      }
+    } catch (const rattle::Error& e) {
+      finding("save", "a world loaded from a save (%zu bytes) threw rattle::Error: %s", bytes.size(), e.what());
     }
   }
 
