@@ -752,6 +752,37 @@ TEST(GravityBall, ASlideEndsWhenItsCircleIsDestroyed) {
   }
 }
 
+// A slide is along a face where it is. Moving the slope away (setPosition on its static body) ends it:
+// the ball falls freely from there, p = p0 + v0 t + g t^2 / 2 (it went on sliding in the air, along the
+// line where the slope had been). Moved into the ball instead, the slope is met as any overlap is.
+TEST(GravityBall, ASlideEndsWhenTheSlopeIsMovedAway) {
+  for (rattle::StepMode mode : {rattle::StepMode::Hybrid, rattle::StepMode::Predictive}) {
+    SCOPED_TRACE(mode == rattle::StepMode::Hybrid ? "hybrid" : "predictive");
+    WorldDef def;
+    def.mode = mode;
+    def.gravity = {0, -10};
+    World world(def);
+    const double theta = 30 * std::numbers::pi / 180, r = 0.5;
+    const Vec2 u{std::cos(theta), -std::sin(theta)};
+    const Vec2 n{std::sin(theta), std::cos(theta)};
+    const BodyId slope = world.createBody(bodyDef(BodyType::Static));
+    world.createFixture(slope, segmentFixture(-200.0 * u, 200.0 * u));
+    const Disk ball = addDisk(world, {r * n, {0, 0}, r, 1.0, 0.0});
+    const double dt = 1.0 / 64;
+    for (int step = 0; step < 16; ++step) world.step(dt);
+    ASSERT_NEAR(rattle::dot(world.position(ball.body), n), r, 1e-9) << "not sliding on the slope";
+    world.setPosition(slope, {0, -100});
+    const Vec2 p0 = world.position(ball.body), v0 = world.velocity(ball.body);
+    for (int step = 1; step <= 8; ++step) {
+      world.step(dt);
+      const double t = step * dt;
+      const Vec2 p = p0 + v0 * t + Vec2{0, -10} * (0.5 * t * t);
+      EXPECT_NEAR(world.position(ball.body).x, p.x, 1e-12 * (1 + std::fabs(p.x))) << "step " << step;
+      EXPECT_NEAR(world.position(ball.body).y, p.y, 1e-12 * (1 + std::fabs(p.y))) << "step " << step;
+    }
+  }
+}
+
 TEST(GravityResting, BodyWokenThroughItsSupportStartsFallingAtTheWakeInstant) {
   // Disk B rests asleep on a level floor and disk A asleep on top of B (A is held by B: resting.cpp wakes A
   // when B wakes). Disk C slides along the floor at speed 2 and hits B at t_h = 0.45 s into a step of

@@ -161,11 +161,12 @@ BodyId World::createBody(const BodyDef& def) {
 
 namespace {
 
-// The bodies that slide on a face of a fixture that is going (`going` says which) stop sliding: the
-// next step finds their contacts again (as it would stop the slide at its start), and a save made before
-// it holds no slide on a face that is gone, which World::load refuses (fuzz/regressions/world_api/
-// save-slide-on-a-destroyed-floor). Only a static or kinematic body's faces are slid on, so a shot's
-// fixture costs no scan.
+// The bodies that slide on a face of a fixture that is destroyed or moved (`going` says which) stop
+// sliding: the next step finds their contacts again. A slide is motion along a face where it was, and
+// kept, a disk on a floor moved away by setPosition went on sliding in the air; and a save made before
+// the next step held a slide on a destroyed face, which World::load refuses (the step stopped the slide
+// only at its start: fuzz/regressions/world_api/save-slide-on-a-destroyed-floor). Only a static body's
+// faces are slid on (resting.cpp), so a shot's fixture costs no scan.
 template <typename Going>
 void stopSlidesOn(detail::WorldState& w, const BodySlot& owner, Going going) {
   if (owner.type == BodyType::Dynamic) return;
@@ -265,6 +266,8 @@ void World::setPosition(BodyId id, Vec2 position) {
     // Nothing below allocates.
     detail::applyWake(impl(), woken, 0, 0.0);
     impl().dependents[id.index].clear();
+    // What slid on its faces slides no longer: the faces have gone from under it (or into it).
+    stopSlidesOn(impl(), b, [&](uint32_t f) { return impl().fixtures[f].body == id.index; });
     b.clearSupport();
     b.position = position;
     // Static proxies are not refreshed each step, so move their boxes now.
