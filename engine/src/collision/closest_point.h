@@ -53,6 +53,30 @@ inline std::optional<Closest> closestPoint(const Geometry& g, Vec2 position, Vec
   return best;
 }
 
+// The closest point of each convex piece of a placed geometry to p: a polyline's segments, a polygon's
+// edges (none when p is inside it), and for the other geometries closestPoint's one. A disk resting in a
+// corner of one Polyline touches its floor and its wall at once, where closestPoint sees only one of
+// them.
+template <class Found>
+void forEachClosestPoint(const Geometry& g, Vec2 position, Vec2 p, Found&& found) {
+  const Vec2 q = p - position;
+  auto placed = [&](Closest c) {
+    c.point += position;
+    found(c);
+  };
+  if (const auto* s = std::get_if<Polyline>(&g)) {
+    for (size_t i = 0; i + 1 < s->points.size(); ++i) placed(closestOnSegment(s->points[i], s->points[i + 1], q, true));
+  } else if (const auto* s = std::get_if<Polygon>(&g)) {
+    const size_t n = s->points.size();
+    bool inside = true;
+    for (size_t i = 0; i < n && inside; ++i) inside = !(cross(s->points[(i + 1) % n] - s->points[i], q - s->points[i]) < 0);
+    if (inside) return;
+    for (size_t i = 0; i < n; ++i) placed(closestOnSegment(s->points[i], s->points[(i + 1) % n], q, true));
+  } else if (const auto c = closestPoint(g, position, p)) {
+    found(*c);
+  }
+}
+
 /// The centre and radius of a circle-like geometry (a point is a circle of radius 0).
 inline Vec2 circleCentre(const Geometry& g) {
   if (const auto* c = std::get_if<Circle>(&g)) return c->center;

@@ -147,6 +147,19 @@ ContactEvent detail::contactEventOf(const WorldState& w, uint32_t a, uint32_t b,
   return detail::makeContactEvent(time, point, normal, impulse, side(a), side(b));
 }
 
+namespace {
+
+// Whether the other body of `s`'s last contact cannot move (static, kinematic or asleep): resolved
+// against it, `s` stays resolved whatever else changes `s`'s own velocity at that instant.
+bool lastPartnerHolds(const detail::WorldState& w, const BodySlot& s) {
+  const uint32_t low = s.last.fixtureLow, high = s.last.fixtureHigh;
+  const uint32_t other = &w.bodies[w.fixtures[low].body] == &s ? high : low;
+  const BodySlot& partner = w.bodies[w.fixtures[other].body];
+  return partner.type != BodyType::Dynamic || partner.asleep;
+}
+
+}  // namespace
+
 void detail::resolve(WorldState& w, const PredictedContact& c, std::vector<uint32_t>& woken, bool zenoGuard,
                      double stepEnd) {
   const uint32_t ia = w.fixtures[c.a].body, ib = w.fixtures[c.b].body;
@@ -245,10 +258,14 @@ void detail::resolve(WorldState& w, const PredictedContact& c, std::vector<uint3
     if (s->type != BodyType::Dynamic) continue;
     ++s->collisionCount;
     // A body that starts to slide here has the face as its support, which its predictions already
-    // leave out; what it was resolved against earlier at this same instant stays its last contact. A
-    // point sliding into a corner of two Segments is on the wall's line when it lands on the floor: the
-    // wall, forgotten, would read as just arrived from outside and push it out.
-    if (!(s == slider && s->last.time == c.time)) s->setLast(last);
+    // leave out; what it was resolved against earlier at this same instant stays its last contact when
+    // that cannot move either. A point sliding into a corner of two Segments is on the wall's line when
+    // it lands on the floor: the wall, forgotten, would read as just arrived from outside and push it
+    // out. A body that moves is another matter: the slide has just changed this body's velocity, so the
+    // earlier pair may approach again. Kept as resolved, a disk landing on one that rests in a corner
+    // was never resolved against it again and sank through it (predictive), or into it step after step
+    // (hybrid).
+    if (!(s == slider && s->last.time == c.time && lastPartnerHolds(w, *s))) s->setLast(last);
     s->lastContactTime = now;
     // Any other contact ends a slide: the body either leaves the face or is pushed into it, and then
     // the face's own contact (touching and approaching: now) resolves that, resting rules included.

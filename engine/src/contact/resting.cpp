@@ -123,23 +123,26 @@ bool detail::supportsAt(const WorldState& w, uint32_t bodyIndex, double now, std
     if (holder.type != BodyType::Static && !holder.asleep) continue;
     const Vec2 centre = w.positionAt(body, now) + detail::circleCentre(own.geometry);
     const double radius = detail::circleRadius(own.geometry);
-    const auto closest = detail::closestPoint(other.geometry, holder.position, centre);
-    if (!closest || !closest->collidable) continue;
-    const Vec2 r = centre - closest->point;
-    const double distance = length(r);
-    // Touching: within round-off, or within the height of a bounce at restingSpeed (v^2 / 2g, doubled),
-    // since a body bouncing between two supports at that speed touches them one at a time.
-    const double reach =
-        1e-7 * std::max(radius, 1e-9) + w.def.restingSpeed * w.def.restingSpeed / length(w.def.gravity);
-    if (!(distance > 0) || distance - radius > reach) continue;
-    const Vec2 n = r * (1.0 / distance);
-    // Beside (a wall) still helps to hold it, together with something below; above holds nothing up.
-    if (dot(n, up) < -1e-12) continue;
-    if (count < 16) normals[count++] = n;
-    if (holder.type == BodyType::Dynamic &&
-        std::find(supporters.begin(), supporters.end(), other.body) == supporters.end()) {
-      supporters.push_back(other.body);
-    }
+    // Every piece it touches: in the corner of one Polyline the floor holds it up and the wall beside
+    // it, and the closest point alone (the wall's, at a tie) left a disk at rest there awake for ever.
+    detail::forEachClosestPoint(other.geometry, holder.position, centre, [&](const detail::Closest& closest) {
+      if (!closest.collidable) return;
+      const Vec2 r = centre - closest.point;
+      const double distance = length(r);
+      // Touching: within round-off, or within the height of a bounce at restingSpeed (v^2 / 2g,
+      // doubled), since a body bouncing between two supports at that speed touches them one at a time.
+      const double reach =
+          1e-7 * std::max(radius, 1e-9) + w.def.restingSpeed * w.def.restingSpeed / length(w.def.gravity);
+      if (!(distance > 0) || distance - radius > reach) return;
+      const Vec2 n = r * (1.0 / distance);
+      // Beside (a wall) still helps to hold it, together with something below; above holds nothing up.
+      if (dot(n, up) < -1e-12) return;
+      if (count < 16) normals[count++] = n;
+      if (holder.type == BodyType::Dynamic &&
+          std::find(supporters.begin(), supporters.end(), other.body) == supporters.end()) {
+        supporters.push_back(other.body);
+      }
+    });
   }
   // Held when up lies within the cone of the normals: one normal straight up (a level floor), or two on
   // either side of up (a cradle of two disks, a wedge).
