@@ -461,6 +461,24 @@ TEST(ExtremeValues, VelocitiesWhoseSquareOverflowsAreRefusedWithTheFieldNamed) {
   EXPECT_NO_THROW(w.setVelocity(d, {1e150, 1e149}));
 }
 
+// The documented bound is World::kMaxSpeed (1.3e154), a little under where a square overflows (about
+// 1.34e154): speeds from 1.3e154 up to there were taken. Refused from the bound on, by every call that
+// takes a velocity or gravity, and the world is unchanged.
+TEST(ExtremeValues, SpeedsFromTheDocumentedMaximumOnAreRefused) {
+  const double justBelow = std::nextafter(World::kMaxSpeed, 0.0);
+  World w;
+  const BodyId d = disk(w, {0, 0}, {1, 0}, 0.5);
+  const uint64_t hash = w.stateHash();
+  for (Vec2 v : {Vec2{World::kMaxSpeed, 0}, Vec2{0, -1.33e154}, Vec2{1e154, 0.9e154}}) {
+    EXPECT_THROW(w.setVelocity(d, v), Error) << v.x << ", " << v.y;
+    EXPECT_THROW(w.createBody({.type = BodyType::Dynamic, .velocity = v}), Error);
+    EXPECT_THROW(World({.gravity = v}), Error);
+  }
+  EXPECT_EQ(w.stateHash(), hash);
+  EXPECT_NO_THROW(w.setVelocity(d, {justBelow, 0}));
+  EXPECT_NO_THROW(World({.gravity = {0, -justBelow}}));
+}
+
 // The fuzzer's finding: a disk at y = 1.797e308 was accepted and its step formed NaN band indices in
 // the broad phase (UBSan). Coordinates are held within +-1e150.
 TEST(ExtremeValues, CoordinatesOutsideTheDocumentedRangeAreRefused) {

@@ -26,6 +26,9 @@ class World {
   /// Positions and fixtures' boxes must lie within +-kMaxCoordinate (creation and setPosition check it),
   /// so that the differences and products of coordinates the step forms stay finite.
   static constexpr double kMaxCoordinate = 1e150;
+  /// Velocities (BodyDef::velocity, setVelocity) and WorldDef::gravity must be shorter than kMaxSpeed:
+  /// the times of impact square speeds, and the square of a speed near 1.34e154 overflows a double.
+  static constexpr double kMaxSpeed = 1.3e154;
 
   // Bodies. Every function taking a handle throws rattle::Error for a null or stale handle.
   BodyId createBody(const BodyDef& def);

@@ -16,7 +16,8 @@ inline bool inRange(Vec2 v) {
 inline bool inRange(const Box& b) { return inRange(b.min) && inRange(b.max); }
 
 /// A velocity (or an acceleration) whose square is finite too, which every time of impact works with: a
-/// speed below 2^511, about 1.3e154.
+/// speed below 2^512, about 1.34e154. What a save may hold: the API takes speeds below World::kMaxSpeed
+/// only, but a bounce off a fast kinematic body can end a little faster.
 inline bool finiteSquare(Vec2 v) { return isFinite(v) && std::isfinite(dot(v, v)); }
 
 }  // namespace rattle::detail

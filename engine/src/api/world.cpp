@@ -29,12 +29,12 @@ void checkFinite(Vec2 v, const char* field) {
   require(isFinite(v), [&] { return std::string(field) + " = " + str(v) + ": must be finite"; });
 }
 
-// The speed must be finite and so must its square, which every time of impact works with: a speed
-// below 2^511 (about 1.3e154) units per second. Gravity likewise.
+// The speed must be finite and so must its square, which every time of impact works with: below
+// World::kMaxSpeed (1.3e154, a little under 2^512, where the square overflows). Gravity likewise.
 void checkVelocity(Vec2 v, const char* field) {
   checkFinite(v, field);
-  require(detail::finiteSquare(v), [&] {
-    return std::string(field) + " = " + str(v) + ": its length squared overflows (its length must be below 1.3e154)";
+  require(length(v) < World::kMaxSpeed, [&] {
+    return std::string(field) + " = " + str(v) + ": its length must be below 1.3e154 (World::kMaxSpeed)";
   });
 }
 
