@@ -406,7 +406,7 @@ TEST(DiscreteSensors, DestroyEndsAtTimeZeroOfTheNextStep) {
   auto ev = stepEvents(world, 0.1);
   ASSERT_EQ(ev.size(), 1u);
   EXPECT_TRUE(ev[0].begin);
-  EXPECT_EQ(ev[0].time, 0.1);  // discrete: at the end of the step
+  EXPECT_EQ(ev[0].time, 0.0);  // created inside: at time 0, as in every mode (sensorEvents())
   EXPECT_EQ(world.sensorOverlaps(zone), std::vector<FixtureId>{d.fixture});
   world.destroyBody(d.body);
   EXPECT_TRUE(world.sensorOverlaps(zone).empty());
@@ -415,6 +415,48 @@ TEST(DiscreteSensors, DestroyEndsAtTimeZeroOfTheNextStep) {
   EXPECT_FALSE(ev[0].begin);
   EXPECT_EQ(ev[0].time, 0.0);
   EXPECT_EQ(ev[0].visitor, d.fixture);
+}
+
+// sensorEvents(): a body created inside a sensor begins at time 0 of the next step, in every mode. The
+// discrete step sees overlaps where the step ends, and one that held where it began too begins at 0; one
+// that began within the step is reported at its end. The events are in time order (a begin at 0 of a
+// later fixture before one at dt of an earlier), as contact events are.
+TEST(DiscreteSensors, ABeginThatHeldWhereTheStepBeganIsAtTimeZero) {
+  World world(modeDef(StepMode::Discrete));
+  const BodyId holder = world.createBody(bodyDef(BodyType::Static, {5, 0}));
+  FixtureDef fd;
+  fd.geometry = Circle{{0, 0}, 1.0};
+  fd.sensor = true;
+  const FixtureId zone = world.createFixture(holder, fd);
+  const Disk entering = addDisk(world, DiskSpec{{3.5, 0}, {2, 0}, 0.2, 1, 0});  // reaches 3.7: x + r = 3.9 < 4
+  const Disk inside = addDisk(world, DiskSpec{{5, 0}, {1, 0}, 0.2, 1, 0});      // created inside, moving
+  auto ev = stepEvents(world, 0.1);
+  ASSERT_EQ(ev.size(), 1u);
+  EXPECT_TRUE(ev[0].begin);
+  EXPECT_EQ(ev[0].visitor, inside.fixture);
+  EXPECT_EQ(ev[0].time, 0.0);
+  ev = stepEvents(world, 0.1);  // entering ends at 3.9: x + r = 4.1, inside
+  ASSERT_EQ(ev.size(), 1u);
+  EXPECT_EQ(ev[0].visitor, entering.fixture);
+  EXPECT_EQ(ev[0].time, 0.1);
+  // Both leave the zone and come back by setPosition, then one is inside where the step begins (time
+  // 0) and the other enters within it (at the step's end); the earlier fixture's event is the later one.
+  world.setPosition(entering.body, {3.5, 0});
+  world.setPosition(inside.body, {20, 0});
+  ev = stepEvents(world, 0.1);
+  ASSERT_EQ(ev.size(), 2u);
+  EXPECT_FALSE(ev[0].begin);
+  EXPECT_FALSE(ev[1].begin);
+  EXPECT_TRUE(world.sensorOverlaps(zone).empty());
+  world.setPosition(entering.body, {3.7, 0});  // ends the step at 3.9: inside
+  world.setPosition(inside.body, {5, 0});
+  ev = stepEvents(world, 0.1);
+  ASSERT_EQ(ev.size(), 2u);
+  EXPECT_EQ(ev[0].visitor, inside.fixture);
+  EXPECT_EQ(ev[0].time, 0.0);
+  EXPECT_EQ(ev[1].visitor, entering.fixture);
+  EXPECT_EQ(ev[1].time, 0.1);
+  ASSERT_LT(entering.fixture.index, inside.fixture.index);  // so the order is by time, not by id
 }
 
 TEST(DiscreteSensors, ABodyPushedIntoASensorBeginsThere) {

@@ -51,7 +51,9 @@ enum class StepMode : uint8_t {
   Hybrid,
   /// Step-and-check, the cheap baseline: every body moves a whole step, then overlapping pairs found by
   /// sort-and-sweep are pushed apart and reflected, once per pair per step. Fast bodies can pass through
-  /// thin walls and a body cannot collide twice in a step; sensors see only where bodies end a step.
+  /// thin walls and a body cannot collide twice in a step; sensors see only where bodies end a step
+  /// (a change is reported at the step's end, but an overlap that held where the step began, as a body
+  /// created inside a sensor, begins at time 0).
   Discrete,
   /// Event-driven throughout: every future collision is predicted exactly and kept in one queue; step(dt)
   /// just processes the events up to the new time. A cell grid with cell-crossing events and lazy

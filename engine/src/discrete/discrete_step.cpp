@@ -78,6 +78,7 @@ class DiscreteStepper final : public detail::Stepper {
   std::vector<int> pushedSlot_;  // body -> index into pushed_; -1 outside it (all -1 between passes)
   std::vector<uint32_t> nearStatic_;  // bodies in a pair with a static body, sorted
   std::vector<uint32_t> walls_;       // scratch of putBack
+  std::vector<SensorEvent> sensed_;   // scratch of senseOverlaps: the step's sensor events, then sorted
 };
 
 // How far a circle (centre c, radius r) overlaps a placed geometry, if it does.
@@ -519,7 +520,10 @@ void DiscreteStepper::keepCentreOut(BodySlot& b, uint32_t own, Vec2 centre, Vec2
 }
 
 // 4. Sensors: what overlaps where the bodies ended, after the pushes (a push can move a body into a
-// sensor or out of one), against what overlapped before.
+// sensor or out of one), against what overlapped before. A change is reported at the step's end, but
+// an overlap that held where the bodies began the step too (a body created inside a sensor, or a filter
+// changed) begins at time 0, as the other modes and sensorEvents() have it. The events are ordered as
+// theirs: by time, then by fixture ids.
 void DiscreteStepper::senseOverlaps(double dt) {
   detail::WorldState& w = w_;
   std::vector<Pair> sensing;
@@ -535,11 +539,21 @@ void DiscreteStepper::senseOverlaps(double dt) {
     w.stats.candidatePairs += static_cast<int>(sensing.size());
   }
   const auto& fixtures = w.fixtures;
+  // Where a fixture's body began the step (moveBodies kept that of every body it moved).
+  const auto startOf = [&](uint32_t f) {
+    const uint32_t body = fixtures[f].body;
+    const BodySlot& b = w.bodies[body];
+    return b.type == BodyType::Static || b.asleep ? b.position : w.stepStart.motion[body].first;
+  };
+  std::vector<SensorEvent>& found = sensed_;
+  found.clear();
   for (const Pair& p : sensing) {
     sensorOverlapsSeen(w, p.a, p.b);
     const bool now = overlaps(fixtures[p.a].geometry, w.bodyOf(p.a).position, fixtures[p.b].geometry,
                               w.bodyOf(p.b).position);
-    if (now != isOverlapping(w, p.a, p.b)) recordSensorChange(w, p.a, p.b, dt, now, w.sensorEvents);
+    if (now == isOverlapping(w, p.a, p.b)) continue;
+    const bool atStart = now && overlaps(fixtures[p.a].geometry, startOf(p.a), fixtures[p.b].geometry, startOf(p.b));
+    recordSensorChange(w, p.a, p.b, atStart ? 0.0 : dt, now, found);
   }
   std::vector<uint64_t> unseen;
   for (const auto& [key, seen] : w.sensorOverlaps) {
@@ -550,9 +564,11 @@ void DiscreteStepper::senseOverlaps(double dt) {
     const uint32_t sensor = static_cast<uint32_t>(key >> 32), visitor = static_cast<uint32_t>(key);
     if (!overlaps(fixtures[sensor].geometry, w.bodyOf(sensor).position, fixtures[visitor].geometry,
                   w.bodyOf(visitor).position)) {
-      recordSensorChange(w, sensor, visitor, dt, false, w.sensorEvents);
+      recordSensorChange(w, sensor, visitor, dt, false, found);
     }
   }
+  detail::sortSensorEvents(found);
+  w.sensorEvents.insert(w.sensorEvents.end(), found.begin(), found.end());
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // Sensor overlaps and their events: which sensor pairs overlap now (WorldState::sensorOverlaps, an
 // unordered map probed by key and sorted before anything read out of it reaches an event), and the
 // begin and end events as an overlap changes, inside a step or between steps (a destroy, a filter).
+#include <algorithm>
 #include <utility>
 
 #include "common/out_of_memory.h"
@@ -45,6 +46,15 @@ void detail::recordSensorChange(WorldState& w, uint32_t fa, uint32_t fb, double 
   e.visitorBody = {w.fixtures[visitor].body, w.bodies[w.fixtures[visitor].body].generation};
   e.begin = begin;
   out.push_back(e);
+}
+
+void detail::sortSensorEvents(std::vector<SensorEvent>& events) {
+  std::stable_sort(events.begin(), events.end(), [](const SensorEvent& x, const SensorEvent& y) {
+    if (x.time != y.time) return x.time < y.time;
+    const uint32_t xl = std::min(x.sensor.index, x.visitor.index), yl = std::min(y.sensor.index, y.visitor.index);
+    if (xl != yl) return xl < yl;
+    return std::max(x.sensor.index, x.visitor.index) < std::max(y.sensor.index, y.visitor.index);
+  });
 }
 
 void detail::endOverlaps(WorldState& w, const std::vector<uint64_t>& ended) {

@@ -144,13 +144,8 @@ void detail::sensePaths(WorldState& w, PathLog& log, double end) {
   // 3. Overlaps whose pair the sweep did not see: the body was moved away between steps (so they are
   // judged where the bodies were at the step's start).
   endUnseenOverlaps(w, [&](uint32_t body) { return positionOn(pathOf(body)[0], 0.0); });
-  // One pair's events are in time order already; a stable sort keeps them so at equal times.
-  std::stable_sort(found.begin(), found.end(), [](const SensorEvent& x, const SensorEvent& y) {
-    if (x.time != y.time) return x.time < y.time;
-    const uint32_t xl = std::min(x.sensor.index, x.visitor.index), yl = std::min(y.sensor.index, y.visitor.index);
-    if (xl != yl) return xl < yl;
-    return std::max(x.sensor.index, x.visitor.index) < std::max(y.sensor.index, y.visitor.index);
-  });
+  // One pair's events are in time order already; the sort is stable, so they stay so at equal times.
+  sortSensorEvents(found);
   w.sensorEvents.insert(w.sensorEvents.end(), found.begin(), found.end());
 }
 

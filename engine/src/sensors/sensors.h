@@ -22,6 +22,9 @@ void sensorOverlapsSeen(WorldState& w, uint32_t fa, uint32_t fb);
 /// `out`; inside a step the change is logged so that a failed step can take it back.
 void recordSensorChange(WorldState& w, uint32_t fa, uint32_t fb, double time, bool begin,
                         std::vector<SensorEvent>& out);
+/// Orders a step's sensor events as contact events are ordered: by time, then by the fixture ids (the
+/// lower, then the higher); a stable sort, so one pair's events at one instant keep their order.
+void sortSensorEvents(std::vector<SensorEvent>& events);
 /// Ends the overlaps (those still in the map), their events reported at time 0 of the next step.
 /// Allocates nothing when pendingSensorEvents has room for them.
 void endOverlaps(WorldState& w, const std::vector<uint64_t>& ended);
