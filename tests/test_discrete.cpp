@@ -173,6 +173,45 @@ WallRun fastDiskAgainstWall(StepMode mode) {
   return run;
 }
 
+// Resting and the collapse guard are rules of the hybrid and predictive modes (types.h, README "Gravity
+// and resting"): a discrete step pushes pairs apart and reflects them with their restitution as it is.
+// A disk at rest on a floor never sleeps, and collapseTime changes nothing: a disk bouncing between two
+// walls 2 apart (restitution 0.5, collapseTime 1 s, far longer than its flights) ends every step where
+// and as fast as without it, its speed halving at each wall, 10 -> 5 -> 2.5.
+TEST(DiscreteRules, NoRestingAndNoCollapseGuard) {
+  {
+    WorldDef def = modeDef(StepMode::Discrete);
+    def.gravity = {0, -10};
+    World world(def);
+    addWall(world, world.createBody(bodyDef(BodyType::Static)), {-5, 0}, {5, 0}, 0.0);
+    const Disk d = addDisk(world, DiskSpec{{0, 0.5}, {0, 0}, 0.5, 1, 0});
+    for (int step = 0; step < 300; ++step) {
+      world.step(1.0 / 60);
+      ASSERT_FALSE(world.isAsleep(d.body)) << "step " << step;
+    }
+    EXPECT_EQ(world.stats().sleeping, 0);
+  }
+  std::vector<Vec2> velocities[2];
+  for (int guard = 0; guard < 2; ++guard) {
+    WorldDef def = modeDef(StepMode::Discrete);
+    def.collapseTime = guard ? 1.0 : 0.0;
+    World world(def);
+    const BodyId walls = world.createBody(bodyDef(BodyType::Static));
+    addWall(world, walls, {-1, -5}, {-1, 5}, 0.5);
+    addWall(world, walls, {1, -5}, {1, 5}, 0.5);
+    const Disk d = addDisk(world, DiskSpec{{0, 0}, {10, 0}, 0.1, 1, 0.5});
+    for (int step = 0; step < 60; ++step) {
+      world.step(0.01);
+      velocities[guard].push_back(world.velocity(d.body));
+    }
+  }
+  EXPECT_EQ(velocities[0], velocities[1]);
+  std::vector<double> speeds;  // each speed the disk had, in turn
+  for (Vec2 v : velocities[1])
+    if (speeds.empty() || std::fabs(v.x) != speeds.back()) speeds.push_back(std::fabs(v.x));
+  EXPECT_EQ(speeds, (std::vector<double>{10, 5, 2.5}));
+}
+
 TEST(DiscreteKnownFailures, FastDiskTunnelsThroughThinWall) {
   // Discrete: it never overlaps the wall at the end of a step, so it passes through. (Hybrid: the exact
   // time of impact inside the step stops it.)

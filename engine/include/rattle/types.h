@@ -42,7 +42,9 @@ enum class BodyType : uint8_t {
   Kinematic,  ///< moves with the velocity it is given, pushes dynamic bodies, is never pushed
 };
 
-/// How World::step advances time. All three use the same bodies, events and rules.
+/// How World::step advances time. All three use the same bodies, events and rules, but for resting and
+/// the collapse guard (WorldDef::restingSpeed, WorldDef::collapseTime), which the discrete mode has not:
+/// its bodies never sleep.
 enum class StepMode : uint8_t {
   /// The default. Each step: swept boxes through sort-and-sweep, then exact times of impact inside the
   /// step, in time order. Nothing tunnels; a body may collide many times in one step. Sensor events are
@@ -76,13 +78,15 @@ struct WorldDef {
   /// setter. In the hybrid mode, two moving bodies pressed together that would bounce off each other
   /// slower than this rest on each other instead, in a stepped island (README, "Gravity and resting"):
   /// their resting contacts are held by a solve once a step rather than by events, which lets a pile come
-  /// to rest. Must be >= 0; 0 turns resting off.
+  /// to rest. Must be >= 0; 0 turns resting off. The hybrid and predictive modes only: the discrete mode
+  /// has no resting, and its bodies never sleep.
   double restingSpeed = 0.01;
   /// Inelastic collapse guard (the TC model of Luding & McNamara, Granular Matter 1, 113, 1998): a contact
   /// of a body that already collided less than this many seconds ago is elastic (restitution 1). Dense
   /// clusters with restitution below 1 otherwise collide infinitely often in finite time (McNamara &
   /// Young 1992), like a row of disks on a floor. It never adds energy. Must be >= 0; 0 (the default)
-  /// turns it off.
+  /// turns it off. The hybrid and predictive modes only: a discrete step resolves a pair once, with its
+  /// fixtures' restitution.
   double collapseTime = 0;
   /// Collisions resolved in one step at most. When the next one would exceed it, at time t_b inside the
   /// step, every body stays where it is at t_b for the rest of the step (the step then simulates only t_b
