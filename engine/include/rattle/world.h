@@ -81,7 +81,9 @@ class World {
 
   /// Advances the world by dt seconds (finite, >= 0). When memory runs out part way, throws rattle::Error
   /// with the world as it was before the call: the bodies, the time, who sleeps and the sensors' overlaps
-  /// (and no events: contactEvents() and sensorEvents() are empty until the next step).
+  /// (and no events: contactEvents() and sensorEvents() are empty until the next step). A save() then
+  /// may differ from one made before the call in the step's own bookkeeping (a step counter, what the
+  /// bodies last collided with in a step), which the next step sets afresh; stateHash() does not.
   void step(double dt);
   /// Advances the world to time t (>= time()); the same as step(t - time()).
   void advanceTo(double t);
