@@ -312,16 +312,16 @@ void DiscreteStepper::pushApartAndReflect(double dt) {
   }
 }
 
-// A slow body: its own motion this step, which ended at ownMotionEnd before any push moved it (notePush
-// kept that), is shorter than its radius. Only such a body's centre is kept on the side of a static
-// surface where it began the step (README, the discrete mode's promise); one definition for both places
-// that ask (crossedSurface, putBack).
 // How near a static surface a centre counts as on it: well above the round-off of coordinates this
 // large, which a fixture's own frame (the body's position subtracted) adds to a distance.
 double DiscreteStepper::onSurfaceMargin(Vec2 a, Vec2 b) {
   return 1e-12 * std::max({1.0, std::fabs(a.x), std::fabs(a.y), std::fabs(b.x), std::fabs(b.y)});
 }
 
+// A slow body: its own motion this step, which ended at ownMotionEnd before any push moved it (notePush
+// kept that), is shorter than its radius. Only such a body's centre is kept on the side of a static
+// surface where it began the step (README, the discrete mode's promise); one definition for both places
+// that ask (crossedSurface, putBack).
 bool DiscreteStepper::movedSlowly(uint32_t body, Vec2 ownMotionEnd, double radius) const {
   return length(ownMotionEnd - w_.stepStart.motion[body].first) < radius;
 }
