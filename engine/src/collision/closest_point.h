@@ -21,6 +21,27 @@ inline Closest closestOnSegment(Vec2 a, Vec2 b, Vec2 p, bool endsCollide) {
   return {a + d * t, true};
 }
 
+// The closest point to q of each convex piece of a polyline (its segments) or a polygon (its edges), in
+// the geometry's own frame, in order. Says whether the geometry has such pieces, and whether q is inside
+// the polygon (then none is listed).
+enum class Pieces { NotPieced, Inside, Listed };
+template <class Found>
+Pieces forEachConvexPiece(const Geometry& g, Vec2 q, Found&& found) {
+  if (const auto* s = std::get_if<Polyline>(&g)) {
+    for (size_t i = 0; i + 1 < s->points.size(); ++i) found(closestOnSegment(s->points[i], s->points[i + 1], q, true));
+    return Pieces::Listed;
+  }
+  if (const auto* s = std::get_if<Polygon>(&g)) {
+    const size_t n = s->points.size();
+    bool inside = true;
+    for (size_t i = 0; i < n && inside; ++i) inside = !(cross(s->points[(i + 1) % n] - s->points[i], q - s->points[i]) < 0);
+    if (inside) return Pieces::Inside;
+    for (size_t i = 0; i < n; ++i) found(closestOnSegment(s->points[i], s->points[(i + 1) % n], q, true));
+    return Pieces::Listed;
+  }
+  return Pieces::NotPieced;
+}
+
 // The closest point of a placed geometry to p, or nothing when p is inside it (a polygon or circle).
 inline std::optional<Closest> closestPoint(const Geometry& g, Vec2 position, Vec2 p) {
   const Vec2 q = p - position;
@@ -37,44 +58,24 @@ inline std::optional<Closest> closestPoint(const Geometry& g, Vec2 position, Vec
     keep({s->center + r * (s->radius / len), true});
   } else if (const auto* s = std::get_if<Segment>(&g)) {
     keep(closestOnSegment(s->a, s->b, q, false));
-  } else if (const auto* s = std::get_if<Polyline>(&g)) {
-    for (size_t i = 0; i + 1 < s->points.size(); ++i) keep(closestOnSegment(s->points[i], s->points[i + 1], q, true));
-  } else if (const auto* s = std::get_if<Polygon>(&g)) {
-    const size_t n = s->points.size();
-    bool inside = true;
-    for (size_t i = 0; i < n; ++i) {
-      const Vec2 a = s->points[i], b = s->points[(i + 1) % n];
-      if (cross(b - a, q - a) < 0) inside = false;
-      keep(closestOnSegment(a, b, q, true));
-    }
-    if (inside) return std::nullopt;
+  } else if (forEachConvexPiece(g, q, keep) == Pieces::Inside) {
+    return std::nullopt;
   }
   if (best) best->point += position;
   return best;
 }
 
-// The closest point of each convex piece of a placed geometry to p: a polyline's segments, a polygon's
-// edges (none when p is inside it), and for the other geometries closestPoint's one. A disk resting in a
-// corner of one Polyline touches its floor and its wall at once, where closestPoint sees only one of
-// them.
+// The closest point of each convex piece of a placed geometry to p (forEachConvexPiece), and for the
+// other geometries closestPoint's one. A disk resting in a corner of one Polyline touches its floor and
+// its wall at once, where closestPoint sees only one of them.
 template <class Found>
 void forEachClosestPoint(const Geometry& g, Vec2 position, Vec2 p, Found&& found) {
-  const Vec2 q = p - position;
-  auto placed = [&](Closest c) {
+  const Pieces pieces = forEachConvexPiece(g, p - position, [&](Closest c) {
     c.point += position;
     found(c);
-  };
-  if (const auto* s = std::get_if<Polyline>(&g)) {
-    for (size_t i = 0; i + 1 < s->points.size(); ++i) placed(closestOnSegment(s->points[i], s->points[i + 1], q, true));
-  } else if (const auto* s = std::get_if<Polygon>(&g)) {
-    const size_t n = s->points.size();
-    bool inside = true;
-    for (size_t i = 0; i < n && inside; ++i) inside = !(cross(s->points[(i + 1) % n] - s->points[i], q - s->points[i]) < 0);
-    if (inside) return;
-    for (size_t i = 0; i < n; ++i) placed(closestOnSegment(s->points[i], s->points[(i + 1) % n], q, true));
-  } else if (const auto c = closestPoint(g, position, p)) {
-    found(*c);
-  }
+  });
+  if (pieces != Pieces::NotPieced) return;
+  if (const auto c = closestPoint(g, position, p)) found(*c);
 }
 
 /// The centre and radius of a circle-like geometry (a point is a circle of radius 0).
