@@ -64,9 +64,20 @@ bool detail::leavesCorner(const WorldState& w, const BodySlot& b, uint32_t fixtu
   // between them, on the side of the second face where the first one lies (it came along the first).
   // The slide took out only the first face's normal part of its velocity; in a corner of 90 degrees or
   // more that leaves it moving away from the second face, in an acute one it may turn it back in.
+  // A polygon's corners are convex and met from outside, where the far end of one face lies on the
+  // inner side of the other: the rule above would take a point moving into the polygon as leaving it.
+  // A polygon's outward normal says which side is out: the point leaves the face if it moves that way
+  // (fuzz/regressions/world_api/escape-hybrid-point-along-the-seam-under-a-wall: a point in a wall's
+  // corner, just resolved against its bottom face, passed through its side face).
   Vec2 s0, s1, f0, f1;
-  if (!flatFeature(w.fixtures[b.support.fixture].geometry, b.support.feature, s0, s1)) return true;
   if (!flatFeature(w.fixtures[fixture].geometry, feature, f0, f1)) return true;
+  if (std::holds_alternative<Polygon>(w.fixtures[fixture].geometry)) {
+    const Vec2 d = f1 - f0;
+    const Vec2 outward{d.y, -d.x};  // counter-clockwise points (geometry.h)
+    const Vec2 relative = w.velocityAt(b, now) - w.bodies[w.fixtures[fixture].body].velocity;
+    return dot(relative, outward) >= 0;
+  }
+  if (!flatFeature(w.fixtures[b.support.fixture].geometry, b.support.feature, s0, s1)) return true;
   const Vec2 supportAt = w.bodies[w.fixtures[b.support.fixture].body].position;
   const Vec2 p = w.positionAt(b, now) + detail::circleCentre(w.fixtures[b.fixtures.front()].geometry);
   const Vec2 near = supportAt + s0, far = supportAt + s1;
