@@ -193,6 +193,52 @@ TEST(Squeeze, ADiskAroundASmallStaticPolygonStopsInBoundedWork) {
   }
 }
 
+// Points made inside a disk wider than the box it is put in (it overlaps every wall and cannot move):
+// deep overlaps made so pass through each other (guide, Squeezes). After their first meeting, in the
+// step they were made, gravity pressed them back into the disk again and again; each meeting took a
+// little of their fall (83 events a step, and in a fuzz input the whole event budget). Once parted they
+// fall freely through it until they land on the floor.
+TEST(Squeeze, PointsMadeInsideAWedgedDiskFallThroughIt) {
+  for (StepMode mode : kExactModes) {
+    SCOPED_TRACE(nameOf(mode));
+    const Vec2 g{0, -9.81};
+    World w(defOf(mode, g));
+    const BodyId box = w.createBody({.type = BodyType::Static});
+    for (const auto& [centre, half] : {std::pair{Vec2{0, -1.25}, Vec2{1.5, 0.25}}, {Vec2{0, 1.25}, Vec2{1.5, 0.25}},
+                                       {Vec2{-1.25, 0}, Vec2{0.25, 1}}, {Vec2{1.25, 0}, Vec2{0.25, 1}}}) {
+      Polygon p = boxPolygon(half.x, half.y);
+      for (Vec2& v : p.points) v += centre;
+      w.createFixture(box, {.geometry = p});
+    }
+    const BodyId wide = w.createBody({.type = BodyType::Dynamic, .velocity = {5.9, 0.73}});
+    w.createFixture(wide, {.geometry = Circle{{0, 0}, 1.5}, .density = 1e-6, .restitution = 1e-12});
+    std::vector<BodyId> points;
+    for (int i = 0; i < 3; ++i) {
+      points.push_back(w.createBody({.type = BodyType::Dynamic, .position = {-0.3 + 0.3 * i, 0.3}}));
+      w.createFixture(points.back(), {.geometry = Point{}, .restitution = 1e-12});
+    }
+    const double dt = 1.0 / 30;
+    w.step(dt);
+    EXPECT_GE(w.stats().squeezes, 1);
+    std::vector<Vec2> p0, v0;
+    for (BodyId b : points) {
+      p0.push_back(w.position(b));
+      v0.push_back(w.velocity(b));
+    }
+    // Free fall from where the first step left them, while they are above the floor's face (y = -1).
+    for (int i = 1; i <= 8; ++i) {
+      w.step(dt);
+      ASSERT_EQ(w.stats().eventsProcessed, 0) << "step " << i;
+      const double t = i * dt;
+      for (size_t k = 0; k < points.size(); ++k) {
+        const Vec2 expected = p0[k] + v0[k] * t + g * (0.5 * t * t);
+        EXPECT_NEAR(w.position(points[k]).x, expected.x, 1e-12) << "point " << k << ", step " << i;
+        EXPECT_NEAR(w.position(points[k]).y, expected.y, 1e-12) << "point " << k << ", step " << i;
+      }
+    }
+  }
+}
+
 // ---- A closed container in the discrete mode ----------------------------------------------------------
 
 // The trial's soak, smaller: disks poured into a closed Polyline box under gravity, restitution 0.5. The
