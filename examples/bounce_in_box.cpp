@@ -2,6 +2,7 @@
 // paths of the disks as an SVG picture. It uses only the public headers (<rattle/rattle.h>).
 #include <rattle/rattle.h>
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -29,9 +30,16 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) {
       usage(stdout);
       return 0;
-    } else if (!std::strcmp(argv[i], "--svg") && i + 1 < argc) {
+    } else if ((!std::strcmp(argv[i], "--svg") || !std::strcmp(argv[i], "--steps")) && i + 1 == argc) {
+      std::fprintf(stderr, "bounce_in_box: %s: a value is missing\n", argv[i]);
+      return 2;
+    } else if (!std::strcmp(argv[i], "--svg")) {
       svgPath = argv[++i];
-    } else if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) {
+      if (svgPath.empty()) {
+        std::fprintf(stderr, "bounce_in_box: --svg: expected a file name\n");
+        return 2;
+      }
+    } else if (!std::strcmp(argv[i], "--steps")) {
       char* end = nullptr;
       long n = std::strtol(argv[++i], &end, 10);
       if (*end != '\0' || n < 1 || n > 10'000'000) {
@@ -46,6 +54,13 @@ int main(int argc, char** argv) {
       usage(stderr);
       return 2;
     }
+  }
+
+  // Opened before the run, so that a path that cannot be written fails at once.
+  FILE* svg = nullptr;
+  if (!svgPath.empty() && !(svg = std::fopen(svgPath.c_str(), "w"))) {
+    std::fprintf(stderr, "bounce_in_box: cannot write %s: %s\n", svgPath.c_str(), std::strerror(errno));
+    return 1;
   }
 
   const double width = 20, height = 12, dt = 1.0 / 60.0;
@@ -88,12 +103,8 @@ int main(int argc, char** argv) {
   }
   std::printf("%d steps, %.2f s simulated, %ld contact events\n", steps, world.time(), contacts);
 
-  if (!svgPath.empty()) {
-    FILE* f = std::fopen(svgPath.c_str(), "w");
-    if (!f) {
-      std::fprintf(stderr, "bounce_in_box: cannot write %s: %s\n", svgPath.c_str(), std::strerror(errno));
-      return 1;
-    }
+  if (svg) {
+    FILE* f = svg;
     const double scale = 40;
     std::fprintf(f, "<svg xmlns='http://www.w3.org/2000/svg' width='%g' height='%g'>\n", width * scale, height * scale);
     std::fprintf(f, "<rect width='100%%' height='100%%' fill='#fdfdfd' stroke='#333' stroke-width='4'/>\n");
@@ -106,7 +117,10 @@ int main(int argc, char** argv) {
                    d.radius * scale, d.colour);
     }
     std::fprintf(f, "</svg>\n");
-    std::fclose(f);
+    if (std::fclose(f) != 0) {
+      std::fprintf(stderr, "bounce_in_box: cannot write %s: %s\n", svgPath.c_str(), std::strerror(errno));
+      return 1;
+    }
     std::printf("wrote %s\n", svgPath.c_str());
   }
   return 0;

@@ -27,12 +27,14 @@ const char* const kHelp =
     "\n"
     "  --to HOST:PORT   the host to forward to (required)\n"
     "  --listen PORT    the UDP port the joiner connects to (default 0: a free one, printed)\n"
-    "  --seed N         the faults' seed: the n-th datagram each way meets the same fate (default 26)\n"
+    "  --seed N         the faults' seed, 0 to 2^53: the n-th datagram each way meets the same fate\n"
+    "                   (default 26)\n"
     "  --drop P         the probability a datagram is lost (default 0.10)\n"
     "  --duplicate P    the probability it is sent twice (default 0.05)\n"
     "  --reorder P      the probability it is held back behind the next one (default 0.05)\n"
-    "  --delay MIN-MAX  every datagram waits MIN to MAX milliseconds, uniformly (default 50-200)\n"
-    "  --seconds S      stop after S seconds (default: when interrupted)\n"
+    "  --delay MIN-MAX  every datagram waits MIN to MAX milliseconds (each 0 to 10000), uniformly\n"
+    "                   (default 50-200)\n"
+    "  --seconds S      stop after S seconds, 0.1 to 86400 (default: when interrupted)\n"
     "\n"
     "exit status: 0 stopped, 1 the port or host did not work, 2 bad options\n";
 
@@ -41,11 +43,14 @@ const char* const kHelp =
   std::exit(2);
 }
 
-/// `range` says what is expected, for the error: "a probability from 0 to 1".
-double number(const std::string& option, const std::string& text, double lo, double hi, const char* range) {
+/// `range` says what is expected, for the error: "a probability from 0 to 1". `quote`: the error
+/// quotes `text` after the option (false: `option` already holds what to quote).
+double number(const std::string& option, const std::string& text, double lo, double hi, const char* range,
+              bool quote = true) {
   char* end = nullptr;
   const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !(v >= lo && v <= hi)) bad(option + " " + text + ": expected " + range);
+  if (text.empty() || *end != '\0' || !(v >= lo && v <= hi))
+    bad(option + (quote ? " " + text : std::string()) + ": expected " + range);
   return v;
 }
 
@@ -71,7 +76,11 @@ int main(int argc, char** argv) {
       std::fputs(kHelp, stdout);
       return 0;
     }
-    if (i + 1 >= argc) bad(a + ": unknown option or missing value");
+    if (i + 1 >= argc) {
+      const bool known = a == "--to" || a == "--listen" || a == "--seed" || a == "--drop" || a == "--duplicate" ||
+                         a == "--reorder" || a == "--delay" || a == "--seconds";
+      bad(a + (known ? ": a value is missing" : ": unknown option"));
+    }
     const std::string v = argv[++i];
     if (a == "--to") {
       const size_t colon = v.rfind(':');
@@ -93,8 +102,10 @@ int main(int argc, char** argv) {
     } else if (a == "--delay") {
       const size_t dash = v.find('-');
       if (dash == std::string::npos) bad("--delay " + v + ": expected MIN-MAX in milliseconds, e.g. 50-200");
-      model.minDelaySeconds = number(a, v.substr(0, dash), 0, 10000, "milliseconds from 0 to 10000") / 1000;
-      model.maxDelaySeconds = number(a, v.substr(dash + 1), 0, 10000, "milliseconds from 0 to 10000") / 1000;
+      // The error quotes the whole value (a "-5-10" has an empty MIN).
+      const char* ms = "MIN-MAX, each milliseconds from 0 to 10000";
+      model.minDelaySeconds = number(a + " " + v, v.substr(0, dash), 0, 10000, ms, false) / 1000;
+      model.maxDelaySeconds = number(a + " " + v, v.substr(dash + 1), 0, 10000, ms, false) / 1000;
       if (model.minDelaySeconds > model.maxDelaySeconds) bad("--delay " + v + ": MIN is above MAX");
     } else if (a == "--seconds") {
       seconds = number(a, v, 0.1, 86400, "seconds from 0.1 to 86400");

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "random.h"
+#include "rattle/world.h"
 
 namespace rattle_bench {
 
@@ -119,8 +120,9 @@ void closedBox(Scene& s, double x0, double y0, double x1, double y1) {
 double orDefault(double v, double fallback) { return std::isnan(v) ? fallback : v; }
 
 void requireSpeed(const std::string& scene, double speed) {
-  if (!(std::isfinite(speed) && speed >= 0))
-    throw SceneError("--speed " + str(speed) + ": must be finite and >= 0 (scene " + scene + ")");
+  if (!(std::isfinite(speed) && speed >= 0 && speed < rattle::World::kMaxSpeed))
+    throw SceneError("--speed " + str(speed) + ": must be >= 0 and below " + str(rattle::World::kMaxSpeed) +
+                     " (World::kMaxSpeed; scene " + scene + ")");
 }
 
 Scene gas(const SceneParams& p) {
@@ -152,7 +154,7 @@ Scene pile(const SceneParams& p) {
   s.restitution = 0.5;
   const double maxSpeed = orDefault(p.speed, 1.0);
   requireSpeed("pile", maxSpeed);
-  s.speed = 0;  // speeds differ
+  s.speed = std::numeric_limits<double>::quiet_NaN();  // speeds differ
   s.packing = p.n * kPi * r * r / (2 * S * S);
   Random rng(p.seed);
   const double gap = kGapPerRadius * r;
@@ -177,7 +179,7 @@ Scene bullets(const SceneParams& p) {
   for (Vec2 c : jitteredLattice(rng, p.n, {r + gap, r + gap}, {L - r - gap, L - r - gap}, r, gap, "bullets"))
     s.disks.push_back({c, {}, r, 1.0});
   if (!std::isnan(p.speed)) requireSpeed("bullets", p.speed);
-  s.speed = orDefault(p.speed, 0);
+  s.speed = p.speed;  // NaN: the scene's default speeds, which differ
   static constexpr double kDecades[4] = {10, 100, 1000, 10000};
   for (size_t i = 0; i < s.disks.size(); ++i)
     s.disks[i].velocity = (std::isnan(p.speed) ? kDecades[i % 4] : p.speed) * randomDirection(rng);
@@ -194,7 +196,7 @@ Scene cradle(const SceneParams& p) {
   closedBox(s, 0, 0, L, 2.0 * lanes);
   s.packing = p.n * kPi * r * r / (L * 2.0 * lanes);
   if (!std::isnan(p.speed)) requireSpeed("cradle", p.speed);
-  s.speed = orDefault(p.speed, 0);
+  s.speed = p.speed;  // NaN: the scene's default speeds, which differ
   Random rng(p.seed);
   for (int k = 0; k < lanes; ++k) {
     const double y = 2.0 * k + 1.0;
@@ -222,7 +224,7 @@ Scene sensors(const SceneParams& p) {
   for (Vec2 c : jitteredLattice(rng, p.n, {r + gap, r + gap}, {L - r - gap, L - r - gap}, r, gap, "sensors"))
     s.disks.push_back({c, {}, r, 1.0});
   if (!std::isnan(p.speed)) requireSpeed("sensors", p.speed);
-  s.speed = orDefault(p.speed, 0);
+  s.speed = p.speed;  // NaN: the scene's default speeds, which differ
   for (DiskStart& d : s.disks) {
     const Vec2 direction = randomDirection(rng);  // first, as in pile()
     d.velocity = (std::isnan(p.speed) ? rng.uniform(10.0, 40.0) : p.speed) * direction;

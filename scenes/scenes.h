@@ -98,9 +98,10 @@ struct Scene {
   /// False: disks pass through one another and meet only walls (and sensors).
   bool disksCollide = true;
   /// The parameters the scene was built with, for the CSV row: packing fraction (disk area over the
-  /// container's area) and speed (the common speed, or 0 when speeds differ between disks).
+  /// container's area) and speed (the common speed, or NaN when speeds differ between disks: the
+  /// row's column is then empty).
   double packing = 0;
-  double speed = 0;
+  double speed = std::numeric_limits<double>::quiet_NaN();
   uint64_t seed = 0;
   /// The crowd's steering, and its goal region; disabled in the other scenes.
   Steering steering;

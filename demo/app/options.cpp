@@ -224,7 +224,13 @@ ParseResult parseOptions(int argc, char** argv) {
     } else if (arg == "--host") {
       if (o.network != Options::Network::None) return fail("--host: a side either hosts, joins or watches, once");
       o.network = Options::Network::Host;
-      if (i + 1 < argc && argv[i + 1][0] != '-') {
+      // The port is optional: what follows is an option unless it is a number (a negative one too, to
+      // be refused as a port rather than taken for an unknown option).
+      const auto numberNext = [&] {
+        const char* next = argv[i + 1];
+        return next[0] != '-' || (next[1] >= '0' && next[1] <= '9');
+      };
+      if (i + 1 < argc && numberNext()) {
         if (!number(0, 65535, n)) return fail(std::string("--host ") + lastValue + ": expected a port from 0 to 65535");
         o.port = uint16_t(n);
       }

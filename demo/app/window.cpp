@@ -18,6 +18,7 @@
 #include <SDL.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -73,8 +74,9 @@ std::string readScript(const std::string& path, Uint32 windowId, std::vector<Scr
   // A directory opens and reads as empty: it would pass for a script with no events.
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) return path + ": is a directory, not an input script";
+  errno = 0;
   std::ifstream in(path);
-  if (!in) return path + ": cannot open the input script";
+  if (!in) return path + ": cannot open the input script" + (errno ? std::string(": ") + std::strerror(errno) : "");
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
     if (line.size() > 1000) return path + ":" + std::to_string(number) + ": line too long";

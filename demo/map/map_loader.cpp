@@ -5,8 +5,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -687,8 +689,9 @@ std::string readMapFile(const std::string& path) {
   // A directory opens as a stream whose end is at the largest offset there is: say what it is instead.
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw MapError(path + ": is a directory, not a map file");
+  errno = 0;
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw MapError(path + ": cannot open the map file");
+  if (!in) throw MapError(path + ": cannot open the map file" + (errno ? std::string(": ") + std::strerror(errno) : ""));
   in.seekg(0, std::ios::end);
   std::streamoff size = in.tellg();
   if (size < 0) throw MapError(path + ": cannot read the map file");

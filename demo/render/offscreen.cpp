@@ -2,6 +2,7 @@
 
 #include <GL/osmesa.h>
 
+#include <cstdlib>
 #include <string>
 
 #include "render/renderer.h"
@@ -21,6 +22,10 @@ OffscreenRenderer::OffscreenRenderer(int width, int height, int supersample)
     throw RenderError("frame size " + std::to_string(width) + "x" + std::to_string(height) + " (x" +
                       std::to_string(supersample) + " supersampling) is outside what OSMesa draws (16384 pixels a side)");
   }
+  // Mesa keeps compiled shaders in ~/.cache/mesa_shader_cache unless told not to: a headless run writes
+  // frames where it is asked and nothing else. A value the user set is kept.
+  setenv("MESA_SHADER_CACHE_DISABLE", "true", 0);
+  setenv("MESA_DISK_CACHE_DISABLE", "true", 0);
   // RGBA colour, no depth buffer, 8 stencil bits for the fog of war, no accumulation buffer.
   context_->ctx = OSMesaCreateContextExt(OSMESA_RGBA, 0, 8, 0, nullptr);
   if (!context_->ctx) throw RenderError("OSMesa could not create an OpenGL context");

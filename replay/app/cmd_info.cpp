@@ -17,7 +17,7 @@ const char* kHelp =
     "build that recorded it. Reads the file only; plays nothing.\n"
     "\n"
     "  --commands   also list every command, one a line, as a command script would write it\n"
-    "               (TICK move TEAM X Y IDS, TICK stop TEAM IDS, TICK gate TEAM GATE)\n"
+    "               (TICK move TEAM X Y IDS, TICK stop TEAM IDS, TICK gate TEAM GATE, TICK reload TEAM)\n"
     "  --help       this text\n"
     "\n"
     "Exit status: 0, or 2 when FILE is not a valid replay (the message gives the byte offset and field).\n";

@@ -37,6 +37,7 @@ int runRender(const std::vector<std::string>& args) {
   std::string file;
   RenderRequest req;
   bool quiet = false;
+  bool toGiven = false;  // --to past the replay's end is refused, as --from is
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     auto value = [&] { return nextValue(args, i); };
@@ -56,6 +57,7 @@ int runRender(const std::vector<std::string>& args) {
     } else if (a == "--to") {
       if ((bad = number(0, UINT32_MAX, n)) >= 0) return bad;
       req.to = uint32_t(n);
+      toGiven = true;
     } else if (a == "--every") {
       if ((bad = number(1, UINT32_MAX, n)) >= 0) return bad;
       req.every = uint32_t(n);
@@ -98,6 +100,9 @@ int runRender(const std::vector<std::string>& args) {
   if (!replay) return kBadInput;
   if (req.from > replay->tickCount()) {
     return usageError("render", "--from " + std::to_string(req.from) + ": the replay has " + std::to_string(replay->tickCount()) + " ticks");
+  }
+  if (toGiven && req.to > replay->tickCount()) {
+    return usageError("render", "--to " + std::to_string(req.to) + ": the replay has " + std::to_string(replay->tickCount()) + " ticks");
   }
   Progress progress("render " + file, !quiet);
   try {

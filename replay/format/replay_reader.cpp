@@ -1,6 +1,7 @@
 // The chunk sequence (FORMAT.md, "Chunks"): BILD MAPJ CONF INIT KEYF(0) { TICK [KEYF] } END!
 #include "format/replay_reader.h"
 
+#include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -300,9 +301,10 @@ ReadResult readReplayFile(const std::string& path) noexcept {
       result.error = {0, "file", path + ": is a directory, not a replay file"};
       return result;
     }
+    errno = 0;
     std::ifstream in(path, std::ios::binary);
     if (!in) {
-      result.error = {0, "file", path + ": cannot open"};
+      result.error = {0, "file", path + ": cannot open" + (errno ? std::string(": ") + std::strerror(errno) : "")};
       return result;
     }
     in.seekg(0, std::ios::end);

@@ -130,6 +130,9 @@ TEST(ReplayFormat, CommandScriptsNameTheLineOfAMistake) {
   EXPECT_EQ(error("0 move blue 1 nan\n"), "s.commands:1: move: '1 nan': expected two numbers");
   EXPECT_EQ(error("0 stop blue 5-2\n"), "s.commands:1: '5-2': an empty range");
   EXPECT_EQ(error("0 gate blue 0 extra\n"), "s.commands:1: 'extra': unexpected text at the end of the line");
+  // A comment may follow a command on its line.
+  EXPECT_EQ(CommandScript::parse("0 move blue 42 8 0-39   # to the doorway\n300 gate red 0#open\n", "s").size(), 2u);
+  EXPECT_EQ(error("0 stop blue 1 2 # two words\n"), "s.commands:1: '2': unexpected text at the end of the line");
 }
 
 }  // namespace

@@ -186,6 +186,42 @@ TEST(ReplayProgram, VerifyPassesAnAssetAndFailsATamperedCopyNamingTheTick) {
   EXPECT_TRUE(has(o, "order.target.y: recorded")) << o.output;
 }
 
+TEST(ReplayProgram, VerifySaysNoTickMatchesWhenTheFirstDiffers) {
+  Replay r = parsed(readFile(sourcePath("assets/replays/doorway-rush.replay")));
+  r.ticks[0].stateHash ^= 1;
+  const std::string tampered = scratch("first-tick.replay");
+  writeFile(tampered, encodeReplay(r));
+  Outcome o = replayTool("verify --quiet " + tampered);
+  EXPECT_EQ(o.status, 1) << o.output;
+  EXPECT_TRUE(has(o, "diverges at tick 1 of 360 (no tick matches)")) << o.output;
+}
+
+// The reader refuses a gate the map lacks, so a recording must never hold one: the script is refused at
+// that line, before anything is written. The README's example script, with its trailing comments, works.
+TEST(ReplayProgram, RecordRefusesAScriptGateTheMapLacksAndTakesTheReadmeScript) {
+  const std::string script = scratch("gate1.txt"), file = scratch("gate1.replay");
+  writeFile(script, "# one gate on arena.json\n0 move blue 42 8\n0 gate blue 1\n");
+  const std::string map = " --map " + sourcePath("assets/maps/arena.json") + " --seed 1 --ticks 3 --quiet ";
+  Outcome o = replayTool("record --script " + script + map + file);
+  EXPECT_EQ(o.status, 1) << o.output;
+  EXPECT_TRUE(has(o, script + ":3: gate 1: the map's gates are 0 to 0")) << o.output;
+  EXPECT_FALSE(std::filesystem::exists(file));
+  EXPECT_FALSE(std::filesystem::exists(file + ".part"));
+
+  const std::string readme = readFile(sourcePath("replay/README.md"));
+  const size_t start = readme.find("# TICK move TEAM X Y");
+  ASSERT_NE(start, std::string::npos);
+  const std::string example = readme.substr(start, readme.find("```", start) - start);
+  writeFile(script, example);
+  o = replayTool("record --script " + script + " --map " + sourcePath("assets/maps/arena.json") +
+                 " --seed 1 --ticks 301 --units 50 --opponent none --quiet " + file);
+  EXPECT_EQ(o.status, 0) << o.output;
+  EXPECT_TRUE(has(o, "recorded 301 ticks, 3 commands")) << o.output;
+  o = replayTool("render --quiet " + file + " --frames " + scratch("never") + " --to 302");
+  EXPECT_EQ(o.status, 2) << o.output;
+  EXPECT_TRUE(has(o, "--to 302: the replay has 301 ticks")) << o.output;
+}
+
 TEST(ReplayProgram, RecordThenRenderThenVerify) {
   const std::string file = scratch("rec.replay");
   Outcome o = replayTool("record --quiet --map " + sourcePath("assets/maps/small.json") + " --seed 5 --ticks 40 --units 6 " + file);

@@ -1,7 +1,9 @@
 #include "tool/command_script.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -30,10 +32,13 @@ CommandScript CommandScript::parse(const std::string& text, const std::string& n
     auto fail = [&](const std::string& why) -> std::runtime_error {
       return std::runtime_error(name + ":" + std::to_string(number) + ": " + why);
     };
+    // A comment runs from '#' to the end of the line, after a command too (replay/README.md's example).
+    if (const size_t hash = line.find('#'); hash != std::string::npos) line.erase(hash);
     std::istringstream words(line);
     std::string tickWord, kind, teamWord;
-    if (!(words >> tickWord) || tickWord[0] == '#') continue;
+    if (!(words >> tickWord)) continue;
     ScriptLine s;
+    s.line = number;
     uint64_t v = 0;
     if (!parseUnsigned(tickWord, 100'000'000, v)) throw fail("'" + tickWord + "': expected a tick number");
     s.tick = uint32_t(v);
@@ -97,15 +102,31 @@ CommandScript CommandScript::parse(const std::string& text, const std::string& n
     script.lines_.push_back(std::move(s));
   }
   std::stable_sort(script.lines_.begin(), script.lines_.end(), [](const ScriptLine& a, const ScriptLine& b) { return a.tick < b.tick; });
+  script.name_ = name;
   return script;
+}
+
+void CommandScript::checkAgainst(const Game& game) const {
+  // A replay's reader refuses a gate the map does not have; a recording must never hold one.
+  const size_t gates = game.gates().size();
+  for (const ScriptLine& s : lines_) {
+    if (s.command.type != CommandType::ToggleGate || s.command.gate < gates) continue;
+    throw std::runtime_error(name_ + ":" + std::to_string(s.line) + ": gate " + std::to_string(s.command.gate) +
+                             (gates == 0 ? std::string(": the map has no gates")
+                                         : ": the map's gates are 0 to " + std::to_string(gates - 1)));
+  }
 }
 
 CommandScript CommandScript::load(const std::string& path) {
   // A directory opens and reads as empty: it would pass for a script with no commands.
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw std::runtime_error(path + ": is a directory, not a command script");
+  errno = 0;
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(path + ": cannot open the command script");
+  if (!in) {
+    throw std::runtime_error(path + ": cannot open the command script" +
+                             (errno ? std::string(": ") + std::strerror(errno) : ""));
+  }
   std::string text;
   char buf[65536];
   while (in.read(buf, sizeof buf) || in.gcount() > 0) {

@@ -30,6 +30,7 @@ RecordOutcome recordGame(const RecordRequest& r, const std::function<void(uint32
   config.stepMode = r.mode;
   config.weapons = r.weapons;
   Game game(parseMap(info.mapJson, r.mapPath), config);
+  if (script) script->checkAgainst(game);
   ScriptedOpponent opponent(r.seed, r.opponentTeams & 3);
   Recorder recorder(r.output, info, game);
   RecordOutcome out;

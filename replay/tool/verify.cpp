@@ -74,8 +74,10 @@ std::string VerifyReport::text(const std::string& name) const {
     return out;
   }
   const TickCheck& d = *divergence;
-  out += name + ": diverges at tick " + std::to_string(d.tick) + " of " + std::to_string(ticks) + " (ticks 1 to " +
-         std::to_string(ticksMatched) + " match)\n";
+  out += name + ": diverges at tick " + std::to_string(d.tick) + " of " + std::to_string(ticks) +
+         (ticksMatched == 0 ? std::string(" (no tick matches)")
+                            : " (ticks 1 to " + std::to_string(ticksMatched) + " match)") +
+         "\n";
   if (d.recordedStateHash != d.actualStateHash) {
     out += "  state hash: recorded " + hex64(d.recordedStateHash) + ", now " + hex64(d.actualStateHash) + "\n";
   }

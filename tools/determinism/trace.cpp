@@ -56,15 +56,19 @@ Scenes, each in the discrete, hybrid and predictive step modes:
 
 options:
   --map FILE        the game's map (default: assets/maps/arena.json of the source tree)
-  --game-ticks N    ticks of each game run (default 600, 20 seconds of game time: the teams meet,
-                    fire, and lose units)
-  --units N         units per team in the game (default 100)
-  --seed N          the scripted opponent's seed (default 1)
-  --steps N         steps of each engine scene, at dt = 1/60 (the crowd: 1/30; default 240)
-  --disks N         disks in the gas, pile, crowd and kinematic scenes; half as many in bullets and sensors
-                    (default 200)
-  --only PREFIX     only the scenes whose name starts with PREFIX (e.g. game, pile/hybrid)
+  --game-ticks N    ticks of each game run, 0 to 1000000 (default 600, 20 seconds of game time: the teams
+                    meet, fire, and lose units)
+  --units N         units per team in the game, 0 to 100000 (default 100)
+  --seed N          the scripted opponent's seed, 0 to 2^62 (default 1)
+  --steps N         steps of each engine scene, at dt = 1/60 (the crowd: 1/30), 0 to 1000000 (default 240)
+  --disks N         disks in the gas, pile, crowd and kinematic scenes, 2 to 100000; half as many in bullets
+                    and sensors (default 200)
+  --only PREFIX     only the scenes whose name starts with PREFIX (e.g. game, pile/hybrid); a PREFIX that
+                    names no scene is an error
   --help            this text
+
+Exit status: 0 every scene ran; 1 a scene could not be run (the map could not be read); 2 a bad command
+line.
 )";
 
 bool parseInt(const char* text, long lo, long hi, long& out) {
@@ -85,7 +89,11 @@ int parseOptions(int argc, char** argv, Options& o) {
       return 0;
     }
     if (i + 1 >= argc) {
-      std::fprintf(stderr, "rattle-trace: %s: unknown option, or a value is missing (see --help)\n", arg.c_str());
+      const bool known = arg == "--map" || arg == "--only" || arg == "--game-ticks" || arg == "--units" ||
+                         arg == "--seed" || arg == "--steps" || arg == "--disks";
+      std::fprintf(stderr, known ? "rattle-trace: %s: a value is missing (see --help)\n"
+                                 : "rattle-trace: %s: unknown option (see --help)\n",
+                   arg.c_str());
       return 2;
     }
     const char* value = argv[++i];
@@ -158,6 +166,19 @@ int main(int argc, char** argv) {
     const size_t n = std::min(prefix.size(), o.only.size());
     return prefix.compare(0, n, o.only, 0, n) == 0;
   };
+  // Two builds traced with a mistyped --only would print nothing alike, and "match".
+  bool anyWanted = false;
+  for (rattle::StepMode mode : modes) {
+    anyWanted = anyWanted || wanted(std::string("game/") + modeName(mode));
+    for (const std::string& scene : rattle_trace::engineSceneNames()) {
+      const std::string name = scene + "/" + modeName(mode);
+      anyWanted = anyWanted || wanted(name) || wanted(name + "/loaded");
+    }
+  }
+  if (!anyWanted) {
+    std::fprintf(stderr, "rattle-trace: --only %s: no scene's name starts with it (see --help)\n", o.only.c_str());
+    return 2;
+  }
   try {
     if (family("game/")) {
       const rts::Map map = rts::loadMap(o.map);

@@ -22,6 +22,8 @@
 #include <time.h>
 #include <vector>
 
+#include <unistd.h>
+
 namespace {
 
 using rattle::BodyId;
@@ -81,7 +83,8 @@ void usage(FILE* out) {
       "  --scene NAME     pile, crowd, piston, gas or all (default all); may be repeated\n"
       "  --mode NAME      hybrid, discrete, predictive or all (default all); may be repeated\n"
       "  --minutes M      simulated minutes per scene and mode (default 3; fractions allowed)\n"
-      "  --seconds S      simulated seconds per scene and mode instead (make soak-short: 20)\n"
+      "  --seconds S      simulated seconds per scene and mode instead (make soak-short: 20); of\n"
+      "                   --minutes and --seconds the last given counts\n"
       "  --n N            disks in the pile, the crowd and the gas (default 2000)\n"
       "  --max-seconds S  wall-clock seconds per scene and mode (default 300): the run stops there and\n"
       "                   counts as not met; a single step still running 30 s past it ends the program\n"
@@ -466,6 +469,7 @@ Result run(const std::string& sceneName, rattle::StepMode mode, const Options& o
   const Clock::time_point begin = Clock::now();
   runDeadlineNs.store(nowNs() + static_cast<int64_t>(o.maxSeconds * 1e9));
   Clock::time_point lastProgress = begin;
+  const bool tty = isatty(STDERR_FILENO) != 0;
   for (long k = 0; k < totalSteps; ++k) {
     if (std::chrono::duration<double>(Clock::now() - begin).count() > o.maxSeconds) {
       r.cutOff = true;
@@ -543,13 +547,14 @@ Result run(const std::string& sceneName, rattle::StepMode mode, const Options& o
         std::lock_guard<std::mutex> lock(resultsMutex);
         snapshot = r;
       }
-      std::fprintf(stderr, "\rsoak: %s %s t=%.1f/%.0f s, %ld steps, %.0f s of wall clock ", r.scene.c_str(),
-                   modeName(mode), r.simulated, o.minutes * 60, r.steps,
-                   std::chrono::duration<double>(now - begin).count());
+      // Rewritten in place on a terminal; in a log, one line each time.
+      std::fprintf(stderr, "%ssoak: %s %s t=%.1f/%.0f s, %ld steps, %.0f s of wall clock%s", tty ? "\r" : "",
+                   r.scene.c_str(), modeName(mode), r.simulated, o.minutes * 60, r.steps,
+                   std::chrono::duration<double>(now - begin).count(), tty ? " " : "\n");
     }
   }
   runDeadlineNs.store(0);
-  std::fprintf(stderr, "\r%78s\r", "");
+  if (tty) std::fprintf(stderr, "\r%78s\r", "");
   judge(r, o);
   printLine(r);
   return r;
