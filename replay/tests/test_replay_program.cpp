@@ -200,6 +200,7 @@ TEST(ReplayProgram, VerifySaysNoTickMatchesWhenTheFirstDiffers) {
 // that line, before anything is written. The README's example script, with its trailing comments, works.
 TEST(ReplayProgram, RecordRefusesAScriptGateTheMapLacksAndTakesTheReadmeScript) {
   const std::string script = scratch("gate1.txt"), file = scratch("gate1.replay");
+  std::filesystem::remove(file);  // the scratch directory outlives a run; the second part writes it
   writeFile(script, "# one gate on arena.json\n0 move blue 42 8\n0 gate blue 1\n");
   const std::string map = " --map " + sourcePath("assets/maps/arena.json") + " --seed 1 --ticks 3 --quiet ";
   Outcome o = replayTool("record --script " + script + map + file);
