@@ -193,6 +193,44 @@ TEST(Squeeze, ADiskAroundASmallStaticPolygonStopsInBoundedWork) {
   }
 }
 
+// A piston closing on a crowd against the far wall of a closed box (a gate shutting on a crowd of
+// units), no gravity; the piston ends a unit short of the wall. Found by a check of the documented
+// behaviour through the installed package: the islands' solve met its contacts with the piston after
+// those with the wall, so the piston pushed held disks into the wall: 8% of a radius deep in the hybrid
+// mode; 19 radii, through it, in the predictive. Now the wall is met last and the piston passes over.
+TEST(Squeeze, APistonClosingOnACrowdNeverPushesItIntoTheWallBehind) {
+  for (StepMode mode : kExactModes) {
+    SCOPED_TRACE(nameOf(mode));
+    World w(defOf(mode));
+    const BodyId box = w.createBody({.type = BodyType::Static});
+    for (const Polygon& p : {Polygon{{{-3, -1}, {11, -1}, {11, 0}, {-3, 0}}}, Polygon{{{-3, 5}, {11, 5}, {11, 6}, {-3, 6}}},
+                             Polygon{{{-3, 0}, {-2, 0}, {-2, 5}, {-3, 5}}}, Polygon{{{10, 0}, {11, 0}, {11, 5}, {10, 5}}}}) {
+      w.createFixture(box, {.geometry = p});
+    }
+    const BodyId piston = w.createBody({.type = BodyType::Kinematic, .velocity = {0.5, 0}});
+    w.createFixture(piston, {.geometry = Polygon{{{-1, -0.5}, {0, -0.5}, {0, 5.5}, {-1, 5.5}}}});
+    // A 10 x 10 lattice with fixed small velocities (the audit's came from a random generator).
+    const double r = 0.2;
+    std::vector<BodyId> disks;
+    for (int i = 0; i < 100; ++i) {
+      const Vec2 velocity{0.4 * std::sin(1.7 * i), 0.4 * std::cos(2.3 * i)};
+      disks.push_back(disk(w, {0.5 + (i / 10) * 0.45, 0.3 + (i % 10) * 0.45}, velocity, r, 0.5));
+    }
+    double deepest = 0;  // into the box's walls, in radii
+    for (int step = 0; step < 600; ++step) {
+      w.step(1.0 / 30);
+      ASSERT_FALSE(w.stats().eventBudgetReached) << "step " << step;
+      for (BodyId d : disks) {
+        const Vec2 p = w.position(d);
+        ASSERT_TRUE(p.x > -2 && p.x < 10 && p.y > 0 && p.y < 5) << "step " << step << ": (" << p.x << ", " << p.y << ")";
+        deepest = std::max(deepest, (r - std::min({p.x + 2, 10 - p.x, p.y, 5 - p.y})) / r);
+      }
+    }
+    EXPECT_NEAR(w.position(piston).x, 10.0, 1e-12);  // a kinematic body is never stopped
+    EXPECT_LE(deepest, 0.01);
+  }
+}
+
 // Points made inside a disk wider than the box it is put in (it overlaps every wall and cannot move):
 // deep overlaps made so pass through each other (guide, Squeezes). After their first meeting, in the
 // step they were made, gravity pressed them back into the disk again and again; each meeting took a

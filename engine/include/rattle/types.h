@@ -172,8 +172,10 @@ struct StepStats {
   int staleEvents = 0;        ///< predictions discarded because a body's motion changed first
   int requeries = 0;          ///< times a body's new path left its swept box and the broad phase was asked again
   int sleeping = 0;           ///< dynamic bodies asleep at the end of the step
-  /// Dynamic bodies squeezed this step between bodies that do not yield: each stopped along the contact
-  /// and the kinematic body closing on it passes over it until they part (README, "Squeezes").
+  /// Squeezes this step: each time a dynamic body caught between bodies that do not yield was stopped
+  /// along a contact and the kinematic body closing on it set to pass over it, and each pair of dynamic
+  /// bodies made overlapping deeply set to pass through each other (README, "Squeezes"). It counts
+  /// events, not bodies: one body squeezed against a wall by a piston counts about twice.
   int squeezes = 0;
   /// The step's next change of motion would have taken it past WorldDef::maxEventsPerStep: every body
   /// stopped at that instant.
