@@ -203,8 +203,9 @@ TEST(Squeeze, APistonClosingOnACrowdNeverPushesItIntoTheWallBehind) {
     SCOPED_TRACE(nameOf(mode));
     World w(defOf(mode));
     const BodyId box = w.createBody({.type = BodyType::Static});
-    for (const Polygon& p : {Polygon{{{-3, -1}, {11, -1}, {11, 0}, {-3, 0}}}, Polygon{{{-3, 5}, {11, 5}, {11, 6}, {-3, 6}}},
-                             Polygon{{{-3, 0}, {-2, 0}, {-2, 5}, {-3, 5}}}, Polygon{{{10, 0}, {11, 0}, {11, 5}, {10, 5}}}}) {
+    for (const Polygon& p :
+         {Polygon{{{-3, -1}, {11, -1}, {11, 0}, {-3, 0}}}, Polygon{{{-3, 5}, {11, 5}, {11, 6}, {-3, 6}}},
+          Polygon{{{-3, 0}, {-2, 0}, {-2, 5}, {-3, 5}}}, Polygon{{{10, 0}, {11, 0}, {11, 5}, {10, 5}}}}) {
       w.createFixture(box, {.geometry = p});
     }
     const BodyId piston = w.createBody({.type = BodyType::Kinematic, .velocity = {0.5, 0}});
@@ -222,7 +223,8 @@ TEST(Squeeze, APistonClosingOnACrowdNeverPushesItIntoTheWallBehind) {
       ASSERT_FALSE(w.stats().eventBudgetReached) << "step " << step;
       for (BodyId d : disks) {
         const Vec2 p = w.position(d);
-        ASSERT_TRUE(p.x > -2 && p.x < 10 && p.y > 0 && p.y < 5) << "step " << step << ": (" << p.x << ", " << p.y << ")";
+        ASSERT_TRUE(p.x > -2 && p.x < 10 && p.y > 0 && p.y < 5)
+            << "step " << step << ": (" << p.x << ", " << p.y << ")";
         deepest = std::max(deepest, (r - std::min({p.x + 2, 10 - p.x, p.y, 5 - p.y})) / r);
       }
     }

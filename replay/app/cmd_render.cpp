@@ -102,7 +102,8 @@ int runRender(const std::vector<std::string>& args) {
     return usageError("render", "--from " + std::to_string(req.from) + ": the replay has " + std::to_string(replay->tickCount()) + " ticks");
   }
   if (toGiven && req.to > replay->tickCount()) {
-    return usageError("render", "--to " + std::to_string(req.to) + ": the replay has " + std::to_string(replay->tickCount()) + " ticks");
+    return usageError("render", "--to " + std::to_string(req.to) + ": the replay has " +
+                                    std::to_string(replay->tickCount()) + " ticks");
   }
   Progress progress("render " + file, !quiet);
   try {

@@ -559,9 +559,11 @@ bool detail::Islands::solveIslandVelocities(const std::vector<uint32_t>& members
   // crowd into a wall) it leaves no velocity that meets every contact, and the projection spent its
   // whole allowance of passes finding that out, in every solve of the step (half a second a step for a
   // crowd of 70). The sweeps and the holders' sweeps below settle it (the kinematic body passes over).
-  bool kinematicHolder = false;
-  for (const IslandContact& c : contacts) kinematicHolder = kinematicHolder || (c.kb < 0 && w.bodies[c.b].type == BodyType::Kinematic);
-  if (!converged && noGravity && !kinematicHolder && members.size() <= detail::kExactProjectionMembersWithoutGravity) {
+  const bool kinematicHolder = std::any_of(contacts.begin(), contacts.end(), [&](const IslandContact& c) {
+    return c.kb < 0 && w.bodies[c.b].type == BodyType::Kinematic;
+  });
+  if (!converged && noGravity && !kinematicHolder &&
+      members.size() <= detail::kExactProjectionMembersWithoutGravity) {
     converged = projectIslandExactly(members, v, tolerance);
   }
 

@@ -9,8 +9,9 @@
 namespace rattle::detail {
 
 /// A contact of two dynamic bodies that overlap deeply, one of them stopped against a static face at
-/// this instant or the pair the last contact of one of them earlier in this step: they pass through
-/// each other (exempt, as a squeeze's pair). Else false.
+/// this instant, the pair the last contact of one of them earlier in this step, or one of them past
+/// kSqueezeCollisions collisions in the step: they pass through each other (exempt, as a squeeze's
+/// pair). Else false.
 bool passesThrough(WorldState& w, const detail::PredictedContact& c);
 /// Exempts the pair of fixtures from collisions until they no longer overlap (refreshSqueezes), and
 /// counts a squeeze.
