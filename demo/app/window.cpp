@@ -31,6 +31,7 @@
 #include "app/run.h"
 #include "game/opponent.h"
 #include "game/tick_loop.h"
+#include "map/errno_reason.h"
 #include "render/offscreen.h"
 #include "render/png.h"
 #include "render/renderer.h"
@@ -76,7 +77,7 @@ std::string readScript(const std::string& path, Uint32 windowId, std::vector<Scr
   if (std::filesystem::is_directory(path, ec)) return path + ": is a directory, not an input script";
   errno = 0;
   std::ifstream in(path);
-  if (!in) return path + ": cannot open the input script" + (errno ? std::string(": ") + std::strerror(errno) : "");
+  if (!in) return path + ": cannot open the input script" + errnoReason();
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
     if (line.size() > 1000) return path + ":" + std::to_string(number) + ": line too long";

@@ -8,13 +8,13 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
 #include <utility>
 
+#include "map/errno_reason.h"
 #include "map/printable.h"
 
 namespace rts {
@@ -691,9 +691,7 @@ std::string readMapFile(const std::string& path) {
   if (std::filesystem::is_directory(path, ec)) throw MapError(path + ": is a directory, not a map file");
   errno = 0;
   std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw MapError(path + ": cannot open the map file" + (errno ? std::string(": ") + std::strerror(errno) : ""));
-  }
+  if (!in) throw MapError(path + ": cannot open the map file" + errnoReason());
   in.seekg(0, std::ios::end);
   std::streamoff size = in.tellg();
   if (size < 0) throw MapError(path + ": cannot read the map file");

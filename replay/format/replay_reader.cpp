@@ -12,6 +12,7 @@
 #include "format/command_codec.h"
 #include "format/limits.h"
 #include "format/snapshot_codec.h"
+#include "map/errno_reason.h"
 #include "map/printable.h"
 
 namespace rts::replay {
@@ -304,7 +305,7 @@ ReadResult readReplayFile(const std::string& path) noexcept {
     errno = 0;
     std::ifstream in(path, std::ios::binary);
     if (!in) {
-      result.error = {0, "file", path + ": cannot open" + (errno ? std::string(": ") + std::strerror(errno) : "")};
+      result.error = {0, "file", path + ": cannot open" + rts::errnoReason()};
       return result;
     }
     in.seekg(0, std::ios::end);

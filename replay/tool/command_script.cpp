@@ -3,13 +3,13 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 
 #include "game/game.h"
+#include "map/errno_reason.h"
 
 namespace rts::replay {
 namespace {
@@ -123,10 +123,7 @@ CommandScript CommandScript::load(const std::string& path) {
   if (std::filesystem::is_directory(path, ec)) throw std::runtime_error(path + ": is a directory, not a command script");
   errno = 0;
   std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw std::runtime_error(path + ": cannot open the command script" +
-                             (errno ? std::string(": ") + std::strerror(errno) : ""));
-  }
+  if (!in) throw std::runtime_error(path + ": cannot open the command script" + errnoReason());
   std::string text;
   char buf[65536];
   while (in.read(buf, sizeof buf) || in.gcount() > 0) {

@@ -367,6 +367,7 @@ double detail::Islands::gatherIslandContacts(const std::vector<uint32_t>& member
   for (uint32_t i : members) w.advance(w.bodies[i], now);
   std::vector<IslandContact>& contacts = islandScratch;
   contacts.clear();
+  islandKinematicHolder = false;
   double speed = w.def.restingSpeed;
   for (uint32_t i : members) speed = std::max(speed, length(w.bodies[i].velocity));
   const auto reachSpeed = [&](size_t k) { return reachSpeeds.empty() ? speed : reachSpeeds[k]; };
@@ -411,6 +412,7 @@ double detail::Islands::gatherIslandContacts(const std::vector<uint32_t>& member
         c.gap = gap;
         c.radius = kj >= 0 ? std::min(radius, detail::circleRadius(other.geometry)) : radius;
         contacts.push_back(c);
+        islandKinematicHolder = islandKinematicHolder || (kj < 0 && holder.type == BodyType::Kinematic);
       });
     }
   }
@@ -559,10 +561,7 @@ bool detail::Islands::solveIslandVelocities(const std::vector<uint32_t>& members
   // crowd into a wall) it leaves no velocity that meets every contact, and the projection spent its
   // whole allowance of passes finding that out, in every solve of the step (half a second a step for a
   // crowd of 70). The sweeps and the holders' sweeps below settle it (the kinematic body passes over).
-  const bool kinematicHolder = std::any_of(contacts.begin(), contacts.end(), [&](const IslandContact& c) {
-    return c.kb < 0 && w.bodies[c.b].type == BodyType::Kinematic;
-  });
-  if (!converged && noGravity && !kinematicHolder &&
+  if (!converged && noGravity && !islandKinematicHolder &&
       members.size() <= detail::kExactProjectionMembersWithoutGravity) {
     converged = projectIslandExactly(members, v, tolerance);
   }
@@ -590,7 +589,7 @@ bool detail::Islands::solveIslandVelocities(const std::vector<uint32_t>& members
     }
   };
   sweepHolders(true);
-  if (kinematicHolder) sweepHolders(false);
+  if (islandKinematicHolder) sweepHolders(false);
   return converged || closeEnough;
 }
 

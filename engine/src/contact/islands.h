@@ -53,6 +53,7 @@ struct Islands {
   std::vector<uint32_t> stepped;         // this step's stepped bodies at its start
   std::vector<uint32_t> steppedCounts;   // their collision counters after the start's solve
   std::vector<IslandContact> islandScratch, islandScratchStart;
+  bool islandKinematicHolder = false;  // a contact of islandScratch is with a kinematic body (its gather)
   std::vector<IslandContact> islandScratchBefore;  // solveIsland's contacts before it gathered again
   std::vector<double> islandReachSpeeds;           // and the speeds, by member, that set its reach
   // solveIsland's velocities and separateIsland's lists, kept so that a step's many solves do not
