@@ -6,7 +6,9 @@
 // times, the lowest feature index, so ties resolve the same way on every run.
 #include "rattle/time_of_impact.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "collision/closest_point.h"
 #include "collision/plain_disk_impact.h"
@@ -105,6 +107,10 @@ struct Edge {
   Vec2 u;  // unit direction from a along the edge
   Vec2 n;  // unit normal on the side that collides
   double length;
+  // How far off its line round-off leaves a point on a neighbouring face that shares this edge's start
+  // or end (a polyline's previous or next segment): such a point reaches this edge's line that far
+  // over the sine of its angle of approach past the shared end (faceImpact).
+  double jointSlackStart = 0, jointSlackEnd = 0;
 };
 
 Edge edgeOf(Vec2 a, Vec2 b) {
@@ -154,8 +160,24 @@ std::optional<Impact> faceImpact(const Circle& circle, const Motion& m, const Ed
   double tau = dot(edge.u, along);
   if (circle.radius == 0) {
     const double slack = detail::pointRoundOff(circle.center, edge.a, along);
-    if (tau < 0 && tau >= -slack) tau = 0;
-    if (tau > edge.length && tau <= edge.length + slack) tau = edge.length;
+    // A point that slid down one segment of a polyline into a valley lies off that segment's line by
+    // its round-off, and meets the next segment's line that far over the sine of the angle between
+    // them before or past the joint. Missed there, it passed under the joint and out of the valley, or
+    // it slid on past the first segment's end into the same segment at one instant without end. (Not
+    // for a point moving nearly along this edge: it slides off the joint's end, and its slide ends
+    // within `slack`, resting.cpp.)
+    double start = slack, end = slack;
+    if (edge.jointSlackStart > 0 || edge.jointSlackEnd > 0) {
+      const Vec2 v = m.velocity + m.acceleration * *t;
+      const double speed = length(v);
+      const double sine = speed > 0 ? std::fabs(cross(edge.u, v)) / speed : 1.0;
+      if (sine >= 1.0 / 64) {
+        start += edge.jointSlackStart / sine;
+        end += edge.jointSlackEnd / sine;
+      }
+    }
+    if (tau < 0 && tau >= -start) tau = 0;
+    if (tau > edge.length && tau <= edge.length + end) tau = edge.length;
   }
   if (tau < 0 || tau > edge.length) return std::nullopt;
   return Impact{*t, edge.a + edge.u * tau, edge.n, feature};
@@ -174,8 +196,10 @@ bool isResolved(int feature, int resolvedFeature) {
 }
 
 std::optional<Impact> segmentImpact(const Circle& a, const Motion& m, Vec2 p0, Vec2 p1, double maxTime, int feature,
-                                    bool justResolved) {
+                                    bool justResolved, double jointSlackStart = 0, double jointSlackEnd = 0) {
   Edge edge = edgeOf(p0, p1);
+  edge.jointSlackStart = jointSlackStart;
+  edge.jointSlackEnd = jointSlackEnd;
   double s0 = dot(edge.n, a.center - edge.a);
   if (a.radius == 0 && std::fabs(s0) <= detail::pointRoundOff(a.center, edge.a)) s0 = 0;
   if (s0 < 0) edge.n = -edge.n;
@@ -185,6 +209,14 @@ std::optional<Impact> segmentImpact(const Circle& a, const Motion& m, Vec2 p0, V
   // and collides now. Moving along the line, the side is the one its acceleration presses it into.
   if (s0 == 0 && a.radius == 0) {
     const double vn = dot(edge.n, m.velocity), an = dot(edge.n, m.acceleration);
+    // Moving along the line, with a normal velocity and acceleration within the round-off of the
+    // motion (a point sliding down a sloped segment: its acceleration is gravity's part along it), it
+    // stays on the line and meets neither face. Read as a side, it collided at once, was dismissed and
+    // was predicted again at the same instant until the step's budget ran out, and its next segment
+    // went unpredicted for the rest of the step. (Acceleration as kPressRoundOff, contact/tolerances.h;
+    // velocity as kAbsorbRoundOff.)
+    const double velocityRoundOff = 16 * std::numeric_limits<double>::epsilon() * length(m.velocity);
+    if (std::fabs(vn) <= velocityRoundOff && std::fabs(an) <= 1e-9 * length(m.acceleration)) return std::nullopt;
     const double toward = vn != 0 ? (justResolved ? vn : -vn) : -an;
     if (toward < 0) edge.n = -edge.n;
     if (toward != 0) return faceImpact(a, m, edge, true, maxTime, feature, justResolved);
@@ -223,7 +255,15 @@ std::optional<Impact> timeOfImpactCirclePolyline(const Circle& a, const Motion& 
   const int n = static_cast<int>(b.points.size());
   std::optional<Impact> best;
   for (int i = 0; i + 1 < n; ++i) {
-    keepEarlier(best, segmentImpact(a, motion, b.points[i], b.points[i + 1], maxTime, i, isResolved(i, resolvedFeature)));
+    // The round-off of the neighbouring segments' lines (Edge::jointSlackStart, jointSlackEnd), for a
+    // point.
+    double start = 0, end = 0;
+    if (a.radius == 0) {
+      if (i > 0) start = detail::pointRoundOff(b.points[i - 1], b.points[i], b.points[i] - b.points[i - 1]);
+      if (i + 2 < n) end = detail::pointRoundOff(b.points[i + 2], b.points[i + 1], b.points[i + 2] - b.points[i + 1]);
+    }
+    keepEarlier(best, segmentImpact(a, motion, b.points[i], b.points[i + 1], maxTime, i,
+                                    isResolved(i, resolvedFeature), start, end));
   }
   for (int k = 0; k < n; ++k) {
     const int feature = n - 1 + k;

@@ -235,7 +235,8 @@ void detail::resolve(WorldState& w, const PredictedContact& c, std::vector<uint3
     const uint32_t rester = aRests ? ia : ib;
     const uint32_t holderFixture = aRests ? c.b : c.a;
     BodySlot& r = w.bodies[rester];
-    if ((aRests || bRests) && length(r.velocity) < restingSpeed && supportsAt(w, rester, c.time, w.supporters)) {
+    if ((aRests || bRests) && length(r.velocity) < restingSpeed &&
+        supportsAt(w, rester, c.time, w.supporters, aRests ? n : -n, w.fixtures[holderFixture].body)) {
       putToSleep(w, rester, w.supporters);
     } else if ((aRests || bRests) && w.bodies[w.fixtures[holderFixture].body].type == BodyType::Static &&
                isFlatFeature(w, holderFixture, c.feature) && aRests) {

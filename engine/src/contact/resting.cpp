@@ -120,7 +120,8 @@ int detail::featureLeftByPoint(const WorldState& w, const BodySlot& b, uint32_t 
   return inCorner ? kEveryFeature : b.support.feature;
 }
 
-bool detail::supportsAt(const WorldState& w, uint32_t bodyIndex, double now, std::vector<uint32_t>& supporters) {
+bool detail::supportsAt(const WorldState& w, uint32_t bodyIndex, double now, std::vector<uint32_t>& supporters,
+                        Vec2 contactNormal, uint32_t holderIndex) {
   const BodySlot& body = w.bodies[bodyIndex];
   const Vec2 up = -w.def.gravity * (1.0 / length(w.def.gravity));
   supporters.clear();
@@ -154,6 +155,20 @@ bool detail::supportsAt(const WorldState& w, uint32_t bodyIndex, double now, std
         supporters.push_back(other.body);
       }
     });
+  }
+  // A point touches at distance 0, where the pieces it touches give no direction: the contact at hand
+  // and the face it slides on do. Without them a point that slid into the bottom of a V of two faces
+  // could never rest there: it slid down one face into the other, and down that one back into the
+  // first, ever faster, until the step's budget ran out, step after step.
+  if (detail::isPoint(w.fixtures[body.fixtures.front()].geometry)) {
+    // Static holders only: a point inside a disk (squeezed into it, passing through) touches nothing
+    // there that holds it.
+    auto add = [&](Vec2 n, uint32_t holder) {
+      if (w.bodies[holder].type != BodyType::Static || dot(n, up) < -1e-12 || count >= 16) return;
+      normals[count++] = n;
+    };
+    if (contactNormal.x != 0 || contactNormal.y != 0) add(contactNormal, holderIndex);
+    if (body.sliding) add(body.support.normal, w.fixtures[body.support.fixture].body);
   }
   // Held when up lies within the cone of the normals: one normal straight up (a level floor), or two on
   // either side of up (a cradle of two disks, a wedge).
@@ -280,10 +295,12 @@ std::optional<double> detail::slideEndTime(const WorldState& w, const BodySlot& 
   // and does not fall off it at once to land on it again.
   const bool point = detail::circleRadius(w.fixtures[b.fixtures.front()].geometry) == 0;
   const double slack = point ? detail::pointRoundOff(centre, origin, e - a) : 0.0;
-  tau.c[0] += slack;
+  // Twice that: where the slide ends, its face's time of impact must no longer reach the point, or the
+  // two took turns at one instant, the contact starting the slide again and the slide ending at once.
+  tau.c[0] += 2 * slack;
   detail::Polynomial rest = tau;
   for (double& c : rest.c) c = -c;
-  rest.c[0] += len + 2 * slack;
+  rest.c[0] += len + 4 * slack;
   auto low = detail::firstDownwardCrossing(tau, 0, dt - now);
   auto high = detail::firstDownwardCrossing(rest, 0, dt - now);
   if (tau.c[0] < 0 || rest.c[0] < 0) return now;  // already past an end

@@ -36,8 +36,11 @@ bool leavesCorner(const WorldState& w, const detail::BodySlot& b, uint32_t fixtu
 /// sits in a corner of several faces and leaves them all (resting.cpp says why).
 int featureLeftByPoint(const WorldState& w, const detail::BodySlot& b, uint32_t fixture, double now);
 /// Whether the static and sleeping bodies the body touches at `now` hold it up against gravity (up lies
-/// within the cone of their normals); they are put in `supporters`.
-bool supportsAt(const WorldState& w, uint32_t body, double now, std::vector<uint32_t>& supporters);
+/// within the cone of their normals); they are put in `supporters`. `contactNormal` (toward the body) is
+/// that of the contact being resolved with `holder`; a point (radius 0), which has no extent to give
+/// the direction from what it touches, is held by it and by the face it slides on when they are static.
+bool supportsAt(const WorldState& w, uint32_t body, double now, std::vector<uint32_t>& supporters,
+                Vec2 contactNormal = {}, uint32_t holder = 0);
 /// When the sliding body leaves the end of its face, if it does before dt.
 std::optional<double> slideEndTime(const WorldState& w, const detail::BodySlot& b, double now, double dt);
 
