@@ -266,6 +266,11 @@ std::optional<Impact> timeOfImpactCirclePolyline(const Circle& a, const Motion& 
                                     isResolved(i, resolvedFeature), start, end));
   }
   for (int k = 0; k < n; ++k) {
+    // A point meets a joint only along an exact line, and then its normal is no face's: met there
+    // before the next face (by round-off), a point sliding into a valley took the joint's normal from
+    // its own motion, was taken to leave both faces, and went on through the next one. The two faces
+    // reach past the joint by the round-off (Edge::jointSlackStart, jointSlackEnd) and meet it instead.
+    if (a.radius == 0 && k > 0 && k + 1 < n) continue;
     const int feature = n - 1 + k;
     if (auto t = timeToReach(a.center - b.points[k], motion, a.radius, maxTime, isResolved(feature, resolvedFeature)))
       keepEarlier(best, pointImpact(a.center, motion, b.points[k], 0.0, *t, feature));
