@@ -1411,3 +1411,28 @@ TEST(TimeOfImpactRandomized, UnderGravityAgainstBruteForce) {
 }
 
 }  // namespace
+
+// A point sliding down one segment of a Polyline into a valley lies on that segment's line only to
+// round-off, and must meet the next segment at the joint. The state is one a world reached (a slide
+// with gravity's part along the first segment as acceleration); its path crossed the next segment's
+// line 4e-15 before the segment's start, an ulp further than a point's round-off allowance there, and
+// it met neither the segment nor the corner: it left the valley. Expected: the next segment's feature
+// and normal, at the time its path crosses that line, n.(c(t) - b) = 0, solved in long double.
+TEST(TimeOfImpactPolyline, APointSlidingIntoAValleyMeetsTheNextSegmentAtTheJoint) {
+  const Vec2 a{-5.8634251017531076, 1.5205368596077589}, b{0.19278175673494327, 0.1787593943361139},
+             c{3.4773275219891642, 1.7454038250727189};
+  const Circle point{{0.16869278272348012, 0.18409640531432719}, 0};
+  const rattle::Motion m{{3.5879712895623133, -0.79492975303988767}, {2.0717512907766413, -0.45900499447364318}};
+  const auto hit = rattle::timeOfImpactCirclePolyline(point, m, Polyline{{a, b, c}}, 1.0 / 60);
+  ASSERT_TRUE(hit);
+  EXPECT_EQ(hit->feature, 1);
+  const Vec2 n = Vec2{-(c - b).y, (c - b).x} * (1.0 / length(c - b));  // left of b -> c: the valley's side
+  EXPECT_NEAR(hit->normal.x, n.x, 1e-12);
+  EXPECT_NEAR(hit->normal.y, n.y, 1e-12);
+  using L = long double;
+  const L g0 = L(n.x) * (L(point.center.x) - L(b.x)) + L(n.y) * (L(point.center.y) - L(b.y));
+  const L g1 = L(n.x) * L(m.velocity.x) + L(n.y) * L(m.velocity.y);
+  const L g2 = (L(n.x) * L(m.acceleration.x) + L(n.y) * L(m.acceleration.y)) / 2;
+  const L t = 2 * g0 / (-g1 + std::sqrt(g1 * g1 - 4 * g2 * g0));  // the smaller root, cancellation-free
+  EXPECT_NEAR(hit->time, static_cast<double>(t), 1e-15);
+}
