@@ -1436,3 +1436,23 @@ TEST(TimeOfImpactPolyline, APointSlidingIntoAValleyMeetsTheNextSegmentAtTheJoint
   const L t = 2 * g0 / (-g1 + std::sqrt(g1 * g1 - 4 * g2 * g0));  // the smaller root, cancellation-free
   EXPECT_NEAR(hit->time, static_cast<double>(t), 1e-15);
 }
+
+// The same state against the valley's second face as a Segment of its own (two Segments in a V): its
+// face reaches past its ends by its own round-off over the sine of the approach, as a Polyline's segment
+// does at an inner corner. Without that the path, 4e-15 before the Segment's start, missed it.
+TEST(TimeOfImpactSegment, APointReachesPastItsEndByTheRoundOffOfItsCoordinates) {
+  const Vec2 b{0.19278175673494327, 0.1787593943361139}, c{3.4773275219891642, 1.7454038250727189};
+  const Circle point{{0.16869278272348012, 0.18409640531432719}, 0};
+  const rattle::Motion m{{3.5879712895623133, -0.79492975303988767}, {2.0717512907766413, -0.45900499447364318}};
+  const auto hit = rattle::timeOfImpactCircleSegment(point, m, Segment{b, c}, 1.0 / 60);
+  ASSERT_TRUE(hit);
+  const Vec2 n = Vec2{-(c - b).y, (c - b).x} * (1.0 / length(c - b));
+  EXPECT_NEAR(hit->normal.x, n.x, 1e-12);
+  EXPECT_NEAR(hit->normal.y, n.y, 1e-12);
+  using L = long double;
+  const L g0 = L(n.x) * (L(point.center.x) - L(b.x)) + L(n.y) * (L(point.center.y) - L(b.y));
+  const L g1 = L(n.x) * L(m.velocity.x) + L(n.y) * L(m.velocity.y);
+  const L g2 = (L(n.x) * L(m.acceleration.x) + L(n.y) * L(m.acceleration.y)) / 2;
+  const L t = 2 * g0 / (-g1 + std::sqrt(g1 * g1 - 4 * g2 * g0));
+  EXPECT_NEAR(hit->time, static_cast<double>(t), 1e-15);
+}

@@ -60,6 +60,9 @@ std::optional<Impact> timeOfImpactCircleCircle(const Circle& a, const Motion& mo
                                                int resolvedFeature = kNoFeature);
 std::optional<Impact> timeOfImpactCirclePoint(const Circle& a, const Motion& motion, const Point& b, double maxTime,
                                               int resolvedFeature = kNoFeature);
+/// For a circle of radius 0 the face reaches past both ends by the round-off of the segment's coordinates
+/// over the sine of the approach, as a Polyline's segment does at an inner corner: another Segment may
+/// meet it there.
 std::optional<Impact> timeOfImpactCircleSegment(const Circle& a, const Motion& motion, const Segment& b, double maxTime,
                                                 int resolvedFeature = kNoFeature);
 std::optional<Impact> timeOfImpactCirclePolyline(const Circle& a, const Motion& motion, const Polyline& b,

@@ -92,6 +92,18 @@ inline bool isPoint(const Geometry& g) {
   if (const auto* c = std::get_if<Circle>(&g)) return c->radius == 0;
   return std::holds_alternative<Point>(g);
 }
+/// At an event's pop, an approach slower than this times the pair's speeds (the round-off of their
+/// difference) is taken as round-off and dismissed; a faster one that is no collision is absorbed.
+inline constexpr double kAbsorbRoundOff = 16 * std::numeric_limits<double>::epsilon();
+
+/// A relative acceleration presses a pair together along its contact normal only beyond this fraction
+/// of itself. A normal worked out from two centres is off by the round-off of their coordinates over
+/// their distance (1e-14 for disks of radius 0.1 at 10 units from the origin): two disks side by side on
+/// a floor, one of them sliding and the other still falling by an ulp, read as pressed together by
+/// 1e-13 of g, and the pair was resolved at one instant without end, the resolve changing nothing
+/// (fuzz/regressions/world_api/budget-predictive-row-pressed-by-round-off).
+inline constexpr double kPressRoundOff = 1e-9;
+
 /// What round-off can put in a distance computed from these coordinates: a few ulps of each. A point
 /// (isPoint) this near a line is on it, for its times of impact, its slide's ends and its corners alike.
 inline double pointRoundOff(Vec2 a, Vec2 b, Vec2 c = {}) {

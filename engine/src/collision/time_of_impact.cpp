@@ -111,6 +111,11 @@ struct Edge {
   // or end (a polyline's previous or next segment): such a point reaches this edge's line that far
   // over the sine of its angle of approach past the shared end (faceImpact).
   double jointSlackStart = 0, jointSlackEnd = 0;
+  // How far off the line a point is on it: the round-off of the line's two ends and the point's
+  // coordinates, the bound the resting rules use for a point on a face (featureLeftByPoint). The line's
+  // start alone was too tight: a point that slid down one face of a V into the joint and was resolved
+  // there lay off the other face's line by more, on its far side, and went through it.
+  double pointSlack(Vec2 centre) const { return detail::pointRoundOff(centre, a, u * length); }
 };
 
 Edge edgeOf(Vec2 a, Vec2 b) {
@@ -139,7 +144,7 @@ std::optional<Impact> faceImpact(const Circle& circle, const Motion& m, const Ed
   double s0 = dot(edge.n, rel);
   // A point (radius 0) has no overlap to tell it is still in front: an ulp behind the line (where
   // round-off puts a point that came to rest on a floor, in a frame other than the floor's) is on it.
-  if (circle.radius == 0 && s0 < 0 && s0 >= -detail::pointRoundOff(circle.center, edge.a)) s0 = 0;
+  if (circle.radius == 0 && s0 < 0 && s0 >= -edge.pointSlack(circle.center)) s0 = 0;
   Polynomial gap;
   gap.degree = 2;
   gap.c = {s0 - circle.radius, dot(edge.n, m.velocity), 0.5 * dot(edge.n, m.acceleration)};
@@ -201,7 +206,7 @@ std::optional<Impact> segmentImpact(const Circle& a, const Motion& m, Vec2 p0, V
   edge.jointSlackStart = jointSlackStart;
   edge.jointSlackEnd = jointSlackEnd;
   double s0 = dot(edge.n, a.center - edge.a);
-  if (a.radius == 0 && std::fabs(s0) <= detail::pointRoundOff(a.center, edge.a)) s0 = 0;
+  if (a.radius == 0 && std::fabs(s0) <= edge.pointSlack(a.center)) s0 = 0;
   if (s0 < 0) edge.n = -edge.n;
   // A point on the line (within round-off) has no overlap to tell which side it is on; its history does.
   // Just resolved against this segment, it leaves it: it is on the side it moves to, and the rules find
@@ -213,11 +218,13 @@ std::optional<Impact> segmentImpact(const Circle& a, const Motion& m, Vec2 p0, V
     // motion (a point sliding down a sloped segment: its acceleration is gravity's part along it), it
     // stays on the line and meets neither face. Read as a side, it collided at once, was dismissed and
     // was predicted again at the same instant until the step's budget ran out, and its next segment
-    // went unpredicted for the rest of the step. (Acceleration as kPressRoundOff, contact/tolerances.h;
-    // velocity as kAbsorbRoundOff.)
-    const double velocityRoundOff = 16 * std::numeric_limits<double>::epsilon() * length(m.velocity);
-    if (std::fabs(vn) <= velocityRoundOff && std::fabs(an) <= 1e-9 * length(m.acceleration)) return std::nullopt;
-    const double toward = vn != 0 ? (justResolved ? vn : -vn) : -an;
+    // went unpredicted for the rest of the step.
+    // Moving along the line with an acceleration across it (a point placed on a slope under gravity),
+    // the side is the one the acceleration presses it into: read from the round-off in its normal
+    // velocity, it was as often the far side, and the point fell through the face.
+    const bool alongLine = std::fabs(vn) <= detail::kAbsorbRoundOff * length(m.velocity);
+    if (alongLine && std::fabs(an) <= detail::kPressRoundOff * length(m.acceleration)) return std::nullopt;
+    const double toward = !alongLine ? (justResolved ? vn : -vn) : -an;
     if (toward < 0) edge.n = -edge.n;
     if (toward != 0) return faceImpact(a, m, edge, true, maxTime, feature, justResolved);
   }
@@ -247,7 +254,11 @@ std::optional<Impact> timeOfImpactCirclePoint(const Circle& a, const Motion& mot
 
 std::optional<Impact> timeOfImpactCircleSegment(const Circle& a, const Motion& motion, const Segment& b, double maxTime,
                                                 int resolvedFeature) {
-  return segmentImpact(a, motion, b.a, b.b, maxTime, 0, isResolved(0, resolvedFeature));
+  // Another fixture's face may meet this one at either end (two Segments in a V): for a point, the face
+  // reaches past its ends by the round-off of such a neighbour, taken as its own (Edge::jointSlackStart).
+  // Missed there, a point bounced at the joint onto the other Segment passed under this one's end.
+  const double slack = a.radius == 0 ? detail::pointRoundOff(b.a, b.b, b.b - b.a) : 0.0;
+  return segmentImpact(a, motion, b.a, b.b, maxTime, 0, isResolved(0, resolvedFeature), slack, slack);
 }
 
 std::optional<Impact> timeOfImpactCirclePolyline(const Circle& a, const Motion& motion, const Polyline& b,

@@ -22,6 +22,24 @@ namespace rattle {
 using detail::BodySlot;
 using detail::PredictedContact;
 
+namespace {
+
+// A point (radius 0) resolved at `now` against a face of something static that it remembers (Support),
+// meeting another static fixture `other` at that instant: it may sit in the corner between them, and
+// which of the other's faces it leaves is told as in a corner of one fixture (featureLeftByPoint).
+bool pointJustResolvedBeside(const detail::WorldState& w, const BodySlot& a, uint32_t own, uint32_t other,
+                             double now) {
+  if (a.last.time != now || a.support.fixture == other || a.support.generation == 0) return false;
+  const detail::FixtureSlot& remembered = w.fixtures[a.support.fixture];
+  if (!remembered.alive || remembered.generation != a.support.generation) return false;
+  if (!a.last.is(own, a.support.fixture, now) || a.last.feature != a.support.feature) return false;
+  if (w.bodies[remembered.body].type != BodyType::Static) return false;
+  if (w.bodies[w.fixtures[other].body].type != BodyType::Static) return false;
+  return detail::isPoint(w.fixtures[own].geometry);
+}
+
+}  // namespace
+
 // The feature of `other` that `own` cannot be approaching now (TimeOfImpact's resolvedFeature): the
 // face its body slides on, the one both bodies of the pair were last resolved on at this instant, or
 // (a point) the one it last touched, when it moves away toward the side it touched it from.
@@ -51,7 +69,17 @@ int detail::resolvedFeature(const WorldState& w, const BodySlot& a, const BodySl
     resolved = a.support.feature;
     if (point && a.last.feature != a.support.feature && leavesCorner(w, a, other, a.last.feature, now)) {
       resolved = kEveryFeature;
+    } else if (point && a.last.feature == a.support.feature) {
+      // It began to slide at this instant, maybe in a corner, on another face's line too, which it may
+      // be leaving (featureLeftByPoint). Taken as just arriving there, a point that bounced in the bottom
+      // of a V and slid up one face from the joint met the other face at once from below, where
+      // round-off put it, and was sent down through it.
+      resolved = featureLeftByPoint(w, a, other, now);
     }
+  } else if (pointJustResolvedBeside(w, a, own, other, now)) {
+    // A corner between two fixtures (two Segments in a V). Taken as just arriving, a point that bounced
+    // off one at the joint and moved away from the other met it at once from below and was sent through.
+    resolved = featureLeftByPoint(w, a, other, now);
   } else if (lastHere && !(point && !leavesCorner(w, a, other, a.last.feature, now))) {
     resolved = a.last.feature;
     // A point just resolved against the face it now remembers may sit in a corner, on another face's
@@ -195,8 +223,8 @@ void detail::resolve(WorldState& w, const PredictedContact& c, std::vector<uint3
   // against a resting one sent it off faster than it came in
   // (fuzz/regressions/world_api/energy-predictive-zeno-sleeper-kicks-its-neighbour).
   if (zenoGuard) {
-    sleepIfZeno(w, ia, c.time);
-    sleepIfZeno(w, ib, c.time);
+    sleepIfZeno(w, ia, c.time, n, ib);
+    sleepIfZeno(w, ib, c.time, -n, ia);
     vn = approach();
   }
   const double inverseA = a.asleep ? 0.0 : a.inverseMass;

@@ -98,26 +98,34 @@ int detail::featureLeftByPoint(const WorldState& w, const BodySlot& b, uint32_t 
   // corner). The remembered face's far end lies on the inner side of each such face (the point came along
   // it, as leavesCorner takes it), so a point leaving the remembered face, or just resolved against it,
   // that moves to that side of every other face it is on leaves them all: kEveryFeature. Otherwise the
-  // remembered face alone.
+  // remembered face alone. The corner may be between two fixtures (two Segments meeting in a V): asked
+  // about a fixture other than the remembered one, every face of it counts, and the answer when it
+  // leaves none is kNoFeature.
+  const bool remembered = fixture == b.support.fixture;
+  const int otherwise = remembered ? b.support.feature : kNoFeature;
   const Geometry& g = w.fixtures[fixture].geometry;
   const Vec2 at = w.bodies[w.fixtures[fixture].body].position;
   const Vec2 p = w.positionAt(b, now) + detail::circleCentre(w.fixtures[b.fixtures.front()].geometry);
   bool inCorner = false;
   Vec2 e0, e1;
   for (int f = 0; flatFeature(g, f, e0, e1); ++f) {
-    if (f == b.support.feature) continue;
+    if (remembered && f == b.support.feature) continue;
     const Vec2 a0 = at + e0, d = e1 - e0;
     const double len = length(d);
     if (!(len > 0)) continue;
     const Vec2 u = d * (1.0 / len), n{-u.y, u.x};
     // On the face within the round-off of the coordinates, as the time of impact takes a point to be.
-    const double slack = detail::pointRoundOff(p, a0, d);
+    // Along the face, as far past its ends as the time of impact reaches past a joint: a neighbour's
+    // round-off over the sine of the approach, down to 1/64 (Edge::jointSlackStart). A point resolved
+    // in the bottom of a V lay 1.02 round-offs beyond the next face's end: taken as off it, it was
+    // taken as just arriving there, from below.
+    const double slack = detail::pointRoundOff(p, a0, d), reach = 65 * slack;
     const double across = dot(n, p - a0), along = dot(u, p - a0);
-    if (std::fabs(across) > slack || along < -slack || along > len + slack) continue;
-    if (!leavesCorner(w, b, fixture, f, now)) return b.support.feature;
+    if (std::fabs(across) > slack || along < -reach || along > len + reach) continue;
+    if (!leavesCorner(w, b, fixture, f, now)) return otherwise;
     inCorner = true;
   }
-  return inCorner ? kEveryFeature : b.support.feature;
+  return inCorner ? kEveryFeature : otherwise;
 }
 
 bool detail::supportsAt(const WorldState& w, uint32_t bodyIndex, double now, std::vector<uint32_t>& supporters,
@@ -181,7 +189,7 @@ bool detail::supportsAt(const WorldState& w, uint32_t bodyIndex, double now, std
   return false;
 }
 
-void detail::sleepIfZeno(WorldState& w, uint32_t bodyIndex, double now) {
+void detail::sleepIfZeno(WorldState& w, uint32_t bodyIndex, double now, Vec2 contactNormal, uint32_t holder) {
   // A body wedged where the independent-collision model needs infinitely many bounces (a narrowing gap
   // between a wall and a resting disk) collides ever faster without coming to rest. Once it has collided
   // kZenoCollisions times in one step while held up by static or sleeping bodies, it sleeps where it is,
@@ -191,7 +199,7 @@ void detail::sleepIfZeno(WorldState& w, uint32_t bodyIndex, double now) {
   BodySlot& s = w.bodies[bodyIndex];
   if (!(w.def.restingSpeed > 0) || (w.def.gravity.x == 0 && w.def.gravity.y == 0)) return;
   if (s.type != BodyType::Dynamic || s.asleep) return;
-  if (s.countStepCollision() > kZenoCollisions && supportsAt(w, bodyIndex, now, w.supporters)) {
+  if (s.countStepCollision() > kZenoCollisions && supportsAt(w, bodyIndex, now, w.supporters, contactNormal, holder)) {
     putToSleep(w, bodyIndex, w.supporters);
   }
 }

@@ -13,7 +13,8 @@ namespace rattle::detail {
 /// wake it when they wake (WorldState::dependents).
 void putToSleep(WorldState& w, uint32_t body, const std::vector<uint32_t>& supporters);
 /// The predictive mode's guard against a Zeno sequence: counts a collision of `body` in this step.
-void sleepIfZeno(WorldState& w, uint32_t body, double now);
+/// `contactNormal` (toward the body) and `holder` are the contact at hand's, as for supportsAt.
+void sleepIfZeno(WorldState& w, uint32_t body, double now, Vec2 contactNormal = {}, uint32_t holder = 0);
 /// Wakes the body and everything resting on it (through `dependents`), appending them to `woken`.
 void wakeUp(WorldState& w, uint32_t body, double now, std::vector<uint32_t>& woken);
 /// wakeUp in two halves, for a call that must make room before it changes anything: the first finds
@@ -33,7 +34,8 @@ bool isFlatFeature(const WorldState& w, uint32_t fixture, int feature);
 /// it moves away from that face (true) or could turn back into it.
 bool leavesCorner(const WorldState& w, const detail::BodySlot& b, uint32_t fixture, int feature, double now);
 /// The feature of `fixture` a point on its remembered face is leaving: that face, or kEveryFeature when it
-/// sits in a corner of several faces and leaves them all (resting.cpp says why).
+/// sits in a corner of several faces and leaves them all (resting.cpp says why). For a fixture other than
+/// the remembered face's, kEveryFeature when it sits on faces of it and leaves them all, else kNoFeature.
 int featureLeftByPoint(const WorldState& w, const detail::BodySlot& b, uint32_t fixture, double now);
 /// Whether the static and sleeping bodies the body touches at `now` hold it up against gravity (up lies
 /// within the cone of their normals); they are put in `supporters`. `contactNormal` (toward the body) is
