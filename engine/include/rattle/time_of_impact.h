@@ -45,7 +45,8 @@ struct Impact {
   Vec2 normal;        ///< unit; from B toward A: the direction in which A is pushed
   /// Which part of B is touched. Circle, point, segment: 0. Polyline with n points: segment i is i
   /// (0..n-2), corner k is n-1+k (a circle of radius 0 meets an inner corner, 0 < k < n-1, as the segment
-  /// beside it, which reaches past the corner by round-off). Polygon with n points: edge i (from point i to
+  /// beside it, which reaches past the corner by round-off; in a closed Polyline, whose last point is its
+  /// first, the two ends too). Polygon with n points: edge i (from point i to
   /// i+1) is i, corner k is n+k.
   int feature = 0;
 };

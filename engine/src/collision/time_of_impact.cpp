@@ -145,6 +145,12 @@ std::optional<Impact> faceImpact(const Circle& circle, const Motion& m, const Ed
   // A point (radius 0) has no overlap to tell it is still in front: an ulp behind the line (where
   // round-off puts a point that came to rest on a floor, in a frame other than the floor's) is on it.
   if (circle.radius == 0 && s0 < 0 && s0 >= -edge.pointSlack(circle.center)) s0 = 0;
+  // Nor was a point well off the line just resolved against this face: kEveryFeature names every face
+  // of a Polyline after a corner, and a point that left a corner of one, taken as leaving a face far
+  // from it as well, was never predicted to meet that face and passed through it. (Well off: a point
+  // just resolved at a joint lies off the line by up to a few times pointSlack, which must not read as
+  // arriving from the far side.)
+  if (circle.radius == 0 && std::fabs(s0) > 64 * edge.pointSlack(circle.center)) justResolved = false;
   Polynomial gap;
   gap.degree = 2;
   gap.c = {s0 - circle.radius, dot(edge.n, m.velocity), 0.5 * dot(edge.n, m.acceleration)};
@@ -264,14 +270,25 @@ std::optional<Impact> timeOfImpactCircleSegment(const Circle& a, const Motion& m
 std::optional<Impact> timeOfImpactCirclePolyline(const Circle& a, const Motion& motion, const Polyline& b,
                                                  double maxTime, int resolvedFeature) {
   const int n = static_cast<int>(b.points.size());
+  // A closed Polyline (its last point its first) has a joint there too: to a point it is an inner
+  // corner, met through the faces beside it. As two ends, a point that slid into it took a normal from
+  // its own motion and was bounced back into the face it came along, out of the closed box.
+  const bool closed = n > 3 && b.points.front() == b.points.back();
   std::optional<Impact> best;
   for (int i = 0; i + 1 < n; ++i) {
     // The round-off of the neighbouring segments' lines (Edge::jointSlackStart, jointSlackEnd), for a
     // point.
     double start = 0, end = 0;
     if (a.radius == 0) {
-      if (i > 0) start = detail::pointRoundOff(b.points[i - 1], b.points[i], b.points[i] - b.points[i - 1]);
-      if (i + 2 < n) end = detail::pointRoundOff(b.points[i + 2], b.points[i + 1], b.points[i + 2] - b.points[i + 1]);
+      const int before = i > 0 ? i - 1 : (closed ? n - 2 : -1), after = i + 2 < n ? i + 1 : (closed ? 0 : -1);
+      if (before >= 0) {
+        const Vec2 p = b.points[before], q = b.points[before + 1];
+        start = detail::pointRoundOff(p, q, q - p);
+      }
+      if (after >= 0) {
+        const Vec2 p = b.points[after], q = b.points[after + 1];
+        end = detail::pointRoundOff(q, p, q - p);
+      }
     }
     keepEarlier(best, segmentImpact(a, motion, b.points[i], b.points[i + 1], maxTime, i,
                                     isResolved(i, resolvedFeature), start, end));
@@ -281,7 +298,7 @@ std::optional<Impact> timeOfImpactCirclePolyline(const Circle& a, const Motion& 
     // before the next face (by round-off), a point sliding into a valley took the joint's normal from
     // its own motion, was taken to leave both faces, and went on through the next one. The two faces
     // reach past the joint by the round-off (Edge::jointSlackStart, jointSlackEnd) and meet it instead.
-    if (a.radius == 0 && k > 0 && k + 1 < n) continue;
+    if (a.radius == 0 && ((k > 0 && k + 1 < n) || closed)) continue;
     const int feature = n - 1 + k;
     if (auto t = timeToReach(a.center - b.points[k], motion, a.radius, maxTime, isResolved(feature, resolvedFeature)))
       keepEarlier(best, pointImpact(a.center, motion, b.points[k], 0.0, *t, feature));

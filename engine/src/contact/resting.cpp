@@ -51,6 +51,20 @@ bool flatFeature(const Geometry& g, int feature, Vec2& a, Vec2& b) {
   return false;
 }
 
+// Whether a point at `p` lies on the face: across it within the round-off of the coordinates, as the
+// time of impact takes a point to be on a line; along it, as far past its ends as the time of impact
+// reaches past a joint (a neighbour's round-off over the sine of the approach, down to 1/64:
+// Edge::jointSlackStart). A point resolved in the bottom of a V lay 1.02 round-offs beyond the next
+// face's end: taken as off it, it was taken as just arriving there, from below.
+bool pointOnFace(Vec2 p, Vec2 a0, Vec2 d) {
+  const double len = length(d);
+  if (!(len > 0)) return false;
+  const Vec2 u = d * (1.0 / len), n{-u.y, u.x};
+  const double slack = detail::pointRoundOff(p, a0, d), reach = 65 * slack;
+  const double across = dot(n, p - a0), along = dot(u, p - a0);
+  return std::fabs(across) <= slack && along >= -reach && along <= len + reach;
+}
+
 }  // namespace
 
 bool detail::isFlatFeature(const WorldState& w, uint32_t fixture, int feature) {
@@ -110,18 +124,7 @@ int detail::featureLeftByPoint(const WorldState& w, const BodySlot& b, uint32_t 
   Vec2 e0, e1;
   for (int f = 0; flatFeature(g, f, e0, e1); ++f) {
     if (remembered && f == b.support.feature) continue;
-    const Vec2 a0 = at + e0, d = e1 - e0;
-    const double len = length(d);
-    if (!(len > 0)) continue;
-    const Vec2 u = d * (1.0 / len), n{-u.y, u.x};
-    // On the face within the round-off of the coordinates, as the time of impact takes a point to be.
-    // Along the face, as far past its ends as the time of impact reaches past a joint: a neighbour's
-    // round-off over the sine of the approach, down to 1/64 (Edge::jointSlackStart). A point resolved
-    // in the bottom of a V lay 1.02 round-offs beyond the next face's end: taken as off it, it was
-    // taken as just arriving there, from below.
-    const double slack = detail::pointRoundOff(p, a0, d), reach = 65 * slack;
-    const double across = dot(n, p - a0), along = dot(u, p - a0);
-    if (std::fabs(across) > slack || along < -reach || along > len + reach) continue;
+    if (!pointOnFace(p, at + e0, e1 - e0)) continue;
     if (!leavesCorner(w, b, fixture, f, now)) return otherwise;
     inCorner = true;
   }
@@ -171,12 +174,27 @@ bool detail::supportsAt(const WorldState& w, uint32_t bodyIndex, double now, std
   if (detail::isPoint(w.fixtures[body.fixtures.front()].geometry)) {
     // Static holders only: a point inside a disk (squeezed into it, passing through) touches nothing
     // there that holds it.
+    // A face above it counts too: in an acute corner under an overhang the floor and the overhang hold
+    // a point together (up lies within the cone of their normals), and the cone test below asks for
+    // both.
     auto add = [&](Vec2 n, uint32_t holder) {
-      if (w.bodies[holder].type != BodyType::Static || dot(n, up) < -1e-12 || count >= 16) return;
+      if (w.bodies[holder].type != BodyType::Static || count >= 16) return;
       normals[count++] = n;
     };
     if (contactNormal.x != 0 || contactNormal.y != 0) add(contactNormal, holderIndex);
-    if (body.sliding) add(body.support.normal, w.fixtures[body.support.fixture].body);
+    // The face it remembers (Support) while it still lies on it: sliding there, or in a corner where it
+    // bounces from one face to the other at one instant without end (a Zeno sequence the predictive
+    // guard ends, sleepIfZeno), where the contact at hand gives one face and the memory the other.
+    const detail::Support& face = body.support;
+    if (face.generation != 0 && w.fixtures[face.fixture].alive && w.fixtures[face.fixture].generation == face.generation) {
+      Vec2 e0, e1;
+      const Vec2 at = w.bodies[w.fixtures[face.fixture].body].position;
+      const Vec2 p = w.positionAt(body, now) + detail::circleCentre(w.fixtures[body.fixtures.front()].geometry);
+      if (body.sliding || (flatFeature(w.fixtures[face.fixture].geometry, face.feature, e0, e1) &&
+                           pointOnFace(p, at + e0, e1 - e0))) {
+        add(face.normal, w.fixtures[face.fixture].body);
+      }
+    }
   }
   // Held when up lies within the cone of the normals: one normal straight up (a level floor), or two on
   // either side of up (a cradle of two disks, a wedge).

@@ -605,7 +605,11 @@ void HybridStep::collide(const PredictedContact& c, double dt, std::vector<uint3
   }
   woken.clear();
   const bool aAsleep = w.bodies[ia].asleep, bAsleep = w.bodies[ib].asleep;
-  resolve(w, c, woken, false, dt);
+  // Points never jam (jam.cpp: an island's contacts cannot tell a point's side of a face); one driven
+  // into a corner of two faces bounces between them at one instant without end, and the predictive
+  // mode's Zeno guard puts it to sleep there when the faces hold it up.
+  const bool zenoGuard = h_.islands.bodyIsPoint(w.bodies[ia]) || h_.islands.bodyIsPoint(w.bodies[ib]);
+  resolve(w, c, woken, zenoGuard, dt);
   ++w.stats.eventsProcessed;
   // A body that has just gone to sleep holds its stepped neighbours from now on: the islands' solve
   // did not see it as fixed, so they keep clear of it for the rest of the step.
