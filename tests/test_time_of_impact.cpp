@@ -1412,47 +1412,59 @@ TEST(TimeOfImpactRandomized, UnderGravityAgainstBruteForce) {
 
 }  // namespace
 
+namespace {
+
+// A state a world reached in a valley of two faces, a -> b -> c: a point sliding down the first (its
+// acceleration gravity's part along it), about to meet the second at the joint b.
+const Vec2 kValleyA{-5.8634251017531076, 1.5205368596077589}, kValleyB{0.19278175673494327, 0.1787593943361139},
+    kValleyC{3.4773275219891642, 1.7454038250727189};
+const Circle kValleyPoint{{0.16869278272348012, 0.18409640531432719}, 0};
+const rattle::Motion kValleyMotion{{3.5879712895623133, -0.79492975303988767},
+                                   {2.0717512907766413, -0.45900499447364318}};
+
+// The second face's normal on the valley's side (left of b -> c), and when the point's path crosses its
+// line, n.(c(t) - b) = 0, solved in long double (the smaller root, cancellation-free).
+Vec2 valleySecondFaceNormal() {
+  const Vec2 d = kValleyC - kValleyB;
+  return Vec2{-d.y, d.x} * (1.0 / length(d));
+}
+double valleySecondFaceCrossing() {
+  using L = long double;
+  const Vec2 n = valleySecondFaceNormal();
+  const Vec2 c = kValleyPoint.center, v = kValleyMotion.velocity, a = kValleyMotion.acceleration;
+  const L g0 = L(n.x) * (L(c.x) - L(kValleyB.x)) + L(n.y) * (L(c.y) - L(kValleyB.y));
+  const L g1 = L(n.x) * L(v.x) + L(n.y) * L(v.y);
+  const L g2 = (L(n.x) * L(a.x) + L(n.y) * L(a.y)) / 2;
+  return static_cast<double>(2 * g0 / (-g1 + std::sqrt(g1 * g1 - 4 * g2 * g0)));
+}
+
+}  // namespace
+
 // A point sliding down one segment of a Polyline into a valley lies on that segment's line only to
-// round-off, and must meet the next segment at the joint. The state is one a world reached (a slide
-// with gravity's part along the first segment as acceleration); its path crossed the next segment's
-// line 4e-15 before the segment's start, an ulp further than a point's round-off allowance there, and
-// it met neither the segment nor the corner: it left the valley. Expected: the next segment's feature
-// and normal, at the time its path crosses that line, n.(c(t) - b) = 0, solved in long double.
+// round-off, and must meet the next segment at the joint. Its path crossed the next segment's line
+// 4e-15 before the segment's start, an ulp further than a point's round-off allowance there, and it met
+// neither the segment nor the corner: it left the valley. Expected: the next segment's feature and
+// normal, at the time its path crosses that line.
 TEST(TimeOfImpactPolyline, APointSlidingIntoAValleyMeetsTheNextSegmentAtTheJoint) {
-  const Vec2 a{-5.8634251017531076, 1.5205368596077589}, b{0.19278175673494327, 0.1787593943361139},
-             c{3.4773275219891642, 1.7454038250727189};
-  const Circle point{{0.16869278272348012, 0.18409640531432719}, 0};
-  const rattle::Motion m{{3.5879712895623133, -0.79492975303988767}, {2.0717512907766413, -0.45900499447364318}};
-  const auto hit = rattle::timeOfImpactCirclePolyline(point, m, Polyline{{a, b, c}}, 1.0 / 60);
+  const auto hit = rattle::timeOfImpactCirclePolyline(kValleyPoint, kValleyMotion,
+                                                      Polyline{{kValleyA, kValleyB, kValleyC}}, 1.0 / 60);
   ASSERT_TRUE(hit);
   EXPECT_EQ(hit->feature, 1);
-  const Vec2 n = Vec2{-(c - b).y, (c - b).x} * (1.0 / length(c - b));  // left of b -> c: the valley's side
+  const Vec2 n = valleySecondFaceNormal();
   EXPECT_NEAR(hit->normal.x, n.x, 1e-12);
   EXPECT_NEAR(hit->normal.y, n.y, 1e-12);
-  using L = long double;
-  const L g0 = L(n.x) * (L(point.center.x) - L(b.x)) + L(n.y) * (L(point.center.y) - L(b.y));
-  const L g1 = L(n.x) * L(m.velocity.x) + L(n.y) * L(m.velocity.y);
-  const L g2 = (L(n.x) * L(m.acceleration.x) + L(n.y) * L(m.acceleration.y)) / 2;
-  const L t = 2 * g0 / (-g1 + std::sqrt(g1 * g1 - 4 * g2 * g0));  // the smaller root, cancellation-free
-  EXPECT_NEAR(hit->time, static_cast<double>(t), 1e-15);
+  EXPECT_NEAR(hit->time, valleySecondFaceCrossing(), 1e-15);
 }
 
 // The same state against the valley's second face as a Segment of its own (two Segments in a V): its
 // face reaches past its ends by its own round-off over the sine of the approach, as a Polyline's segment
 // does at an inner corner. Without that the path, 4e-15 before the Segment's start, missed it.
 TEST(TimeOfImpactSegment, APointReachesPastItsEndByTheRoundOffOfItsCoordinates) {
-  const Vec2 b{0.19278175673494327, 0.1787593943361139}, c{3.4773275219891642, 1.7454038250727189};
-  const Circle point{{0.16869278272348012, 0.18409640531432719}, 0};
-  const rattle::Motion m{{3.5879712895623133, -0.79492975303988767}, {2.0717512907766413, -0.45900499447364318}};
-  const auto hit = rattle::timeOfImpactCircleSegment(point, m, Segment{b, c}, 1.0 / 60);
+  const auto hit =
+      rattle::timeOfImpactCircleSegment(kValleyPoint, kValleyMotion, Segment{kValleyB, kValleyC}, 1.0 / 60);
   ASSERT_TRUE(hit);
-  const Vec2 n = Vec2{-(c - b).y, (c - b).x} * (1.0 / length(c - b));
+  const Vec2 n = valleySecondFaceNormal();
   EXPECT_NEAR(hit->normal.x, n.x, 1e-12);
   EXPECT_NEAR(hit->normal.y, n.y, 1e-12);
-  using L = long double;
-  const L g0 = L(n.x) * (L(point.center.x) - L(b.x)) + L(n.y) * (L(point.center.y) - L(b.y));
-  const L g1 = L(n.x) * L(m.velocity.x) + L(n.y) * L(m.velocity.y);
-  const L g2 = (L(n.x) * L(m.acceleration.x) + L(n.y) * L(m.acceleration.y)) / 2;
-  const L t = 2 * g0 / (-g1 + std::sqrt(g1 * g1 - 4 * g2 * g0));
-  EXPECT_NEAR(hit->time, static_cast<double>(t), 1e-15);
+  EXPECT_NEAR(hit->time, valleySecondFaceCrossing(), 1e-15);
 }
