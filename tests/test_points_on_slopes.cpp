@@ -115,6 +115,26 @@ World valleyWorld(const Valley& v, StepMode mode, bool polyline, BodyId& point) 
 // right of the second), to round-off.
 bool aboveBothFaces(const Valley& v, Vec2 q) { return leftOf(v.a, v.b, q) >= -1e-9 && leftOf(v.b, v.c, q) >= -1e-9; }
 
+// The valley as a Polyline and as two Segments, in both exact modes, 300 steps (5 s), each run under a
+// trace that names it: `eachStep(world, point, k)` after every step (a fatal failure ends the run),
+// `atEnd(world, point)` after the last.
+template <class EachStep, class AtEnd>
+void runValley(const Valley& v, size_t index, EachStep eachStep, AtEnd atEnd) {
+  for (bool polyline : {true, false}) {
+    for (StepMode mode : kExactModes) {
+      SCOPED_TRACE(nameOf(mode) + (polyline ? " polyline " : " segments ") + std::to_string(index));
+      BodyId p;
+      World w = valleyWorld(v, mode, polyline, p);
+      for (int k = 1; k <= 300; ++k) {
+        w.step(kDt);
+        eachStep(w, p, k);
+        if (::testing::Test::HasFatalFailure()) return;
+      }
+      atEnd(w, p);
+    }
+  }
+}
+
 }  // namespace
 
 // Each valley as a Polyline and as two Segments, 5 s: no step reaches the event budget, and each takes
@@ -123,23 +143,19 @@ bool aboveBothFaces(const Valley& v, Vec2 q) { return leftOf(v.a, v.b, q) >= -1e
 TEST(PointsOnSlopes, APointInAValleyNeverStallsAStep) {
   for (size_t i = 0; i < std::size(kValleys); ++i) {
     const Valley& v = kValleys[i];
-    for (bool polyline : {true, false}) {
-      for (StepMode mode : kExactModes) {
-        SCOPED_TRACE(nameOf(mode) + (polyline ? " polyline " : " segments ") + std::to_string(i));
-        BodyId p;
-        World w = valleyWorld(v, mode, polyline, p);
-        for (int k = 1; k <= 300; ++k) {
-          w.step(kDt);
+    runValley(
+        v, i,
+        [](const World& w, BodyId, int k) {
           ASSERT_FALSE(w.stats().eventBudgetReached) << "step " << k;
           ASSERT_LE(w.stats().eventsProcessed, 200) << "step " << k;
-        }
-        if (i == 1) continue;  // still sliding to and fro (restitution 0.64)
-        EXPECT_TRUE(w.isAsleep(p));
-        EXPECT_TRUE(aboveBothFaces(v, w.position(p)));
-        EXPECT_NEAR(w.position(p).x, v.b.x, 1e-6);
-        EXPECT_NEAR(w.position(p).y, v.b.y, 1e-6);
-      }
-    }
+        },
+        [&](const World& w, BodyId p) {
+          if (i == 1) return;  // still sliding to and fro (restitution 0.64)
+          EXPECT_TRUE(w.isAsleep(p));
+          EXPECT_TRUE(aboveBothFaces(v, w.position(p)));
+          EXPECT_NEAR(w.position(p).x, v.b.x, 1e-6);
+          EXPECT_NEAR(w.position(p).y, v.b.y, 1e-6);
+        });
   }
 }
 
@@ -201,17 +217,12 @@ TEST(PointsOnSlopes, APointInAValleyStaysAboveItsFaces) {
   valleys.insert(valleys.end(), std::begin(kEscapes), std::end(kEscapes));
   for (size_t i = 0; i < valleys.size(); ++i) {
     const Valley& v = valleys[i];
-    for (bool polyline : {true, false}) {
-      for (StepMode mode : kExactModes) {
-        SCOPED_TRACE(nameOf(mode) + (polyline ? " polyline " : " segments ") + std::to_string(i));
-        BodyId p;
-        World w = valleyWorld(v, mode, polyline, p);
-        for (int k = 1; k <= 300; ++k) {
-          w.step(kDt);
+    runValley(
+        v, i,
+        [&](const World& w, BodyId p, int k) {
           ASSERT_FALSE(w.stats().eventBudgetReached) << "step " << k;
           ASSERT_TRUE(aboveBothFaces(v, w.position(p))) << "step " << k;
-        }
-      }
-    }
+        },
+        [](const World&, BodyId) {});
   }
 }

@@ -29,11 +29,9 @@ namespace {
 // which of the other's faces it leaves is told as in a corner of one fixture (featureLeftByPoint).
 bool pointJustResolvedBeside(const detail::WorldState& w, const BodySlot& a, uint32_t own, uint32_t other,
                              double now) {
-  if (a.last.time != now || a.support.fixture == other || a.support.generation == 0) return false;
-  const detail::FixtureSlot& remembered = w.fixtures[a.support.fixture];
-  if (!remembered.alive || remembered.generation != a.support.generation) return false;
+  if (a.last.time != now || a.support.fixture == other || !detail::remembersLiveFace(w, a)) return false;
   if (!a.last.is(own, a.support.fixture, now) || a.last.feature != a.support.feature) return false;
-  if (w.bodies[remembered.body].type != BodyType::Static) return false;
+  if (w.bodies[w.fixtures[a.support.fixture].body].type != BodyType::Static) return false;
   if (w.bodies[w.fixtures[other].body].type != BodyType::Static) return false;
   return detail::isPoint(w.fixtures[own].geometry);
 }
@@ -55,8 +53,7 @@ int detail::resolvedFeature(const WorldState& w, const BodySlot& a, const BodySl
   // A point, not sliding, that remembers its side of a feature of `other` (Support). Asked only on the
   // paths below that need it: most predictions are of disks.
   auto remembersSide = [&] {
-    return !a.sliding && a.support.fixture == other && a.support.generation != 0 &&
-           w.fixtures[other].generation == a.support.generation && w.fixtures[other].alive &&
+    return !a.sliding && a.support.fixture == other && remembersLiveFace(w, a) &&
            detail::isPoint(w.fixtures[own].geometry);
   };
   // A point has no overlap to tell which side of a line it is on (time_of_impact.h); in a corner it is

@@ -65,7 +65,18 @@ bool pointOnFace(Vec2 p, Vec2 a0, Vec2 d) {
   return std::fabs(across) <= slack && along >= -reach && along <= len + reach;
 }
 
+// The centre of the body's first fixture at `now`: where a point is, for the rules below.
+Vec2 firstCentreAt(const detail::WorldState& w, const BodySlot& b, double now) {
+  return w.positionAt(b, now) + detail::circleCentre(w.fixtures[b.fixtures.front()].geometry);
+}
+
 }  // namespace
+
+bool detail::remembersLiveFace(const WorldState& w, const BodySlot& b) {
+  if (b.support.generation == 0) return false;  // none: its fixture index means nothing
+  const detail::FixtureSlot& face = w.fixtures[b.support.fixture];
+  return face.generation == b.support.generation && face.alive;
+}
 
 bool detail::isFlatFeature(const WorldState& w, uint32_t fixture, int feature) {
   Vec2 a, b;
@@ -93,7 +104,7 @@ bool detail::leavesCorner(const WorldState& w, const BodySlot& b, uint32_t fixtu
   }
   if (!flatFeature(w.fixtures[b.support.fixture].geometry, b.support.feature, s0, s1)) return true;
   const Vec2 supportAt = w.bodies[w.fixtures[b.support.fixture].body].position;
-  const Vec2 p = w.positionAt(b, now) + detail::circleCentre(w.fixtures[b.fixtures.front()].geometry);
+  const Vec2 p = firstCentreAt(w, b, now);
   const Vec2 near = supportAt + s0, far = supportAt + s1;
   const Vec2 away = length(near - p) > length(far - p) ? near : far;  // the support's other end
   const Vec2 d = f1 - f0;
@@ -119,7 +130,7 @@ int detail::featureLeftByPoint(const WorldState& w, const BodySlot& b, uint32_t 
   const int otherwise = remembered ? b.support.feature : kNoFeature;
   const Geometry& g = w.fixtures[fixture].geometry;
   const Vec2 at = w.bodies[w.fixtures[fixture].body].position;
-  const Vec2 p = w.positionAt(b, now) + detail::circleCentre(w.fixtures[b.fixtures.front()].geometry);
+  const Vec2 p = firstCentreAt(w, b, now);
   bool inCorner = false;
   Vec2 e0, e1;
   for (int f = 0; flatFeature(g, f, e0, e1); ++f) {
@@ -186,12 +197,11 @@ bool detail::supportsAt(const WorldState& w, uint32_t bodyIndex, double now, std
     // bounces from one face to the other at one instant without end (a Zeno sequence the predictive
     // guard ends, sleepIfZeno), where the contact at hand gives one face and the memory the other.
     const detail::Support& face = body.support;
-    if (face.generation != 0 && w.fixtures[face.fixture].alive && w.fixtures[face.fixture].generation == face.generation) {
+    if (remembersLiveFace(w, body)) {
       Vec2 e0, e1;
       const Vec2 at = w.bodies[w.fixtures[face.fixture].body].position;
-      const Vec2 p = w.positionAt(body, now) + detail::circleCentre(w.fixtures[body.fixtures.front()].geometry);
       if (body.sliding || (flatFeature(w.fixtures[face.fixture].geometry, face.feature, e0, e1) &&
-                           pointOnFace(p, at + e0, e1 - e0))) {
+                           pointOnFace(firstCentreAt(w, body, now), at + e0, e1 - e0))) {
         add(face.normal, w.fixtures[face.fixture].body);
       }
     }
@@ -309,7 +319,7 @@ std::optional<double> detail::slideEndTime(const WorldState& w, const BodySlot& 
   const Vec2 origin = w.bodies[face.body].position + a;
   const double len = length(e - a);
   const Vec2 u = (e - a) * (1.0 / len);
-  const Vec2 centre = w.positionAt(b, now) + detail::circleCentre(w.fixtures[b.fixtures.front()].geometry);
+  const Vec2 centre = firstCentreAt(w, b, now);
   const Vec2 v = w.velocityAt(b, now);
   // tau(h) = u.(c - a) + (u.v) h + (u.g) h^2 / 2 leaves [0, len] at the first downward crossing of
   // tau or of len - tau.

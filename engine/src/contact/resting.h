@@ -28,6 +28,8 @@ void applyWake(WorldState& w, const std::vector<uint32_t>& woken, size_t from, d
 void startSliding(WorldState& w, uint32_t body, uint32_t fixture, int feature, Vec2 normal);
 /// The body no longer slides: it falls with the whole of gravity again (unless asleep).
 void stopSliding(WorldState& w, detail::BodySlot& b);
+/// Whether the face the body remembers (Support) is set and its fixture is still the one it named.
+bool remembersLiveFace(const WorldState& w, const detail::BodySlot& b);
 /// Whether `feature` of the fixture is a straight face (a segment, a polyline's or a polygon's edge).
 bool isFlatFeature(const WorldState& w, uint32_t fixture, int feature);
 /// A point at the end of the face it slides on, resolved against `feature` of `fixture` there: whether
