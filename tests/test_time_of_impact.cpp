@@ -691,7 +691,7 @@ TEST(TimeOfImpactPointOnALine, SlidingAlongAFloorIntoAWallAtTheCorner) {
                {1.0, 0.0}, 0);
 }
 
-TEST(TimeOfImpactPointOnALine, MovingAlongASlopedPolygonEdgeMeetsItAtNoTime) {
+TEST(TimeOfImpactPointOnALine, MovingAlongASlopedPolygonEdgeMeetsItAtNoTimeAndSoDoesADisk) {
   // A point on the line of a polygon's edge at angle theta (placed there in doubles, so within round-off
   // of it) moving and accelerating along the edge: its normal velocity and acceleration are round-off,
   // so it meets the edge at no time, whether or not that edge was just resolved (a slide). Read from the
@@ -708,6 +708,10 @@ TEST(TimeOfImpactPointOnALine, MovingAlongASlopedPolygonEdgeMeetsItAtNoTime) {
     const rattle::Motion along{u * 2.0, u * 3.0};
     expectNone(rattle::timeOfImpactCirclePolygon(point, along, quad, 0.5));
     expectNone(rattle::timeOfImpactCirclePolygon(point, along, quad, 0.5, 0));
+    // So too a disk of radius 0.5 touching the edge (its centre 0.5 out of it, in doubles), sliding.
+    const Circle disk{u * 5.0 - inward * 0.5, 0.5};
+    expectNone(rattle::timeOfImpactCirclePolygon(disk, along, quad, 0.5));
+    expectNone(rattle::timeOfImpactCirclePolygon(disk, along, quad, 0.5, 0));
     const auto into = rattle::timeOfImpactCirclePolygon(point, rattle::Motion{u * 2.0 + inward * 0.5, u * 3.0}, quad, 0.5);
     ASSERT_TRUE(into.has_value());
     EXPECT_NEAR(into->time, 0.0, 1e-14);  // the point may lie an ulp off the line

@@ -68,9 +68,9 @@ std::optional<Impact> timeOfImpactCircleSegment(const Circle& a, const Motion& m
 std::optional<Impact> timeOfImpactCirclePolyline(const Circle& a, const Motion& motion, const Polyline& b,
                                                  double maxTime, int resolvedFeature = kNoFeature);
 /// `b` must be wound counter-clockwise (see normalized()). A circle whose centre is already deep
-/// inside the polygon (more than its radius behind every edge) gets no impact. A circle of radius 0 on
-/// an edge's line (within round-off) that moves along it, its normal velocity and acceleration within
-/// round-off, meets that edge at no time.
+/// inside the polygon (more than its radius behind every edge) gets no impact. A circle that moves along
+/// an edge, its normal velocity and acceleration within round-off, meets that edge at no time (so too
+/// the faces of a Segment or a Polyline).
 std::optional<Impact> timeOfImpactCirclePolygon(const Circle& a, const Motion& motion, const Polygon& b, double maxTime,
                                                 int resolvedFeature = kNoFeature);
 

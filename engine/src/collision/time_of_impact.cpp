@@ -154,17 +154,17 @@ std::optional<Impact> faceImpact(const Circle& circle, const Motion& m, const Ed
   Polynomial gap;
   gap.degree = 2;
   gap.c = {s0 - circle.radius, dot(edge.n, m.velocity), 0.5 * dot(edge.n, m.acceleration)};
-  // A point on the line (within round-off) moving along it, its normal velocity round-off, is on the
-  // side its acceleration takes it to, and with an acceleration along the line too (sliding on a
-  // sloped face, or along the seam of a wall's bottom face and the floor it stands on) it meets the
-  // face at no time. Read from the round-off, it met a face it slid on at once, was dismissed and was
-  // predicted again at that instant until the step's budget of predictions ran out, and the wall at
-  // the end of the slide then went unpredicted (as segmentImpact's alongLine for a Segment).
-  if (circle.radius == 0 && std::fabs(s0) <= edge.pointSlack(circle.center) &&
-      std::fabs(gap.c[1]) <= detail::kAbsorbRoundOff * length(m.velocity)) {
-    if (std::fabs(gap.c[2]) <= 0.5 * detail::kPressRoundOff * length(m.acceleration)) return std::nullopt;
-    gap.c[1] = 0;
-  }
+  // A circle moving along the face, its normal velocity and acceleration round-off (sliding on a sloped
+  // face, or a point along the seam of a wall's bottom face and the floor it stands on), meets it at no
+  // time. Read from the round-off, one that slid on a face met it at once (a gap of {0, 0, -2e-16}),
+  // was dismissed and was predicted again at that instant until the step's budget of predictions ran
+  // out, and the wall at the end of the slide then went unpredicted: a point left a turned box of
+  // Polygons, and a disk wedged in an acute corner of a Polyline fell out of it. (segmentImpact's
+  // alongLine is the same rule for a point on a Segment's line.)
+  const bool alongFace = std::fabs(gap.c[1]) <= detail::kAbsorbRoundOff * length(m.velocity);
+  if (alongFace && std::fabs(gap.c[2]) <= 0.5 * detail::kPressRoundOff * length(m.acceleration)) return std::nullopt;
+  // A point on the line (within round-off) moving along it is on the side its acceleration takes it to.
+  if (circle.radius == 0 && alongFace && std::fabs(s0) <= edge.pointSlack(circle.center)) gap.c[1] = 0;
   std::optional<double> t;
   // A point exactly on the line touches it (a closed edge): the overlap rules apply, as they do to a
   // circle whose gap is exactly 0.

@@ -291,7 +291,12 @@ void detail::resolve(WorldState& w, const PredictedContact& c, std::vector<uint3
     // earlier pair may approach again. Kept as resolved, a disk landing on one that rests in a corner
     // was never resolved against it again and sank through it (predictive), or into it step after step
     // (hybrid).
-    if (!(s == slider && s->last.time == c.time && lastPartnerHolds(w, *s))) s->setLast(last);
+    // A disk has its overlap to tell its side of that earlier face, and the slide may turn it back into
+    // it: in an acute corner of two Segments a disk resolved against one wall, then landing on the
+    // other and sliding down it into the first, was taken as leaving the first and slid out through it.
+    const bool keepsEarlier = s == slider && s->last.time == c.time && lastPartnerHolds(w, *s) &&
+                              detail::isPoint(w.fixtures[s == &a ? c.a : c.b].geometry);
+    if (!keepsEarlier) s->setLast(last);
     s->lastContactTime = now;
     // Any other contact ends a slide: the body either leaves the face or is pushed into it, and then
     // the face's own contact (touching and approaching: now) resolves that, resting rules included.
