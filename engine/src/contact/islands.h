@@ -150,6 +150,10 @@ struct Islands {
   /// Gives `after` (a wider gather of the same members at the same time) the impulses of the contacts
   /// of `before`, which it holds in the same order; false, and no impulses, when it does not hold them.
   static bool carryImpulses(const std::vector<IslandContact>& before, std::vector<IslandContact>& after);
+  /// Adds to islandScratch a contact for each static Segment that a member's straight path along v crosses
+  /// within h though no contact of the gather holds it (a bare Segment's end holds nothing); true if any.
+  bool holdSegmentCrossings(const std::vector<uint32_t>& members, const std::vector<Vec2>& v, double now, double h);
+  std::vector<std::pair<uint32_t, uint32_t>> islandHeldSegments;  // its (member fixture, Segment) pairs
   void keepIslandEnergy(const std::vector<uint32_t>& members, std::vector<Vec2>& v, double h);
   /// The sweeps over islandScratch's contacts, on the members' velocities v, at most maxIterations:
   /// over-relaxed by omega (true when they converged to `tolerance`), or, under gravity, accelerated
