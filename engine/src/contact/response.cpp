@@ -36,6 +36,18 @@ bool pointJustResolvedBeside(const detail::WorldState& w, const BodySlot& a, uin
   return detail::isPoint(w.fixtures[own].geometry);
 }
 
+// A point (radius 0) that remembers its side of a face of something static (Support) and moves toward that
+// side, predicted against another static fixture: any face of that one on the remembered face's line it
+// leaves too (featureLeftByPoint).
+bool pointLeavesRememberedSideBeside(const detail::WorldState& w, const BodySlot& a, uint32_t own, uint32_t other,
+                                     double now) {
+  if (a.support.fixture == other || !detail::remembersLiveFace(w, a)) return false;
+  if (w.bodies[w.fixtures[a.support.fixture].body].type != BodyType::Static) return false;
+  if (w.bodies[w.fixtures[other].body].type != BodyType::Static) return false;
+  if (!detail::isPoint(w.fixtures[own].geometry)) return false;
+  return dot(w.velocityAt(a, now), a.support.normal) > 0;
+}
+
 }  // namespace
 
 // The feature of `other` that `own` cannot be approaching now (TimeOfImpact's resolvedFeature): the
@@ -90,6 +102,13 @@ int detail::resolvedFeature(const WorldState& w, const BodySlot& a, const BodySl
     // points to, and moves toward that side: it is leaving. (Away from the line this matters to no
     // root: the rule only concerns a contact at this instant.) In a corner it may leave the other
     // face there too (featureLeftByPoint).
+    resolved = featureLeftByPoint(w, a, other, now);
+  } else if (pointLeavesRememberedSideBeside(w, a, own, other, now)) {
+    // Another static fixture with a face on the remembered face's line (two boxes made in the same
+    // place): the point is on the remembered side of that face too, and leaves it as well. Taken as
+    // just arriving there, a point on one box's floor that the game sent up met the other's floor from
+    // below and was sent down through both
+    // (fuzz/regressions/world_api/escape-predictive-point-between-two-boxes-made-as-one).
     resolved = featureLeftByPoint(w, a, other, now);
   }
   return resolved;
