@@ -11,24 +11,16 @@
 
 #include <rattle/rattle.h>
 
-#include <cmath>
 #include <string>
 #include <vector>
 
+#include "container_search_support.h"
+
 using namespace rattle;
+using container_search::Step;
+using container_search::Throw;
 
 namespace {
-
-struct Throw {
-  Vec2 position, velocity;
-  double radius, restitution;
-};
-
-struct Step {
-  double dt;
-  int setVelocityOf;  // a body given `velocity` before the step, or -1
-  Vec2 velocity;
-};
 
 struct Container {
   StepMode mode;
@@ -109,16 +101,6 @@ const Container kContainers[] = {
       {0x1p+0, -1, {0x0p+0, 0x0p+0}}}},
 };
 
-// How far outside a counter-clockwise convex polygon a point lies (negative inside).
-double outside(const std::vector<Vec2>& corners, Vec2 q) {
-  double worst = -INFINITY;
-  for (size_t i = 0; i < corners.size(); ++i) {
-    const Vec2 a = corners[i], b = corners[(i + 1) % corners.size()];
-    worst = std::max(worst, -cross(b - a, q - a) / length(b - a));
-  }
-  return worst;
-}
-
 }  // namespace
 
 TEST(DisksAtSegmentJoints, NoSteppedDiskCrossesTheNextSegment) {
@@ -135,20 +117,15 @@ TEST(DisksAtSegmentJoints, NoSteppedDiskCrossesTheNextSegment) {
     for (size_t k = 0; k < n; ++k) {
       w.createFixture(walls, {.geometry = Segment{c.corners[k], c.corners[(k + 1) % n]}, .restitution = c.wallRestitution[k]});
     }
-    std::vector<BodyId> bodies;
-    for (const Throw& t : c.bodies) {
-      bodies.push_back(w.createBody({.type = BodyType::Dynamic, .position = t.position, .velocity = t.velocity}));
-      w.createFixture(bodies.back(), {.geometry = Circle{{0, 0}, t.radius}, .restitution = t.restitution});
-    }
+    const std::vector<BodyId> bodies = container_search::throwBodies(w, c.bodies);
     for (size_t s = 0; s < c.steps.size(); ++s) {
-      const Step& step = c.steps[s];
-      if (step.setVelocityOf >= 0) w.setVelocity(bodies[static_cast<size_t>(step.setVelocityOf)], step.velocity);
-      w.step(step.dt);
+      container_search::play(w, bodies, c.steps[s]);
       ASSERT_FALSE(w.stats().eventBudgetReached) << "step " << s;
       for (size_t j = 0; j < bodies.size(); ++j) {
         // The centre stays a radius inside every wall, less what the solve may leave (3e-5 of a radius).
         const double r = c.bodies[j].radius;
-        ASSERT_LE(outside(c.corners, w.position(bodies[j])), -r + 1e-4 * r + 1e-9) << "body " << j << ", step " << s;
+        ASSERT_LE(container_search::distanceOutside(c.corners, w.position(bodies[j])), -r + 1e-4 * r + 1e-9)
+            << "body " << j << ", step " << s;
       }
     }
   }

@@ -20,6 +20,8 @@
 #include <string>
 #include <vector>
 
+#include "container_search_support.h"
+
 using namespace rattle;
 
 namespace {
@@ -29,8 +31,7 @@ struct Corner {
   std::vector<Vec2> corners;   // counter-clockwise, convex
   std::vector<double> wallRestitution;
   size_t apex;                 // the corner the disk comes to rest in
-  Vec2 position, velocity;
-  double radius, restitution;
+  container_search::Throw disk;
   std::vector<double> steps;
 };
 
@@ -40,34 +41,20 @@ const Corner kCorners[] = {
       {-0x1.cdce7c36bb7b2p+3, 0x1.35fc09a20a434p-2}, {-0x1.c60d8f65fd16p+3, 0x1.09a1a5273367ep+0}},
      {0x1.4a50fe5c0264bp-2},
      1,
-     {-0x1.d3cc6f3cf0ad9p+3, 0x1.607ee8c029d7fp+0},
-     {0x1.53f149f9d00bbp+0, -0x1.27f911473084dp+3},
-     0x1.ea4c63fe519bp-7,
-     0x1.19799812dea11p-40,
+     {{-0x1.d3cc6f3cf0ad9p+3, 0x1.607ee8c029d7fp+0}, {0x1.53f149f9d00bbp+0, -0x1.27f911473084dp+3},
+      0x1.ea4c63fe519bp-7, 0x1.19799812dea11p-40},
      {1.0}},
     {false,
      {{0x1.4a66614d2546p+4, -0x1.76c8932c10ba4p+4}, {0x1.0c7939df2aac8p+4, -0x1.9a56a22948ffcp+4},
       {0x1.085d2c6de4338p+4, -0x1.dbd36c4b9633ep+4}},
      {0x1.ed3bc54a92d99p-3, 0x1.c3657fa4dce75p-1, 0x1.15eaef6e03f4ep-3},
      2,
-     {0x1.278ae1549b7c9p+4, -0x1.95453b9bf342cp+4},
-     {0x1.564654519b06fp+3, -0x1.cdcae511e8fcfp+2},
-     0x1.71b1f6a54bf69p-4,
-     0x1.c03ed6470bf5cp-4,
+     {{0x1.278ae1549b7c9p+4, -0x1.95453b9bf342cp+4}, {0x1.564654519b06fp+3, -0x1.cdcae511e8fcfp+2},
+      0x1.71b1f6a54bf69p-4, 0x1.c03ed6470bf5cp-4},
      {0x1.999999999999ap-4, 0x1.999999999999ap-4, 0x1.1111111111111p-5, 1.0}},
 };
 
 Vec2 unit(Vec2 v) { return v * (1.0 / length(v)); }
-
-// How far outside a counter-clockwise convex polygon a point lies (negative inside).
-double outside(const std::vector<Vec2>& corners, Vec2 q) {
-  double worst = -INFINITY;
-  for (size_t i = 0; i < corners.size(); ++i) {
-    const Vec2 a = corners[i], b = corners[(i + 1) % corners.size()];
-    worst = std::max(worst, -cross(b - a, q - a) / length(b - a));
-  }
-  return worst;
-}
 
 }  // namespace
 
@@ -94,18 +81,17 @@ TEST(DisksInAcuteCorners, ADiskComesToRestInTheCornerAndNeverLeaves) {
                                   .restitution = c.wallRestitution[k]});
         }
       }
-      const BodyId disk = w.createBody({.type = BodyType::Dynamic, .position = c.position, .velocity = c.velocity});
-      w.createFixture(disk, {.geometry = Circle{{0, 0}, c.radius}, .restitution = c.restitution});
+      const BodyId disk = container_search::throwBodies(w, {c.disk}).front();
       for (size_t s = 0; s < c.steps.size(); ++s) {
         w.step(c.steps[s]);
         ASSERT_FALSE(w.stats().eventBudgetReached) << "step " << s;
-        ASSERT_LE(outside(c.corners, w.position(disk)), -c.radius + 1e-9) << "step " << s;
+        ASSERT_LE(container_search::distanceOutside(c.corners, w.position(disk)), -c.disk.radius + 1e-9) << "step " << s;
       }
       // At rest where it touches both walls of the corner (the last step is long enough to get there).
       const Vec2 apex = c.corners[c.apex];
       const Vec2 u1 = unit(c.corners[(c.apex + n - 1) % n] - apex), u2 = unit(c.corners[(c.apex + 1) % n] - apex);
       const double half = std::acos(dot(u1, u2)) / 2;
-      const Vec2 rest = apex + unit(u1 + u2) * (c.radius / std::sin(half));
+      const Vec2 rest = apex + unit(u1 + u2) * (c.disk.radius / std::sin(half));
       EXPECT_NEAR(w.position(disk).x, rest.x, 1e-9);
       EXPECT_NEAR(w.position(disk).y, rest.y, 1e-9);
       EXPECT_LT(length(w.velocity(disk)), 1e-9);  // asleep, or sliding at round-off

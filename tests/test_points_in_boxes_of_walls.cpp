@@ -17,20 +17,13 @@
 #include <string>
 #include <vector>
 
+#include "container_search_support.h"
+
 using namespace rattle;
+using container_search::Step;
+using container_search::Throw;
 
 namespace {
-
-struct Throw {
-  Vec2 position, velocity;
-  double radius, restitution;
-};
-
-struct Step {
-  double dt;
-  int setVelocityOf;  // a body given `velocity` before the step, or -1
-  Vec2 velocity;
-};
 
 struct WalledBox {
   StepMode mode;
@@ -275,28 +268,13 @@ TEST(PointsInBoxesOfWalls, NoPointLeavesATurnedBoxOfFourPolygons) {
       w.createFixture(wallBody, {.geometry = Polygon{{at(r[0], r[1]), at(r[2], r[1]), at(r[2], r[3]), at(r[0], r[3])}},
                                  .restitution = box.wallRestitution[k]});
     }
-    const Vec2 inner[4] = {at(-hw, -hh), at(hw, -hh), at(hw, hh), at(-hw, hh)};
-    // How far outside the inner boundary a centre lies (negative inside).
-    auto outside = [&](Vec2 p) {
-      double worst = -INFINITY;
-      for (int k = 0; k < 4; ++k) {
-        const Vec2 a = inner[k], b = inner[(k + 1) % 4];
-        worst = std::max(worst, -cross(b - a, p - a) / length(b - a));
-      }
-      return worst;
-    };
-    std::vector<BodyId> bodies;
-    for (const Throw& b : box.bodies) {
-      bodies.push_back(w.createBody({.type = BodyType::Dynamic, .position = b.position, .velocity = b.velocity}));
-      w.createFixture(bodies.back(), {.geometry = Circle{{0, 0}, b.radius}, .restitution = b.restitution});
-    }
+    const std::vector<Vec2> inner{at(-hw, -hh), at(hw, -hh), at(hw, hh), at(-hw, hh)};
+    const std::vector<BodyId> bodies = container_search::throwBodies(w, box.bodies);
     for (size_t s = 0; s < box.steps.size(); ++s) {
-      const Step& step = box.steps[s];
-      if (step.setVelocityOf >= 0) w.setVelocity(bodies[static_cast<size_t>(step.setVelocityOf)], step.velocity);
-      w.step(step.dt);
+      container_search::play(w, bodies, box.steps[s]);
       ASSERT_FALSE(w.stats().eventBudgetReached) << "step " << s;
       for (size_t j = 0; j < bodies.size(); ++j) {
-        ASSERT_LE(outside(w.position(bodies[j])), 1e-9) << "body " << j << ", step " << s;
+        ASSERT_LE(container_search::distanceOutside(inner, w.position(bodies[j])), 1e-9) << "body " << j << ", step " << s;
       }
     }
   }

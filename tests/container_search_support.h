@@ -1,0 +1,52 @@
+// Shared pieces of the tests whose scenes a random search of closed containers found (points and disks
+// thrown about in them under gravity): a thrown body, a recorded step, and how far a centre lies outside a
+// convex container. Header-only.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "rattle/rattle.h"
+
+namespace container_search {
+
+struct Throw {
+  rattle::Vec2 position, velocity;
+  double radius, restitution;
+};
+
+struct Step {
+  double dt;
+  int setVelocityOf;  // a body given `velocity` before the step, or -1
+  rattle::Vec2 velocity;
+};
+
+/// How far outside a counter-clockwise convex polygon `q` lies (negative inside: minus its distance to the
+/// nearest side).
+inline double distanceOutside(const std::vector<rattle::Vec2>& corners, rattle::Vec2 q) {
+  double worst = -INFINITY;
+  for (size_t i = 0; i < corners.size(); ++i) {
+    const rattle::Vec2 a = corners[i], b = corners[(i + 1) % corners.size()];
+    worst = std::max(worst, -rattle::cross(b - a, q - a) / rattle::length(b - a));
+  }
+  return worst;
+}
+
+/// A dynamic body of one circle for each throw, in order.
+inline std::vector<rattle::BodyId> throwBodies(rattle::World& w, const std::vector<Throw>& throws) {
+  std::vector<rattle::BodyId> bodies;
+  for (const Throw& t : throws) {
+    bodies.push_back(w.createBody({.type = rattle::BodyType::Dynamic, .position = t.position, .velocity = t.velocity}));
+    w.createFixture(bodies.back(), {.geometry = rattle::Circle{{0, 0}, t.radius}, .restitution = t.restitution});
+  }
+  return bodies;
+}
+
+/// Sets the velocity the step names, if any, and steps.
+inline void play(rattle::World& w, const std::vector<rattle::BodyId>& bodies, const Step& step) {
+  if (step.setVelocityOf >= 0) w.setVelocity(bodies[static_cast<size_t>(step.setVelocityOf)], step.velocity);
+  w.step(step.dt);
+}
+
+}  // namespace container_search
