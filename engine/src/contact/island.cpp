@@ -432,36 +432,39 @@ bool detail::Islands::holdSegmentCrossings(const std::vector<uint32_t>& members,
   // gap the member has from it now), and the solve sweeps on. Only static Segments: every other geometry's
   // pieces hold all of it. Returns whether it added a contact.
   std::vector<IslandContact>& contacts = islandScratch;
+  // The (member fixture, Segment) pairs the gather holds, sorted; listed only once a path reaches a
+  // Segment, as most solves have none near.
   std::vector<std::pair<uint32_t, uint32_t>>& held = islandHeldSegments;
-  held.clear();
-  for (const IslandContact& c : contacts) {
-    if (c.kb < 0 && std::holds_alternative<Segment>(w.fixtures[c.fb].geometry)) held.emplace_back(c.fa, c.fb);
-  }
-  std::sort(held.begin(), held.end());
+  bool listed = false;
   bool added = false;
   for (size_t k = 0; k < members.size(); ++k) {
     const uint32_t i = members[k];
     const BodySlot& body = w.bodies[i];
+    const Vec2 position = w.positionAt(body, now);
+    const Box path = pathBox(position, v[k], Vec2{}, h);
     for (const auto& pair : w.pairsOfBody[i]) {
       const detail::FixtureSlot& own = w.fixtures[pair.own];
       const detail::FixtureSlot& other = w.fixtures[pair.other];
       if (own.sensor || other.sensor || !std::holds_alternative<Segment>(other.geometry)) continue;
       const BodySlot& holder = w.bodies[other.body];
       if (holder.type != BodyType::Static) continue;
-      if (std::binary_search(held.begin(), held.end(), std::pair{pair.own, pair.other})) continue;
-      const Vec2 position = w.positionAt(body, now);
-      const Vec2 centre = position + detail::circleCentre(own.geometry);
-      const double radius = detail::circleRadius(own.geometry);
-      // Most paths end far from the Segment: their box says so without a time of impact.
-      const Segment& segment = std::get<Segment>(other.geometry);
-      const Vec2 end = centre + v[k] * h, reach{radius, radius};
-      const Box path{Vec2{std::min(centre.x, end.x), std::min(centre.y, end.y)} - reach,
-                     Vec2{std::max(centre.x, end.x), std::max(centre.y, end.y)} + reach};
-      const Vec2 a = segment.a + holder.position, b = segment.b + holder.position;
-      const Box line{Vec2{std::min(a.x, b.x), std::min(a.y, b.y)}, Vec2{std::max(a.x, b.x), std::max(a.y, b.y)}};
-      if (!path.overlaps(detail::withRoundOff(line))) continue;
+      // Most paths end far from the Segment: their swept box says so without a time of impact.
+      const Box swept{path.min + own.localBox.min, path.max + own.localBox.max};
+      if (!swept.overlaps(withRoundOff(w.worldBox(pair.other)))) continue;
+      if (!listed) {
+        held.clear();
+        for (const IslandContact& c : contacts) {
+          if (c.kb < 0 && std::holds_alternative<Segment>(w.fixtures[c.fb].geometry)) held.emplace_back(c.fa, c.fb);
+        }
+        std::sort(held.begin(), held.end());
+        listed = true;
+      }
+      const std::pair<uint32_t, uint32_t> key{pair.own, pair.other};
+      if (std::binary_search(held.begin(), held.end(), key)) continue;
       const auto impact = timeOfImpact(own.geometry, position, other.geometry, holder.position, Motion{v[k]}, h);
       if (!impact) continue;
+      const Vec2 centre = position + detail::circleCentre(own.geometry);
+      const double radius = detail::circleRadius(own.geometry);
       IslandContact c;
       c.a = i;
       c.b = other.body;
@@ -478,8 +481,7 @@ bool detail::Islands::holdSegmentCrossings(const std::vector<uint32_t>& members,
       c.target = c.gap > 0 && h > 0 ? -c.gap / h : 0.0;
       c.radius = radius;
       contacts.push_back(c);
-      held.emplace_back(pair.own, pair.other);  // once a solve
-      std::sort(held.begin(), held.end());
+      held.insert(std::upper_bound(held.begin(), held.end(), key), key);  // once a solve
       added = true;
     }
   }

@@ -140,15 +140,16 @@ int detail::featureLeftByPoint(const WorldState& w, const BodySlot& b, uint32_t 
   // through the wall's side, 2e-13 ahead of it, without a prediction (fuzz/regressions/world_api/
   // escape-hybrid-two-points-meet-in-a-corner-of-two-walls).
   const bool remembered = fixture == b.support.fixture;
+  const int otherwise = remembered ? b.support.feature : kNoFeature;
   const Geometry& g = w.fixtures[fixture].geometry;
   const Vec2 at = w.bodies[w.fixtures[fixture].body].position;
   const Vec2 p = firstCentreAt(w, b, now);
-  int left = remembered ? b.support.feature : kNoFeature;
+  int left = otherwise;
   Vec2 e0, e1;
   for (int f = 0; flatFeature(g, f, e0, e1); ++f) {
     if (remembered && f == b.support.feature) continue;
     if (!pointOnFace(p, at + e0, e1 - e0)) continue;
-    if (!leavesCorner(w, b, fixture, f, now)) return remembered ? b.support.feature : kNoFeature;
+    if (!leavesCorner(w, b, fixture, f, now)) return otherwise;
     left = left == kNoFeature ? f : kEveryFeature;
   }
   return left;
