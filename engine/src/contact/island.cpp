@@ -488,7 +488,8 @@ bool detail::Islands::holdSegmentCrossings(const std::vector<uint32_t>& members,
   return added;
 }
 
-void detail::Islands::keepIslandEnergy(const std::vector<uint32_t>& members, std::vector<Vec2>& v, double h) {
+void detail::Islands::keepIslandEnergy(const std::vector<uint32_t>& members, std::vector<Vec2>& v, double h,
+                                         bool start) {
   // Energy never rises, by construction rather than by convergence. After the solve each member moves
   // along v for the rest of the step, h. Projecting never adds kinetic energy, but under gravity it can
   // turn a fall into a rise: a wedge (a disk on two that part) lifts the disk on top, and along a straight
@@ -504,18 +505,31 @@ void detail::Islands::keepIslandEnergy(const std::vector<uint32_t>& members, std
   // Each stepped body is granted that when its straight path begins (startIslands, joinIslands), and the
   // solves that hold it may spend it, once. Granted again at every solve, a pair that joined a moment
   // after its island began gained 2.6e-2 (fuzz/regressions/world_api/energy-predictive-join-in-a-step).
+  //
+  // A member that no contact pushed in the step's first solve is freed after it (startIslands): back on
+  // its parabola, it regains its whole allowance, whatever its velocity. So that solve may spend only
+  // what the held members were granted; spending the freed ones' too, a solve lifted two disks of a
+  // settling pile with the allowance of a third that then fell freely
+  // (fuzz/regressions/world_api/energy-hybrid-small-pile-in-a-box).
   // Against moving holders (a kinematic body) the energy is not the island's to keep.
   const std::vector<IslandContact>& contacts = islandScratch;
   bool holdersStill = true;
   for (const IslandContact& c : contacts) holdersStill = holdersStill && (c.kb >= 0 || c.holderVelocity == Vec2{});
   if (!holdersStill) return;
+  std::vector<char>& held = islandMemberHeld;
+  held.assign(members.size(), start ? 0 : 1);
+  for (const IslandContact& c : contacts) {
+    if (!start || !(c.lambda > 0)) continue;
+    held[c.ka] = 1;
+    if (c.kb >= 0) held[c.kb] = 1;
+  }
   double a = 0, b = 0, planned = 0, allowance = 0;
   for (size_t k = 0; k < members.size(); ++k) {
     const BodySlot& body = w.bodies[members[k]];
     a += 0.5 * body.mass * dot(v[k], v[k]);
     b -= h * body.mass * dot(w.def.gravity, v[k]);
     planned += 0.5 * body.mass * dot(body.velocity, body.velocity) - h * body.mass * dot(w.def.gravity, body.velocity);
-    allowance += gravityAllowance[members[k]];
+    if (held[k]) allowance += gravityAllowance[members[k]];
   }
   const double c = -(planned + allowance);
   double scale = 1;
@@ -539,7 +553,8 @@ void detail::Islands::keepIslandEnergy(const std::vector<uint32_t>& members, std
   const double spent = std::clamp(a * scale * scale + b * scale - planned, 0.0, allowance);
   if (spent > 0) {
     const double left = (allowance - spent) / allowance;
-    for (uint32_t i : members) gravityAllowance[i] *= left;
+    for (size_t k = 0; k < members.size(); ++k)
+      if (held[k]) gravityAllowance[members[k]] *= left;
   }
 }
 
@@ -693,7 +708,7 @@ detail::Islands::IslandSolve detail::Islands::solveIsland(const std::vector<uint
   }
   const std::vector<IslandContact>& contacts = islandScratch;
   const bool noGravity = w.def.gravity.x == 0 && w.def.gravity.y == 0;
-  keepIslandEnergy(members, v, h);
+  keepIslandEnergy(members, v, h, warmStart);
   // Without gravity, at a step's start: what the sweeps left unmet is taken out of the velocities
   // (trimIsland), and then the overlap left from before out of the positions (separateIsland, which keeps
   // every contact open along the trimmed velocities). In the other order the separation was asked to

@@ -154,7 +154,9 @@ struct Islands {
   /// within h though no contact of the gather holds it (a bare Segment's end holds nothing); true if any.
   bool holdSegmentCrossings(const std::vector<uint32_t>& members, const std::vector<Vec2>& v, double now, double h);
   std::vector<std::pair<uint32_t, uint32_t>> islandHeldSegments;  // its (member fixture, Segment) pairs
-  void keepIslandEnergy(const std::vector<uint32_t>& members, std::vector<Vec2>& v, double h);
+  /// `start`: the step's first solve, after which startIslands frees the members no contact pushed.
+  void keepIslandEnergy(const std::vector<uint32_t>& members, std::vector<Vec2>& v, double h, bool start);
+  std::vector<char> islandMemberHeld;  // keepIslandEnergy's marks, by member
   /// The sweeps over islandScratch's contacts, on the members' velocities v, at most maxIterations:
   /// over-relaxed by omega (true when they converged to `tolerance`), or, under gravity, accelerated
   /// (converged, or close enough to keep every contact within kCloseEnough of its radius, or stopped).
