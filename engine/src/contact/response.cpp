@@ -246,7 +246,14 @@ void detail::resolve(WorldState& w, const PredictedContact& c, std::vector<uint3
   const double inverseA = a.asleep ? 0.0 : a.inverseMass;
   const double inverseB = b.asleep ? 0.0 : b.inverseMass;
   const double inverseSum = inverseA + inverseB;
-  if (!(inverseSum > 0)) return;
+  if (!(inverseSum > 0)) {
+    // Put to sleep on this contact: a point rests on the face it arrived at, and remembers its side
+    // (Support) as a resolved contact would. Still remembering the face it bounced off before, in the
+    // apex of a V where it came to rest on the other face's line, a point that the game sent off that
+    // line into the V was taken as arriving from outside and sent out through the face.
+    if (zenoGuard) rememberFace(w, c);
+    return;
+  }
 
   // Newton's restitution law along the normal: the separation speed after is e times the approach
   // speed, with e the larger of the two fixtures' restitutions. j = (separation - vn) / (1/ma + 1/mb);
