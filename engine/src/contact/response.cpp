@@ -36,16 +36,17 @@ bool pointJustResolvedBeside(const detail::WorldState& w, const BodySlot& a, uin
   return detail::isPoint(w.fixtures[own].geometry);
 }
 
-// A point (radius 0) that remembers its side of a face of something static (Support) and moves toward that
-// side, predicted against another static fixture: any face of that one on the remembered face's line it
-// leaves too (featureLeftByPoint).
-bool pointLeavesRememberedSideBeside(const detail::WorldState& w, const BodySlot& a, uint32_t own, uint32_t other,
-                                     double now) {
+// A point (radius 0) that remembers its side of a face of something static (Support), predicted against
+// another static fixture, when it moves toward that side (any face of the other on the remembered face's
+// line it leaves too) or lies on the remembered face (in a corner between the two, on the other's line
+// as well): which faces of the other it leaves is told by featureLeftByPoint.
+bool pointBesideRememberedFace(const detail::WorldState& w, const BodySlot& a, uint32_t own, uint32_t other,
+                               double now) {
   if (a.support.fixture == other || !detail::remembersLiveFace(w, a)) return false;
   if (w.bodies[w.fixtures[a.support.fixture].body].type != BodyType::Static) return false;
   if (w.bodies[w.fixtures[other].body].type != BodyType::Static) return false;
   if (!detail::isPoint(w.fixtures[own].geometry)) return false;
-  return dot(w.velocityAt(a, now), a.support.normal) > 0;
+  return dot(w.velocityAt(a, now), a.support.normal) > 0 || detail::pointOnRememberedFace(w, a, now);
 }
 
 }  // namespace
@@ -103,12 +104,20 @@ int detail::resolvedFeature(const WorldState& w, const BodySlot& a, const BodySl
     // root: the rule only concerns a contact at this instant.) In a corner it may leave the other
     // face there too (featureLeftByPoint).
     resolved = featureLeftByPoint(w, a, other, now);
-  } else if (pointLeavesRememberedSideBeside(w, a, own, other, now)) {
+  } else if (remembersSide() && pointOnRememberedFace(w, a, now)) {
+    // On the remembered face and moving across it, in a corner of the fixture's faces: it meets that face
+    // from the side it remembers, and leaves the other face there if it moves to the side where the
+    // remembered face lies.
+    resolved = featureLeftByPoint(w, a, other, now, false);
+  } else if (pointBesideRememberedFace(w, a, own, other, now)) {
     // Another static fixture with a face on the remembered face's line (two boxes made in the same
     // place): the point is on the remembered side of that face too, and leaves it as well. Taken as
     // just arriving there, a point on one box's floor that the game sent up met the other's floor from
     // below and was sent down through both
     // (fuzz/regressions/world_api/escape-predictive-point-between-two-boxes-made-as-one).
+    // Or a corner of two Segments, where it rests on the remembered one: sent off across that one, it
+    // moves away from the other's line, toward the side the remembered face lies on. Taken as just
+    // arriving at the other from outside, it bounced off it out of the container.
     resolved = featureLeftByPoint(w, a, other, now);
   }
   return resolved;

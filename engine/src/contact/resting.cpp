@@ -78,6 +78,15 @@ bool detail::remembersLiveFace(const WorldState& w, const BodySlot& b) {
   return face.generation == b.support.generation && face.alive;
 }
 
+bool detail::pointOnRememberedFace(const WorldState& w, const BodySlot& b, double now) {
+  Vec2 f0, f1;
+  if (!remembersLiveFace(w, b) || !flatFeature(w.fixtures[b.support.fixture].geometry, b.support.feature, f0, f1)) {
+    return false;
+  }
+  const Vec2 at = w.bodies[w.fixtures[b.support.fixture].body].position;
+  return pointOnFace(firstCentreAt(w, b, now), at + f0, f1 - f0);
+}
+
 bool detail::isFlatFeature(const WorldState& w, uint32_t fixture, int feature) {
   Vec2 a, b;
   return flatFeature(w.fixtures[fixture].geometry, feature, a, b);
@@ -123,7 +132,8 @@ bool detail::leavesCorner(const WorldState& w, const BodySlot& b, uint32_t fixtu
   return side == 0 || dot(relative, normal) * side >= 0;
 }
 
-int detail::featureLeftByPoint(const WorldState& w, const BodySlot& b, uint32_t fixture, double now) {
+int detail::featureLeftByPoint(const WorldState& w, const BodySlot& b, uint32_t fixture, double now,
+                               bool leavesRemembered) {
   // A point at rest in a corner of a box lies on two lines at once, where round-off left it, and Support
   // remembers its side of only the face it touched last. Another face whose line it is on cannot tell its
   // side either: a contact with it at this instant (from outside, the time of impact would take it, for
@@ -139,8 +149,10 @@ int detail::featureLeftByPoint(const WorldState& w, const BodySlot& b, uint32_t 
   // that bottom face as it moves along the floor, and taken as leaving every face of the wall it passed
   // through the wall's side, 2e-13 ahead of it, without a prediction (fuzz/regressions/world_api/
   // escape-hybrid-two-points-meet-in-a-corner-of-two-walls).
+  // A point in a corner of a Polyline that rests on one face and is sent off across it leaves the other
+  // face there but not this one: taken as arriving at the other from outside, it bounced out through it.
   const bool remembered = fixture == b.support.fixture;
-  const int otherwise = remembered ? b.support.feature : kNoFeature;
+  const int otherwise = remembered && leavesRemembered ? b.support.feature : kNoFeature;
   const Geometry& g = w.fixtures[fixture].geometry;
   const Vec2 at = w.bodies[w.fixtures[fixture].body].position;
   const Vec2 p = firstCentreAt(w, b, now);

@@ -30,6 +30,8 @@ void startSliding(WorldState& w, uint32_t body, uint32_t fixture, int feature, V
 void stopSliding(WorldState& w, detail::BodySlot& b);
 /// Whether the face the body remembers (Support) is set and its fixture is still the one it named.
 bool remembersLiveFace(const WorldState& w, const detail::BodySlot& b);
+/// Whether a point lies on the face it remembers (Support), within the round-off the time of impact allows.
+bool pointOnRememberedFace(const WorldState& w, const detail::BodySlot& b, double now);
 /// Whether `feature` of the fixture is a straight face (a segment, a polyline's or a polygon's edge).
 bool isFlatFeature(const WorldState& w, uint32_t fixture, int feature);
 /// A point at the end of the face it slides on, resolved against `feature` of `fixture` there: whether
@@ -38,7 +40,10 @@ bool leavesCorner(const WorldState& w, const detail::BodySlot& b, uint32_t fixtu
 /// The feature of `fixture` a point on its remembered face is leaving: that face, or kEveryFeature when it
 /// sits in a corner of several faces and leaves them all (resting.cpp says why). For a fixture other than
 /// the remembered face's, kEveryFeature when it sits on faces of it and leaves them all, else kNoFeature.
-int featureLeftByPoint(const WorldState& w, const detail::BodySlot& b, uint32_t fixture, double now);
+/// `leavesRemembered` false: the point moves across its remembered face, which it does not leave; the
+/// answer is then the other faces of the fixture it leaves, as for another fixture.
+int featureLeftByPoint(const WorldState& w, const detail::BodySlot& b, uint32_t fixture, double now,
+                       bool leavesRemembered = true);
 /// Whether the static and sleeping bodies the body touches at `now` hold it up against gravity (up lies
 /// within the cone of their normals); they are put in `supporters`. `contactNormal` (toward the body) is
 /// that of the contact being resolved with `holder`; a point (radius 0), which has no extent to give
