@@ -43,6 +43,34 @@ inline std::vector<rattle::BodyId> throwBodies(rattle::World& w, const std::vect
   return bodies;
 }
 
+enum class Walls { Segments, Polyline };
+
+/// A closed container of static walls with the bodies thrown into it and the steps played.
+struct Container {
+  rattle::StepMode mode;
+  Walls walls;
+  std::vector<rattle::Vec2> corners;    // counter-clockwise, convex
+  std::vector<double> wallRestitution;  // one a Segment, or the closed Polyline's
+  std::vector<Throw> bodies;
+  std::vector<Step> steps;
+};
+
+/// The container's walls, on one static body: a Segment a side, or one closed Polyline.
+inline void buildWalls(rattle::World& w, const Container& c) {
+  const rattle::BodyId walls = w.createBody({.type = rattle::BodyType::Static});
+  const size_t n = c.corners.size();
+  if (c.walls == Walls::Polyline) {
+    rattle::Polyline closed{c.corners};
+    closed.points.push_back(c.corners.front());
+    w.createFixture(walls, {.geometry = closed, .restitution = c.wallRestitution[0]});
+    return;
+  }
+  for (size_t k = 0; k < n; ++k) {
+    w.createFixture(walls, {.geometry = rattle::Segment{c.corners[k], c.corners[(k + 1) % n]},
+                            .restitution = c.wallRestitution[k]});
+  }
+}
+
 /// Sets the velocity the step names, if any, and steps.
 inline void play(rattle::World& w, const std::vector<rattle::BodyId>& bodies, const Step& step) {
   if (step.setVelocityOf >= 0) w.setVelocity(bodies[static_cast<size_t>(step.setVelocityOf)], step.velocity);

@@ -21,21 +21,10 @@
 #include "container_search_support.h"
 
 using namespace rattle;
-using container_search::Step;
-using container_search::Throw;
+using container_search::Container;
+using container_search::Walls;
 
 namespace {
-
-enum class Walls { Segments, Polyline };
-
-struct Container {
-  StepMode mode;
-  Walls walls;
-  std::vector<Vec2> corners;  // counter-clockwise, convex
-  std::vector<double> wallRestitution;  // one a Segment, or the closed Polyline's
-  std::vector<Throw> bodies;
-  std::vector<Step> steps;
-};
 
 const Container kContainers[] = {
     {StepMode::Hybrid,
@@ -163,18 +152,7 @@ TEST(PointsWokenInCorners, APointSentOffTheFaceItSleepsOnStaysInside) {
     def.gravity = {0, -9.81};
     def.maxEventsPerStep = 20000;  // as the search
     World w(def);
-    const BodyId walls = w.createBody({.type = BodyType::Static});
-    const size_t n = c.corners.size();
-    if (c.walls == Walls::Polyline) {
-      Polyline closed{c.corners};
-      closed.points.push_back(c.corners.front());
-      w.createFixture(walls, {.geometry = closed, .restitution = c.wallRestitution[0]});
-    } else {
-      for (size_t k = 0; k < n; ++k) {
-        w.createFixture(walls,
-                        {.geometry = Segment{c.corners[k], c.corners[(k + 1) % n]}, .restitution = c.wallRestitution[k]});
-      }
-    }
+    container_search::buildWalls(w, c);
     const std::vector<BodyId> bodies = container_search::throwBodies(w, c.bodies);
     bool rested = false;
     for (size_t s = 0; s < c.steps.size(); ++s) {

@@ -12,6 +12,7 @@
 
 #include "collision/closest_point.h"
 #include "collision/plain_disk_impact.h"
+#include "collision/polyline_impact.h"
 #include "collision/polynomial.h"
 
 namespace rattle {
@@ -278,8 +279,10 @@ std::optional<Impact> timeOfImpactCircleSegment(const Circle& a, const Motion& m
   return segmentImpact(a, motion, b.a, b.b, maxTime, 0, isResolved(0, resolvedFeature), slack, slack);
 }
 
-std::optional<Impact> timeOfImpactCirclePolyline(const Circle& a, const Motion& motion, const Polyline& b,
-                                                 double maxTime, int resolvedFeature) {
+namespace {
+
+std::optional<Impact> circlePolylineImpact(const Circle& a, const Motion& motion, const Polyline& b, double maxTime,
+                                           int resolvedFeature, int skippedFace) {
   const int n = static_cast<int>(b.points.size());
   // A closed Polyline (its last point its first) has a joint there too: to a point it is an inner
   // corner, met through the faces beside it. As two ends, a point that slid into it took a normal from
@@ -301,6 +304,7 @@ std::optional<Impact> timeOfImpactCirclePolyline(const Circle& a, const Motion& 
         end = detail::pointRoundOff(q, p, q - p);
       }
     }
+    if (i == skippedFace) continue;
     keepEarlier(best, segmentImpact(a, motion, b.points[i], b.points[i + 1], maxTime, i,
                                     isResolved(i, resolvedFeature), start, end));
   }
@@ -315,6 +319,13 @@ std::optional<Impact> timeOfImpactCirclePolyline(const Circle& a, const Motion& 
       keepEarlier(best, pointImpact(a.center, motion, b.points[k], 0.0, *t, feature));
   }
   return best;
+}
+
+}  // namespace
+
+std::optional<Impact> timeOfImpactCirclePolyline(const Circle& a, const Motion& motion, const Polyline& b,
+                                                 double maxTime, int resolvedFeature) {
+  return circlePolylineImpact(a, motion, b, maxTime, resolvedFeature, -1);
 }
 
 std::optional<Impact> timeOfImpactCirclePolygon(const Circle& a, const Motion& motion, const Polygon& b, double maxTime,
@@ -403,6 +414,16 @@ constexpr PairFunction kTable[kGeometryTypeCount][kGeometryTypeCount] = {
 std::optional<Impact> timeOfImpact(const Geometry& a, Vec2 positionA, const Geometry& b, Vec2 positionB,
                                    const Motion& relativeMotion, double maxTime, int resolvedFeature) {
   return kTable[a.index()][b.index()](a, positionA, b, positionB, relativeMotion, maxTime, resolvedFeature);
+}
+
+std::optional<Impact> detail::timeOfImpactPolylineSkipping(const Geometry& a, Vec2 positionA, const Polyline& b,
+                                                           Vec2 positionB, const Motion& relativeMotion, double maxTime,
+                                                           int resolvedFeature, int skippedFace) {
+  Circle circle = asCircle(a, positionA);
+  circle.center -= positionB;
+  auto impact = circlePolylineImpact(circle, relativeMotion, b, maxTime, resolvedFeature, skippedFace);
+  if (impact) impact->point += positionB;
+  return impact;
 }
 
 }  // namespace rattle

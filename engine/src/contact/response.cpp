@@ -11,6 +11,7 @@
 #include <limits>
 
 #include "collision/closest_point.h"
+#include "collision/polyline_impact.h"
 #include "contact/collapse_guard.h"
 #include "contact/impulse.h"
 #include "contact/resting.h"
@@ -121,6 +122,49 @@ int detail::resolvedFeature(const WorldState& w, const BodySlot& a, const BodySl
     resolved = featureLeftByPoint(w, a, other, now);
   }
   return resolved;
+}
+
+namespace {
+
+// Whether `impact` (of `own`, a point, with a face of the static `other` at `now`) meets that face at once
+// from the side opposite the one the point knows it is on (pointKnowsSideOfFace), while the point lies on
+// the face moving along it (its normal velocity round-off, or at rest).
+//
+// Such a point is on the side its acceleration takes it to, or presses it into, for the time of impact
+// (time_of_impact.cpp): it has no other way to tell. A point that knows its side of the face knows
+// better, and a static face is never crossed, so a contact from the other side at this instant is a
+// misreading. Taken as one, a point squeezed along a wall by a disk inside a container met the wall from
+// outside, slid on its outer side and, sent off by the game, left the container through it; and a point
+// at rest in a corner met the other face there from outside and slept on its outer side.
+bool meetsKnownFaceFromBehind(const detail::WorldState& w, const BodySlot& a, uint32_t own, uint32_t other,
+                              double now, const Impact& impact) {
+  if (impact.time != 0 || !detail::isPoint(w.fixtures[own].geometry)) return false;
+  if (w.bodies[w.fixtures[other].body].type != BodyType::Static) return false;
+  Vec2 side;
+  if (!detail::pointKnowsSideOfFace(w, a, other, impact.feature, now, side)) return false;
+  if (!(dot(impact.normal, side) < 0)) return false;
+  const Vec2 v = w.velocityAt(a, now);
+  return std::fabs(dot(v, side)) <= detail::kAbsorbRoundOff * length(v);
+}
+
+}  // namespace
+
+std::optional<Impact> detail::predictImpact(const WorldState& w, const BodySlot& a, const BodySlot& b, uint32_t own,
+                                            uint32_t other, double now, double maxTime, int resolved) {
+  const Geometry& ga = w.fixtures[own].geometry;
+  const Geometry& gb = w.fixtures[other].geometry;
+  const Vec2 pa = w.positionAt(a, now);
+  const Vec2 pb = w.positionAt(b, now);
+  const Motion relative{w.velocityAt(a, now) - w.velocityAt(b, now), a.acceleration - b.acceleration};
+  std::optional<Impact> impact = timeOfImpact(ga, pa, gb, pb, relative, maxTime, resolved);
+  if (!impact || !meetsKnownFaceFromBehind(w, a, own, other, now, *impact)) return impact;
+  // A Segment has no other face: nothing to meet now. A Polyline's other faces are asked again without
+  // the misread one (a face that is `resolved` is still met, from the side its acceleration presses the
+  // point into, so it cannot be left out that way).
+  if (std::holds_alternative<Segment>(gb)) return std::nullopt;
+  const auto* polyline = std::get_if<Polyline>(&gb);
+  if (!polyline) return impact;
+  return detail::timeOfImpactPolylineSkipping(ga, pa, *polyline, pb, relative, maxTime, resolved, impact->feature);
 }
 
 namespace {

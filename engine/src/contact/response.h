@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
+#include "rattle/time_of_impact.h"
 #include "world/world_impl.h"
 
 namespace rattle::detail {
@@ -26,6 +28,11 @@ void rememberFace(WorldState& w, const detail::PredictedContact& c);
 /// face it moves away from.
 int resolvedFeature(const WorldState& w, const detail::BodySlot& a, const detail::BodySlot& b, uint32_t own,
                     uint32_t other, double now);
+/// The first contact of fixture `own` (of body a) with `other` (of body b) from `now` to now + maxTime, along
+/// their paths, `resolved` left out (resolvedFeature): the time of impact, less a point's contact with
+/// the face it remembers read from the wrong side (response.cpp says when).
+std::optional<Impact> predictImpact(const WorldState& w, const detail::BodySlot& a, const detail::BodySlot& b,
+                                    uint32_t own, uint32_t other, double now, double maxTime, int resolved);
 /// The ContactEvent of fixtures a and b (either order) at `time`; `normal` points from b toward a.
 ContactEvent contactEventOf(const WorldState& w, uint32_t a, uint32_t b, double time, Vec2 point, Vec2 normal,
                             double impulse);

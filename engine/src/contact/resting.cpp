@@ -87,6 +87,44 @@ bool detail::pointOnRememberedFace(const WorldState& w, const BodySlot& b, doubl
   return pointOnFace(firstCentreAt(w, b, now), at + f0, f1 - f0);
 }
 
+bool detail::pointKnowsSideOfFace(const WorldState& w, const BodySlot& b, uint32_t fixture, int feature, double now,
+                                  Vec2& side) {
+  // The remembered face F: its side is remembered. Another face G, of this fixture or another, that
+  // meets F where the point lies (it is on both lines, in their corner): when G's far end lies on the
+  // point's side of F, the corner is a wedge on that side and the point is in it, on the side of G where
+  // F's far end lies (the rule leavesCorner uses). Otherwise G lies beyond F's line and the point,
+  // which does not cross F, knows nothing of it; nor of a face whose line it is not on.
+  Vec2 f0, f1, g0, g1;
+  if (!remembersLiveFace(w, b)) return false;
+  if (!flatFeature(w.fixtures[b.support.fixture].geometry, b.support.feature, f0, f1)) return false;
+  if (!flatFeature(w.fixtures[fixture].geometry, feature, g0, g1)) return false;
+  const Vec2 p = firstCentreAt(w, b, now);
+  const Vec2 fAt = w.bodies[w.fixtures[b.support.fixture].body].position;
+  const Vec2 gAt = w.bodies[w.fixtures[fixture].body].position;
+  f0 += fAt, f1 += fAt, g0 += gAt, g1 += gAt;
+  if (!pointOnFace(p, f0, f1 - f0)) return false;
+  if (fixture == b.support.fixture && feature == b.support.feature) {
+    side = b.support.normal;
+    return true;
+  }
+  if (!pointOnFace(p, g0, g1 - g0)) return false;
+  const Vec2 fFar = length(f0 - p) > length(f1 - p) ? f0 : f1;
+  const Vec2 gFar = length(g0 - p) > length(g1 - p) ? g0 : g1;
+  const Vec2 d = g1 - g0;
+  const double len = length(d);
+  if (!(len > 0)) return false;
+  const Vec2 normal = Vec2{-d.y, d.x} * (1.0 / len);
+  const double fSide = dot(normal, fFar - p);
+  // F's far end on G's line (two faces on one line): the point is on F's remembered side of both.
+  if (std::fabs(fSide) <= 64 * detail::pointRoundOff(p, fFar, d)) {
+    side = dot(normal, b.support.normal) >= 0 ? normal : -normal;
+    return true;
+  }
+  if (!(dot(b.support.normal, gFar - p) > 0)) return false;
+  side = fSide > 0 ? normal : -normal;
+  return true;
+}
+
 bool detail::isFlatFeature(const WorldState& w, uint32_t fixture, int feature) {
   Vec2 a, b;
   return flatFeature(w.fixtures[fixture].geometry, feature, a, b);
@@ -103,12 +141,18 @@ bool detail::leavesCorner(const WorldState& w, const BodySlot& b, uint32_t fixtu
   // A polygon's outward normal says which side is out: the point leaves the face if it moves that way
   // (fuzz/regressions/world_api/escape-hybrid-point-along-the-seam-under-a-wall: a point in a wall's
   // corner, just resolved against its bottom face, passed through its side face).
+  //
+  // A point at rest there moves the way its acceleration takes it. Taken as leaving every face it lies on,
+  // a point at rest in the bottom of a V of a Polyline, pressed into one face by gravity, left that face
+  // out of its predictions and fell through it.
   Vec2 s0, s1, f0, f1;
   if (!flatFeature(w.fixtures[fixture].geometry, feature, f0, f1)) return true;
+  const BodySlot& holder = w.bodies[w.fixtures[fixture].body];
+  Vec2 relative = w.velocityAt(b, now) - holder.velocity;
+  if (relative == Vec2{}) relative = b.acceleration - holder.acceleration;
   if (std::holds_alternative<Polygon>(w.fixtures[fixture].geometry)) {
     const Vec2 d = f1 - f0;
     const Vec2 outward{d.y, -d.x};  // counter-clockwise points (geometry.h)
-    const Vec2 relative = w.velocityAt(b, now) - w.bodies[w.fixtures[fixture].body].velocity;
     return dot(relative, outward) >= 0;
   }
   if (!flatFeature(w.fixtures[b.support.fixture].geometry, b.support.feature, s0, s1)) return true;
@@ -119,7 +163,6 @@ bool detail::leavesCorner(const WorldState& w, const BodySlot& b, uint32_t fixtu
   const Vec2 d = f1 - f0;
   const Vec2 normal{-d.y, d.x};
   const double side = dot(normal, away - p);
-  const Vec2 relative = w.velocityAt(b, now) - w.bodies[w.fixtures[fixture].body].velocity;
   // The two faces on one line (two boxes made in the same place): the far end lies on the other face's
   // line too, and its side is round-off. The point is on the side of both that it remembers, and leaves
   // the other face when it leaves the remembered one. Judged by the round-off, a point that bounced off

@@ -32,6 +32,11 @@ void stopSliding(WorldState& w, detail::BodySlot& b);
 bool remembersLiveFace(const WorldState& w, const detail::BodySlot& b);
 /// Whether a point lies on the face it remembers (Support), within the round-off the time of impact allows.
 bool pointOnRememberedFace(const WorldState& w, const detail::BodySlot& b, double now);
+/// The side of face `feature` of the static `fixture` that a point lying on it is on, when the point
+/// knows it: the face it remembers (Support), or another face in a corner with that one, where the point
+/// lies on both (resting.cpp says how). `side` is that face's unit normal toward the point.
+bool pointKnowsSideOfFace(const WorldState& w, const detail::BodySlot& b, uint32_t fixture, int feature, double now,
+                          Vec2& side);
 /// Whether `feature` of the fixture is a straight face (a segment, a polyline's or a polygon's edge).
 bool isFlatFeature(const WorldState& w, uint32_t fixture, int feature);
 /// A point at the end of the face it slides on, resolved against `feature` of `fixture` there: whether

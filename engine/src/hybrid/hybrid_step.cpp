@@ -170,11 +170,7 @@ void HybridStep::predict(uint32_t own, uint32_t other, double now, double dt, in
   int resolved = resolvedFeature(w, a, b, own, other, now);
   if (dismissed != kNoFeature) resolved = dismissed;
 
-  const Vec2 pa = w.positionAt(a, now);
-  const Vec2 pb = w.positionAt(b, now);
-  const Motion relative{w.velocityAt(a, now) - w.velocityAt(b, now), a.acceleration - b.acceleration};
-  auto impact =
-      timeOfImpact(w.fixtures[own].geometry, pa, w.fixtures[other].geometry, pb, relative, dt - now, resolved);
+  const auto impact = predictImpact(w, a, b, own, other, now, dt - now, resolved);
   if (impact) {
     queueContact(*impact, own, other, a.collisionCount, b.collisionCount, w.velocityAt(b, now), b.acceleration, now, dt,
                  dismissed != kNoFeature);

@@ -36,13 +36,9 @@ void Engine::predictPair(uint32_t own, uint32_t other, double now, double horizo
   const BodySlot& b = w_.bodyOf(other);
   ++w_.stats.timeOfImpactTests;
   const int resolved = dismissed != kNoFeature ? dismissed : resolvedFeature(w_, a, b, own, other, now);
-  const Vec2 pa = w_.positionAt(a, now);
-  const Vec2 pb = w_.positionAt(b, now);
-  const Vec2 vb = w_.velocityAt(b, now);
-  const Motion relative{w_.velocityAt(a, now) - vb, a.acceleration - b.acceleration};
-  const auto impact =
-      timeOfImpact(w_.fixtures[own].geometry, pa, w_.fixtures[other].geometry, pb, relative, horizon - now, resolved);
+  const auto impact = predictImpact(w_, a, b, own, other, now, horizon - now, resolved);
   if (!impact) return;
+  const Vec2 vb = w_.velocityAt(b, now);
   const double h = impact->time;
   const double time = std::min(now + h, horizon);
   if (time > best.time) return;
