@@ -90,10 +90,10 @@ bool detail::pointOnRememberedFace(const WorldState& w, const BodySlot& b, doubl
 bool detail::pointKnowsSideOfFace(const WorldState& w, const BodySlot& b, uint32_t fixture, int feature, double now,
                                   Vec2& side) {
   // The remembered face F: its side is remembered. Another face G, of this fixture or another, that
-  // meets F where the point lies (it is on both lines, in their corner): when G's far end lies on the
-  // point's side of F, the corner is a wedge on that side and the point is in it, on the side of G where
-  // F's far end lies (the rule leavesCorner uses). Otherwise G lies beyond F's line and the point,
-  // which does not cross F, knows nothing of it; nor of a face whose line it is not on.
+  // meets F at F's end, where the point lies (it is on both lines, in their corner): when G's far end
+  // lies on the point's side of F, the corner is a wedge on that side and the point is in it, on the
+  // side of G where F's far end lies (the rule leavesCorner uses). Otherwise G lies beyond F's line and
+  // the point, which does not cross F, knows nothing of it; nor of a face whose line it is not on.
   Vec2 f0, f1, g0, g1;
   if (!remembersLiveFace(w, b)) return false;
   if (!flatFeature(w.fixtures[b.support.fixture].geometry, b.support.feature, f0, f1)) return false;
@@ -120,6 +120,11 @@ bool detail::pointKnowsSideOfFace(const WorldState& w, const BodySlot& b, uint32
     side = dot(normal, b.support.normal) >= 0 ? normal : -normal;
     return true;
   }
+  // A corner is at F's end: where G crosses F's middle (two boxes that overlap), F's far end tells
+  // nothing of the point's side of G. (Taken as telling it, a point sliding on a box's floor, bounced
+  // at another box's wall that crosses that floor, was taken to be below the floor and fell through it.)
+  const Vec2 fNear = fFar == f0 ? f1 : f0;
+  if (!(length(fNear - p) <= 65 * detail::pointRoundOff(p, fNear, f1 - f0))) return false;
   if (!(dot(b.support.normal, gFar - p) > 0)) return false;
   side = fSide > 0 ? normal : -normal;
   return true;
