@@ -149,22 +149,21 @@ bool meetsKnownFaceFromBehind(const detail::WorldState& w, const BodySlot& a, ui
 
 }  // namespace
 
-std::optional<Impact> detail::predictImpact(const WorldState& w, const BodySlot& a, const BodySlot& b, uint32_t own,
-                                            uint32_t other, double now, double maxTime, int resolved) {
-  const Geometry& ga = w.fixtures[own].geometry;
-  const Geometry& gb = w.fixtures[other].geometry;
-  const Vec2 pa = w.positionAt(a, now);
-  const Vec2 pb = w.positionAt(b, now);
-  const Motion relative{w.velocityAt(a, now) - w.velocityAt(b, now), a.acceleration - b.acceleration};
-  std::optional<Impact> impact = timeOfImpact(ga, pa, gb, pb, relative, maxTime, resolved);
-  if (!impact || !meetsKnownFaceFromBehind(w, a, own, other, now, *impact)) return impact;
+void detail::dropMisreadFace(const WorldState& w, const BodySlot& a, uint32_t own, uint32_t other, double now,
+                             double maxTime, int resolved, std::optional<Impact>& impact) {
+  if (!meetsKnownFaceFromBehind(w, a, own, other, now, *impact)) return;
   // A Segment has no other face: nothing to meet now. A Polyline's other faces are asked again without
   // the misread one (a face that is `resolved` is still met, from the side its acceleration presses the
   // point into, so it cannot be left out that way).
-  if (std::holds_alternative<Segment>(gb)) return std::nullopt;
-  const auto* polyline = std::get_if<Polyline>(&gb);
-  if (!polyline) return impact;
-  return detail::timeOfImpactPolylineSkipping(ga, pa, *polyline, pb, relative, maxTime, resolved, impact->feature);
+  const Geometry& gb = w.fixtures[other].geometry;
+  if (const auto* polyline = std::get_if<Polyline>(&gb)) {
+    const BodySlot& b = w.bodyOf(other);
+    const Motion relative{w.velocityAt(a, now) - w.velocityAt(b, now), a.acceleration - b.acceleration};
+    impact = detail::timeOfImpactPolylineSkipping(w.fixtures[own].geometry, w.positionAt(a, now), *polyline,
+                                                  w.positionAt(b, now), relative, maxTime, resolved, impact->feature);
+  } else if (std::holds_alternative<Segment>(gb)) {
+    impact.reset();
+  }
 }
 
 namespace {
