@@ -22,6 +22,16 @@ struct Step {
   rattle::Vec2 velocity;
 };
 
+/// The search's world: `mode`, gravity (0, gravityY), and an event budget of 20,000 (as the fuzz target: a
+/// step that loops reaches it in a moment).
+inline rattle::WorldDef searchWorld(rattle::StepMode mode, double gravityY = -9.81) {
+  rattle::WorldDef def;
+  def.mode = mode;
+  def.gravity = {0, gravityY};
+  def.maxEventsPerStep = 20000;
+  return def;
+}
+
 /// How far outside a counter-clockwise convex polygon `q` lies (negative inside: minus its distance to the
 /// nearest side).
 inline double distanceOutside(const std::vector<rattle::Vec2>& corners, rattle::Vec2 q) {

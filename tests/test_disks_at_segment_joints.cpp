@@ -107,11 +107,7 @@ TEST(DisksAtSegmentJoints, NoSteppedDiskCrossesTheNextSegment) {
   for (size_t i = 0; i < std::size(kContainers); ++i) {
     const Container& c = kContainers[i];
     SCOPED_TRACE("container " + std::to_string(i));
-    WorldDef def;
-    def.mode = c.mode;
-    def.gravity = {0, -9.81};
-    def.maxEventsPerStep = 20000;  // as the fuzz target
-    World w(def);
+    World w(container_search::searchWorld(c.mode));
     const BodyId walls = w.createBody({.type = BodyType::Static});
     const size_t n = c.corners.size();
     for (size_t k = 0; k < n; ++k) {

@@ -188,11 +188,7 @@ TEST(PointsOnWalls, NoBodyLeavesAContainerWhereAPointLiesOnAWall) {
   for (size_t i = 0; i < std::size(kContainers); ++i) {
     const Container& c = kContainers[i];
     SCOPED_TRACE("container " + std::to_string(i));
-    WorldDef def;
-    def.mode = c.mode;
-    def.gravity = {0, -9.81};
-    def.maxEventsPerStep = 20000;  // as the search
-    World w(def);
+    World w(container_search::searchWorld(c.mode));
     container_search::buildWalls(w, c);
     const std::vector<BodyId> bodies = container_search::throwBodies(w, c.bodies);
     for (size_t s = 0; s < c.steps.size(); ++s) {

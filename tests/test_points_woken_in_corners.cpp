@@ -147,11 +147,7 @@ TEST(PointsWokenInCorners, APointSentOffTheFaceItSleepsOnStaysInside) {
   for (size_t i = 0; i < std::size(kContainers); ++i) {
     const Container& c = kContainers[i];
     SCOPED_TRACE("container " + std::to_string(i));
-    WorldDef def;
-    def.mode = c.mode;
-    def.gravity = {0, -9.81};
-    def.maxEventsPerStep = 20000;  // as the search
-    World w(def);
+    World w(container_search::searchWorld(c.mode));
     container_search::buildWalls(w, c);
     const std::vector<BodyId> bodies = container_search::throwBodies(w, c.bodies);
     bool rested = false;
