@@ -28,6 +28,9 @@ void applyWake(WorldState& w, const std::vector<uint32_t>& woken, size_t from, d
 void startSliding(WorldState& w, uint32_t body, uint32_t fixture, int feature, Vec2 normal);
 /// The body no longer slides: it falls with the whole of gravity again (unless asleep).
 void stopSliding(WorldState& w, detail::BodySlot& b);
+/// A point (its fixture `fixture`) that still slides after its velocity changed keeps to its face: the
+/// velocity loses its part across the face (resting.cpp says why).
+void keepSlidingPointOnFace(WorldState& w, detail::BodySlot& b, uint32_t fixture);
 /// Whether the face the body remembers (Support) is set and its fixture is still the one it named.
 bool remembersLiveFace(const WorldState& w, const detail::BodySlot& b);
 /// Whether a point lies on the face it remembers (Support), within the round-off the time of impact allows.

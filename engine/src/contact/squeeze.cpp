@@ -107,6 +107,7 @@ bool detail::squeezeAt(WorldState& w, const detail::PredictedContact& c) {
     // (fuzz/regressions/world_api/escape-predictive-disk-squeezed-on-a-floor).
     if (dot(a.acceleration, c.normal) < 0 && isFlatFeature(w, c.b, c.feature))
       startSliding(w, ia, c.b, c.feature, c.normal);
+    keepSlidingPointOnFace(w, a, c.a);
     ++w.stats.squeezes;
     return true;
   }
