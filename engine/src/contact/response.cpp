@@ -127,24 +127,31 @@ int detail::resolvedFeature(const WorldState& w, const BodySlot& a, const BodySl
 namespace {
 
 // Whether `impact` (of `own`, a point, with a face of the static `other` at `now`) meets that face at once
-// from the side opposite the one the point knows it is on (pointKnowsSideOfFace), while the point lies on
-// the face moving along it (its normal velocity round-off, or at rest).
+// (before the point has moved beyond the round-off of where it is) from the side opposite the one the
+// point knows it is on (pointKnowsSideOfFace).
 //
-// Such a point is on the side its acceleration takes it to, or presses it into, for the time of impact
-// (time_of_impact.cpp): it has no other way to tell. A point that knows its side of the face knows
-// better, and a static face is never crossed, so a contact from the other side at this instant is a
-// misreading. Taken as one, a point squeezed along a wall by a disk inside a container met the wall from
-// outside, slid on its outer side and, sent off by the game, left the container through it; and a point
-// at rest in a corner met the other face there from outside and slept on its outer side.
+// A point on a face's line has no overlap to tell its side, and the time of impact reads it from the
+// motion (time_of_impact.cpp): moving along the line, the side its acceleration presses it into;
+// moving across it, the side it comes from unless the face was just resolved. A point that knows its
+// side of the face knows better, and a static face is never crossed, so a contact from the other side
+// at this instant is a misreading. Taken as one, a point squeezed along a wall by a disk inside a
+// container met the wall from outside, slid on its outer side and, sent off by the game, left the
+// container through it; a point at rest in a corner met the other face there from outside and slept on
+// its outer side; and a point bounced off one face of an apex onto the floor it remembered, leaving the
+// floor's line 5e-14 s before gravity brought it back, was taken as arriving at the floor from below and
+// sent out through it.
 bool meetsKnownFaceFromBehind(const detail::WorldState& w, const BodySlot& a, uint32_t own, uint32_t other,
                               double now, const Impact& impact) {
-  if (impact.time != 0 || !detail::isPoint(w.fixtures[own].geometry)) return false;
+  if (!detail::isPoint(w.fixtures[own].geometry)) return false;
   if (w.bodies[w.fixtures[other].body].type != BodyType::Static) return false;
+  // At once: before the point has moved farther than the round-off of where it is.
+  const Vec2 v = w.velocityAt(a, now);
+  const double t = impact.time;
+  const double travel = length(v) * t + 0.5 * length(a.acceleration) * t * t;
+  if (!(travel <= detail::pointRoundOff(w.positionAt(a, now), impact.point))) return false;
   Vec2 side;
   if (!detail::pointKnowsSideOfFace(w, a, other, impact.feature, now, side)) return false;
-  if (!(dot(impact.normal, side) < 0)) return false;
-  const Vec2 v = w.velocityAt(a, now);
-  return std::fabs(dot(v, side)) <= detail::kAbsorbRoundOff * length(v);
+  return dot(impact.normal, side) < 0;
 }
 
 }  // namespace
