@@ -126,9 +126,9 @@ bool detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContac
   // (settleAround) takes back what the island's holders do not let it keep, while the point keeps what
   // the body took. A point of mass 1 on a disk of radius 0.025 that the two faces of a narrow V held kept
   // all but a twenty-thousandth of its approach each time and met the disk again 2e-6 s later, until the
-  // step's budget of a million events ran out. Past the squeeze count the stepped body is taken as one that does not yield: the
-  // point's velocity along the normal becomes the body's (or zero, when the body comes toward it), which
-  // only ever slows the point.
+  // step's budget of a million events ran out. Past the squeeze count the stepped body is taken as one
+  // that does not yield: the point's velocity along the normal becomes the body's (or zero, when the body
+  // comes toward it), which only ever slows the point.
   bool changed = false;
   for (const bool pointIsA : {true, false}) {
     const uint32_t ip = w.fixtures[pointIsA ? c.a : c.b].body;
