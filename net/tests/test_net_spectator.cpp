@@ -22,7 +22,7 @@ using rts::net::Transport;
 struct Trio {
   SideResult host, joiner, spectator;
   uint32_t joinedAt = 0;
-  uint32_t hostTickWhenWatching = 0;  // how far the host had played when the spectator was let in
+  uint32_t hostTickWhenWatching = 0;  // how far the host had played when the spectator began to connect
 };
 
 // The players each in a thread of their own, as two processes; the spectator in a third, connecting
@@ -71,10 +71,15 @@ TEST(NetSpectator, ASpectatorJoiningUnderWayFollowsToTheEndWithThePlayersHashes)
   ASSERT_TRUE(t.host.finished) << describe(t.host);
   ASSERT_TRUE(t.joiner.finished) << describe(t.joiner);
   ASSERT_TRUE(t.spectator.finished) << describe(t.spectator);
-  // It came in under way, at the first tick whose commands the host had not sent (the input delay
-  // after the tick it came at), and started from the host's state there: it played no tick before.
+  // It came in under way, at the first tick whose commands the host had not sent when its hello arrived
+  // (the input delay after the tick it came at, as the host said then), and started from the host's state
+  // there: it played no tick before. (How many ticks the host plays while a spectator connects is the
+  // machine's timing, not the protocol's: a bound of 20 ticks, 80 ms, failed on a loaded 2-core machine.)
   EXPECT_GE(t.joinedAt, 100u);
-  EXPECT_LE(t.joinedAt, t.hostTickWhenWatching + 20);
+  EXPECT_GE(t.joinedAt, t.hostTickWhenWatching);
+  EXPECT_TRUE(contains(t.host.log, "a spectator is let in: it starts from this side's state at tick " +
+                                       std::to_string(t.joinedAt)))
+      << describe(t.host);
   EXPECT_LT(t.joinedAt, s.ticks);
   EXPECT_TRUE(contains(t.host.log, "a spectator is watching from tick " + std::to_string(t.joinedAt)))
       << describe(t.host);
