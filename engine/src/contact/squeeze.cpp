@@ -120,7 +120,7 @@ bool detail::squeezeAt(WorldState& w, const detail::PredictedContact& c) {
   return true;
 }
 
-bool detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContact& c) {
+void detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContact& c) {
   // A point joins no island (jam.cpp: an island's contacts cannot tell a point's side of a face). A
   // stepped body it hits takes the hit as a free body would, and the solve of its island after it
   // (settleAround) takes back what the island's holders do not let it keep, while the point keeps what
@@ -129,7 +129,6 @@ bool detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContac
   // step's budget of a million events ran out. Past the squeeze count the stepped body is taken as one
   // that does not yield: the point's velocity along the normal becomes the body's (or zero, when the body
   // comes toward it), which only ever slows the point.
-  bool changed = false;
   for (const bool pointIsA : {true, false}) {
     const uint32_t ip = w.fixtures[pointIsA ? c.a : c.b].body;
     const uint32_t io = w.fixtures[pointIsA ? c.b : c.a].body;
@@ -163,9 +162,7 @@ bool detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContac
     }
     ++p.collisionCount;
     p.stepLocalsSet = true;
-    changed = true;
   }
-  return changed;
 }
 
 void detail::exemptFromCollisions(WorldState& w, uint32_t fa, uint32_t fb) {

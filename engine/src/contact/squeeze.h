@@ -26,8 +26,7 @@ void refreshSqueezes(WorldState& w);
 bool squeezeAt(WorldState& w, const detail::PredictedContact& c);
 /// After a collision of a point with a stepped body (an island's member) and the island's solve after
 /// it: a point past kSqueezeCollisions collisions in the step that still moves into the stepped body
-/// stops doing so, at the velocity the island left that body (never faster than it was). Returns
-/// whether it changed the point's velocity.
-bool stopPointAtSteppedBody(WorldState& w, const detail::PredictedContact& c);
+/// stops doing so, at the velocity the island left that body (never faster than it was).
+void stopPointAtSteppedBody(WorldState& w, const detail::PredictedContact& c);
 
 }  // namespace rattle::detail
