@@ -144,10 +144,14 @@ bool meetsKnownFaceFromBehind(const detail::WorldState& w, const BodySlot& a, ui
                               double now, const Impact& impact) {
   if (!detail::isPoint(w.fixtures[own].geometry)) return false;
   if (w.bodies[w.fixtures[other].body].type != BodyType::Static) return false;
-  // At once: before the point has moved farther than the round-off of where it is.
+  // At once: before the point has moved across the face farther than the round-off of where it is.
+  // Along the face it may have slid any distance: a point sliding up one face of an apex, out of the
+  // corner, 3e-16 on the wrong side of the other face's line (round-off of the corner), met that face
+  // 2e-8 s later from outside as gravity pulled it in, and remembered its outer side.
   const Vec2 v = w.velocityAt(a, now);
   const double t = impact.time;
-  const double travel = length(v) * t + 0.5 * length(a.acceleration) * t * t;
+  const double travel =
+      std::fabs(dot(v, impact.normal)) * t + 0.5 * std::fabs(dot(a.acceleration, impact.normal)) * t * t;
   if (!(travel <= detail::pointRoundOff(w.positionAt(a, now), impact.point))) return false;
   Vec2 side;
   if (!detail::pointKnowsSideOfFace(w, a, other, impact.feature, now, side)) return false;
@@ -159,17 +163,32 @@ bool meetsKnownFaceFromBehind(const detail::WorldState& w, const BodySlot& a, ui
 void detail::dropMisreadFace(const WorldState& w, const BodySlot& a, uint32_t own, uint32_t other, double now,
                              double maxTime, int resolved, std::optional<Impact>& impact) {
   if (!meetsKnownFaceFromBehind(w, a, own, other, now, *impact)) return;
-  // A Segment has no other face: nothing to meet now. A Polyline's other faces are asked again without
-  // the misread one (a face that is `resolved` is still met, from the side its acceleration presses the
-  // point into, so it cannot be left out that way).
+  // The face is asked again as one the point leaves at this instant (the time of impact's resolved
+  // feature, read on the side the point moves to, which is the side it knows): it may come back to it
+  // later. Left out for the rest of the step, a point that moved up out of a V's corner, the other
+  // face's line round-off behind it, was not met when gravity brought it back to that face, and fell
+  // out under it. Moving along the face's line the reading is its acceleration's either way: met from
+  // behind again, the face is left out (nothing on the known side is met along such a path).
+  const int face = impact->feature;
   const Geometry& gb = w.fixtures[other].geometry;
+  const BodySlot& b = w.bodyOf(other);
+  const Motion relative{w.velocityAt(a, now) - w.velocityAt(b, now), a.acceleration - b.acceleration};
+  const Geometry& ga = w.fixtures[own].geometry;
+  const Vec2 at = w.positionAt(a, now), otherAt = w.positionAt(b, now);
+  auto misreadAgain = [&] {
+    return impact && impact->feature == face && impact->time < kMisreadWindow &&
+           meetsKnownFaceFromBehind(w, a, own, other, now, *impact);
+  };
   if (const auto* polyline = std::get_if<Polyline>(&gb)) {
-    const BodySlot& b = w.bodyOf(other);
-    const Motion relative{w.velocityAt(a, now) - w.velocityAt(b, now), a.acceleration - b.acceleration};
-    impact = detail::timeOfImpactPolylineSkipping(w.fixtures[own].geometry, w.positionAt(a, now), *polyline,
-                                                  w.positionAt(b, now), relative, maxTime, resolved, impact->feature);
+    impact = detail::timeOfImpactPolylineWith(ga, at, *polyline, otherAt, relative, maxTime, resolved, face,
+                                              detail::KnownFace::Resolved);
+    if (misreadAgain()) {
+      impact = detail::timeOfImpactPolylineWith(ga, at, *polyline, otherAt, relative, maxTime, resolved, face,
+                                                detail::KnownFace::LeftOut);
+    }
   } else if (std::holds_alternative<Segment>(gb)) {
-    impact.reset();
+    impact = timeOfImpact(ga, at, gb, otherAt, relative, maxTime, face);
+    if (misreadAgain()) impact.reset();
   }
 }
 
