@@ -105,8 +105,14 @@ bool detail::squeezeAt(WorldState& w, const detail::PredictedContact& c) {
     // stopped on the face with gravity still pulling it in, it was taken as leaving the face it had just
     // been resolved against and fell through the floor of a box
     // (fuzz/regressions/world_api/escape-predictive-disk-squeezed-on-a-floor).
-    if (dot(a.acceleration, c.normal) < 0 && isFlatFeature(w, c.b, c.feature))
+    // Any other face ends a slide, as in resolve(): a disk sliding down one face of a 23-degree apex,
+    // stopped moving into the other, went on along that other face into the first, which its slide left
+    // out of its predictions, and passed through it.
+    if (dot(a.acceleration, c.normal) < 0 && isFlatFeature(w, c.b, c.feature)) {
       startSliding(w, ia, c.b, c.feature, c.normal);
+    } else if (a.sliding && !(a.support.fixture == c.b && a.support.feature == c.feature)) {
+      stopSliding(w, a);
+    }
     keepSlidingPointOnFace(w, a, c.a);
     ++w.stats.squeezes;
     return true;
