@@ -58,6 +58,10 @@ int featureLeftByPoint(const WorldState& w, const detail::BodySlot& b, uint32_t 
 /// the direction from what it touches, is held by it and by the face it slides on when they are static.
 bool supportsAt(const WorldState& w, uint32_t body, double now, std::vector<uint32_t>& supporters,
                 Vec2 contactNormal = {}, uint32_t holder = 0);
+/// A point that moves into a static face (`vn` < 0, its normal velocity at contact `c`) no faster than
+/// the contact's rest tolerance, a contact dismissed as at rest, stops there; true when it did (its
+/// velocity changed at c.time).
+bool stopPointAtRest(WorldState& w, const detail::PredictedContact& c, double vn);
 /// When the sliding body leaves the end of its face, if it does before dt.
 std::optional<double> slideEndTime(const WorldState& w, const detail::BodySlot& b, double now, double dt);
 

@@ -560,6 +560,10 @@ void HybridStep::dismissContact(const PredictedContact& c, double dt, double vn,
     for (uint32_t body : {ia, ib}) {
       if (w.bodies[body].type == BodyType::Dynamic) repredict(body, c.time, dt);
     }
+  } else if (speed <= restTolerance && w.stats.eventsProcessed < w.def.maxEventsPerStep &&
+             detail::stopPointAtRest(w, c, vn)) {
+    ++w.stats.eventsProcessed;
+    repredict(w.fixtures[c.a].body, c.time, dt);
   } else if (hasSeveralFeatures(w.fixtures[c.b].geometry) && featureRepredictions < w.def.maxEventsPerStep) {
     // Dropped: but only this feature's contact. The fixture's other features (the wall beyond a
     // box's corner, for a disk sliding along its floor) are still ahead of the body, so the pair is

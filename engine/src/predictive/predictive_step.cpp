@@ -378,6 +378,16 @@ void Engine::absorbOrDismiss(uint32_t i, uint32_t j, const PredictiveEvent& c, c
     predictBody(i, c.time);
     if (j != PredictiveState::kNone) predictBody(j, c.time);
   } else {
+    // At rest by the tolerance: a point moving into a static face stops (resting.cpp).
+    if (!(speed > restTol) && vn < 0 && w_.stats.eventsProcessed < w_.def.maxEventsPerStep) {
+      attach(i);
+      if (stopPointAtRest(w_, contact, vn)) {
+        ++w_.stats.eventsProcessed;
+        sync(i);
+        predictBody(i, c.time);
+        return;
+      }
+    }
     if (!dismissals(i)) s_.dismissedSlots.push_back(i);
     s_.hot[i].flags |= HotBody::kDismissals;
     // Only entries that still hold are kept (a body at rest in a pile is dismissed again and again).
