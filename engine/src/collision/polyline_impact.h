@@ -1,4 +1,4 @@
-// Private: a circle's time of impact with a Polyline, one face read as the caller knows it
+// Private: a circle's time of impact with a Polyline, some faces read as the caller knows them
 // (time_of_impact.cpp).
 #pragma once
 
@@ -8,16 +8,44 @@
 
 namespace rattle::detail {
 
-/// What a caller knows of one face of a Polyline (contact/response.cpp: a point's side of it).
-enum class KnownFace {
-  Resolved,  ///< taken as resolved at this instant too: a contact with it now is read as leaving it
-  LeftOut,   ///< left out entirely
+/// Faces of a Polyline that a caller knows more of than the time of impact can read
+/// (contact/response.cpp: a point's side of them), each read another way.
+struct KnownFaces {
+  enum class Reading {
+    AsItIs,    ///< not known: read as timeOfImpact reads it
+    Resolved,  ///< taken as resolved at this instant too: a contact with it now is read as leaving it
+    LeftOut,   ///< left out entirely
+  };
+  static constexpr int kMost = 4;
+  int face[kMost] = {};
+  Reading reading[kMost] = {};
+  int count = 0;
+
+  Reading readingOf(int f) const {
+    for (int k = 0; k < count; ++k) {
+      if (face[k] == f) return reading[k];
+    }
+    return Reading::AsItIs;
+  }
+  /// Face f read as `r` from now on; false when there is no room for one more face.
+  bool read(int f, Reading r) {
+    for (int k = 0; k < count; ++k) {
+      if (face[k] == f) {
+        reading[k] = r;
+        return true;
+      }
+    }
+    if (count == kMost) return false;
+    face[count] = f;
+    reading[count++] = r;
+    return true;
+  }
 };
 
 /// timeOfImpact of circle or point `a` at `positionA` with Polyline `b` at `positionB`, as the dispatch
-/// table answers it, with face `face` of `b` read as `known` says.
+/// table answers it, with the faces in `known` read as it says.
 std::optional<Impact> timeOfImpactPolylineWith(const Geometry& a, Vec2 positionA, const Polyline& b, Vec2 positionB,
                                                const Motion& relativeMotion, double maxTime, int resolvedFeature,
-                                               int face, KnownFace known);
+                                               const KnownFaces& known);
 
 }  // namespace rattle::detail

@@ -281,10 +281,10 @@ std::optional<Impact> timeOfImpactCircleSegment(const Circle& a, const Motion& m
 
 namespace {
 
-// `knownFace` (-1: none) is taken as resolved too, or left out when `knownFaceLeftOut`
+// `known` (null: none) says which faces are taken as resolved too, or left out
 // (detail::timeOfImpactPolylineWith).
 std::optional<Impact> circlePolylineImpact(const Circle& a, const Motion& motion, const Polyline& b, double maxTime,
-                                           int resolvedFeature, int knownFace, bool knownFaceLeftOut) {
+                                           int resolvedFeature, const detail::KnownFaces* known) {
   const int n = static_cast<int>(b.points.size());
   // A closed Polyline (its last point its first) has a joint there too: to a point it is an inner
   // corner, met through the faces beside it. As two ends, a point that slid into it took a normal from
@@ -306,9 +306,13 @@ std::optional<Impact> circlePolylineImpact(const Circle& a, const Motion& motion
         end = detail::pointRoundOff(q, p, q - p);
       }
     }
-    if (i == knownFace && knownFaceLeftOut) continue;
-    keepEarlier(best, segmentImpact(a, motion, b.points[i], b.points[i + 1], maxTime, i,
-                                    isResolved(i, resolvedFeature) || i == knownFace, start, end));
+    bool resolved = isResolved(i, resolvedFeature);
+    if (known != nullptr) {
+      const detail::KnownFaces::Reading reading = known->readingOf(i);
+      if (reading == detail::KnownFaces::Reading::LeftOut) continue;
+      if (reading == detail::KnownFaces::Reading::Resolved) resolved = true;
+    }
+    keepEarlier(best, segmentImpact(a, motion, b.points[i], b.points[i + 1], maxTime, i, resolved, start, end));
   }
   for (int k = 0; k < n; ++k) {
     // A point meets a joint only along an exact line, and then its normal is no face's: met there
@@ -327,7 +331,7 @@ std::optional<Impact> circlePolylineImpact(const Circle& a, const Motion& motion
 
 std::optional<Impact> timeOfImpactCirclePolyline(const Circle& a, const Motion& motion, const Polyline& b,
                                                  double maxTime, int resolvedFeature) {
-  return circlePolylineImpact(a, motion, b, maxTime, resolvedFeature, -1, false);
+  return circlePolylineImpact(a, motion, b, maxTime, resolvedFeature, nullptr);
 }
 
 std::optional<Impact> timeOfImpactCirclePolygon(const Circle& a, const Motion& motion, const Polygon& b, double maxTime,
@@ -420,11 +424,10 @@ std::optional<Impact> timeOfImpact(const Geometry& a, Vec2 positionA, const Geom
 
 std::optional<Impact> detail::timeOfImpactPolylineWith(const Geometry& a, Vec2 positionA, const Polyline& b,
                                                        Vec2 positionB, const Motion& relativeMotion, double maxTime,
-                                                       int resolvedFeature, int face, KnownFace known) {
+                                                       int resolvedFeature, const KnownFaces& known) {
   Circle circle = asCircle(a, positionA);
   circle.center -= positionB;
-  auto impact =
-      circlePolylineImpact(circle, relativeMotion, b, maxTime, resolvedFeature, face, known == KnownFace::LeftOut);
+  auto impact = circlePolylineImpact(circle, relativeMotion, b, maxTime, resolvedFeature, &known);
   if (impact) impact->point += positionB;
   return impact;
 }

@@ -168,27 +168,27 @@ void detail::dropMisreadFace(const WorldState& w, const BodySlot& a, uint32_t ow
   // later. Left out for the rest of the step, a point that moved up out of a V's corner, the other
   // face's line round-off behind it, was not met when gravity brought it back to that face, and fell
   // out under it. Moving along the face's line the reading is its acceleration's either way: met from
-  // behind again, the face is left out (nothing on the known side is met along such a path).
-  const int face = impact->feature;
+  // behind again, the face is left out (nothing on the known side is met along such a path). In a
+  // corner another face may then be met from behind in turn (the point is on both lines), and is read
+  // the same way: left to the time of impact, a point in an apex that bounced off one face and slid up
+  // the other met that other from outside 3e-8 s later and slept on its outer side.
   const Geometry& gb = w.fixtures[other].geometry;
   const BodySlot& b = w.bodyOf(other);
   const Motion relative{w.velocityAt(a, now) - w.velocityAt(b, now), a.acceleration - b.acceleration};
   const Geometry& ga = w.fixtures[own].geometry;
   const Vec2 at = w.positionAt(a, now), otherAt = w.positionAt(b, now);
-  auto misreadAgain = [&] {
-    return impact && impact->feature == face && impact->time < kMisreadWindow &&
-           meetsKnownFaceFromBehind(w, a, own, other, now, *impact);
-  };
   if (const auto* polyline = std::get_if<Polyline>(&gb)) {
-    impact = detail::timeOfImpactPolylineWith(ga, at, *polyline, otherAt, relative, maxTime, resolved, face,
-                                              detail::KnownFace::Resolved);
-    if (misreadAgain()) {
-      impact = detail::timeOfImpactPolylineWith(ga, at, *polyline, otherAt, relative, maxTime, resolved, face,
-                                                detail::KnownFace::LeftOut);
-    }
+    KnownFaces known;
+    do {
+      const int face = impact->feature;
+      const bool again = known.readingOf(face) == KnownFaces::Reading::Resolved;
+      if (!known.read(face, again ? KnownFaces::Reading::LeftOut : KnownFaces::Reading::Resolved)) break;
+      impact = detail::timeOfImpactPolylineWith(ga, at, *polyline, otherAt, relative, maxTime, resolved, known);
+    } while (impact && impact->time < kMisreadWindow && meetsKnownFaceFromBehind(w, a, own, other, now, *impact));
   } else if (std::holds_alternative<Segment>(gb)) {
-    impact = timeOfImpact(ga, at, gb, otherAt, relative, maxTime, face);
-    if (misreadAgain()) impact.reset();
+    impact = timeOfImpact(ga, at, gb, otherAt, relative, maxTime, impact->feature);
+    if (impact && impact->time < kMisreadWindow && meetsKnownFaceFromBehind(w, a, own, other, now, *impact))
+      impact.reset();
   }
 }
 
