@@ -63,6 +63,7 @@ struct Container {
   std::vector<double> wallRestitution;  // one a Segment, or the closed Polyline's
   std::vector<Throw> bodies;
   std::vector<Step> steps;
+  double gravityY = -9.81;  // the world's gravity is (0, gravityY)
 };
 
 /// The container's walls, on one static body: a Segment a side, or one closed Polyline.
@@ -79,6 +80,18 @@ inline void buildWalls(rattle::World& w, const Container& c) {
     w.createFixture(walls, {.geometry = rattle::Segment{c.corners[k], c.corners[(k + 1) % n]},
                             .restitution = c.wallRestitution[k]});
   }
+}
+
+/// A container's scene: its world (searchWorld), walls and bodies.
+struct Scene {
+  rattle::World world;
+  std::vector<rattle::BodyId> bodies;
+};
+inline Scene setUp(const Container& c) {
+  Scene scene{rattle::World(searchWorld(c.mode, c.gravityY)), {}};
+  buildWalls(scene.world, c);
+  scene.bodies = throwBodies(scene.world, c.bodies);
+  return scene;
 }
 
 /// Sets the velocity the step names, if any, and steps.

@@ -570,9 +570,7 @@ const Container kContainers[] = {
 TEST(PointsInNarrowCorners, NoPointLeavesAndNoStepReachesTheBudget) {
   // Each container on its own (an ASSERT ends only its lambda), so that every one that fails is named.
   auto play = [](const Container& c) {
-    World w(container_search::searchWorld(c.mode));
-    container_search::buildWalls(w, c);
-    const std::vector<BodyId> bodies = container_search::throwBodies(w, c.bodies);
+    auto [w, bodies] = container_search::setUp(c);
     for (size_t s = 0; s < c.steps.size(); ++s) {
       container_search::play(w, bodies, c.steps[s]);
       ASSERT_FALSE(w.stats().eventBudgetReached) << "step " << s;

@@ -188,9 +188,7 @@ TEST(PointsOnWalls, NoBodyLeavesAContainerWhereAPointLiesOnAWall) {
   for (size_t i = 0; i < std::size(kContainers); ++i) {
     const Container& c = kContainers[i];
     SCOPED_TRACE("container " + std::to_string(i));
-    World w(container_search::searchWorld(c.mode));
-    container_search::buildWalls(w, c);
-    const std::vector<BodyId> bodies = container_search::throwBodies(w, c.bodies);
+    auto [w, bodies] = container_search::setUp(c);
     for (size_t s = 0; s < c.steps.size(); ++s) {
       container_search::play(w, bodies, c.steps[s]);
       for (size_t j = 0; j < bodies.size(); ++j) {

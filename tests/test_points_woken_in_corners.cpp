@@ -147,9 +147,7 @@ TEST(PointsWokenInCorners, APointSentOffTheFaceItSleepsOnStaysInside) {
   for (size_t i = 0; i < std::size(kContainers); ++i) {
     const Container& c = kContainers[i];
     SCOPED_TRACE("container " + std::to_string(i));
-    World w(container_search::searchWorld(c.mode));
-    container_search::buildWalls(w, c);
-    const std::vector<BodyId> bodies = container_search::throwBodies(w, c.bodies);
+    auto [w, bodies] = container_search::setUp(c);
     bool rested = false;
     for (size_t s = 0; s < c.steps.size(); ++s) {
       // The scene is the one the comment above describes: the point is at rest when the game sends it off.

@@ -1,0 +1,317 @@
+// Bodies in the corners of closed containers, from the random search of PointsInNarrowCorners (one
+// closed Polyline or one Segment a side, 4 to 15 points and disks thrown at up to 15 units/s, 40 steps of
+// 1/60 to 1 s, gravity in four containers of five), seeds 4 and 5. Each container here lets a body out
+// before the commit named beside its fault (at that commit's parent), in this order:
+//
+// - Two disks, predictive: a disk sliding down one face of a 23-degree apex (and of a 20-degree one made
+//   of Segments) bounced at once off the other face into the first. squeezeAt, which stops a body
+//   caught between static faces at one instant, projected its velocity on the second face and left its
+//   slide on the first, whose contact the slide leaves out: it went on into that face and through it.
+//   Now any other face ends a slide there, as in resolve() (475184f).
+// - Points at rest, hybrid and predictive (three containers; the traced one): a run of bounces in a
+//   corner without gravity left a point 5.5e-14 units/s out through the corner, below the rest
+//   tolerance of its contact (the round-off of its coordinates over a step). The contact was dismissed
+//   step after step while the point drifted on, 5e-13 out after twenty steps, beyond the faces'
+//   round-off and its container's box. Now such a point stops (stopPointAtRest, 855d5cd).
+// - A point in a 61-degree apex, predictive: it bounced off one face and was read as arriving at it from
+//   outside, a misreading dropped; the other face, asked again, was read from outside in turn, and the
+//   point slept on its outer side until the game sent it out through it. Now every face met from behind
+//   at once is asked again (dropMisreadFace, 3c6345f).
+//
+// The search's 300 containers of each kind, hybrid / predictive, escapes for seeds 4 and 5: Polyline 3/5
+// and 3/3 at f164377, 1/2 and 2/2 after bd0f4d5 (PointsInNarrowCorners), 1/1 and 0/0 now; Segments 1/1
+// and 0/1, 1/1 and 0/1, 1/1 and 0/0. Seed 4's last one, in both kinds, is a needle of 0.66 degrees.
+#include <gtest/gtest.h>
+
+#include <rattle/rattle.h>
+
+#include <string>
+#include <vector>
+
+#include "container_search_support.h"
+
+using namespace rattle;
+using container_search::Container;
+using container_search::Walls;
+
+namespace {
+
+const Container kContainers[] = {
+    // search seed 4, trial 6
+    {StepMode::Predictive,
+     Walls::Polyline,
+     {{-0x1.fa069b1d2a23cp+4, 0x1.bd6b7beab6077p+4}, {-0x1.d3e707c661dbcp+4, 0x1.7921176beb713p+4}, {-0x1.36523a6c18c8cp+4, 0x1.bd44984929792p+4}},
+     {0x1.38a9d1b1957fdp-6},
+     {{{-0x1.83cf935cfed25p+4, 0x1.ae9a7ee3e9a2dp+4}, {0x1.5cf25e4ec877ap+3, -0x1.7a3c054a7fc7cp-1}, 0x0p+0, 0x1.a4e3cd46c163cp-1},
+      {{-0x1.68dd5c41c8044p+4, 0x1.ae8f2059b0235p+4}, {-0x1.5726b55d0105ap+2, -0x1.042788db511a2p+0}, 0x1.f638917c11d29p-5, 0x1.19799812dea11p-40},
+      {{-0x1.98061bda7684ep+4, 0x1.a1d10473f1ad2p+4}, {0x1.22ac43f48cbc3p+3, -0x1.43a3bd58ea9e5p+0}, 0x1.62203ebe19d69p-5, 0x1.041eb8ab56938p-2},
+      {{-0x1.8514fc67b5ccap+4, 0x1.aa6e9b71bd6dap+4}, {-0x1.b2ae5c28b95f3p+2, 0x1.8f393b30beef7p+2}, 0x0p+0, 0x1.19799812dea11p-40},
+      {{-0x1.a077c270f6acdp+4, 0x1.a7e8450613369p+4}, {-0x1.5741db8e641c8p+2, -0x1.ae915ec599d1fp+2}, 0x0p+0, 0x1.dec1a63d0f171p-2},
+      {{-0x1.ed54a602c9b45p+4, 0x1.abec3b610dc0ap+4}, {-0x1.51abd5b3f735cp+3, 0x1.cdcae649ff494p+2}, 0x0p+0, 0x1.bb4c822cb2113p-7},
+      {{-0x1.bec4aa6019ea2p+4, 0x1.9e37452e1ac4ap+4}, {-0x1.880e9b340dc6ap-3, 0x1.b12cead22f52ap-2}, 0x1.998b317ce586p-4, 0x1.e9bf99b91a924p-1},
+      {{-0x1.bc15eb76138f6p+4, 0x1.b87d43fd969b8p+4}, {-0x1.8d7fdcc5018cfp+0, 0x1.5a724a96569a1p+0}, 0x0p+0, 0x1.6b3a1c41a99f9p-1}},
+     {{0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, 3, {-0x1.cf5e2f679dbd3p+0, 0x1.6727548c76aedp+1}},
+      {0x1.999999999999ap-4, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}}}},
+    // search seed 5, trial 149
+    {StepMode::Predictive,
+     Walls::Segments,
+     {{-0x1.9dd4bb9c919d8p+2, -0x1.8fa4628f54fe4p+4}, {-0x1.6492d17b42805p+3, -0x1.9c439b5d46d4ep+4}, {-0x1.ba40c696b3929p+2, -0x1.a856033d8a72dp+4}},
+     {0x1.62b54a2d72d7p-4, 0x1.e646d0597c204p-6, 0x1.3c40c8dfe01c8p-1},
+     {{{-0x1.0fe777e1f0f1dp+3, -0x1.9c3b29c33fc6cp+4}, {-0x1.3b5bfce8e3982p+1, -0x1.f1784680c8da2p+2}, 0x0p+0, 0x1.6c486cbb18d18p-3},
+      {{-0x1.f3d6ec9c9f5dcp+2, -0x1.9aa5703ba0dc5p+4}, {0x1.4be2e0ab24208p+3, 0x1.839f8a5c1c77dp+2}, 0x1.c6178bb16a96p-7, 0x1.5e648c766e6a6p-2},
+      {{-0x1.0b98ed6e65dd9p+3, -0x1.9a87a48a968c6p+4}, {0x1.3444fee3674ecp-1, -0x1.6d30828a45f28p+1}, 0x0p+0, 0x1.4964156bab42cp-2},
+      {{-0x1.088dc92cb67fp+3, -0x1.9bb3eaca21392p+4}, {0x1.b46c5155746bfp-1, 0x1.13055d72253bfp-2}, 0x0p+0, 0x1.19799812dea11p-40},
+      {{-0x1.1b08261dc0ba3p+3, -0x1.a1d564aca3a6cp+4}, {-0x1.364e1b811a1eep-2, 0x1.36c04bacc4bd2p+3}, 0x0p+0, 0x1.e6a8edfc5cefap-4},
+      {{-0x1.b12a26ed8728fp+2, -0x1.9b05fb1c5e46bp+4}, {-0x1.2bbada767f26cp+1, 0x1.53cc655aeac6ap+3}, 0x1.6f80346aa23adp-4, 0x1.4632dc907c379p-1},
+      {{-0x1.107c6f1e20d94p+3, -0x1.988119f914e7p+4}, {-0x1.79c370edc9b09p+3, 0x1.32844e47a3c5fp+0}, 0x0p+0, 0x1.d6462aeffed58p-2},
+      {{-0x1.1974bfee99d32p+3, -0x1.968da3cf76795p+4}, {0x1.1b7d950dd9053p+1, 0x1.7ada1ea0dc6fbp-4}, 0x0p+0, 0x1.e615736f10647p-5}},
+     {{0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.999999999999ap-4, -1, {0x0p+0, 0x0p+0}},
+      {0x1.999999999999ap-4, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}}}},
+    // search seed 5, trial 78
+    {StepMode::Hybrid,
+     Walls::Polyline,
+     {{0x1.07fdd275f1369p+5, 0x1.76e98ce79056fp+2}, {0x1.07372014323bfp+5, 0x1.806697361369ap+2}, {0x1.df198ee592681p+4, 0x1.0ef30e287b487p+3}, {0x1.dafc6c225282p+4, 0x1.1252a5ccd56ap+3}, {0x1.7a54e6a759326p+4, -0x1.d6134c8e688dep+1}, {0x1.d5578f8430669p+4, -0x1.15be8643272bcp+2}},
+     {0x1.1aa5aa0528993p-6},
+     {{{0x1.e2d5e9ce731d4p+4, 0x1.acbb9aac9b254p+1}, {-0x1.56fb907692ca8p+2, 0x1.b3fbf6f8f5334p+3}, 0x0p+0, 0x1.b6203dbb6ffd6p-5},
+      {{0x1.e480ded8a124ep+4, 0x1.dab0a01f41c86p+1}, {-0x1.9b85b07ff2052p-2, 0x1.5824d7c87a6e2p-1}, 0x0p+0, 0x1.03e7b05630a4fp-6},
+      {{0x1.e5fdf0ad4d76fp+4, 0x1.3575ab6b02a4ep+2}, {-0x1.54cd4d2511f47p+3, -0x1.1a6dc2c27ed1bp+3}, 0x1.e47c5f5104dedp-5, 0x1.103e65e681106p-1},
+      {{0x1.ee684591c0482p+4, 0x1.f45c9eaeb5171p+1}, {-0x1.6f83f8b71d649p-1, 0x1.817712c37126ap-1}, 0x0p+0, 0x1.19799812dea11p-40},
+      {{0x1.d5006e8cd2ed3p+4, 0x1.12e8028c79f6p+2}, {0x1.c535862e44b5fp+0, -0x1.6bb8d9d0f8483p+3}, 0x1.4629891e879afp-4, 0x1.19799812dea11p-40},
+      {{0x1.da9f574cf346dp+4, 0x1.372b5ebb3fb2ap+2}, {0x1.9a64a937a75e4p+1, 0x1.d8f9d45f800abp+2}, 0x0p+0, 0x1.19799812dea11p-40},
+      {{0x1.d2f4b5a5fa219p+4, 0x1.2ee6f7a045b5ap+1}, {0x1.7f609491d2426p+2, -0x1.84224c850f874p+2}, 0x1.643d46c75916bp-7, 0x1.5c27677f68249p-6},
+      {{0x1.d41b26d3aef69p+4, 0x1.d04e5fef28033p+0}, {0x1.fdf1092a3a8c4p+1, -0x1.3bec8db5bc3dfp+2}, 0x0p+0, 0x1.b6abef47bbe7ep-3}},
+     {{0x1.1111111111111p-5, 7, {0x1.953405310bfa4p+3, 0x1.c1d40189a3892p+2}},
+      {0x1p+0, 1, {0x1.105684bf3cb51p+3, -0x1.05822f2ee6772p+0}},
+      {0x1.999999999999ap-4, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.999999999999ap-4, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.999999999999ap-4, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, 5, {0x1.12ac0ec7fbb2cp+3, -0x1.6f2937ef99e7ap+2}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1.999999999999ap-4, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, 3, {0x1.3586cf6762adfp-5, 0x1.0f2e6d7dce208p-2}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, 4, {-0x1.5fb69a5aa02ebp+2, 0x1.6d639a2dbe7bap+3}},
+      {0x1.1111111111111p-6, 2, {0x1.5bed23420730fp+0, 0x1.abfbcdaa62ce2p+1}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, 1, {-0x1.289c3e58e80a8p+2, 0x1.0e40a77965d21p+1}},
+      {0x1.999999999999ap-4, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, 5, {-0x1.bbadcfa520fc1p+3, -0x1.cd878041d7754p-2}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, 0, {-0x1.f05108f14b4b2p+2, -0x1.29a243c23d0cdp+3}}}},
+    // search seed 5, trial 248
+    {StepMode::Hybrid,
+     Walls::Polyline,
+     {{-0x1.426dcf6167df2p+4, -0x1.cdcba8d997a6cp+4}, {-0x1.1590e51341e16p+5, -0x1.7dd83c76c75c4p+4}, {-0x1.05c70e5a24b77p+5, -0x1.1f2a7e3bdfaf7p+5}, {-0x1.fcb5175ffe9bap+4, -0x1.233e8cd394c56p+5}, {-0x1.4e1c6011f0cf2p+4, -0x1.03066228e2b6ap+5}},
+     {0x1.9a662a3923d82p-5},
+     {{{-0x1.6f7f441bebfe6p+4, -0x1.df7a839aa0ad8p+4}, {0x1.62ef40a281e1ep+0, 0x1.414fc5d62ae23p+3}, 0x0p+0, 0x1.e3301531ba3b1p-2},
+      {{-0x1.cc59bf7ade4d6p+4, -0x1.f8ae6c9e7a763p+4}, {-0x1.b5a3b6dbdf6d8p+3, -0x1.176a2868a5349p+0}, 0x1.0a9a5004dd88dp-4, 0x1.622e080e2c0dfp-1},
+      {{-0x1.c5dc6334e594fp+4, -0x1.ed0ea55e8c0e5p+4}, {-0x1.a6a9370423363p+2, -0x1.02003fa4b440cp+3}, 0x0p+0, 0x1.59efa43984b2p-2},
+      {{-0x1.c7a3ea7215a5ep+4, -0x1.0480ffe32f2afp+5}, {0x1.8f47a2b784578p+1, -0x1.6413c117f480fp+0}, 0x1.5fc9986188489p-5, 0x1.d3a44a21f7554p-2},
+      {{-0x1.9bed140a14e03p+4, -0x1.03bda2a54806p+5}, {0x1.9959d7dc73009p+2, -0x1.546bbae9b2cbfp+3}, 0x0p+0, 0x1.19799812dea11p-40},
+      {{-0x1.e6a198747a8b7p+4, -0x1.c1dd60b8e678fp+4}, {-0x1.1ada1c01052c1p-2, 0x1.381c5414646c2p+3}, 0x0p+0, 0x1.5b878d78bdcbdp-1},
+      {{-0x1.9c572d3c67713p+4, -0x1.f27ddc40c3f18p+4}, {-0x1.47a2d154d7de7p+2, -0x1.95d127e9df602p+3}, 0x0p+0, 0x1.54f01a3d7422bp-4},
+      {{-0x1.e439769b08579p+4, -0x1.00061454eefbfp+5}, {-0x1.ef0ea30ec2d9fp+1, -0x1.e6f17f9988da3p+0}, 0x1.6ef65d5722e8p-6, 0x1.58658474bec4bp-2},
+      {{-0x1.baeec65fc3b56p+4, -0x1.df59367df6f1dp+4}, {0x1.5057109306d7dp-1, -0x1.5bff010959a51p-2}, 0x0p+0, 0x1.7c41b3f2be99ep-2},
+      {{-0x1.9d84bc7fca908p+4, -0x1.06610670dcafdp+5}, {-0x1.cbe5df99101bap-1, 0x1.67858c866e1aep+0}, 0x0p+0, 0x1.529f313e7bacp-2},
+      {{-0x1.ef9479f015e98p+4, -0x1.f960db6cc0408p+4}, {-0x1.8fe42367e0dc5p-2, 0x1.508d2d9fa8558p-2}, 0x0p+0, 0x1.a33d4bc9a4959p-2},
+      {{-0x1.d0abc93220beep+4, -0x1.ff68b55c16229p+4}, {-0x1.ce4edec0c778ap-1, 0x1.6c50a9e8f1058p+1}, 0x0p+0, 0x1.19799812dea11p-40},
+      {{-0x1.bcf917d9c0c36p+4, -0x1.fb9a41dd6858cp+4}, {0x1.8ea69638fb543p+3, -0x1.212601f946ed9p+2}, 0x0p+0, 0x1.19799812dea11p-40},
+      {{-0x1.9f82b5df40a2ep+4, -0x1.0986593334efcp+5}, {0x1.79067f8970fb3p+0, 0x1.afbd64aa82a43p+1}, 0x0p+0, 0x1.55959d07b0c91p-1},
+      {{-0x1.ee4d95d5faa39p+4, -0x1.d85d31fa7c3aep+4}, {0x1.3dad6a5e47d4fp+3, -0x1.6974c0abfb2e6p+0}, 0x0p+0, 0x1.f87e431291736p-1}},
+     {{0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, 6, {-0x1.2d2ab5a982dbdp+1, 0x1.b9189ebb0d02dp+3}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.999999999999ap-4, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1.999999999999ap-4, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, 12, {-0x1.2fd54bf407b7ep+3, 0x1.71e1a2b2ab893p+3}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, 0, {0x1.2581efa4b81d5p+1, -0x1.f3adadf6e3a8ep+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, 3, {-0x1.a19b39d7857ddp+2, 0x1.54beb99acd4f8p+3}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1.999999999999ap-4, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1.999999999999ap-4, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.999999999999ap-4, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, 12, {-0x1.2a0b873b29688p-2, 0x1.81500d14471dap-4}}},
+     0x0p+0},
+    // search seed 5, trial 248
+    {StepMode::Predictive,
+     Walls::Polyline,
+     {{-0x1.426dcf6167df2p+4, -0x1.cdcba8d997a6cp+4}, {-0x1.1590e51341e16p+5, -0x1.7dd83c76c75c4p+4}, {-0x1.05c70e5a24b77p+5, -0x1.1f2a7e3bdfaf7p+5}, {-0x1.fcb5175ffe9bap+4, -0x1.233e8cd394c56p+5}, {-0x1.4e1c6011f0cf2p+4, -0x1.03066228e2b6ap+5}},
+     {0x1.9a662a3923d82p-5},
+     {{{-0x1.6f7f441bebfe6p+4, -0x1.df7a839aa0ad8p+4}, {0x1.62ef40a281e1ep+0, 0x1.414fc5d62ae23p+3}, 0x0p+0, 0x1.e3301531ba3b1p-2},
+      {{-0x1.cc59bf7ade4d6p+4, -0x1.f8ae6c9e7a763p+4}, {-0x1.b5a3b6dbdf6d8p+3, -0x1.176a2868a5349p+0}, 0x1.0a9a5004dd88dp-4, 0x1.622e080e2c0dfp-1},
+      {{-0x1.c5dc6334e594fp+4, -0x1.ed0ea55e8c0e5p+4}, {-0x1.a6a9370423363p+2, -0x1.02003fa4b440cp+3}, 0x0p+0, 0x1.59efa43984b2p-2},
+      {{-0x1.c7a3ea7215a5ep+4, -0x1.0480ffe32f2afp+5}, {0x1.8f47a2b784578p+1, -0x1.6413c117f480fp+0}, 0x1.5fc9986188489p-5, 0x1.d3a44a21f7554p-2},
+      {{-0x1.9bed140a14e03p+4, -0x1.03bda2a54806p+5}, {0x1.9959d7dc73009p+2, -0x1.546bbae9b2cbfp+3}, 0x0p+0, 0x1.19799812dea11p-40},
+      {{-0x1.e6a198747a8b7p+4, -0x1.c1dd60b8e678fp+4}, {-0x1.1ada1c01052c1p-2, 0x1.381c5414646c2p+3}, 0x0p+0, 0x1.5b878d78bdcbdp-1},
+      {{-0x1.9c572d3c67713p+4, -0x1.f27ddc40c3f18p+4}, {-0x1.47a2d154d7de7p+2, -0x1.95d127e9df602p+3}, 0x0p+0, 0x1.54f01a3d7422bp-4},
+      {{-0x1.e439769b08579p+4, -0x1.00061454eefbfp+5}, {-0x1.ef0ea30ec2d9fp+1, -0x1.e6f17f9988da3p+0}, 0x1.6ef65d5722e8p-6, 0x1.58658474bec4bp-2},
+      {{-0x1.baeec65fc3b56p+4, -0x1.df59367df6f1dp+4}, {0x1.5057109306d7dp-1, -0x1.5bff010959a51p-2}, 0x0p+0, 0x1.7c41b3f2be99ep-2},
+      {{-0x1.9d84bc7fca908p+4, -0x1.06610670dcafdp+5}, {-0x1.cbe5df99101bap-1, 0x1.67858c866e1aep+0}, 0x0p+0, 0x1.529f313e7bacp-2},
+      {{-0x1.ef9479f015e98p+4, -0x1.f960db6cc0408p+4}, {-0x1.8fe42367e0dc5p-2, 0x1.508d2d9fa8558p-2}, 0x0p+0, 0x1.a33d4bc9a4959p-2},
+      {{-0x1.d0abc93220beep+4, -0x1.ff68b55c16229p+4}, {-0x1.ce4edec0c778ap-1, 0x1.6c50a9e8f1058p+1}, 0x0p+0, 0x1.19799812dea11p-40},
+      {{-0x1.bcf917d9c0c36p+4, -0x1.fb9a41dd6858cp+4}, {0x1.8ea69638fb543p+3, -0x1.212601f946ed9p+2}, 0x0p+0, 0x1.19799812dea11p-40},
+      {{-0x1.9f82b5df40a2ep+4, -0x1.0986593334efcp+5}, {0x1.79067f8970fb3p+0, 0x1.afbd64aa82a43p+1}, 0x0p+0, 0x1.55959d07b0c91p-1},
+      {{-0x1.ee4d95d5faa39p+4, -0x1.d85d31fa7c3aep+4}, {0x1.3dad6a5e47d4fp+3, -0x1.6974c0abfb2e6p+0}, 0x0p+0, 0x1.f87e431291736p-1}},
+     {{0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, 6, {-0x1.2d2ab5a982dbdp+1, 0x1.b9189ebb0d02dp+3}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.999999999999ap-4, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1.999999999999ap-4, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, 12, {-0x1.2fd54bf407b7ep+3, 0x1.71e1a2b2ab893p+3}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, 0, {0x1.2581efa4b81d5p+1, -0x1.f3adadf6e3a8ep+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, 3, {-0x1.a19b39d7857ddp+2, 0x1.54beb99acd4f8p+3}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1.999999999999ap-4, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1.999999999999ap-4, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.999999999999ap-4, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, 12, {-0x1.2a0b873b29688p-2, 0x1.81500d14471dap-4}}},
+     0x0p+0},
+    // search seed 5, trial 184
+    {StepMode::Predictive,
+     Walls::Polyline,
+     {{-0x1.aa6520b22c776p+1, 0x1.8eb02183633ap+4}, {-0x1.f76270e70b559p+2, 0x1.bebca60a28d34p+3}, {-0x1.f023d35f0e065p+2, 0x1.bf2d05350c649p+3}, {-0x1.5cf0095e48578p+1, 0x1.15c3427a41ddfp+4}},
+     {0x1.22e78f9dd8cfp-1},
+     {{{-0x1.12262c0a79904p+2, 0x1.219c392775d44p+4}, {-0x1.7719905dd8bf3p+2, -0x1.1f5e71bc171e9p+3}, 0x0p+0, 0x1.304c05971cf36p-2},
+      {{-0x1.038840fac86fep+2, 0x1.3cbacc42a745dp+4}, {-0x1.390160d084079p+1, -0x1.a38bb37fa9436p+3}, 0x0p+0, 0x1.6f5627dd9f71cp-2},
+      {{-0x1.e2cd31f21ffa9p+1, 0x1.6c82142e0fb11p+4}, {-0x1.8086c83ed3677p+3, -0x1.ae4daabd635dep-1}, 0x1.43a5b8b1601cdp-4, 0x1.451c17b604f83p-8},
+      {{-0x1.39bd28d1c80a1p+2, 0x1.1c3b1e1cc1567p+4}, {-0x1.6780fb0189decp+1, -0x1.47a17f455202dp+3}, 0x0p+0, 0x1.cfd293b9a79e8p-2},
+      {{-0x1.600a87f3afbbp+2, 0x1.29e82245f6664p+4}, {-0x1.fef881899b7eep+0, -0x1.cfcb373fad39ap+2}, 0x0p+0, 0x1.103fb5d41b0e2p-3},
+      {{-0x1.7a2dbab02caf7p+2, 0x1.05aeadada0d44p+4}, {0x1.36b47086a69d3p+3, 0x1.53374094579e3p+3}, 0x0p+0, 0x1.5a216a766d12bp-1}},
+     {{0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.999999999999ap-4, 0, {-0x1.bf5f6793721b4p-1, -0x1.a9180ec275e7p-5}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, 1, {-0x1.4ba8a8460701fp-1, 0x1.96ae18d6203p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.999999999999ap-4, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, 0, {0x1.0f2ccfdcea5f7p+3, 0x1.2d8a0f185eed1p-1}}}},
+};
+
+}  // namespace
+
+TEST(BodiesInCorners, NoBodyLeavesAndNoStepReachesTheBudget) {
+  // Each container on its own (an ASSERT ends only its lambda), so that every one that fails is named.
+  auto play = [](const Container& c) {
+    auto [w, bodies] = container_search::setUp(c);
+    for (size_t s = 0; s < c.steps.size(); ++s) {
+      container_search::play(w, bodies, c.steps[s]);
+      ASSERT_FALSE(w.stats().eventBudgetReached) << "step " << s;
+      for (size_t j = 0; j < bodies.size(); ++j) {
+        ASSERT_LE(container_search::distanceOutside(c.corners, w.position(bodies[j])), 1e-9)
+            << "body " << j << " (radius " << c.bodies[j].radius << "), step " << s;
+      }
+    }
+  };
+  for (size_t i = 0; i < std::size(kContainers); ++i) {
+    SCOPED_TRACE("container " + std::to_string(i));
+    play(kContainers[i]);
+  }
+}
