@@ -289,6 +289,19 @@ bool lastPartnerHolds(const detail::WorldState& w, const BodySlot& s) {
   return partner.type != BodyType::Dynamic || partner.asleep;
 }
 
+// Whether a point sliding on a static face meets, at contact `holderFixture` (whose normal toward the
+// point is `toward`), something at rest on that face's side: a sleeping or static body whose normal
+// opposes the face's, so that the point is caught in the cusp between the two (at the foot of a disk
+// asleep on the floor). Each contact's own impulse then drives it into the other.
+bool inCusp(const detail::WorldState& w, const BodySlot& point, uint32_t pointFixture, uint32_t holderFixture,
+            Vec2 toward) {
+  if (!point.sliding || !detail::isPoint(w.fixtures[pointFixture].geometry)) return false;
+  if (point.support.fixture == holderFixture) return false;
+  const BodySlot& holder = w.bodyOf(holderFixture);
+  if (holder.type != BodyType::Static && !holder.asleep) return false;
+  return dot(toward, point.support.normal) < 0;
+}
+
 }  // namespace
 
 void detail::resolve(WorldState& w, const PredictedContact& c, std::vector<uint32_t>& woken, bool zenoGuard,
@@ -381,6 +394,23 @@ void detail::resolve(WorldState& w, const PredictedContact& c, std::vector<uint3
       startSliding(w, rester, holderFixture, c.feature, n);
       slider = &r;
       j = -vn / inverseSum;
+    } else if ((aRests || bRests) && inCusp(w, r, aRests ? c.a : c.b, holderFixture, aRests ? n : -n)) {
+      // Bounced off at restingSpeed, a point that slid along a floor into the foot of a disk asleep on
+      // it went into the floor, slid back into the disk at once, and so on at one instant until the
+      // step's budget of a million events ran out. It keeps what meets both contacts, nothing here:
+      // pressed into the cusp, it rests in it, and wakes with what holds it.
+      const Vec2 toward = aRests ? n : -n;  // from the holder toward the point
+      const Vec2 before = r.velocity;
+      r.velocity = detail::nearestVelocityMeeting(r.velocity, r.support.normal, toward, 0.0);
+      j = dot(r.velocity - before, toward) / (aRests ? inverseA : inverseB);
+      if (length(r.velocity) < restingSpeed) {
+        w.supporters.clear();
+        const uint32_t holder = w.fixtures[holderFixture].body;
+        if (w.bodies[holder].type == BodyType::Dynamic) w.supporters.push_back(holder);
+        putToSleep(w, rester, w.supporters);
+      } else {
+        slider = &r;  // it slides on along its face, away from the cusp
+      }
     } else {
       // Bounce off at restingSpeed at least: bounded bounce rate instead of a Zeno sequence.
       const double extra = (restingSpeed - separation) / hold.impulse.inverseSum();
