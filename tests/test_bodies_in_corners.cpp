@@ -1,7 +1,8 @@
 // Bodies in the corners of closed containers, from the random search of PointsInNarrowCorners (one
 // closed Polyline or one Segment a side, 4 to 15 points and disks thrown at up to 15 units/s, 40 steps of
-// 1/60 to 1 s, gravity in four containers of five), seeds 4 and 5. Each container here lets a body out
-// before the commit named beside its fault (at that commit's parent), in this order:
+// 1/60 to 1 s, gravity in four containers of five), seeds 3 to 5. Each container here lets a body out, or
+// stalls a step at the budget, before the commit named beside its fault (at that commit's parent), in
+// this order:
 //
 // - Two disks, predictive: a disk sliding down one face of a 23-degree apex (and of a 20-degree one made
 //   of Segments) bounced at once off the other face into the first. squeezeAt, which stops a body
@@ -17,6 +18,10 @@
 //   outside, a misreading dropped; the other face, asked again, was read from outside in turn, and the
 //   point slept on its outer side until the game sent it out through it. Now every face met from behind
 //   at once is asked again (dropMisreadFace, 3c6345f).
+// - A point in a cusp, hybrid (seed 3): sliding down a sloped floor into the foot of a disk asleep on
+//   it, it was bounced off the disk at the resting speed into the floor, slid back into the disk at once,
+//   and so on at one instant until the step's budget ran out (a million events by default). Now it
+//   keeps the velocity nearest its own that meets both contacts, and rests there (inCusp, c0606fe).
 //
 // The search's 300 containers of each kind, hybrid / predictive, escapes for seeds 4 and 5: Polyline 3/5
 // and 3/3 at f164377, 1/2 and 2/2 after bd0f4d5 (PointsInNarrowCorners), 1/1 and 0/0 now; Segments 1/1
@@ -293,6 +298,29 @@ const Container kContainers[] = {
       {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
       {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
       {0x1.1111111111111p-6, 0, {0x1.0f2ccfdcea5f7p+3, 0x1.2d8a0f185eed1p-1}}}},
+    // search seed 3, trial 3
+    {StepMode::Hybrid,
+     Walls::Polyline,
+     {{0x1.4bd2efacf6225p+4, -0x1.04063e882a95dp+4}, {0x1.4453afd6ac9b7p+4, -0x1.0488513c81cf1p+4}, {0x1.1078619843f97p+4, -0x1.26fea21669d3ep+4}, {0x1.08de0ed10136dp+4, -0x1.3ad5ce299f64bp+4}, {0x1.2da099f54c9e5p+4, -0x1.87907a35cc126p+4}, {0x1.8fa582fd52c5p+4, -0x1.5c3896136cf7dp+4}, {0x1.9230345dcfebcp+4, -0x1.4bb0f4454bec2p+4}},
+     {0x1.1cd65b9cda29bp-2},
+     {{{0x1.4b9190459dfb2p+4, -0x1.3e0e1df1e0556p+4}, {-0x1.0b92d19fdada4p+1, -0x1.685d432cac835p+0}, 0x1.8991fb63c06b4p-7, 0x1.902ef8bbc98fdp-2},
+      {{0x1.451f747292cffp+4, -0x1.35d5a0931f85cp+4}, {0x1.72994becbac99p+2, -0x1.caa42907e6b1cp+2}, 0x1.4d75a284b13fep-6, 0x1.8d1c89a80f377p-3},
+      {{0x1.4d6fbbd332bc7p+4, -0x1.3aada4981c017p+4}, {-0x1.7af9119c577dfp+3, -0x1.63e697b03e9b9p+2}, 0x0p+0, 0x1.c4bfb1a2e9858p-2},
+      {{0x1.4224573311a2cp+4, -0x1.383b90d2af169p+4}, {-0x1.80381bcf7495dp+0, 0x1.326c20d936228p+3}, 0x0p+0, 0x1.e077e2c2ecf2ap-3},
+      {{0x1.380a316efc9dcp+4, -0x1.2dda2041cb29cp+4}, {0x1.9364fe242e095p+3, 0x1.a79f87dbb99f6p+2}, 0x1.7d09370d7db22p-4, 0x1.96c5bb2de4613p-2},
+      {{0x1.2ca0b21366924p+4, -0x1.4754173622715p+4}, {-0x1.24d757a9d2089p+0, -0x1.22c5b15d2b26p+0}, 0x0p+0, 0x1.9f1d0fccff616p-5},
+      {{0x1.55b1a75191e0cp+4, -0x1.3e552b8d0c2e9p+4}, {0x1.f0ad06977c91ep-1, -0x1.68bf1a9b9c76cp+3}, 0x0p+0, 0x1.ff0b2e0b26e49p-1},
+      {{0x1.35779c2fd1c01p+4, -0x1.4a32d41906defp+4}, {0x1.5b7bd987d25d6p+2, 0x1.6721e5de2161dp+2}, 0x0p+0, 0x1.26241f7e26e87p-1},
+      {{0x1.469564bf879b4p+4, -0x1.324b77c34dd7fp+4}, {0x1.3ce9ba0b09c1ep-2, 0x1.52b1b9db47bc8p+3}, 0x0p+0, 0x1.7fd72e509e7a1p-4},
+      {{0x1.3a12e60832839p+4, -0x1.3fbcf8632b606p+4}, {0x1.9473c50698416p+3, 0x1.59426ba0e85e9p-2}, 0x0p+0, 0x1.c4b49f5e7863bp-1},
+      {{0x1.442afc5be791dp+4, -0x1.337d27be08519p+4}, {-0x1.0f31c320a718cp+2, 0x1.8bc1dff3fd5c1p+3}, 0x1.b7e0770ad2e16p-6, 0x1.3bd8b43a26b42p-1},
+      {{0x1.450d2578fe1c6p+4, -0x1.33c526bc6340ep+4}, {0x1.e0947ea4095fbp+0, -0x1.15bd21175a34fp+3}, 0x1.5f72e78f6f5dp-4, 0x1.19799812dea11p-40},
+      {{0x1.5cf80eee0fb4ap+4, -0x1.2fb439e5e39e5p+4}, {-0x1.aec79b7b58783p+1, 0x1.6d29b687b311cp+3}, 0x0p+0, 0x1.81dc16e051096p-3}},
+     {{0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, 1, {0x1.d6a921c94c5a4p-1, -0x1.c8bb62ce69eedp+3}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}}}},
 };
 
 }  // namespace
