@@ -1,11 +1,14 @@
 // Shared pieces of the tests whose scenes a random search of closed containers found (points and disks
-// thrown about in them under gravity): a thrown body, a recorded step, and how far a centre lies outside a
-// convex container. Header-only.
+// thrown about in them under gravity): a thrown body, a recorded step, how far a centre lies outside a
+// convex container, and a container played with its checks. Header-only.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
+
+#include <gtest/gtest.h>
 
 #include "rattle/rattle.h"
 
@@ -98,6 +101,27 @@ inline Scene setUp(const Container& c) {
 inline void play(rattle::World& w, const std::vector<rattle::BodyId>& bodies, const Step& step) {
   if (step.setVelocityOf >= 0) w.setVelocity(bodies[static_cast<size_t>(step.setVelocityOf)], step.velocity);
   w.step(step.dt);
+}
+
+/// Plays every container's steps, each container on its own (an ASSERT ends only its call, so that every
+/// one that fails is named): after each step, none may have reached the event budget, and no body's
+/// centre may lie more than 1e-9 outside the container.
+inline void playEachChecked(const Container* containers, size_t count) {
+  auto playChecked = [](const Container& c) {
+    auto [w, bodies] = setUp(c);
+    for (size_t s = 0; s < c.steps.size(); ++s) {
+      play(w, bodies, c.steps[s]);
+      ASSERT_FALSE(w.stats().eventBudgetReached) << "step " << s;
+      for (size_t j = 0; j < bodies.size(); ++j) {
+        ASSERT_LE(distanceOutside(c.corners, w.position(bodies[j])), 1e-9)
+            << "body " << j << " (radius " << c.bodies[j].radius << "), step " << s;
+      }
+    }
+  };
+  for (size_t i = 0; i < count; ++i) {
+    SCOPED_TRACE("container " + std::to_string(i));
+    playChecked(containers[i]);
+  }
 }
 
 }  // namespace container_search

@@ -30,7 +30,6 @@
 
 #include <rattle/rattle.h>
 
-#include <string>
 #include <vector>
 
 #include "container_search_support.h"
@@ -326,20 +325,5 @@ const Container kContainers[] = {
 }  // namespace
 
 TEST(BodiesInCorners, NoBodyLeavesAndNoStepReachesTheBudget) {
-  // Each container on its own (an ASSERT ends only its lambda), so that every one that fails is named.
-  auto play = [](const Container& c) {
-    auto [w, bodies] = container_search::setUp(c);
-    for (size_t s = 0; s < c.steps.size(); ++s) {
-      container_search::play(w, bodies, c.steps[s]);
-      ASSERT_FALSE(w.stats().eventBudgetReached) << "step " << s;
-      for (size_t j = 0; j < bodies.size(); ++j) {
-        ASSERT_LE(container_search::distanceOutside(c.corners, w.position(bodies[j])), 1e-9)
-            << "body " << j << " (radius " << c.bodies[j].radius << "), step " << s;
-      }
-    }
-  };
-  for (size_t i = 0; i < std::size(kContainers); ++i) {
-    SCOPED_TRACE("container " + std::to_string(i));
-    play(kContainers[i]);
-  }
+  container_search::playEachChecked(kContainers, std::size(kContainers));
 }
