@@ -22,6 +22,11 @@
 //   it, it was bounced off the disk at the resting speed into the floor, slid back into the disk at once,
 //   and so on at one instant until the step's budget ran out (a million events by default). Now it
 //   keeps the velocity nearest its own that meets both contacts, and rests there (inCusp, c0606fe).
+// - A point in a cusp under an overhang, hybrid (seed 3): gravity pressed it into a disk, stepped and at
+//   rest against the overhanging wall, where the disk touches the wall. The island's bounce off the disk
+//   sent it into the wall and the wall's back into the disk, ever faster, until the budget ran out in
+//   three steps. Now past the squeeze count it takes what meets both contacts and sleeps there until
+//   the disk moves (stopPointAtSteppedBody, sleepOnAwakeBody).
 //
 // The search's 300 containers of each kind, hybrid / predictive, escapes for seeds 4 and 5: Polyline 3/5
 // and 3/3 at f164377, 1/2 and 2/2 after bd0f4d5 (PointsInNarrowCorners), 1/1 and 0/0 now; Segments 1/1
@@ -260,6 +265,63 @@ const Container kContainers[] = {
       {0x1p+0, -1, {0x0p+0, 0x0p+0}},
       {0x1.1111111111111p-6, 1, {0x1.d6a921c94c5a4p-1, -0x1.c8bb62ce69eedp+3}},
       {0x1p+0, -1, {0x0p+0, 0x0p+0}}}},
+    // search seed 3, trial 223
+    {StepMode::Hybrid,
+     Walls::Polyline,
+     {{-0x1.22bf59940a3ap+5, 0x1.2257c35749fdp+2}, {-0x1.2f038daf50b7cp+5, 0x1.48646ec55f57ep+1}, {-0x1.39fa22f737076p+5, -0x1.2a80a194109c5p+1}, {-0x1.39c9413d2ffa8p+5, -0x1.9222fc034380ap+1}, {-0x1.37e563b36f537p+5, -0x1.2cb12c4b96a74p+2}, {-0x1.060e43e5a493fp+5, -0x1.769028df8ce9cp+3}},
+     {0x1.6a136192386bbp-1},
+     {{{-0x1.2c8bc673ab91p+5, -0x1.9be66ea7d014bp+0}, {0x1.7c40d3afee5aap+0, 0x1.ca511484fd958p+2}, 0x0p+0, 0x1.a40a05ab3ef79p-1},
+      {{-0x1.258ef1d9f1c02p+5, -0x1.284782d773b13p+1}, {0x1.447d40281b31bp+2, -0x1.7a1922b989c69p+2}, 0x0p+0, 0x1.fa580935d297p-1},
+      {{-0x1.26c21018ce2c2p+5, -0x1.d80532e5a4a5fp+1}, {-0x1.67a9f2ed94e61p+2, -0x1.853b22c419a1ap+1}, 0x0p+0, 0x1.19799812dea11p-40},
+      {{-0x1.282ad11d8d776p+5, -0x1.a6c79ddf36f8ap+1}, {0x1.adf423465ccb8p+2, 0x1.2754da5da860ap+2}, 0x0p+0, 0x1.51933be746813p-3},
+      {{-0x1.1dbfbdb346b32p+5, -0x1.c7026e4224d6dp+1}, {0x1.59bbe523e55e8p-4, -0x1.d65599b96192ep+2}, 0x1.70d5061cb73fdp-4, 0x1.9725108d13c86p-2},
+      {{-0x1.3123a8b1b2c45p+5, -0x1.a3c4a288aa93ep+1}, {0x1.91150825594b4p+0, 0x1.44865be91b034p+2}, 0x1.52883aaec6293p-4, 0x1.189db8f3cb7c5p-2},
+      {{-0x1.26404dd6d9da6p+5, -0x1.12ac4b40f0cbcp+2}, {-0x1.39b2f024f68d6p+0, 0x1.bc01ea6f90a5bp-2}, 0x0p+0, 0x1.af7e88196872ap-1},
+      {{-0x1.2fd80f01c001cp+5, -0x1.1d5ae76d16728p-2}, {0x1.fb730f1f7880fp+2, 0x1.0d8a65986e921p+0}, 0x0p+0, 0x1.9cfb63f87e91cp-3},
+      {{-0x1.2c83da69ab15bp+5, -0x1.2625f6006ec51p+1}, {0x1.f75c518643dacp+2, 0x1.7ba4caba2b88fp-3}, 0x0p+0, 0x1.10e4a5bbe0cabp-1},
+      {{-0x1.2b2c326f9db4ep+5, -0x1.060acf8988335p+2}, {-0x1.45cb2fa65dec2p+1, 0x1.8ed8effab39dp-6}, 0x0p+0, 0x1.9a705c21b739cp-3},
+      {{-0x1.31592a4b90e5p+5, -0x1.f3bf58a83be54p+0}, {0x1.43f778b1e6eedp+0, -0x1.1f62e28e2678dp+2}, 0x0p+0, 0x1.0bff1f0fdfb36p-5},
+      {{-0x1.241deb23b3006p+5, -0x1.16218362b5959p+2}, {-0x1.8a22830a92596p+0, 0x1.26daff7f9e3b5p+3}, 0x0p+0, 0x1.ec571ba0c3647p-1},
+      {{-0x1.2ce5d07357cfap+5, -0x1.0c46d9d5fe508p+2}, {0x1.6faef4c055a42p+2, 0x1.c412670ecc38p+2}, 0x0p+0, 0x1.19799812dea11p-40},
+      {{-0x1.2f6936a0ba674p+5, -0x1.3bc6fb465a375p+1}, {0x1.41f69bb3868c4p+1, -0x1.660cf375b07fep+1}, 0x1.a5919742d321bp-5, 0x1.596e9fd7b505fp-2}},
+     {{0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.999999999999ap-4, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, 3, {0x1.36bda8b2f5b7dp-1, -0x1.db3869dff9966p+1}},
+      {0x1.999999999999ap-4, 0, {-0x1.6e44270e33c86p-2, -0x1.6efb5b5497f14p-1}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.999999999999ap-4, -1, {0x0p+0, 0x0p+0}},
+      {0x1.999999999999ap-4, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, 3, {-0x1.2a7cecb722f4ap+3, 0x1.1480d74f542ffp+2}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-6, -1, {0x0p+0, 0x0p+0}},
+      {0x1.999999999999ap-4, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, 1, {0x1.44822d94d6ddap+3, 0x1.ea41d6337b468p+1}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1.999999999999ap-4, -1, {0x0p+0, 0x0p+0}},
+      {0x1.1111111111111p-5, -1, {0x0p+0, 0x0p+0}},
+      {0x1p+0, 4, {-0x1.8ef2edc460dd1p+3, 0x1.e39b55974aefdp+2}}}},
 };
 
 // The containers in play: kContainers, with search trial 248 of seed 5 played in both modes (its point
@@ -278,4 +340,36 @@ std::vector<Container> containersInPlay() {
 TEST(BodiesInCorners, NoBodyLeavesAndNoStepReachesTheBudget) {
   const std::vector<Container> containers = containersInPlay();
   container_search::playEachChecked(containers.data(), containers.size());
+}
+
+// Search trial 223 of seed 3 (above): the point ends its last step asleep in the cusp, held by a disk that
+// is stepped, at rest and awake. Set moving, the disk no longer holds it, and the point falls: at the next
+// step's start, in the world itself and in one loaded from its save (which must find the sleeper again,
+// as nothing saved names it).
+TEST(BodiesInCorners, APointAsleepOnAnAwakeDiskFallsWhenTheDiskMoves) {
+  constexpr size_t kTrial223 = 6, kPoint = 3, kDisk = 13;
+  const Container& c = kContainers[kTrial223];
+  ASSERT_EQ(c.bodies[kPoint].radius, 0.0);
+  ASSERT_GT(c.bodies[kDisk].radius, 0.0);
+  auto [w, bodies] = container_search::setUp(c);
+  for (const container_search::Step& step : c.steps) container_search::play(w, bodies, step);
+  ASSERT_TRUE(w.isAsleep(bodies[kPoint]));
+  ASSERT_FALSE(w.isAsleep(bodies[kDisk]));
+  ASSERT_EQ(w.velocity(bodies[kDisk]), (Vec2{0, 0}));
+  const std::vector<uint8_t> saved = w.save();
+  World loaded = World::load(saved);
+
+  // Left alone, the disk goes to sleep too and goes on holding the point.
+  World still = World::load(saved);
+  still.step(1.0 / 60);
+  EXPECT_TRUE(still.isAsleep(bodies[kPoint]));
+
+  for (World* world : {&w, &loaded}) {
+    SCOPED_TRACE(world == &w ? "the world" : "loaded");
+    const Vec2 at = world->position(bodies[kPoint]);
+    world->setVelocity(bodies[kDisk], {-1, 0});  // away from the wall, whose inward normal is about (-0.98, -0.22)
+    world->step(1.0 / 60);
+    EXPECT_FALSE(world->isAsleep(bodies[kPoint]));
+    EXPECT_LT(world->position(bodies[kPoint]).y, at.y);
+  }
 }

@@ -74,9 +74,10 @@ struct WorldDef {
   /// the bouncing instead (see README, "Resting"), so a bouncing ball comes to rest in finitely many
   /// events: it sleeps when it is slow and held (the up direction lies between the normals of what it
   /// touches), slides along a flat static surface when it is still moving, and otherwise bounces off at
-  /// this speed. A sleeping body is woken by a hit faster than this, by its support waking, or by a
-  /// setter. In the hybrid mode, two moving bodies pressed together that would bounce off each other
-  /// slower than this rest on each other instead, in a stepped island (README, "Gravity and resting"):
+  /// this speed. A sleeping body is woken by a hit faster than this, by its support waking (or moving,
+  /// for a point held in a cusp by an awake disk: docs/guide.md, "Squeezes"), or by a setter. In the
+  /// hybrid mode, two moving bodies pressed together that would bounce off each other slower than this
+  /// rest on each other instead, in a stepped island (README, "Gravity and resting"):
   /// their resting contacts are held by a solve once a step rather than by events, which lets a pile come
   /// to rest. Must be >= 0; 0 turns resting off. The hybrid and predictive modes only: the discrete mode
   /// has no resting, and its bodies never sleep.

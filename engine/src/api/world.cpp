@@ -509,6 +509,7 @@ void World::step(double dt) {
   try {
     saveStepStart(w);
     refreshSqueezes(w);
+    wakeSleepersOfMovingBodies(w);
     w.stepper->step(dt);
   } catch (const std::bad_alloc&) {
     undoStep(w);

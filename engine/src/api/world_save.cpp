@@ -598,6 +598,7 @@ World World::load(std::span<const uint8_t> bytes) {
   reader.sensors();
   reader.squeezes();
   reader.islands();
+  detail::findSleepersOnAwakeBodies(w);
   if (in.offset() != body.size()) {
     in.fail(in.offset(), "", std::to_string(body.size() - in.offset()) + " bytes after the last field");
   }

@@ -87,6 +87,15 @@ bool detail::pointOnRememberedFace(const WorldState& w, const BodySlot& b, doubl
   return pointOnFace(firstCentreAt(w, b, now), at + f0, f1 - f0);
 }
 
+double detail::distanceFromRememberedFace(const WorldState& w, const BodySlot& b, double now) {
+  Vec2 f0, f1;
+  if (!remembersLiveFace(w, b) || !flatFeature(w.fixtures[b.support.fixture].geometry, b.support.feature, f0, f1)) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  const Vec2 at = w.bodies[w.fixtures[b.support.fixture].body].position;
+  return dot(firstCentreAt(w, b, now) - (at + f0), b.support.normal);
+}
+
 bool detail::pointKnowsSideOfFace(const WorldState& w, const BodySlot& b, uint32_t fixture, int feature, double now,
                                   Vec2& side) {
   // The remembered face F: its side is remembered. Another face G, of this fixture or another, that
@@ -315,6 +324,47 @@ void detail::putToSleep(WorldState& w, uint32_t bodyIndex, const std::vector<uin
   b.clearSupport();
   ++b.collisionCount;
   for (uint32_t s : supporters) w.dependents[s].push_back(bodyIndex);
+}
+
+void detail::sleepOnAwakeBody(WorldState& w, uint32_t bodyIndex, uint32_t supporter) {
+  w.supporters.assign(1, supporter);
+  putToSleep(w, bodyIndex, w.supporters);
+  const std::pair<uint32_t, uint32_t> entry{bodyIndex, supporter};
+  auto& list = w.sleepersOnAwakeBodies;
+  const auto at = std::lower_bound(list.begin(), list.end(), entry);
+  if (at == list.end() || *at != entry) list.insert(at, entry);
+}
+
+void detail::wakeSleepersOfMovingBodies(WorldState& w) {
+  // A sleeper is held by what it rests on until that wakes (dependents). An awake body holds one only
+  // while it stays where it is: a stepped body at rest in its island. Moving, or no longer stepped, it
+  // lets the sleeper fall again, at the next step's start (so at most a step late).
+  auto& list = w.sleepersOnAwakeBodies;
+  if (list.empty()) return;
+  std::vector<uint32_t> woken;
+  std::erase_if(list, [&](const std::pair<uint32_t, uint32_t>& e) {
+    const BodySlot& sleeper = w.bodies[e.first];
+    const BodySlot& holder = w.bodies[e.second];
+    if (!sleeper.alive || !sleeper.asleep) return true;
+    if (holder.alive && holder.asleep) return true;  // an ordinary sleeper's holder now: its wake wakes it
+    if (holder.alive && holder.stepped && holder.velocity == Vec2{}) return false;
+    wakeUp(w, e.first, 0.0, woken);
+    return true;
+  });
+  for (uint32_t i : woken) w.touched(i);
+}
+
+void detail::findSleepersOnAwakeBodies(WorldState& w) {
+  w.sleepersOnAwakeBodies.clear();
+  for (uint32_t s = 0; s < w.bodies.size(); ++s) {
+    if (!w.bodies[s].alive || w.bodies[s].asleep) continue;
+    for (uint32_t d : w.dependents[s]) {
+      if (w.bodies[d].alive && w.bodies[d].asleep) w.sleepersOnAwakeBodies.emplace_back(d, s);
+    }
+  }
+  std::sort(w.sleepersOnAwakeBodies.begin(), w.sleepersOnAwakeBodies.end());
+  w.sleepersOnAwakeBodies.erase(std::unique(w.sleepersOnAwakeBodies.begin(), w.sleepersOnAwakeBodies.end()),
+                                w.sleepersOnAwakeBodies.end());
 }
 
 void detail::wakeUp(WorldState& w, uint32_t bodyIndex, double now, std::vector<uint32_t>& woken) {

@@ -35,6 +35,17 @@ void keepSlidingPointOnFace(WorldState& w, detail::BodySlot& b, uint32_t fixture
 bool remembersLiveFace(const WorldState& w, const detail::BodySlot& b);
 /// Whether a point lies on the face it remembers (Support), within the round-off the time of impact allows.
 bool pointOnRememberedFace(const WorldState& w, const detail::BodySlot& b, double now);
+/// How far a point is from the line of the face it remembers, on the side it remembers (negative
+/// beyond it, to round-off); NaN when it remembers no live flat face.
+double distanceFromRememberedFace(const WorldState& w, const detail::BodySlot& b, double now);
+/// Puts a point to sleep held by an awake body at rest (squeeze.cpp: a point in the cusp where a stepped
+/// body touches a face), and lists it in WorldState::sleepersOnAwakeBodies.
+void sleepOnAwakeBody(WorldState& w, uint32_t body, uint32_t supporter);
+/// At a step's start: wakes the sleepers of WorldState::sleepersOnAwakeBodies whose supporter moves,
+/// and forgets those whose supporter has gone to sleep (its wake wakes them) or that are awake.
+void wakeSleepersOfMovingBodies(WorldState& w);
+/// Lists every sleeper held by an awake body (what sleepOnAwakeBody listed), in order: a loaded world's.
+void findSleepersOnAwakeBodies(WorldState& w);
 /// The side of face `feature` of the static `fixture` that a point lying on it is on, when the point
 /// knows it: the face it remembers (Support), or another face in a corner with that one, where the point
 /// lies on both (resting.cpp says how). `side` is that face's unit normal toward the point.

@@ -17,6 +17,7 @@
 #include <cmath>
 
 #include "collision/closest_point.h"
+#include "contact/impulse.h"
 #include "contact/islands.h"
 #include "contact/resting.h"
 #include "world/world_impl.h"
@@ -28,6 +29,32 @@ using detail::BodySlot;
 namespace {
 // Two unit normals whose cross product is smaller than this are one face's to round-off.
 constexpr double kWedgeAngle = 1e-9;
+
+// A point and a stepped body it keeps meeting are in a cusp with the face the point remembers when the
+// body's normal at the point is within this of the face's, reversed (cos 2.6 degrees), and the point is
+// no farther from the face than such a normal leaves it from a body that touches the face, as a
+// fraction of the body's radius (1 - cos), plus its coordinates' round-off.
+constexpr double kCuspCosine = 0.999;
+
+bool inCuspAtSteppedBody(const detail::WorldState& w, const BodySlot& point, uint32_t holderFixture, Vec2 n,
+                         double now) {
+  if (!detail::remembersLiveFace(w, point) || w.bodyOf(point.support.fixture).type != BodyType::Static) return false;
+  if (!(dot(point.support.normal, n) < -kCuspCosine)) return false;
+  const double radius = detail::circleRadius(w.fixtures[holderFixture].geometry);
+  const double distance = detail::distanceFromRememberedFace(w, point, now);
+  const Vec2 at = w.positionAt(point, now);
+  const double roundOff = detail::pointRoundOff(at, w.bodyOf(point.support.fixture).position);
+  return distance >= -roundOff && distance <= (1 - kCuspCosine) * radius + roundOff;
+}
+
+// Whether contacts with normals f and n (toward the body) hold it up against gravity g: -g lies in their
+// cone, -g = a f + b n with a, b >= 0 (Cramer's rule on the 2x2 system).
+bool heldUpBy(Vec2 g, Vec2 f, Vec2 n) {
+  const double det = cross(f, n);
+  if (det == 0 || (g.x == 0 && g.y == 0)) return false;
+  const double a = cross(-g, n) / det, b = cross(f, -g) / det;
+  return a >= 0 && b >= 0;
+}
 }  // namespace
 
 bool detail::squeezeExempt(const WorldState& w, uint32_t fa, uint32_t fb) {
@@ -145,26 +172,34 @@ void detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContac
     const Vec2 n = pointIsA ? c.normal : -c.normal;  // from the stepped body toward the point
     w.advance(p, c.time);
     const double vp = dot(p.velocity, n);
-    const double vo = dot(w.velocityAt(o, c.time), n);
-    if (!(vp < 0 && vp < vo)) continue;
+    const Vec2 holderVelocity = w.velocityAt(o, c.time);
+    const double vo = dot(holderVelocity, n);
     const double target = std::min(vo, 0.0);
-    p.velocity += n * (target - vp);
-    // On a face it remembers (sliding along a floor into the cusp under a disk that rests on it), the
-    // normal above is the face's to within round-off, and the point's speed along the face gave the
-    // part removed: taken out, the point went into the floor. So the face's constraint is met as well,
-    // by alternate projections onto the two half-planes, each of which holds zero and so never speeds
-    // the point up.
-    if (remembersLiveFace(w, p) && pointOnRememberedFace(w, p, c.time)) {
-      const Vec2 face = p.support.normal;
-      for (int round = 0; round < 8; ++round) {
-        const double intoFace = dot(p.velocity, face);
-        if (intoFace < 0) p.velocity -= face * intoFace;
-        const double intoBody = dot(p.velocity, n);
-        if (!(intoBody < target)) break;
-        p.velocity += n * (target - intoBody);
+    if (holderVelocity == Vec2{} && inCuspAtSteppedBody(w, p, pointIsA ? c.b : c.a, n, c.time)) {
+      // Caught where the stepped body, at rest, touches the face the point remembers, the two normals
+      // opposed: each contact's impulse (the island's bounce at restingSpeed, the face's) drives it into
+      // the other, and the bounces come ever faster as it goes deeper. Under an overhang, a point that
+      // gravity pressed into a disk resting against the wall went on bouncing at one instant until the
+      // step's budget of a million events ran out. It takes what meets both contacts (nothing, nearly:
+      // their normals are opposed), and where the two hold it up, it sleeps there until the body moves.
+      // Not in the cusp of a body that moves: a point above a disk sliding down a wall, stopped there
+      // at each meeting, met it again and again as it fell after it (tens of thousands of events a step
+      // where the normal's part alone takes a few thousand).
+      p.velocity = detail::nearestVelocityMeeting(p.velocity, p.support.normal, n, target);
+      if (length(p.velocity) < w.def.restingSpeed && heldUpBy(w.def.gravity, p.support.normal, n)) {
+        sleepOnAwakeBody(w, ip, io);
+        continue;
       }
-      const double intoFace = dot(p.velocity, face);
-      if (intoFace < 0) p.velocity -= face * intoFace;
+    } else {
+      if (!(vp < 0 && vp < vo)) continue;
+      p.velocity += n * (target - vp);
+      // On a face it remembers (sliding along a floor into the cusp under a disk that rests on it), the
+      // normal above is the face's to within round-off, and the point's speed along the face gave the
+      // part removed: taken out, the point went into the floor. So the face's constraint is met as well:
+      // the velocity nearest this one that meets both, which never speeds the point up.
+      if (remembersLiveFace(w, p) && pointOnRememberedFace(w, p, c.time)) {
+        p.velocity = detail::nearestVelocityMeeting(p.velocity, p.support.normal, n, target);
+      }
     }
     ++p.collisionCount;
     p.stepLocalsSet = true;

@@ -46,6 +46,7 @@ void detail::saveStepStart(WorldState& w) {
   if (!w.stepStart.keepEach && w.stepStart.motion.size() < w.bodies.size()) w.stepStart.motion.resize(w.bodies.size());
   w.stepStart.pendingSensorEvents = w.pendingSensorEvents;
   w.stepStart.squeezes = w.squeezes;
+  w.stepStart.sleepersOnAwakeBodies = w.sleepersOnAwakeBodies;
   w.stepStart.sensorOverlaps.clear();
   w.stepStart.dependents.clear();
   w.stepStart.time = w.time;
@@ -99,6 +100,7 @@ void detail::undoStep(WorldState& w) {
   w.stats = w.stepStart.stats;
   w.pendingSensorEvents.swap(w.stepStart.pendingSensorEvents);
   w.squeezes.swap(w.stepStart.squeezes);
+  w.sleepersOnAwakeBodies.swap(w.stepStart.sleepersOnAwakeBodies);
   // Newest first, so that each entry finds the map (and each list) as it was right after its change.
   for (auto it = w.stepStart.sensorOverlaps.rbegin(); it != w.stepStart.sensorOverlaps.rend(); ++it) {
     if (it->ended.empty()) {

@@ -307,6 +307,11 @@ struct WorldState {
     Vec2 normal;
   };
   std::vector<Wedged> wedged;
+  /// Sleepers held by an awake body, (sleeper, holder) in order: a point put to sleep in the cusp where a
+  /// stepped body at rest touches a face (squeeze.cpp). They wake when the holder moves
+  /// (wakeSleepersOfMovingBodies); a holder that sleeps holds them as any sleeper does. Derived from the
+  /// bodies and dependents (findSleepersOnAwakeBodies), so not saved.
+  std::vector<std::pair<uint32_t, uint32_t>> sleepersOnAwakeBodies;
 
   // What a step changes of the world's lasting state, kept from its start (step_undo.cpp): when memory
   // runs out inside a step it is put back, so that World::step throws rattle::Error with the world
@@ -336,6 +341,7 @@ struct WorldState {
     std::vector<BodyAtStepStart> bodies;  // those keep kept, in the order kept
     std::vector<SensorEvent> pendingSensorEvents;
     std::vector<Squeeze> squeezes;
+    std::vector<std::pair<uint32_t, uint32_t>> sleepersOnAwakeBodies;
     std::vector<SensorOverlapChange> sensorOverlaps;  // in the order they were made
     std::vector<std::pair<uint32_t, std::vector<uint32_t>>> dependents;  // lists wakeUp emptied, in order
   };
