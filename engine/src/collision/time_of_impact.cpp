@@ -112,6 +112,10 @@ struct Edge {
   // or end (a polyline's previous or next segment): such a point reaches this edge's line that far
   // over the sine of its angle of approach past the shared end (faceImpact).
   double jointSlackStart = 0, jointSlackEnd = 0;
+  // The far ends of those neighbours, when known (a Polyline's): where one lies on the colliding side,
+  // the joint is the apex of a wedge the point is in.
+  const Vec2* beforeStart = nullptr;
+  const Vec2* afterEnd = nullptr;
   // How far off the line a point is on it: the round-off of the line's two ends and the point's
   // coordinates, the bound the resting rules use for a point on a face (featureLeftByPoint). The line's
   // start alone was too tight: a point that slid down one face of a V into the joint and was resolved
@@ -194,8 +198,28 @@ std::optional<Impact> faceImpact(const Circle& circle, const Motion& m, const Ed
       const Vec2 v = m.velocity + m.acceleration * *t;
       const double speed = length(v);
       const double sine = speed > 0 ? std::fabs(cross(edge.u, v)) / speed : 1.0;
-      if (sine >= 1.0 / 64) {
+      // At the apex of a wedge (the neighbour turns toward the colliding side), beyond the joint lies
+      // only the outside, within the neighbour's round-off over the sine of the apex of both lines: the
+      // face reaches that far, for any point not moving along it (whose slide ends past the joint,
+      // resting.cpp). In an apex of half a degree a point slid along one face 119 round-offs past the
+      // joint, and out of its container; another, come to rest 5 round-offs past it, was later thrown
+      // down out of the tip.
+      auto apexSine = [&](const Vec2* far, Vec2 joint) {
+        if (!far || !(dot(edge.n, *far - joint) > 0)) return 0.0;
+        const Vec2 d = *far - joint;
+        const double apex = std::fabs(cross(edge.u, d)) / length(d);
+        return sine >= 0.5 * apex ? apex : 0.0;
+      };
+      const double apexStart = apexSine(edge.beforeStart, edge.a);
+      const double apexEnd = apexSine(edge.afterEnd, edge.a + edge.u * edge.length);
+      if (apexStart > 0) {
+        start += edge.jointSlackStart / std::min(sine, apexStart);
+      } else if (sine >= 1.0 / 64) {
         start += edge.jointSlackStart / sine;
+      }
+      if (apexEnd > 0) {
+        end += edge.jointSlackEnd / std::min(sine, apexEnd);
+      } else if (sine >= 1.0 / 64) {
         end += edge.jointSlackEnd / sine;
       }
     }
@@ -219,10 +243,13 @@ bool isResolved(int feature, int resolvedFeature) {
 }
 
 std::optional<Impact> segmentImpact(const Circle& a, const Motion& m, Vec2 p0, Vec2 p1, double maxTime, int feature,
-                                    bool justResolved, double jointSlackStart = 0, double jointSlackEnd = 0) {
+                                    bool justResolved, double jointSlackStart = 0, double jointSlackEnd = 0,
+                                    const Vec2* beforeStart = nullptr, const Vec2* afterEnd = nullptr) {
   Edge edge = edgeOf(p0, p1);
   edge.jointSlackStart = jointSlackStart;
   edge.jointSlackEnd = jointSlackEnd;
+  edge.beforeStart = beforeStart;
+  edge.afterEnd = afterEnd;
   double s0 = dot(edge.n, a.center - edge.a);
   if (a.radius == 0 && std::fabs(s0) <= edge.pointSlack(a.center)) s0 = 0;
   if (s0 < 0) edge.n = -edge.n;
@@ -295,15 +322,19 @@ std::optional<Impact> circlePolylineImpact(const Circle& a, const Motion& motion
     // The round-off of the neighbouring segments' lines (Edge::jointSlackStart, jointSlackEnd), for a
     // point.
     double start = 0, end = 0;
+    const Vec2* beforeStart = nullptr;
+    const Vec2* afterEnd = nullptr;
     if (a.radius == 0) {
       const int before = i > 0 ? i - 1 : (closed ? n - 2 : -1), after = i + 2 < n ? i + 1 : (closed ? 0 : -1);
       if (before >= 0) {
         const Vec2 p = b.points[before], q = b.points[before + 1];
         start = detail::pointRoundOff(p, q, q - p);
+        beforeStart = &b.points[before];
       }
       if (after >= 0) {
         const Vec2 p = b.points[after], q = b.points[after + 1];
         end = detail::pointRoundOff(q, p, q - p);
+        afterEnd = &b.points[after + 1];
       }
     }
     bool resolved = isResolved(i, resolvedFeature);
@@ -312,7 +343,8 @@ std::optional<Impact> circlePolylineImpact(const Circle& a, const Motion& motion
       if (reading == detail::KnownFaces::Reading::LeftOut) continue;
       if (reading == detail::KnownFaces::Reading::Resolved) resolved = true;
     }
-    keepEarlier(best, segmentImpact(a, motion, b.points[i], b.points[i + 1], maxTime, i, resolved, start, end));
+    keepEarlier(best, segmentImpact(a, motion, b.points[i], b.points[i + 1], maxTime, i, resolved, start, end,
+                                    beforeStart, afterEnd));
   }
   for (int k = 0; k < n; ++k) {
     // A point meets a joint only along an exact line, and then its normal is no face's: met there

@@ -311,6 +311,7 @@ void detail::resolve(WorldState& w, const PredictedContact& c, std::vector<uint3
   BodySlot& b = w.bodies[ib];
   w.advance(a, c.time);
   w.advance(b, c.time);
+  placePointOnFace(w, a, c);
   const Vec2 n = c.normal;  // from b toward a
   // A stepped body moves on a straight line with the whole step's gravity taken at its start
   // (island.cpp), so its velocity all step is the one it ends the step with; a free body meeting it

@@ -51,6 +51,28 @@ bool flatFeature(const Geometry& g, int feature, Vec2& a, Vec2& b) {
   return false;
 }
 
+// The far end of the face that shares the start (atEnd false) or the end of flat feature `feature` of a
+// Polyline or Polygon, in the fixture's coordinates: the neighbour a point sliding off that end meets.
+std::optional<Vec2> neighbourFarEnd(const Geometry& g, int feature, bool atEnd) {
+  if (const auto* s = std::get_if<Polyline>(&g)) {
+    const int n = static_cast<int>(s->points.size());
+    const bool closed = n > 3 && s->points.front() == s->points.back();
+    if (atEnd) {
+      const int after = feature + 2 < n ? feature + 1 : (closed ? 0 : -1);
+      if (after < 0) return std::nullopt;
+      return s->points[after + 1];
+    }
+    const int before = feature > 0 ? feature - 1 : (closed ? n - 2 : -1);
+    if (before < 0) return std::nullopt;
+    return s->points[before];
+  }
+  if (const auto* s = std::get_if<Polygon>(&g)) {
+    const int n = static_cast<int>(s->points.size());
+    return s->points[atEnd ? (feature + 2) % n : (feature + n - 1) % n];
+  }
+  return std::nullopt;
+}
+
 // Whether a point at `p` lies on the face: across it within the round-off of the coordinates, as the
 // time of impact takes a point to be on a line; along it, as far past its ends as the time of impact
 // reaches past a joint (a neighbour's round-off over the sine of the approach, down to 1/64:
@@ -326,6 +348,28 @@ void detail::putToSleep(WorldState& w, uint32_t bodyIndex, const std::vector<uin
   for (uint32_t s : supporters) w.dependents[s].push_back(bodyIndex);
 }
 
+void detail::placePointOnFace(WorldState& w, BodySlot& b, const PredictedContact& c) {
+  // Beyond the joint of an apex lies the outside, and soon the fixture's box: a point that came to rest
+  // there, or bounced off there, a few round-offs past the end of both faces, was no longer a candidate
+  // of either, and a throw from the game sent it out of the tip. Across the face (the contact's point
+  // is the point's projection on the face's line) it is within the round-off of the time of impact; only
+  // along the face, beyond its end, is it farther.
+  if (!detail::isPoint(w.fixtures[c.a].geometry) || w.bodyOf(c.b).type != BodyType::Static) return;
+  Vec2 f0, f1;
+  if (!flatFeature(w.fixtures[c.b].geometry, c.feature, f0, f1)) return;
+  const Vec2 origin = w.bodyOf(c.b).position;
+  f0 += origin, f1 += origin;
+  const Vec2 centre = firstCentreAt(w, b, c.time);
+  const double len = length(f1 - f0);
+  const double tau = dot(centre - f0, f1 - f0) / len;
+  // Beyond the face's end by more than the time of impact's own reach there (its round-off): only a
+  // joint's reach puts it there.
+  const double slack = detail::pointRoundOff(centre, f0, f1 - f0);
+  if (!(tau < -slack || tau > len + slack)) return;
+  const Vec2 at = c.point - detail::circleCentre(w.fixtures[c.a].geometry);
+  if (length(at - b.position) <= 0x1p-20 * (length(at) + 1)) b.position = at;
+}
+
 void detail::sleepOnAwakeBody(WorldState& w, uint32_t bodyIndex, uint32_t supporter) {
   w.supporters.assign(1, supporter);
   putToSleep(w, bodyIndex, w.supporters);
@@ -492,6 +536,26 @@ std::optional<double> detail::slideEndTime(const WorldState& w, const BodySlot& 
   detail::Polynomial rest = tau;
   for (double& c : rest.c) c = -c;
   rest.c[0] += len + 4 * slack;
+  // An end where the neighbouring face turns back over this one's side is the apex of a wedge: beyond
+  // it lies the outside, and the point meets the neighbour at the joint, which its time of impact finds
+  // up to the neighbour's round-off over the sine of the apex past the joint (time_of_impact.cpp). The
+  // slide ends beyond that, so that the neighbour comes first: ended 2 round-offs past the joint of an
+  // apex of half a degree, the point was already outside the neighbour's end, and fell out of the tip.
+  if (point) {
+    for (const bool atEnd : {false, true}) {
+      const auto far = neighbourFarEnd(face.geometry, b.support.feature, atEnd);
+      const Vec2 joint = atEnd ? e : a;
+      if (!far || !(dot(*far - joint, b.support.normal) > 0)) continue;
+      const Vec2 d = *far - joint;
+      const double sine = std::fabs(cross(u, d)) / length(d);
+      // The neighbour's time of impact reaches past the joint by this face's round-off over the sine
+      // of the point's approach, at least half the apex's (time_of_impact.cpp); a needle's two faces
+      // have about the same round-off, and the larger of the two is taken.
+      const double roundOff = std::max(detail::pointRoundOff(*far, joint, d), detail::pointRoundOff(a, e, e - a));
+      const double reach = 2 * roundOff / std::max(sine, 0x1p-40) + 2 * slack;
+      (atEnd ? rest : tau).c[0] += reach;
+    }
+  }
   auto low = detail::firstDownwardCrossing(tau, 0, dt - now);
   auto high = detail::firstDownwardCrossing(rest, 0, dt - now);
   if (tau.c[0] < 0 || rest.c[0] < 0) return now;  // already past an end

@@ -38,6 +38,9 @@ bool pointOnRememberedFace(const WorldState& w, const detail::BodySlot& b, doubl
 /// How far a point is from the line of the face it remembers, on the side it remembers (negative
 /// beyond it, to round-off); NaN when it remembers no live flat face.
 double distanceFromRememberedFace(const WorldState& w, const detail::BodySlot& b, double now);
+/// A point meeting a static face at `c`: where the time of impact took it as met at the face's end from
+/// beyond it (a joint's reach, time_of_impact.cpp), it moves to that end, the contact's point.
+void placePointOnFace(WorldState& w, detail::BodySlot& b, const detail::PredictedContact& c);
 /// Puts a point to sleep held by an awake body at rest (squeeze.cpp: a point in the cusp where a stepped
 /// body touches a face), and lists it in WorldState::sleepersOnAwakeBodies.
 void sleepOnAwakeBody(WorldState& w, uint32_t body, uint32_t supporter);

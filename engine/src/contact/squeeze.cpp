@@ -106,6 +106,7 @@ bool detail::squeezeAt(WorldState& w, const detail::PredictedContact& c) {
     // hold a pressed body: it sleeps or slides.
     if (!(dot(w.velocityAt(a, c.time), c.normal) < 0)) return false;
     w.advance(a, c.time);
+    placePointOnFace(w, a, c);
     // Stopped against two faces at one instant whose normals differ, it can move along neither: the
     // bounces between them are alternating projections onto their two tangents, which meet only at rest,
     // and converge there no faster than the cosine of the angle between the faces per pair. A disk
@@ -118,6 +119,18 @@ bool detail::squeezeAt(WorldState& w, const detail::PredictedContact& c) {
         found != w.wedged.end() && found->time == c.time && std::fabs(cross(found->normal, c.normal)) > kWedgeAngle;
     if (cornered) {
       a.velocity = Vec2{};
+      // Stopped in a corner whose two faces hold it up against gravity (a point in the apex of a
+      // needle), it rests there: left stopped, it slid on along the face gravity pressed it into, past
+      // the apex, where neither face reaches, and fell out of the tip.
+      if (w.def.restingSpeed > 0 && heldUpBy(w.def.gravity, found->normal, c.normal)) {
+        ++a.collisionCount;
+        a.setLast(detail::LastContact{std::min(c.a, c.b), std::max(c.a, c.b), c.feature, c.time});
+        *found = {ia, c.time, c.normal};
+        w.supporters.clear();
+        putToSleep(w, ia, w.supporters);
+        ++w.stats.squeezes;
+        return true;
+      }
     } else {
       a.velocity -= c.normal * dot(a.velocity, c.normal);
     }
