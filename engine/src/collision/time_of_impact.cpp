@@ -198,20 +198,21 @@ std::optional<Impact> faceImpact(const Circle& circle, const Motion& m, const Ed
       const Vec2 v = m.velocity + m.acceleration * *t;
       const double speed = length(v);
       const double sine = speed > 0 ? std::fabs(cross(edge.u, v)) / speed : 1.0;
-      // At the apex of a wedge (the neighbour turns toward the colliding side), beyond the joint lies
-      // only the outside, within the neighbour's round-off over the sine of the apex of both lines: the
-      // face reaches that far, for any point not moving along it (whose slide ends past the joint,
-      // resting.cpp). In an apex of half a degree a point slid along one face 119 round-offs past the
-      // joint, and out of its container; another, come to rest 5 round-offs past it, was later thrown
-      // down out of the tip.
-      auto apexSine = [&](const Vec2* far, Vec2 joint) {
-        if (!far || !(dot(edge.n, *far - joint) > 0)) return 0.0;
+      // At the apex of an acute wedge (the neighbour turns back over the colliding side), beyond the
+      // joint lies only the outside, within the neighbour's round-off over the sine of the apex of both
+      // lines: the face reaches that far, for any point not moving along it (whose slide ends past the
+      // joint, resting.cpp). In an apex of half a degree a point slid along one face 119 round-offs past
+      // the joint, and out of its container; another, come to rest 5 round-offs past it, was later
+      // thrown down out of the tip. (A nearly straight joint has as small a sine, and a point moving
+      // along one face passes it: there the reach stays the round-off's.)
+      auto apexSine = [&](const Vec2* far, Vec2 joint, Vec2 alongFace) {
+        if (!far || !(dot(edge.n, *far - joint) > 0) || !(dot(*far - joint, alongFace) > 0)) return 0.0;
         const Vec2 d = *far - joint;
         const double apex = std::fabs(cross(edge.u, d)) / length(d);
         return sine >= 0.5 * apex ? apex : 0.0;
       };
-      const double apexStart = apexSine(edge.beforeStart, edge.a);
-      const double apexEnd = apexSine(edge.afterEnd, edge.a + edge.u * edge.length);
+      const double apexStart = apexSine(edge.beforeStart, edge.a, edge.u);
+      const double apexEnd = apexSine(edge.afterEnd, edge.a + edge.u * edge.length, -edge.u);
       if (apexStart > 0) {
         start += edge.jointSlackStart / std::min(sine, apexStart);
       } else if (sine >= 1.0 / 64) {

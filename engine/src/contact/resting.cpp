@@ -536,16 +536,17 @@ std::optional<double> detail::slideEndTime(const WorldState& w, const BodySlot& 
   detail::Polynomial rest = tau;
   for (double& c : rest.c) c = -c;
   rest.c[0] += len + 4 * slack;
-  // An end where the neighbouring face turns back over this one's side is the apex of a wedge: beyond
-  // it lies the outside, and the point meets the neighbour at the joint, which its time of impact finds
-  // up to the neighbour's round-off over the sine of the apex past the joint (time_of_impact.cpp). The
-  // slide ends beyond that, so that the neighbour comes first: ended 2 round-offs past the joint of an
-  // apex of half a degree, the point was already outside the neighbour's end, and fell out of the tip.
+  // An end where the neighbouring face turns back over this one's side is the apex of an acute wedge
+  // (a nearly straight joint, which a slide passes on to the next face, is not): beyond it lies the
+  // outside, and the point meets the neighbour at the joint, which its time of impact finds up to the
+  // neighbour's round-off over the sine of the apex past the joint (time_of_impact.cpp). The slide ends
+  // beyond that, so that the neighbour comes first: ended 2 round-offs past the joint of an apex of half
+  // a degree, the point was already outside the neighbour's end, and fell out of the tip.
   if (point) {
     for (const bool atEnd : {false, true}) {
       const auto far = neighbourFarEnd(face.geometry, b.support.feature, atEnd);
       const Vec2 joint = atEnd ? e : a;
-      if (!far || !(dot(*far - joint, b.support.normal) > 0)) continue;
+      if (!far || !(dot(*far - joint, b.support.normal) > 0) || !(dot(*far - joint, atEnd ? -u : u) > 0)) continue;
       const Vec2 d = *far - joint;
       const double sine = std::fabs(cross(u, d)) / length(d);
       // The neighbour's time of impact reaches past the joint by this face's round-off over the sine
