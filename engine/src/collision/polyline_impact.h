@@ -42,6 +42,17 @@ struct KnownFaces {
   }
 };
 
+/// The faces beside face `face` of a Polyline: the one before its start and the one after its end, -1
+/// where there is none. A closed Polyline (its last point its first) joins its last face to its first.
+struct PolylineNeighbours {
+  int before, after;
+};
+inline PolylineNeighbours polylineNeighbours(const Polyline& p, int face) {
+  const int n = static_cast<int>(p.points.size());
+  const bool closed = n > 3 && p.points.front() == p.points.back();
+  return {face > 0 ? face - 1 : (closed ? n - 2 : -1), face + 2 < n ? face + 1 : (closed ? 0 : -1)};
+}
+
 /// timeOfImpact of circle or point `a` at `positionA` with Polyline `b` at `positionB`, as the dispatch
 /// table answers it, with the faces in `known` read as it says.
 std::optional<Impact> timeOfImpactPolylineWith(const Geometry& a, Vec2 positionA, const Polyline& b, Vec2 positionB,

@@ -326,7 +326,7 @@ std::optional<Impact> circlePolylineImpact(const Circle& a, const Motion& motion
     const Vec2* beforeStart = nullptr;
     const Vec2* afterEnd = nullptr;
     if (a.radius == 0) {
-      const int before = i > 0 ? i - 1 : (closed ? n - 2 : -1), after = i + 2 < n ? i + 1 : (closed ? 0 : -1);
+      const auto [before, after] = detail::polylineNeighbours(b, i);
       if (before >= 0) {
         const Vec2 p = b.points[before], q = b.points[before + 1];
         start = detail::pointRoundOff(p, q, q - p);

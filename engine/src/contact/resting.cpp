@@ -17,6 +17,7 @@
 #include <cmath>
 
 #include "collision/closest_point.h"
+#include "collision/polyline_impact.h"
 #include "collision/polynomial.h"
 #include "common/out_of_memory.h"
 #include "contact/response.h"
@@ -55,16 +56,9 @@ bool flatFeature(const Geometry& g, int feature, Vec2& a, Vec2& b) {
 // Polyline or Polygon, in the fixture's coordinates: the neighbour a point sliding off that end meets.
 std::optional<Vec2> neighbourFarEnd(const Geometry& g, int feature, bool atEnd) {
   if (const auto* s = std::get_if<Polyline>(&g)) {
-    const int n = static_cast<int>(s->points.size());
-    const bool closed = n > 3 && s->points.front() == s->points.back();
-    if (atEnd) {
-      const int after = feature + 2 < n ? feature + 1 : (closed ? 0 : -1);
-      if (after < 0) return std::nullopt;
-      return s->points[after + 1];
-    }
-    const int before = feature > 0 ? feature - 1 : (closed ? n - 2 : -1);
-    if (before < 0) return std::nullopt;
-    return s->points[before];
+    const auto [before, after] = detail::polylineNeighbours(*s, feature);
+    if (atEnd) return after < 0 ? std::nullopt : std::optional<Vec2>(s->points[after + 1]);
+    return before < 0 ? std::nullopt : std::optional<Vec2>(s->points[before]);
   }
   if (const auto* s = std::get_if<Polygon>(&g)) {
     const int n = static_cast<int>(s->points.size());
