@@ -204,6 +204,7 @@ void World::destroyBody(BodyId id) {
     fs.alive = false;
     fs.generation = nextGeneration(fs.generation);
     fs.geometry = Point{};
+    w.segmentNeighbours[f] = {};
     w.freeFixtures.push_back(f);
   }
   b.fixtures.clear();
@@ -356,11 +357,15 @@ FixtureId World::createFixture(BodyId bodyId, const FixtureDef& def) {
     // Everything that allocates first (the stored geometry, room in the lists it joins), then the changes.
     Geometry geometry = normalized(def.geometry);
     const uint32_t index = w.freeFixtures.empty() ? static_cast<uint32_t>(w.fixtures.size()) : w.freeFixtures.back();
-    if (w.freeFixtures.empty()) detail::roomForOneMore(w.fixtures);
+    if (w.freeFixtures.empty()) {
+      detail::roomForOneMore(w.fixtures);
+      detail::roomForOneMore(w.segmentNeighbours);
+    }
     body.fixtures.reserveOneMore();
     w.broadPhase.reserveFor(index, def.sensor);
     if (w.freeFixtures.empty()) {
       w.fixtures.emplace_back();
+      w.segmentNeighbours.emplace_back();
     } else {
       w.freeFixtures.pop_back();
     }
@@ -374,6 +379,7 @@ FixtureId World::createFixture(BodyId bodyId, const FixtureDef& def) {
     f.filter = def.filter;
     body.fixtures.push_back(index);
     detail::refreshDiskShape(w, f.body);
+    detail::refreshSegmentNeighboursAround(w, f.body, index);
     if (body.sliding) stopSliding(w, body);  // as in destroyFixture
     recomputeMass(w, body);
     w.changes.structureChanged = true;
@@ -399,6 +405,7 @@ void World::destroyFixture(FixtureId id) {
   });
   body.fixtures.erase(std::find(body.fixtures.begin(), body.fixtures.end(), id.index));
   detail::refreshDiskShape(w, f.body);
+  detail::refreshSegmentNeighboursAround(w, f.body, id.index);
   // A slide is the motion of the body's circle along a face: with the circle gone (or another left),
   // the next step finds its contacts again (fuzz/regressions/world_api/ub-predictive-slide-of-a-body-
   // without-fixtures).

@@ -595,6 +595,7 @@ World World::load(std::span<const uint8_t> bytes) {
   reader.bodies();
   reader.fixtures();
   reader.finishBodies();
+  detail::findSegmentNeighbours(w);
   reader.sensors();
   reader.squeezes();
   reader.islands();

@@ -1,5 +1,5 @@
-// Private: a circle's time of impact with a Polyline, some faces read as the caller knows them
-// (time_of_impact.cpp).
+// Private: a circle's time of impact with faces the caller knows more of than the geometry says
+// (time_of_impact.cpp): a Polyline's faces read as the caller knows them, and a Segment's neighbours.
 #pragma once
 
 #include <optional>
@@ -58,5 +58,20 @@ inline PolylineNeighbours polylineNeighbours(const Polyline& p, int face) {
 std::optional<Impact> timeOfImpactPolylineWith(const Geometry& a, Vec2 positionA, const Polyline& b, Vec2 positionB,
                                                const Motion& relativeMotion, double maxTime, int resolvedFeature,
                                                const KnownFaces& known);
+
+/// The far ends of the Segments that share a Segment's start and its end, where exactly one other
+/// Segment of the same body does (world/segment_neighbours.cpp keeps them): to a point, the two meet at
+/// a joint as a Polyline's faces do, and an acute one is the apex of a wedge the point may be in.
+struct SegmentNeighbours {
+  Vec2 beforeStart, afterEnd;
+  bool hasBefore = false, hasAfter = false;
+  bool any() const { return hasBefore || hasAfter; }
+};
+
+/// timeOfImpact of circle or point `a` at `positionA` with Segment `b` at `positionB`, as the dispatch
+/// table answers it, but with the joints to `neighbours` (in b's coordinates) read as a Polyline's.
+std::optional<Impact> timeOfImpactSegmentWith(const Geometry& a, Vec2 positionA, const Segment& b, Vec2 positionB,
+                                              const Motion& relativeMotion, double maxTime, int resolvedFeature,
+                                              const SegmentNeighbours& neighbours);
 
 }  // namespace rattle::detail

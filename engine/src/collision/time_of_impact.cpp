@@ -298,13 +298,37 @@ std::optional<Impact> timeOfImpactCirclePoint(const Circle& a, const Motion& mot
   return pointImpact(a.center, motion, b.position, 0.0, *t, 0);
 }
 
+namespace {
+
+// `neighbours` (null: none known) are the Segments met at its ends (detail::timeOfImpactSegmentWith).
+std::optional<Impact> circleSegmentImpact(const Circle& a, const Motion& motion, const Segment& b, double maxTime,
+                                          int resolvedFeature, const detail::SegmentNeighbours* neighbours) {
+  // Another fixture's face may meet this one at either end (two Segments in a V): for a point, the face
+  // reaches past its ends by the round-off of such a neighbour (Edge::jointSlackStart), taken as its own
+  // where the neighbour is not known. Missed there, a point bounced at the joint onto the other Segment
+  // passed under this one's end. A known neighbour is read as a Polyline's: in a needle of two Segments
+  // (an apex of a third of a degree), a point slid along one past the joint, out of its container.
+  if (a.radius != 0) return segmentImpact(a, motion, b.a, b.b, maxTime, 0, isResolved(0, resolvedFeature));
+  double start = detail::pointRoundOff(b.a, b.b, b.b - b.a), end = start;
+  const Vec2* beforeStart = nullptr;
+  const Vec2* afterEnd = nullptr;
+  if (neighbours != nullptr && neighbours->hasBefore) {
+    beforeStart = &neighbours->beforeStart;
+    start = detail::pointRoundOff(*beforeStart, b.a, b.a - *beforeStart);
+  }
+  if (neighbours != nullptr && neighbours->hasAfter) {
+    afterEnd = &neighbours->afterEnd;
+    end = detail::pointRoundOff(*afterEnd, b.b, b.b - *afterEnd);
+  }
+  return segmentImpact(a, motion, b.a, b.b, maxTime, 0, isResolved(0, resolvedFeature), start, end, beforeStart,
+                       afterEnd);
+}
+
+}  // namespace
+
 std::optional<Impact> timeOfImpactCircleSegment(const Circle& a, const Motion& motion, const Segment& b, double maxTime,
                                                 int resolvedFeature) {
-  // Another fixture's face may meet this one at either end (two Segments in a V): for a point, the face
-  // reaches past its ends by the round-off of such a neighbour, taken as its own (Edge::jointSlackStart).
-  // Missed there, a point bounced at the joint onto the other Segment passed under this one's end.
-  const double slack = a.radius == 0 ? detail::pointRoundOff(b.a, b.b, b.b - b.a) : 0.0;
-  return segmentImpact(a, motion, b.a, b.b, maxTime, 0, isResolved(0, resolvedFeature), slack, slack);
+  return circleSegmentImpact(a, motion, b, maxTime, resolvedFeature, nullptr);
 }
 
 namespace {
@@ -455,14 +479,35 @@ std::optional<Impact> timeOfImpact(const Geometry& a, Vec2 positionA, const Geom
   return kTable[a.index()][b.index()](a, positionA, b, positionB, relativeMotion, maxTime, resolvedFeature);
 }
 
+namespace {
+
+// circleVs for the entries below, which pass the solve more than the dispatch table does: circle (or
+// point) A into B's frame, `solve` there, the answer back.
+template <class Solve>
+std::optional<Impact> inFrameOf(const Geometry& a, Vec2 positionA, Vec2 positionB, Solve solve) {
+  Circle circle = asCircle(a, positionA);
+  circle.center -= positionB;
+  auto impact = solve(circle);
+  if (impact) impact->point += positionB;
+  return impact;
+}
+
+}  // namespace
+
 std::optional<Impact> detail::timeOfImpactPolylineWith(const Geometry& a, Vec2 positionA, const Polyline& b,
                                                        Vec2 positionB, const Motion& relativeMotion, double maxTime,
                                                        int resolvedFeature, const KnownFaces& known) {
-  Circle circle = asCircle(a, positionA);
-  circle.center -= positionB;
-  auto impact = circlePolylineImpact(circle, relativeMotion, b, maxTime, resolvedFeature, &known);
-  if (impact) impact->point += positionB;
-  return impact;
+  return inFrameOf(a, positionA, positionB, [&](const Circle& circle) {
+    return circlePolylineImpact(circle, relativeMotion, b, maxTime, resolvedFeature, &known);
+  });
+}
+
+std::optional<Impact> detail::timeOfImpactSegmentWith(const Geometry& a, Vec2 positionA, const Segment& b,
+                                                      Vec2 positionB, const Motion& relativeMotion, double maxTime,
+                                                      int resolvedFeature, const SegmentNeighbours& neighbours) {
+  return inFrameOf(a, positionA, positionB, [&](const Circle& circle) {
+    return circleSegmentImpact(circle, relativeMotion, b, maxTime, resolvedFeature, &neighbours);
+  });
 }
 
 }  // namespace rattle

@@ -461,7 +461,8 @@ bool detail::Islands::holdSegmentCrossings(const std::vector<uint32_t>& members,
       }
       const std::pair<uint32_t, uint32_t> key{pair.own, pair.other};
       if (std::binary_search(held.begin(), held.end(), key)) continue;
-      const auto impact = timeOfImpact(own.geometry, position, other.geometry, holder.position, Motion{v[k]}, h);
+      const auto impact =
+          detail::fixtureTimeOfImpact(w, pair.own, position, pair.other, holder.position, Motion{v[k]}, h, kNoFeature);
       if (!impact) continue;
       const Vec2 centre = position + detail::circleCentre(own.geometry);
       const double radius = detail::circleRadius(own.geometry);

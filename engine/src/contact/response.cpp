@@ -186,10 +186,21 @@ void detail::dropMisreadFace(const WorldState& w, const BodySlot& a, uint32_t ow
       impact = detail::timeOfImpactPolylineWith(ga, at, *polyline, otherAt, relative, maxTime, resolved, known);
     } while (impact && impact->time < kMisreadWindow && meetsKnownFaceFromBehind(w, a, own, other, now, *impact));
   } else if (std::holds_alternative<Segment>(gb)) {
-    impact = timeOfImpact(ga, at, gb, otherAt, relative, maxTime, impact->feature);
+    impact = fixtureTimeOfImpact(w, own, at, other, otherAt, relative, maxTime, impact->feature);
     if (impact && impact->time < kMisreadWindow && meetsKnownFaceFromBehind(w, a, own, other, now, *impact))
       impact.reset();
   }
+}
+
+std::optional<Impact> detail::pointSegmentTimeOfImpact(const WorldState& w, uint32_t own, Vec2 positionOwn,
+                                                       uint32_t other, Vec2 positionOther,
+                                                       const Motion& relativeMotion, double maxTime, int resolved) {
+  const Geometry& ga = w.fixtures[own].geometry;
+  const Geometry& gb = w.fixtures[other].geometry;
+  const detail::SegmentNeighbours& neighbours = w.segmentNeighbours[other];
+  if (!neighbours.any()) return timeOfImpact(ga, positionOwn, gb, positionOther, relativeMotion, maxTime, resolved);
+  return timeOfImpactSegmentWith(ga, positionOwn, std::get<Segment>(gb), positionOther, relativeMotion, maxTime,
+                                 resolved, neighbours);
 }
 
 namespace {

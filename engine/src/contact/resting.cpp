@@ -52,9 +52,16 @@ bool flatFeature(const Geometry& g, int feature, Vec2& a, Vec2& b) {
   return false;
 }
 
-// The far end of the face that shares the start (atEnd false) or the end of flat feature `feature` of a
-// Polyline or Polygon, in the fixture's coordinates: the neighbour a point sliding off that end meets.
-std::optional<Vec2> neighbourFarEnd(const Geometry& g, int feature, bool atEnd) {
+// The far end of the face that shares the start (atEnd false) or the end of flat feature `feature` of
+// fixture `f` (a Polyline, a Polygon, or a Segment that has a neighbour there), in the fixture's
+// coordinates: the neighbour a point sliding off that end meets.
+std::optional<Vec2> neighbourFarEnd(const detail::WorldState& w, uint32_t f, int feature, bool atEnd) {
+  const Geometry& g = w.fixtures[f].geometry;
+  if (std::holds_alternative<Segment>(g)) {
+    const detail::SegmentNeighbours& n = w.segmentNeighbours[f];
+    if (atEnd) return n.hasAfter ? std::optional<Vec2>(n.afterEnd) : std::nullopt;
+    return n.hasBefore ? std::optional<Vec2>(n.beforeStart) : std::nullopt;
+  }
   if (const auto* s = std::get_if<Polyline>(&g)) {
     const auto [before, after] = detail::polylineNeighbours(*s, feature);
     if (atEnd) return after < 0 ? std::nullopt : std::optional<Vec2>(s->points[after + 1]);
@@ -538,7 +545,7 @@ std::optional<double> detail::slideEndTime(const WorldState& w, const BodySlot& 
   // a degree, the point was already outside the neighbour's end, and fell out of the tip.
   if (point) {
     for (const bool atEnd : {false, true}) {
-      const auto far = neighbourFarEnd(face.geometry, b.support.feature, atEnd);
+      const auto far = neighbourFarEnd(w, b.support.fixture, b.support.feature, atEnd);
       const Vec2 joint = atEnd ? e : a;
       if (!far || !(dot(*far - joint, b.support.normal) > 0) || !(dot(*far - joint, atEnd ? -u : u) > 0)) continue;
       const Vec2 d = *far - joint;

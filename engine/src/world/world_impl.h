@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "broad_phase/broad_phase.h"
+#include "collision/polyline_impact.h"
 #include "world/change_log.h"
 #include "world/fixture_list.h"
 #include "common/out_of_memory.h"
@@ -217,6 +218,9 @@ struct WorldState {
   detail::LargeArray<detail::DiskShape> diskShapes;  // where BodySlot::diskShape holds
   std::vector<uint32_t> freeBodies;  // reused last-freed first
   detail::LargeArray<detail::FixtureSlot> fixtures;
+  // By fixture index, apart from the FixtureSlots (which predictions stream): a Segment's neighbours on
+  // its body, which a point's time of impact reads (segment_neighbours.cpp). Derived, so not saved.
+  detail::LargeArray<detail::SegmentNeighbours> segmentNeighbours;
   std::vector<uint32_t> freeFixtures;
   int liveBodies = 0;
   detail::BroadPhase broadPhase;
@@ -367,6 +371,13 @@ void recomputeMass(WorldState& w, BodySlot& body);
 /// BodySlot::diskShape and diskShapes[body] from the body's fixtures; after every change of them or of
 /// their filters.
 void refreshDiskShape(WorldState& w, uint32_t body);
+
+// segment_neighbours.cpp: the Segments of a body that meet end to end.
+/// segmentNeighbours of Segment `segment` and of every other Segment of `body` with an end at one of its
+/// ends: after a Segment fixture joined the body's list, or left it (its own entry is then cleared).
+void refreshSegmentNeighboursAround(WorldState& w, uint32_t body, uint32_t segment);
+/// segmentNeighbours of every fixture, from the bodies' lists (World::load).
+void findSegmentNeighbours(WorldState& w);
 
 }  // namespace detail
 
