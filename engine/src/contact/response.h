@@ -45,11 +45,12 @@ std::optional<Impact> pointSegmentTimeOfImpact(const WorldState& w, uint32_t own
 /// timeOfImpact of fixture `own` at `positionOwn` with fixture `other` at `positionOther`, with what the
 /// world knows of `other` beyond its geometry: for a point, the neighbours of a Segment
 /// (WorldState::segmentNeighbours). Small enough to inline into predictImpact's callers, the rare part
-/// out of line: inlined whole, it took predictImpact out of the hybrid step's predict, 8% of the bench's
-/// bullets.
-[[gnu::always_inline]] inline std::optional<Impact> fixtureTimeOfImpact(const WorldState& w, uint32_t own, Vec2 positionOwn, uint32_t other,
-                                                 Vec2 positionOther, const Motion& relativeMotion, double maxTime,
-                                                 int resolved) {
+/// out of line: inlined whole, the compiler stopped inlining predictImpact into the hybrid step.
+[[gnu::always_inline]] inline std::optional<Impact> fixtureTimeOfImpact(const WorldState& w, uint32_t own,
+                                                                        Vec2 positionOwn, uint32_t other,
+                                                                        Vec2 positionOther,
+                                                                        const Motion& relativeMotion,
+                                                                        double maxTime, int resolved) {
   const Geometry& ga = w.fixtures[own].geometry;
   const Geometry& gb = w.fixtures[other].geometry;
   if (std::holds_alternative<Segment>(gb) && isPoint(ga)) [[unlikely]] {
@@ -63,8 +64,10 @@ std::optional<Impact> pointSegmentTimeOfImpact(const WorldState& w, uint32_t own
 /// a face read from the wrong side (dropMisreadFace). Inline, and one object returned on every path: the
 /// caller reads the flag byte the time of impact wrote, with no copy between (a copied optional is read
 /// back as a wider word just after it was written, a stalled load that cost the bench's bullets 7%).
-[[gnu::always_inline]] inline std::optional<Impact> predictImpact(const WorldState& w, const detail::BodySlot& a, const detail::BodySlot& b,
-                                           uint32_t own, uint32_t other, double now, double maxTime, int resolved) {
+[[gnu::always_inline]] inline std::optional<Impact> predictImpact(const WorldState& w, const detail::BodySlot& a,
+                                                                  const detail::BodySlot& b, uint32_t own,
+                                                                  uint32_t other, double now, double maxTime,
+                                                                  int resolved) {
   const Motion relative{w.velocityAt(a, now) - w.velocityAt(b, now), a.acceleration - b.acceleration};
   std::optional<Impact> impact =
       fixtureTimeOfImpact(w, own, w.positionAt(a, now), other, w.positionAt(b, now), relative, maxTime, resolved);
