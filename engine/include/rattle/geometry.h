@@ -27,7 +27,8 @@ struct Circle {
 /// A line segment from a to b. Only its inside collides: its two ends are not corners, so a disk that
 /// meets the segment exactly end-on passes (join segments into a Polyline when the ends must collide).
 /// A point crossing its line within round-off of an end (an ulp off, where segments meet end to end in a
-/// box) meets its inside.
+/// box) meets its inside. Where exactly two Segments of one body share an end, a point meets their joint
+/// as it meets a Polyline's, however acute the corner.
 struct Segment {
   Vec2 a;
   Vec2 b{1.0, 0.0};
