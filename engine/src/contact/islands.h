@@ -147,6 +147,14 @@ struct Islands {
   /// contacts' impulses are where an earlier solve of the same members stopped, and it sweeps on.
   bool solveIslandVelocities(const std::vector<uint32_t>& members, std::vector<Vec2>& v, double speed, double h,
                              bool warmStart, bool whole, bool carried = false);
+  /// Without gravity, after a solve of islandScratch's contacts that did not converge: a kinematic body
+  /// pushing members that the rest of the island cannot let by (a gate shutting on a crowd that fills
+  /// the gap between it and a wall: no velocities meet every contact) passes over them, as over a
+  /// squeezed body. Each of its contacts that took an impulse has its pair of fixtures exempt from
+  /// collisions until they no longer overlap (squeeze.h), and counts a squeeze; true if any did, and
+  /// the caller gathers and solves again without them. Left to events, each member was squeezed in turn
+  /// after its count of collisions, and the island's solves after each hit failed again.
+  bool passKinematicOverPushed();
   /// Gives `after` (a wider gather of the same members at the same time) the impulses of the contacts
   /// of `before`, which it holds in the same order; false, and no impulses, when it does not hold them.
   static bool carryImpulses(const std::vector<IslandContact>& before, std::vector<IslandContact>& after);
