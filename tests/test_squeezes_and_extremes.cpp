@@ -271,14 +271,17 @@ TEST(Squeeze, ACrowdDrivenIntoAPistonStaysWithinTheBudget) {
 // A crowd of 150 left alone: from about 12 s on it fills the gap left between the piston and the wall
 // (150 disks of radius 0.2 close-packed take 20.8 of area), and no velocities meet every contact. Each
 // disk at the piston was squeezed in turn after its count of collisions, and the island's solves after
-// each hit failed again: the predictive mode spent this budget of 200,000 events in each of two steps (a
-// step of 100 s). Now the piston passes over the disks it pushes once the solve cannot meet the contacts.
+// each hit failed again: the predictive mode, at a budget of 200,000 events, spent it in each of two steps
+// (a step of 100 s). Now the piston passes over the disks it pushes once the solve cannot meet the
+// contacts. Nobody drives the crowd, so it jammed only after the collapse guard's count, a sixteenth of the
+// default budget: collapsing against the wall it then took 360,000 events in a step (hybrid) and 580,000
+// (predictive). Disks wedged against the wall now jam as driven ones do. What is left is the predictive
+// mode's absorbs at one instant, which the guard's count still bounds (62,500 a step, at most 91,000
+// events in all): far below the budget, not yet a few ordinary steps (issue 10).
 TEST(Squeeze, APistonClosingOnACrowdThatFillsTheGapPassesOverIt) {
   for (StepMode mode : kExactModes) {
     SCOPED_TRACE(nameOf(mode));
-    WorldDef def = defOf(mode);
-    def.maxEventsPerStep = 200000;
-    World w(def);
+    World w(defOf(mode));
     std::vector<BodyId> disks;
     const BodyId piston = crowdBeforeAPiston(w, disks, 150);
     const double r = 0.2;
@@ -286,7 +289,7 @@ TEST(Squeeze, APistonClosingOnACrowdThatFillsTheGapPassesOverIt) {
     int squeezes = 0;
     for (int step = 0; step < 600; ++step) {
       w.step(1.0 / 30);
-      ASSERT_FALSE(w.stats().eventBudgetReached) << "step " << step;
+      ASSERT_LE(w.stats().eventsProcessed, 150000) << "step " << step;
       squeezes += w.stats().squeezes;
       for (BodyId d : disks) {
         const Vec2 p = w.position(d);

@@ -20,6 +20,7 @@
 #include "contact/collapse_guard.h"
 #include "world/stepper.h"
 #include "contact/islands.h"
+#include "contact/squeeze.h"
 #include "world/world_impl.h"
 
 namespace rattle {
@@ -51,9 +52,13 @@ bool detail::Islands::isJammed(uint32_t bodyIndex) {
   // Without gravity resolve() counts every collision already (the collapse guard, collapse_guard.h). A
   // body the game drives jams as under gravity; one it does not (a gas) only where the collapse guard
   // would otherwise make its collisions elastic: it is then in an inelastic collapse (a cluster with low
-  // restitution in a corner), which exact events cannot end within the step's budget.
+  // restitution in a corner), which exact events cannot end within the step's budget. A body already
+  // wedged against a static face this step (squeezeAt) is caught in such a collapse against the wall:
+  // a crowd nobody drives, pressed there by a gate, took hundreds of thousands of events in a step
+  // before its bodies reached the collapse guard's count. It jams as a driven one does.
   if (w.def.gravity.x == 0 && w.def.gravity.y == 0) {
-    return s.stepCollisions > (s.driven ? kJamCollisions : detail::collapseCollisions(w.def.maxEventsPerStep));
+    const bool pressed = s.driven || (!w.wedged.empty() && detail::wedgedThisStep(w, bodyIndex));
+    return s.stepCollisions > (pressed ? kJamCollisions : detail::collapseCollisions(w.def.maxEventsPerStep));
   }
   return s.countStepCollision() > kJamCollisions;
 }

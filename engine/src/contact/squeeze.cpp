@@ -57,6 +57,10 @@ bool heldUpBy(Vec2 g, Vec2 f, Vec2 n) {
 }
 }  // namespace
 
+bool detail::wedgedThisStep(const WorldState& w, uint32_t body) {
+  return std::any_of(w.wedged.begin(), w.wedged.end(), [&](const WorldState::Wedged& e) { return e.body == body; });
+}
+
 bool detail::squeezeExempt(const WorldState& w, uint32_t fa, uint32_t fb) {
   const uint64_t key = islandKey(fa, fb);
   for (const WorldState::Squeeze& s : w.squeezes) {

@@ -86,8 +86,8 @@ struct alignas(64) BodySlot {
   // centred on it (refreshDiskShape keeps it with the fixtures).
   bool diskShape : 1 = false;
   // World::setVelocity gave it a velocity since the last step: the game drives it (a unit steered each
-  // tick). Without gravity only a cluster with a driven body is held as a jam (jam.cpp); a gas's
-  // clusters stay exact events. World::step clears it.
+  // tick). Without gravity only a cluster with a driven body (or one wedged against a static face in the
+  // step) is held as a jam (jam.cpp); a gas's clusters stay exact events. World::step clears it.
   bool driven : 1 = false;
   // Its state at the step's start is in detail::WorldState::StepStart::bodies (detail::WorldState::keep).
   bool kept : 1 = false;
