@@ -174,9 +174,11 @@ struct StepStats {
   int requeries = 0;          ///< times a body's new path left its swept box and the broad phase was asked again
   int sleeping = 0;           ///< dynamic bodies asleep at the end of the step
   /// Squeezes this step: each time a dynamic body caught between bodies that do not yield was stopped
-  /// along a contact and the kinematic body closing on it set to pass over it, and each pair of dynamic
-  /// bodies made overlapping deeply set to pass through each other (README, "Squeezes"). It counts
-  /// events, not bodies: one body squeezed against a wall by a piston counts about twice.
+  /// along a contact and the kinematic body closing on it set to pass over it, each member of a crowd
+  /// held by the contact solve that a kinematic body was set to pass over once no velocities met every
+  /// contact, and each pair of dynamic bodies made overlapping deeply set to pass through each other
+  /// (README, "Squeezes"). It counts events, not bodies: one body squeezed against a wall by a piston
+  /// counts about twice.
   int squeezes = 0;
   /// The step's next change of motion would have taken it past WorldDef::maxEventsPerStep: every body
   /// stopped at that instant.
