@@ -57,8 +57,8 @@ bool detail::Islands::isJammed(uint32_t bodyIndex) {
   // a crowd nobody drives, pressed there by a gate, took hundreds of thousands of events in a step
   // before its bodies reached the collapse guard's count. It jams as a driven one does.
   if (w.def.gravity.x == 0 && w.def.gravity.y == 0) {
-    const bool pressed = s.driven || (!w.wedged.empty() && detail::wedgedThisStep(w, bodyIndex));
-    return s.stepCollisions > (pressed ? kJamCollisions : detail::collapseCollisions(w.def.maxEventsPerStep));
+    return s.stepCollisions >
+           (detail::jamsAsDriven(w, bodyIndex) ? kJamCollisions : detail::collapseCollisions(w.def.maxEventsPerStep));
   }
   return s.countStepCollision() > kJamCollisions;
 }

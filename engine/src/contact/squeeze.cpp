@@ -57,7 +57,8 @@ bool heldUpBy(Vec2 g, Vec2 f, Vec2 n) {
 }
 }  // namespace
 
-bool detail::wedgedThisStep(const WorldState& w, uint32_t body) {
+bool detail::jamsAsDriven(const WorldState& w, uint32_t body) {
+  if (w.bodies[body].driven) return true;
   return std::any_of(w.wedged.begin(), w.wedged.end(), [&](const WorldState::Wedged& e) { return e.body == body; });
 }
 

@@ -16,8 +16,11 @@ bool passesThrough(WorldState& w, const detail::PredictedContact& c);
 /// Exempts the pair of fixtures from collisions until they no longer overlap (refreshSqueezes), and
 /// counts a squeeze.
 void exemptFromCollisions(WorldState& w, uint32_t fa, uint32_t fb);
-/// Whether the body was stopped against a static face this step, past kSqueezeCollisions (squeezeAt).
-bool wedgedThisStep(const WorldState& w, uint32_t body);
+/// Without gravity, whether the body's cluster jams after Islands::kJamCollisions rather than the
+/// collapse guard's count (jam.cpp, and the predictive mode's hand-over): the game drives it, or it was
+/// stopped against a static face this step past kSqueezeCollisions (squeezeAt), caught in a collapse
+/// against the wall.
+bool jamsAsDriven(const WorldState& w, uint32_t body);
 /// Whether the pair of fixtures is exempt from collisions because of a squeeze.
 bool squeezeExempt(const WorldState& w, uint32_t fa, uint32_t fb);
 /// At a step's start: forgets the squeezes whose pairs no longer overlap (or are gone), and starts the

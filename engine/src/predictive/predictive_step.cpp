@@ -493,11 +493,7 @@ bool Engine::collidePlainPair(uint32_t i, uint32_t j, const PredictiveEvent& c, 
   }
   const detail::BodySlot* partner = j != PredictiveState::kNone ? &w_.bodies[s_.bodyOfSlot[j]] : nullptr;
   const int most = std::max(w_.bodies[ia].stepCollisions, partner != nullptr ? partner->stepCollisions : 0);
-  // A body wedged against a static face this step jams as a driven one does (jam.cpp, isJammed).
-  const auto pressed = [&](uint32_t body) {
-    return w_.bodies[body].driven || (!w_.wedged.empty() && wedgedThisStep(w_, body));
-  };
-  const bool driven = pressed(ia) || (partner != nullptr && pressed(s_.bodyOfSlot[j]));
+  const bool driven = jamsAsDriven(w_, ia) || (partner != nullptr && jamsAsDriven(w_, s_.bodyOfSlot[j]));
   if (handsOver(static_cast<uint32_t>(std::max(most, 0)), driven)) {
     pile_ = true;
     budgetTime_ = c.time;
