@@ -41,8 +41,8 @@ double distanceFromRememberedFace(const WorldState& w, const detail::BodySlot& b
 /// A point meeting a static face at `c`: where the time of impact took it as met at the face's end from
 /// beyond it (a joint's reach, time_of_impact.cpp), it moves to that end, the contact's point.
 void placePointOnFace(WorldState& w, detail::BodySlot& b, const detail::PredictedContact& c);
-/// Puts a point to sleep held by an awake body at rest (squeeze.cpp: a point in the cusp where a stepped
-/// body touches a face), and lists it in WorldState::sleepersOnAwakeBodies.
+/// Puts a point to sleep held by an awake body at rest (squeeze.cpp: a point caught between a stepped
+/// body and a face), and lists it in WorldState::sleepersOnAwakeBodies.
 void sleepOnAwakeBody(WorldState& w, uint32_t body, uint32_t supporter);
 /// At a step's start: wakes the sleepers of WorldState::sleepersOnAwakeBodies whose supporter moves,
 /// and forgets those whose supporter has gone to sleep (its wake wakes them) or that are awake.

@@ -31,10 +31,10 @@ void refreshSqueezes(WorldState& w);
 bool squeezeAt(WorldState& w, const detail::PredictedContact& c);
 /// After a collision of a point with a stepped body (an island's member) and the island's solve after
 /// it: a point past kSqueezeCollisions collisions in the step that still moves into the stepped body
-/// stops doing so, at the velocity the island left that body (never faster than it was). In the cusp
-/// where that body, at rest, touches the face the point remembers, the point takes the velocity nearest
-/// its own that meets both contacts, and sleeps there when that is slow and the two hold it up
-/// (sleepOnAwakeBody).
+/// stops doing so, at the velocity the island left that body (never faster than it was). Caught between
+/// that body, at rest, and the face the point remembers (on the face, or in the cusp the body leaves
+/// against it), the point takes the velocity nearest its own that meets both contacts, and sleeps there
+/// when that is slow and the two hold it up (sleepOnAwakeBody).
 void stopPointAtSteppedBody(WorldState& w, const detail::PredictedContact& c);
 
 }  // namespace rattle::detail

@@ -311,8 +311,8 @@ struct WorldState {
     Vec2 normal;
   };
   std::vector<Wedged> wedged;
-  /// Sleepers held by an awake body, (sleeper, holder) in order: a point put to sleep in the cusp where a
-  /// stepped body at rest touches a face (squeeze.cpp). They wake when the holder moves
+  /// Sleepers held by an awake body, (sleeper, holder) in order: a point put to sleep caught between a
+  /// stepped body at rest and a face (squeeze.cpp). They wake when the holder moves
   /// (wakeSleepersOfMovingBodies); a holder that sleeps holds them as any sleeper does. Derived from the
   /// bodies and dependents (findSleepersOnAwakeBodies), so not saved.
   std::vector<std::pair<uint32_t, uint32_t>> sleepersOnAwakeBodies;
