@@ -224,6 +224,9 @@ struct Islands {
   bool settledTogether(uint32_t a, uint32_t b, double now) const;
   /// Counts a collision of `body` in this step; true once it has had more than kJamCollisions.
   bool isJammed(uint32_t body);
+  /// Whether `body` may join a jam at all: dynamic, awake, not a point, not refused this step, and
+  /// resting on (WorldDef::restingSpeed > 0).
+  bool canJam(uint32_t body) const;
   bool bodyIsPoint(const BodySlot& b) const;
   /// Brings the touching cluster of `seed` into the stepped islands at `now` and solves its island;
   /// returns the contact events it took (at least 1, at most `budget` >= 1), or
@@ -239,7 +242,9 @@ struct Islands {
   double islandResidual(double h) const;
   /// Counts the contact's collision for both bodies; when one of them is jammed, settles its cluster
   /// (counting its events against the step's budget, which must have room for one) and returns true.
-  bool settleJamAt(const detail::PredictedContact& c, double dt);
+  /// caughtA and caughtB say that the contact's first or second body is caught absorbing round-off
+  /// approaches at one instant (HybridStep::dismissContact): it is jammed whatever its count.
+  bool settleJamAt(const detail::PredictedContact& c, double dt, bool caughtA = false, bool caughtB = false);
 
   /// Whether islandNext is the next step's warm start: no fixture was destroyed since it was kept
   /// (beginStep drops it otherwise, as indices are reused).

@@ -42,13 +42,18 @@ bool detail::Islands::bodyIsPoint(const BodySlot& b) const {
   return true;
 }
 
-bool detail::Islands::isJammed(uint32_t bodyIndex) {
-  BodySlot& s = w.bodies[bodyIndex];
+bool detail::Islands::canJam(uint32_t bodyIndex) const {
+  const BodySlot& s = w.bodies[bodyIndex];
   if (s.type != BodyType::Dynamic || s.asleep || jamMarkOf(bodyIndex).time == kJamRefused) return false;
   if (!(w.def.restingSpeed > 0)) return false;
   // An island's contacts are built from distances (island.cpp), which cannot tell a point's side of a
   // face it lies on: a point's contacts stay events, where its slide and LastContact tell it.
-  if (bodyIsPoint(s)) return false;
+  return !bodyIsPoint(s);
+}
+
+bool detail::Islands::isJammed(uint32_t bodyIndex) {
+  if (!canJam(bodyIndex)) return false;
+  BodySlot& s = w.bodies[bodyIndex];
   // Without gravity resolve() counts every collision already (the collapse guard, collapse_guard.h). A
   // body the game drives jams as under gravity; one it does not (a gas) only where the collapse guard
   // would otherwise make its collisions elastic: it is then in an inelastic collapse (a cluster with low
@@ -63,9 +68,10 @@ bool detail::Islands::isJammed(uint32_t bodyIndex) {
   return s.countStepCollision() > kJamCollisions;
 }
 
-bool detail::Islands::settleJamAt(const detail::PredictedContact& c, double dt) {
+bool detail::Islands::settleJamAt(const detail::PredictedContact& c, double dt, bool caughtA, bool caughtB) {
   const uint32_t ia = w.fixtures[c.a].body, ib = w.fixtures[c.b].body;
-  const bool jamA = isJammed(ia), jamB = isJammed(ib);
+  const bool jamA = isJammed(ia) || (caughtA && canJam(ia));
+  const bool jamB = isJammed(ib) || (caughtB && canJam(ib));
   if (!jamA && !jamB) return false;
   const int events = settleJam(jamA ? ia : ib, c.time, dt, w.def.maxEventsPerStep - w.stats.eventsProcessed);
   w.stats.eventsProcessed += events;

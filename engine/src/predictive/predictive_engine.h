@@ -186,6 +186,11 @@ class Engine {
   /// such contacts by a solve (island.cpp, jam.cpp). Without gravity the same holds for a contact of a
   /// body the game drives (BodySlot::driven): a crowd pressed into itself.
   static constexpr int kPileCollisions = 128;
+  /// A body that absorbs more round-off approaches than this in one step (absorbOrDismiss) is in a
+  /// cluster pressed together at one instant: each absorb leaves its neighbours approaching by round-off
+  /// again, the alternating projections of an inelastic collapse. Where piles or jams form, it is handed
+  /// over as a pile or a driven jam is.
+  static constexpr int kJamAbsorbs = kPileCollisions;
   /// A body that would cross more cells than this in one step is beyond what cell-crossing events can
   /// follow at a bounded cost (each crossing is an event): such a step is handed to the hybrid step,
   /// which sweeps the whole path at once, and the grid is made again after it.
@@ -227,7 +232,7 @@ class Engine {
   void crossCell(uint32_t i, const PredictiveEvent& c);
   void endSlide(uint32_t i, const PredictiveEvent& c);
   bool collideAt(uint32_t i, uint32_t j, const PredictiveEvent& c);
-  void absorbOrDismiss(uint32_t i, uint32_t j, const PredictiveEvent& c, const detail::PredictedContact& contact,
+  bool absorbOrDismiss(uint32_t i, uint32_t j, const PredictiveEvent& c, const detail::PredictedContact& contact,
                        double vn, double speed, double velocityScale, double restTol);
   bool collidePlainPair(uint32_t i, uint32_t j, const PredictiveEvent& c, double tolerance);
   bool handsOver(uint32_t most, bool driven) const;

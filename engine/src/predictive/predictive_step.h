@@ -13,8 +13,9 @@
 #include <limits>
 #include <vector>
 
-#include "contact/collapse_guard.h"
+#include "common/body_marks.h"
 #include "common/large_array.h"
+#include "contact/collapse_guard.h"
 #include "world/path_log.h"
 #include "rattle/types.h"
 #include "rattle/vec2.h"
@@ -170,6 +171,9 @@ struct PredictiveState {
   detail::LargeArray<PredictiveEvent> event;
   detail::LargeArray<std::vector<Dismissal>> dismissed;  // by slot once a contact was dismissed; else empty
   std::vector<uint32_t> dismissedSlots;  // slots whose `dismissed` is not empty
+  // Round-off approaches absorbed in the current step, by body (Engine::absorbOrDismiss): only the bodies
+  // that absorbed have a count (by body, not slot: reorder() moves slots within a step).
+  detail::BodyMarks<uint16_t> absorbs;
   uint64_t popsSinceReorder = 0;
   uint64_t popsSinceRetune = 0;
 
