@@ -222,12 +222,16 @@ struct Islands {
   /// Whether a jam settled this pair's contact at this very instant: both dynamic bodies were in it (or
   /// the other one was held fixed), so any approach left between them is the solve's round-off.
   bool settledTogether(uint32_t a, uint32_t b, double now) const;
-  /// Counts a collision of `body` in this step; true once it has had more than kJamCollisions.
-  bool isJammed(uint32_t body);
-  /// Whether `body` may join a jam at all: dynamic, awake, not a point, not refused this step, and
-  /// resting on (WorldDef::restingSpeed > 0).
-  bool canJam(uint32_t body) const;
+  /// Counts a collision of `body` at `now` in this step; true once it has had more than kJamCollisions.
+  bool isJammed(uint32_t body, double now);
+  /// Whether `body` may join a jam at `now` at all: dynamic, awake, held by island contacts
+  /// (heldByIslandContacts), not refused this step, and resting on (WorldDef::restingSpeed > 0).
+  bool canJam(uint32_t body, double now) const;
   bool bodyIsPoint(const BodySlot& b) const;
+  /// Whether an island's contacts, built from distances, can hold `body` at `now`: it is no point, and
+  /// no circle of it has its centre on or inside a static fixture (a circle made over a wall), where a
+  /// distance tells no side.
+  bool heldByIslandContacts(uint32_t body, double now) const;
   /// Brings the touching cluster of `seed` into the stepped islands at `now` and solves its island;
   /// returns the contact events it took (at least 1, at most `budget` >= 1), or
   /// returns 0 when it is refused (below).

@@ -292,7 +292,10 @@ bool HybridStep::joinsIsland(const PredictedContact& c, double stepEnd) const {
   const double now = w.time + c.time;
   const bool rapid = now - a.lastContactTime < w.def.collapseTime || now - b.lastContactTime < w.def.collapseTime;
   const double e = rapid ? 1.0 : std::max(w.fixtures[c.a].restitution, w.fixtures[c.b].restitution);
-  return -e * vn < w.def.restingSpeed;
+  if (!(-e * vn < w.def.restingSpeed)) return false;
+  // Nor a body whose circle lies on a static fixture (made over a wall): no contact would hold it there.
+  const uint32_t ia = w.fixtures[c.a].body, ib = w.fixtures[c.b].body;
+  return h_.islands.heldByIslandContacts(ia, c.time) && h_.islands.heldByIslandContacts(ib, c.time);
 }
 
 [[gnu::always_inline]] inline void HybridStep::prefetchFirstPass(uint32_t i, uint32_t count,
