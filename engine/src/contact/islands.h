@@ -227,6 +227,7 @@ struct Islands {
   /// Whether `body` may join a jam at `now` at all: dynamic, awake, held by island contacts
   /// (heldByIslandContacts), not refused this step, and resting on (WorldDef::restingSpeed > 0).
   bool canJam(uint32_t body, double now) const;
+  bool mayJam(uint32_t body) const;
   bool bodyIsPoint(const BodySlot& b) const;
   /// Whether an island's contacts, built from distances, can hold `body` at `now`: it is no point, and
   /// no circle of it has its centre on or inside a static fixture (a circle made over a wall), where a

@@ -67,15 +67,20 @@ bool detail::Islands::heldByIslandContacts(uint32_t bodyIndex, double now) const
   return true;
 }
 
-bool detail::Islands::canJam(uint32_t bodyIndex, double now) const {
+// canJam but for the centres' look at the static fixtures near (heldByIslandContacts), which isJammed
+// leaves until a body's count is reached: it asks at every collision.
+bool detail::Islands::mayJam(uint32_t bodyIndex) const {
   const BodySlot& s = w.bodies[bodyIndex];
   if (s.type != BodyType::Dynamic || s.asleep || jamMarkOf(bodyIndex).time == kJamRefused) return false;
-  if (!(w.def.restingSpeed > 0)) return false;
-  return heldByIslandContacts(bodyIndex, now);
+  return w.def.restingSpeed > 0 && !bodyIsPoint(s);
+}
+
+bool detail::Islands::canJam(uint32_t bodyIndex, double now) const {
+  return mayJam(bodyIndex) && heldByIslandContacts(bodyIndex, now);
 }
 
 bool detail::Islands::isJammed(uint32_t bodyIndex, double now) {
-  if (!canJam(bodyIndex, now)) return false;
+  if (!mayJam(bodyIndex)) return false;
   BodySlot& s = w.bodies[bodyIndex];
   // Without gravity resolve() counts every collision already (the collapse guard, collapse_guard.h). A
   // body the game drives jams as under gravity; one it does not (a gas) only where the collapse guard
@@ -84,11 +89,12 @@ bool detail::Islands::isJammed(uint32_t bodyIndex, double now) {
   // wedged against a static face this step (squeezeAt) is caught in such a collapse against the wall:
   // a crowd nobody drives, pressed there by a gate, took hundreds of thousands of events in a step
   // before its bodies reached the collapse guard's count. It jams as a driven one does.
-  if (w.def.gravity.x == 0 && w.def.gravity.y == 0) {
-    return s.stepCollisions >
-           (detail::jamsAsDriven(w, bodyIndex) ? kJamCollisions : detail::collapseCollisions(w.def.maxEventsPerStep));
-  }
-  return s.countStepCollision() > kJamCollisions;
+  const bool counted =
+      w.def.gravity.x == 0 && w.def.gravity.y == 0
+          ? s.stepCollisions >
+                (detail::jamsAsDriven(w, bodyIndex) ? kJamCollisions : detail::collapseCollisions(w.def.maxEventsPerStep))
+          : s.countStepCollision() > kJamCollisions;
+  return counted && heldByIslandContacts(bodyIndex, now);
 }
 
 bool detail::Islands::settleJamAt(const detail::PredictedContact& c, double dt, bool caughtA, bool caughtB) {
