@@ -230,8 +230,8 @@ struct Islands {
   bool mayJam(uint32_t body) const;
   bool bodyIsPoint(const BodySlot& b) const;
   /// Whether an island's contacts, built from distances, can hold `body` at `now`: it is no point, and
-  /// no circle of it has its centre on or inside a static fixture (a circle made over a wall), where a
-  /// distance tells no side.
+  /// no circle of it has its centre on a static fixture's boundary (a circle made over a wall's face),
+  /// where a distance tells no side.
   bool heldByIslandContacts(uint32_t body, double now) const;
   /// Brings the touching cluster of `seed` into the stepped islands at `now` and solves its island;
   /// returns the contact events it took (at least 1, at most `budget` >= 1), or
