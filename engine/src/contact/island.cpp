@@ -1132,6 +1132,7 @@ void detail::Islands::beginStep() {
   jamCounterAtStart_ = jamCounter;
   swapped_ = false;
   jamMarks_.clear();
+  bursts_.clear();
   // The warm start is kept by fixture index, and a destroyed fixture's index is reused.
   if (w.changes.fixtureRemovals != fixtureRemovalsSeen_) {
     islandNext.clear();

@@ -222,8 +222,15 @@ struct Islands {
   /// Whether a jam settled this pair's contact at this very instant: both dynamic bodies were in it (or
   /// the other one was held fixed), so any approach left between them is the solve's round-off.
   bool settledTogether(uint32_t a, uint32_t b, double now) const;
-  /// Counts a collision of `body` at `now` in this step; true once it has had more than kJamCollisions.
-  bool isJammed(uint32_t body, double now);
+  /// Counts a collision of `body` at `now` in this step of dt; true once it has had more than
+  /// kJamCollisions.
+  bool isJammed(uint32_t body, double now, double dt);
+  /// Without gravity, a body past kBurstStart collisions in the step whose last kJamCollisions came each
+  /// within kBurstWindow of the step of the one before is in an inelastic collapse at (nearly) one
+  /// instant, and jams as a driven body does (isJammed). Counts the collision at `now`.
+  bool collapsing(uint32_t body, double now, double dt);
+  static constexpr int kBurstStart = 16;
+  static constexpr double kBurstWindow = 1e-4;
   /// Whether `body` may join a jam at `now` at all: dynamic, awake, held by island contacts
   /// (heldByIslandContacts), not refused this step, and resting on (WorldDef::restingSpeed > 0).
   bool canJam(uint32_t body, double now) const;
@@ -263,6 +270,13 @@ struct Islands {
   bool swapped_ = false;
   uint64_t fixtureRemovalsSeen_ = 0;
   BodyMarks<JamMark> jamMarks_;  // cleared by beginStep
+  // collapsing's run of collisions close together, by body: the last one's instant and how many.
+  struct Burst {
+    double time = -1;
+    uint32_t count = 0;
+    bool operator==(const Burst&) const = default;
+  };
+  BodyMarks<Burst> bursts_;  // cleared by beginStep
 };
 
 }  // namespace rattle::detail
