@@ -31,6 +31,22 @@ namespace {
 
 constexpr size_t kMaxJamBodies = 4096;
 
+// Whether p lies within `tolerance` of the boundary of a placed geometry, on either side: closestPoint
+// takes a point on a polygon's edge (or a circle's rim) as inside, and finds no closest point there.
+bool onBoundary(const Geometry& g, Vec2 position, Vec2 p, double tolerance) {
+  if (const auto closest = detail::closestPoint(g, position, p)) return length(p - closest->point) <= tolerance;
+  const Vec2 q = p - position;
+  if (const auto* polygon = std::get_if<Polygon>(&g)) {
+    const size_t n = polygon->points.size();
+    for (size_t i = 0; i < n; ++i) {
+      const detail::Closest c = detail::closestOnSegment(polygon->points[i], polygon->points[(i + 1) % n], q, true);
+      if (length(q - c.point) <= tolerance) return true;
+    }
+  } else if (const auto* circle = std::get_if<Circle>(&g)) {
+    return length(q - circle->center) >= circle->radius - tolerance;
+  }
+  return false;
+}
 }  // namespace
 
 // A dynamic body's circles and points share one centre, so a circle with a radius keeps its points a
@@ -62,8 +78,8 @@ bool detail::Islands::heldByIslandContacts(uint32_t bodyIndex, double now) const
     const BodySlot& holder = w.bodies[other.body];
     if (holder.type != BodyType::Static || own.sensor || other.sensor || detail::isPoint(own.geometry)) continue;
     const Vec2 centre = position + detail::circleCentre(own.geometry);
-    const auto closest = detail::closestPoint(other.geometry, holder.position, centre);
-    if (closest && length(centre - closest->point) <= detail::pointRoundOff(centre, holder.position)) return false;
+    if (onBoundary(other.geometry, holder.position, centre, detail::pointRoundOff(centre, holder.position)))
+      return false;
   }
   return true;
 }
