@@ -63,13 +63,15 @@ bool detail::Islands::heldByIslandContacts(uint32_t bodyIndex, double now) const
   // face it lies on: a point's contacts stay events, where its slide and LastContact tell it.
   const BodySlot& s = w.bodies[bodyIndex];
   if (bodyIsPoint(s)) return false;
-  // Nor a circle's whose centre lies on a static fixture: the gather finds no contact there (a centre
-  // inside a polygon finds none either, but such a body was made there, and its island's other contacts
-  // hold it: left to events, a step of 1 s under gravity spent its budget on them). A point resting in a box's corner, given a second fixture of radius 2.68 (wider than the
-  // box), jammed when a falling point kept hitting it, and its island, holding it against nothing, let
-  // gravity and the hits carry it 0.046 into the floor
+  // Nor a circle's whose centre lies on a static fixture's boundary: the gather finds no contact there.
+  // A point resting in a box's corner, given a second fixture of radius 2.68 (wider than the box),
+  // jammed when a falling point kept hitting it, and its island, holding it against nothing, let gravity
+  // and the hits carry it 0.046 into the floor
   // (fuzz/regressions/world_api/inside-hybrid-disk-made-on-a-corner-of-a-box). Its events hold it: its
-  // point's contacts with the floor and the wall.
+  // point's contacts with the floor and the wall. A centre inside a polygon finds no contact with it
+  // either, but such a body was made there and its island's other contacts hold it: left to events,
+  // disks made inside a second box's floor spent a step's budget
+  // (fuzz/regressions/world_api/budget-hybrid-disks-inside-a-second-box-floor).
   if (bodyIndex >= w.pairsOfBody.size()) return true;
   const Vec2 position = w.positionAt(s, now);
   for (const detail::CandidatePair& pair : w.pairsOfBody[bodyIndex]) {

@@ -293,7 +293,8 @@ bool HybridStep::joinsIsland(const PredictedContact& c, double stepEnd) const {
   const bool rapid = now - a.lastContactTime < w.def.collapseTime || now - b.lastContactTime < w.def.collapseTime;
   const double e = rapid ? 1.0 : std::max(w.fixtures[c.a].restitution, w.fixtures[c.b].restitution);
   if (!(-e * vn < w.def.restingSpeed)) return false;
-  // Nor a body whose circle lies on a static fixture (made over a wall): no contact would hold it there.
+  // Nor a body with a circle centred on a static fixture's boundary (made over a wall's face): no island
+  // contact would hold it there (Islands::heldByIslandContacts).
   const uint32_t ia = w.fixtures[c.a].body, ib = w.fixtures[c.b].body;
   return h_.islands.heldByIslandContacts(ia, c.time) && h_.islands.heldByIslandContacts(ib, c.time);
 }
