@@ -191,6 +191,11 @@ class Engine {
   /// again, the alternating projections of an inelastic collapse. Where piles or jams form, it is handed
   /// over as a pile or a driven jam is.
   static constexpr int kJamAbsorbs = kPileCollisions;
+  /// Without gravity, a body past kBurstFollow collisions in the step whose next kBurstCollisions come
+  /// each within Islands::kBurstWindow of the step of the one before is collapsing at (nearly) one
+  /// instant (collapsing): it hands the step over as a driven body does, at kPileCollisions.
+  static constexpr int kBurstFollow = kPileCollisions / 2;
+  static constexpr int kBurstCollisions = kPileCollisions / 2;
   /// A body that would cross more cells than this in one step is beyond what cell-crossing events can
   /// follow at a bounded cost (each crossing is an event): such a step is handed to the hybrid step,
   /// which sweeps the whole path at once, and the grid is made again after it.
@@ -236,6 +241,7 @@ class Engine {
                        double vn, double speed, double velocityScale, double restTol);
   bool collidePlainPair(uint32_t i, uint32_t j, const PredictiveEvent& c, double tolerance);
   bool handsOver(uint32_t most, bool driven) const;
+  bool collapsing(uint32_t body, uint32_t stepCollisions, double time);
   double finishStep(double dt);
   double budgetTime_ = 0;  // where the step ended, when it ended early
   bool pile_ = false;      // handed over at budgetTime_ (kPileCollisions)

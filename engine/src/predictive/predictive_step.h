@@ -174,6 +174,13 @@ struct PredictiveState {
   // Round-off approaches absorbed in the current step, by body (Engine::absorbOrDismiss): only the bodies
   // that absorbed have a count (by body, not slot: reorder() moves slots within a step).
   detail::BodyMarks<uint16_t> absorbs;
+  // Engine::collapsing's run of collisions close together, by body: the last one's instant and how many.
+  struct Burst {
+    double time = -1;
+    uint32_t count = 0;
+    bool operator==(const Burst&) const = default;
+  };
+  detail::BodyMarks<Burst> bursts;
   uint64_t popsSinceReorder = 0;
   uint64_t popsSinceRetune = 0;
 
