@@ -369,7 +369,8 @@ bool Engine::handsOver(uint32_t most, bool driven) const {
 bool Engine::collapsing(uint32_t body, uint32_t stepCollisions, double time) {
   if (stepCollisions <= static_cast<uint32_t>(kBurstFollow)) return false;
   PredictiveState::Burst burst = s_.bursts.get(body);
-  burst.count = burst.count > 0 && time - burst.time <= detail::Islands::kBurstWindow * stepLength_ ? burst.count + 1 : 1;
+  const bool close = burst.count > 0 && time - burst.time <= detail::Islands::kBurstWindow * stepLength_;
+  burst.count = close ? burst.count + 1 : 1;
   burst.time = time;
   s_.bursts.set(body, burst);
   return burst.count > static_cast<uint32_t>(kBurstCollisions);
@@ -535,9 +536,9 @@ bool Engine::collidePlainPair(uint32_t i, uint32_t j, const PredictiveEvent& c, 
   bool driven = jamsAsDriven(w_, ia) || (partner != nullptr && jamsAsDriven(w_, s_.bodyOfSlot[j]));
   if (jamsForm_) {
     // Both followed (collapsing), whatever the other says.
-    const bool collapseA = collapsing(ia, static_cast<uint32_t>(std::max(w_.bodies[ia].stepCollisions, 0)), c.time);
-    const bool collapseB = partner != nullptr &&
-                           collapsing(s_.bodyOfSlot[j], static_cast<uint32_t>(std::max(partner->stepCollisions, 0)), c.time);
+    auto stepCount = [](const detail::BodySlot& b) { return static_cast<uint32_t>(std::max(b.stepCollisions, 0)); };
+    const bool collapseA = collapsing(ia, stepCount(w_.bodies[ia]), c.time);
+    const bool collapseB = partner != nullptr && collapsing(s_.bodyOfSlot[j], stepCount(*partner), c.time);
     driven = driven || collapseA || collapseB;
   }
   if (handsOver(static_cast<uint32_t>(std::max(most, 0)), driven)) {
