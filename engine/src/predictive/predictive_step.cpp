@@ -447,12 +447,16 @@ bool Engine::collidePlainPair(uint32_t i, uint32_t j, const PredictiveEvent& c, 
   // (No gravity here, so no pile: only a jam hands over.)
   const uint32_t collisionsI = s_.cold[i].stepCollisions, collisionsJ = s_.cold[j].stepCollisions;
   const uint32_t bodyI = s_.bodyOfSlot[i], bodyJ = s_.bodyOfSlot[j];
-  if (jamsForm_ && handsOver(std::max(collisionsI, collisionsJ),
-                             (collapsing(bodyI, collisionsI, c.time) | collapsing(bodyJ, collisionsJ, c.time)) ||
-                                 w_.bodies[bodyI].driven || w_.bodies[bodyJ].driven)) {
-    pile_ = true;
-    budgetTime_ = c.time;
-    return false;
+  if (jamsForm_) {
+    // Each body's burst is followed, so both are asked, whatever the first says.
+    const bool collapseI = collapsing(bodyI, collisionsI, c.time);
+    const bool collapseJ = collapsing(bodyJ, collisionsJ, c.time);
+    const bool driven = collapseI || collapseJ || w_.bodies[bodyI].driven || w_.bodies[bodyJ].driven;
+    if (handsOver(std::max(collisionsI, collisionsJ), driven)) {
+      pile_ = true;
+      budgetTime_ = c.time;
+      return false;
+    }
   }
   // Both bodies' neighbours are gathered first, which asks for their records, so that they arrive
   // while the collision is resolved (it moves no body between cells).
