@@ -308,9 +308,8 @@ bool lastPartnerHolds(const detail::WorldState& w, const BodySlot& s) {
 bool inCusp(const detail::WorldState& w, const BodySlot& point, uint32_t pointFixture, uint32_t holderFixture,
             Vec2 toward, double now) {
   if (!detail::isPoint(w.fixtures[pointFixture].geometry)) return false;
-  const bool onFace = point.sliding || (detail::remembersLiveFace(w, point) &&
-                                        w.bodyOf(point.support.fixture).type == BodyType::Static &&
-                                        detail::pointOnRememberedFace(w, point, now));
+  const bool onFace = point.sliding || (detail::pointOnRememberedFace(w, point, now) &&
+                                        w.bodyOf(point.support.fixture).type == BodyType::Static);
   if (!onFace) return false;
   if (point.support.fixture == holderFixture) return false;
   const BodySlot& holder = w.bodyOf(holderFixture);
