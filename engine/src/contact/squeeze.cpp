@@ -70,18 +70,37 @@ bool detail::jamsAsDriven(const WorldState& w, uint32_t body) {
 
 bool detail::squeezeExempt(const WorldState& w, uint32_t fa, uint32_t fb) {
   const uint64_t key = islandKey(fa, fb);
-  for (const WorldState::Squeeze& s : w.squeezes) {
-    if (s.key == key) return true;
+  const WorldState::SqueezeIndex& index = w.squeezeIndex;
+  const size_t from = index.valid ? index.covered : 0;
+  if (index.valid && std::binary_search(index.sorted.begin(), index.sorted.end(), key)) return true;
+  for (size_t k = from; k < w.squeezes.size(); ++k) {
+    if (w.squeezes[k].key == key) return true;
   }
   return false;
 }
+
+namespace {
+// Sorts every squeeze's key into the index again.
+void rebuildSqueezeIndex(detail::WorldState& w) {
+  detail::WorldState::SqueezeIndex& index = w.squeezeIndex;
+  index.valid = false;  // until it is whole: a failed allocation leaves every entry read one by one
+  index.sorted.clear();
+  for (const detail::WorldState::Squeeze& s : w.squeezes) index.sorted.push_back(s.key);
+  std::sort(index.sorted.begin(), index.sorted.end());
+  index.covered = w.squeezes.size();
+  index.valid = true;
+}
+}  // namespace
 
 void detail::refreshSqueezes(WorldState& w) {
   // The counts start again each step (the predictive mode's step after a plain one does not reset them).
   for (uint32_t body : w.squeezeCounted) w.bodies[body].stepCollisions = 0;
   w.squeezeCounted.clear();
   w.wedged.clear();
-  if (w.squeezes.empty()) return;
+  if (w.squeezes.empty()) {
+    rebuildSqueezeIndex(w);
+    return;
+  }
   std::erase_if(w.squeezes, [&](const WorldState::Squeeze& s) {
     const uint32_t fa = static_cast<uint32_t>(s.key >> 32), fb = static_cast<uint32_t>(s.key);
     const detail::FixtureSlot& a = w.fixtures[fa];
@@ -93,6 +112,7 @@ void detail::refreshSqueezes(WorldState& w) {
     w.touched(b.body);
     return true;
   });
+  rebuildSqueezeIndex(w);
 }
 
 bool detail::squeezeAt(WorldState& w, const detail::PredictedContact& c) {
@@ -238,6 +258,16 @@ void detail::exemptFromCollisions(WorldState& w, uint32_t fa, uint32_t fb) {
   w.squeezes.push_back(
       {islandKey(fa, fb), w.fixtures[std::min(fa, fb)].generation, w.fixtures[std::max(fa, fb)].generation});
   ++w.stats.squeezes;
+  WorldState::SqueezeIndex& index = w.squeezeIndex;
+  if (!index.valid || w.squeezes.size() - index.covered <= WorldState::kSqueezeIndexTail) return;
+  index.valid = false;  // until the merge is done
+  const size_t middle = index.sorted.size();
+  for (size_t k = index.covered; k < w.squeezes.size(); ++k) index.sorted.push_back(w.squeezes[k].key);
+  std::sort(index.sorted.begin() + static_cast<std::ptrdiff_t>(middle), index.sorted.end());
+  std::inplace_merge(index.sorted.begin(), index.sorted.begin() + static_cast<std::ptrdiff_t>(middle),
+                     index.sorted.end());
+  index.covered = w.squeezes.size();
+  index.valid = true;
 }
 
 bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {

@@ -100,6 +100,7 @@ void detail::undoStep(WorldState& w) {
   w.stats = w.stepStart.stats;
   w.pendingSensorEvents.swap(w.stepStart.pendingSensorEvents);
   w.squeezes.swap(w.stepStart.squeezes);
+  w.squeezeIndex.valid = false;  // read one by one until the next step sorts it again
   w.sleepersOnAwakeBodies.swap(w.stepStart.sleepersOnAwakeBodies);
   // Newest first, so that each entry finds the map (and each list) as it was right after its change.
   for (auto it = w.stepStart.sensorOverlaps.rbegin(); it != w.stepStart.sensorOverlaps.rend(); ++it) {

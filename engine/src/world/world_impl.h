@@ -302,6 +302,18 @@ struct WorldState {
     uint32_t generationA, generationB;  // of the lower and the higher fixture index
   };
   std::vector<Squeeze> squeezes;  // exempt pairs, in the order they were squeezed
+  /// The keys of squeezes[0, covered), sorted, so that asking whether a pair is exempt does not read every
+  /// squeeze: a crowd made to overlap (units spawned at one point) exempts most of its pairs, and every
+  /// prediction asks. The entries from `covered` on are read one by one, and merged in past
+  /// kSqueezeIndexTail. Not valid (every entry read one by one) after an undone step or a load, until
+  /// the next step's start sorts it again (squeeze.cpp).
+  struct SqueezeIndex {
+    std::vector<uint64_t> sorted;
+    size_t covered = 0;
+    bool valid = false;
+  };
+  static constexpr size_t kSqueezeIndexTail = 64;
+  SqueezeIndex squeezeIndex;
   std::vector<uint32_t> squeezeCounted;  // bodies whose stepCollisions squeezeAt raised from 0 this step
   /// Bodies wedged between static faces this step: the instant and the normal of the last face they were
   /// stopped against (squeezeAt). Few: only bodies past kSqueezeCollisions.
