@@ -330,7 +330,7 @@ TEST(Squeeze, UnitsMadeAtOnePointPassThroughEachOther) {
         w.setVelocity(units[i], d * (3 / length(d)));
       }
       w.step(1.0 / 30);
-      // 3,721 (hybrid) and 3,405 (predictive) events in the worst step.
+      // 3,561 (hybrid) and 3,308 (predictive) events in the worst step.
       EXPECT_LE(w.stats().eventsProcessed, 10000) << "step " << step;
       squeezes += w.stats().squeezes;
       for (BodyId u : units) {
