@@ -521,14 +521,16 @@ bool HybridStep::squeezeAndPredict(const PredictedContact& c, double dt) {
   detail::WorldState& w = w_;
   const uint32_t ia = w.fixtures[c.a].body, ib = w.fixtures[c.b].body;
   const uint32_t countA = w.bodies[ia].collisionCount, countB = w.bodies[ib].collisionCount;
-  const bool exempt = !w.squeezes.empty() && squeezeExempt(w, c.a, c.b);
+  const size_t squeezesBefore = w.squeezes.size();
   if (!squeezeAt(w, c)) return false;
   // A second prediction of a pair already set to pass through (made before the first came) changes
   // nothing: it is stale, not an event, and the two bodies' queued predictions are still valid.
   // Predicting them again queued each a second time, whose exempt pairs, met again, queued theirs.
   // Units made at one point, all overlapping, doubled the queue so, and a step of 200 of them did not
-  // return (tests: Squeeze.UnitsMadeAtOnePointPassThroughEachOther).
-  if (exempt && w.bodies[ia].collisionCount == countA && w.bodies[ib].collisionCount == countB) {
+  // return (tests: Squeeze.UnitsMadeAtOnePointPassThroughEachOther). Every other squeeze changes a
+  // body's collision count or sets a pair to pass through.
+  if (w.squeezes.size() == squeezesBefore && w.bodies[ia].collisionCount == countA &&
+      w.bodies[ib].collisionCount == countB) {
     ++w.stats.staleEvents;
     return true;
   }
