@@ -523,21 +523,21 @@ bool HybridStep::squeezeAndPredict(const PredictedContact& c, double dt) {
   const uint32_t countA = w.bodies[ia].collisionCount, countB = w.bodies[ib].collisionCount;
   const size_t squeezesBefore = w.squeezes.size();
   if (!squeezeAt(w, c)) return false;
-  // A second prediction of a pair already set to pass through (made before the first came) changes
-  // nothing: it is stale, not an event, and the two bodies' queued predictions are still valid.
-  // Predicting them again queued each a second time, whose exempt pairs, met again, queued theirs.
-  // Units made at one point, all overlapping, doubled the queue so, and a step of 200 of them did not
-  // return (tests: Squeeze.UnitsMadeAtOnePointPassThroughEachOther). Every other squeeze changes a
-  // body's collision count or sets a pair to pass through.
-  if (w.squeezes.size() == squeezesBefore && w.bodies[ia].collisionCount == countA &&
-      w.bodies[ib].collisionCount == countB) {
+  // A squeeze changes a body's motion exactly when it moves its collision count; only such a body is
+  // predicted again. Setting two bodies to pass through each other changes neither: their queued
+  // predictions are still valid (the counts did not move), and predicting them again queued each a
+  // second time, whose exempt pairs, met again, queued theirs. Units made at one point, all overlapping,
+  // doubled the queue so, and a step of 200 of them did not return (tests:
+  // Squeeze.UnitsMadeAtOnePointPassThroughEachOther). A second prediction of a pair already set to pass
+  // through (made before the first came) changes nothing at all: it is stale, not an event.
+  const bool movedA = w.bodies[ia].collisionCount != countA, movedB = w.bodies[ib].collisionCount != countB;
+  if (w.squeezes.size() == squeezesBefore && !movedA && !movedB) {
     ++w.stats.staleEvents;
     return true;
   }
   ++w.stats.eventsProcessed;
-  repredict(ia, c.time, dt);
-  // Two dynamic bodies (passesThrough): the other's motion may have changed too.
-  if (w.bodies[ib].type == BodyType::Dynamic) repredict(ib, c.time, dt);
+  if (movedA) repredict(ia, c.time, dt);
+  if (movedB && w.bodies[ib].type == BodyType::Dynamic) repredict(ib, c.time, dt);
   return true;
 }
 
