@@ -326,9 +326,10 @@ bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {
       !busy(w.bodies[ib]))
     return false;
   if (squeezeExempt(w, c.a, c.b)) return true;  // a second prediction of the pair, made before the first came
-  // A point past the squeeze count meets a body that a third one met at this very instant: the body is
-  // caught between the two, as between a kinematic body and a static one. A point joins no island, so
-  // no solve sees both contacts at once, and each bounces the body into the other. Two points of mass 1
+  // A point past the squeeze count meets again, at the very instant of its last contact with it, the
+  // body it last met: something sent the body straight back (a third body it was bounced into), and it
+  // is caught between the two, as between a kinematic body and a static one. A point joins no island,
+  // so no solve sees both contacts at once, and each bounces the body into the other. Two points of mass 1
   // closing on a disk 3e12 times lighter that filled the gap between them, resting on a floor, bounced
   // it from one to the other about 9,700 times each at one instant, until the step's budget of 20,000
   // events ran out (fuzz/regressions/world_api/budget-hybrid-two-points-on-a-light-disk-at-one-instant);
