@@ -37,6 +37,24 @@ constexpr double kWedgeAngle = 1e-9;
 // fraction of the body's radius (1 - cos), plus its coordinates' round-off.
 constexpr double kCuspCosine = 0.999;
 
+// A point's signed distance from the face it remembers (which it must), and its coordinates' round-off
+// there.
+struct FaceGap {
+  double distance;
+  double roundOff;
+};
+FaceGap rememberedFaceGap(const detail::WorldState& w, const BodySlot& point, double now) {
+  const Vec2 at = w.positionAt(point, now);
+  return {detail::distanceFromRememberedFace(w, point, now),
+          detail::pointRoundOff(at, w.bodyOf(point.support.fixture).position)};
+}
+
+// How far from the face a point in the cusp of that face and a stepped body touching it can be
+// (kCuspCosine).
+double cuspReach(const detail::WorldState& w, uint32_t holderFixture, double roundOff) {
+  return (1 - kCuspCosine) * detail::circleRadius(w.fixtures[holderFixture].geometry) + roundOff;
+}
+
 // Whether a point that keeps meeting a stepped body (normal n toward the point) is caught between it and
 // the static face it remembers: on that face to its coordinates' round-off (a corner of the face and the
 // body, whatever the angle between their normals), or, where the two normals are opposed, in the cusp
@@ -44,31 +62,24 @@ constexpr double kCuspCosine = 0.999;
 bool caughtAgainstFace(const detail::WorldState& w, const BodySlot& point, uint32_t holderFixture, Vec2 n,
                        double now) {
   if (!detail::remembersLiveFace(w, point) || w.bodyOf(point.support.fixture).type != BodyType::Static) return false;
-  const double distance = detail::distanceFromRememberedFace(w, point, now);
-  const Vec2 at = w.positionAt(point, now);
-  const double roundOff = detail::pointRoundOff(at, w.bodyOf(point.support.fixture).position);
-  if (!(distance >= -roundOff)) return false;
-  if (distance <= roundOff) return true;
+  const FaceGap gap = rememberedFaceGap(w, point, now);
+  if (!(gap.distance >= -gap.roundOff)) return false;
+  if (gap.distance <= gap.roundOff) return true;
   if (!(dot(point.support.normal, n) < -kCuspCosine)) return false;
-  const double radius = detail::circleRadius(w.fixtures[holderFixture].geometry);
-  return distance <= (1 - kCuspCosine) * radius + roundOff;
+  return gap.distance <= cuspReach(w, holderFixture, gap.roundOff);
 }
 
 // A stepped body lighter than this fraction of a point's mass gives back a fraction this small of the
 // point's approach at each meeting: to the point it is round-off, and as hard as a static body.
 constexpr double kFeatherRatio = 1e-9;
 
-// Whether a point is clear of the static face it remembers, if any: farther from it than the cusp a
+// Whether a point is clear of the face it remembers (which it must): farther from it than the cusp a
 // stepped body touching the face leaves (caughtAgainstFace), so that a bounce off that body at
 // restingSpeed meets the face, if at all, as an ordinary contact later, and cannot take the point
 // across it at once.
 bool clearOfRememberedFace(const detail::WorldState& w, const BodySlot& point, uint32_t holderFixture, double now) {
-  if (!detail::remembersLiveFace(w, point)) return true;
-  const double distance = detail::distanceFromRememberedFace(w, point, now);
-  const Vec2 at = w.positionAt(point, now);
-  const double roundOff = detail::pointRoundOff(at, w.bodyOf(point.support.fixture).position);
-  const double radius = detail::circleRadius(w.fixtures[holderFixture].geometry);
-  return distance > (1 - kCuspCosine) * radius + roundOff;
+  const FaceGap gap = rememberedFaceGap(w, point, now);
+  return gap.distance > cuspReach(w, holderFixture, gap.roundOff);
 }
 
 // Whether contacts with normals f and n (toward the body) hold it up against gravity g: -g lies in their
