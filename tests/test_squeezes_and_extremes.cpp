@@ -309,9 +309,74 @@ TEST(Squeeze, APistonClosingOnACrowdThatFillsTheGapPassesOverIt) {
   }
 }
 
+// Two disks made overlapping by 0.7 (radius 0.5, centres 0.3 apart), one driven into the other at
+// 0.1 units/s, no gravity, the hybrid mode (the predictive mode's plain world bounces them at their first
+// contact, as before): the pair passes through without events, and each step's start moves the two
+// apart (separation.cpp) by at most a quarter of a radius, half each (equal masses). Moves change no
+// velocity and keep the centre of mass, so it is where momentum alone takes it: 0.15 + 0.05 t. Within
+// 7 steps they no longer overlap, and then they collide as any pair does: the driven one bounces.
+TEST(Separation, TwoDisksMadeOverlappingArePartedKeepingTheirCentreOfMass) {
+  {
+    World w(defOf(StepMode::Hybrid));
+    const BodyId a = disk(w, {0, 0}, {0.1, 0}, 0.5, 1.0);
+    const BodyId b = disk(w, {0.3, 0}, {}, 0.5, 1.0);
+    const double dt = 1.0 / 30;
+    int parted = -1, contacts = 0;
+    for (int step = 1; step <= 40; ++step) {
+      w.step(dt);
+      contacts += static_cast<int>(w.contactEvents().size());
+      const Vec2 pa = w.position(a), pb = w.position(b);
+      EXPECT_NEAR((pa.x + pb.x) / 2, 0.15 + 0.05 * w.time(), 1e-12) << "step " << step;
+      EXPECT_EQ(pa.y, 0.0);
+      EXPECT_EQ(pb.y, 0.0);
+      if (parted < 0 && pb.x - pa.x >= 1 - 1e-12) {
+        parted = step;  // parted at this step's start, and they may have collided since
+      } else if (parted < 0) {
+        // Not parted yet, so nothing collided: the velocities are the ones given.
+        EXPECT_EQ(contacts, 0) << "step " << step;
+        EXPECT_EQ(w.velocity(a), (Vec2{0.1, 0}));
+        EXPECT_EQ(w.velocity(b), (Vec2{}));
+      }
+      EXPECT_GE(pb.x - pa.x, 0.3 - 0.1 * dt) << "step " << step;  // the first step's drive, then apart
+    }
+    EXPECT_GE(parted, 1);
+    EXPECT_LE(parted, 7);
+    // Parted while a still moves toward b: they meet as a pair, and an elastic collision of equal masses
+    // swaps the velocities.
+    EXPECT_EQ(contacts, 1);
+    EXPECT_NEAR(w.velocity(a).x, 0.0, 1e-15);
+    EXPECT_NEAR(w.velocity(b).x, 0.1, 1e-15);
+  }
+}
+
+// A disk made overlapping one that stands against a wall, driven into it: the separation's move would
+// push the one at the wall into it, so the wall stops that move, and without gravity the other takes on
+// the whole of it. The one at the wall never enters it, and the pair is parted all the same.
+TEST(Separation, AMoveIntoAWallIsTakenByThePartner) {
+  {
+    World w(defOf(StepMode::Hybrid));
+    const BodyId wall = w.createBody({.type = BodyType::Static});
+    w.createFixture(wall, {.geometry = Segment{{0, -5}, {0, 5}}});
+    const BodyId a = disk(w, {0.5, 0}, {}, 0.5);
+    const BodyId b = disk(w, {0.7, 0}, {-0.1, 0}, 0.5);
+    int parted = -1;
+    for (int step = 1; step <= 30; ++step) {
+      w.step(1.0 / 30);
+      EXPECT_GE(w.position(a).x, 0.5 - 1e-12) << "step " << step;
+      EXPECT_GE(w.position(b).x, 0.5 - 1e-12) << "step " << step;
+      // Parted, the two driven into the wall collide as a jam, which may leave them overlapping by 1% of
+      // a radius (guide, Jams).
+      if (parted < 0 && w.position(b).x - w.position(a).x >= 1 - 0.01 * 0.5) parted = step;
+    }
+    // 0.8 at a quarter of a radius a step, less the drive's 1/300 a step: 7 steps.
+    EXPECT_GE(parted, 7);
+    EXPECT_LE(parted, 8);
+  }
+}
+
 // A wave of units made at one spawn point: 170 disks of radius 0.5 within 0.006 x 0.024 of it, each
 // overlapping all the others, steered toward two goals every tick. Each overlapping pair passes through
-// once it is met again (guide, Squeezes). A second prediction of a pair already passing through changes
+// (guide, Squeezes), at once in the hybrid mode, at its first contact in the predictive. A second prediction of a pair already passing through changes
 // neither body's motion, but both were predicted again, which queued each of their still valid
 // predictions a second time, and those of exempt pairs, met again, queued theirs: 68,723 events in a
 // step of the hybrid mode (at 200 units a step did not return before the default budget of 10^6).

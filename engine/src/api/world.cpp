@@ -9,6 +9,7 @@
 #include "api/value_ranges.h"
 #include "common/out_of_memory.h"
 #include "contact/resting.h"
+#include "contact/separation.h"
 #include "contact/squeeze.h"
 #include "sensors/sensors.h"
 #include "world/step_undo.h"
@@ -516,6 +517,7 @@ void World::step(double dt) {
   try {
     saveStepStart(w);
     refreshSqueezes(w);
+    if (w.def.mode != StepMode::Discrete) separateExemptPairs(w);  // the discrete step pushes apart itself
     wakeSleepersOfMovingBodies(w);
     w.stepper->step(dt);
   } catch (const std::bad_alloc&) {

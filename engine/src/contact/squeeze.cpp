@@ -69,6 +69,11 @@ bool caughtAgainstFace(const detail::WorldState& w, const BodySlot& point, uint3
   return gap.distance <= cuspReach(w, holderFixture, gap.roundOff);
 }
 
+// Two dynamic bodies that overlap by more than this fraction of the larger radius when they meet were
+// made overlapping (a fixture created, a body set, over the other): events leave a pair touching, and
+// the solves of islands and jams leave at most Islands::kJamResidual (0.01) of a radius, well below it.
+constexpr double kMadeOverlapping = 0.05;
+
 // A stepped body lighter than this fraction of a point's mass gives back a fraction this small of the
 // point's approach at each meeting: to the point it is round-off, and as hard as a static body.
 constexpr double kFeatherRatio = 1e-9;
@@ -301,6 +306,21 @@ void detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContac
   }
 }
 
+bool detail::exemptIfMadeOverlapping(WorldState& w, uint32_t fa, uint32_t fb, double now) {
+  if (!(w.def.gravity == Vec2{})) return false;
+  const BodySlot& a = w.bodyOf(fa);
+  const BodySlot& b = w.bodyOf(fb);
+  if (a.type != BodyType::Dynamic || b.type != BodyType::Dynamic) return false;
+  const Geometry& ga = w.fixtures[fa].geometry;
+  const Geometry& gb = w.fixtures[fb].geometry;
+  const double ra = detail::circleRadius(ga), rb = detail::circleRadius(gb);
+  const Vec2 ca = w.positionAt(a, now) + detail::circleCentre(ga), cb = w.positionAt(b, now) + detail::circleCentre(gb);
+  if (!(ra + rb - length(ca - cb) > kMadeOverlapping * std::max(ra, rb))) return false;
+  // The sweep's plain pairs reach here without a look at the exempt ones (passesThrough drops theirs).
+  if (!squeezeExempt(w, fa, fb)) exemptFromCollisions(w, fa, fb);
+  return true;
+}
+
 void detail::exemptFromCollisions(WorldState& w, uint32_t fa, uint32_t fb) {
   w.squeezes.push_back(
       {islandKey(fa, fb), w.fixtures[std::min(fa, fb)].generation, w.fixtures[std::max(fa, fb)].generation});
@@ -333,8 +353,14 @@ bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {
   // the walls hold, and pressed against a wall, went from the disk to the wall and back, 1e-13 s apart
   // (fuzz/regressions/world_api/budget-hybrid-point-between-a-wall-and-the-disk-it-is-in).
   auto busy = [&](const BodySlot& s) { return s.stepCollisions > w.kSqueezeCollisions; };
+  const Vec2 ca = w.positionAt(w.bodies[ia], c.time) + detail::circleCentre(w.fixtures[c.a].geometry);
+  const Vec2 cb = w.positionAt(w.bodies[ib], c.time) + detail::circleCentre(w.fixtures[c.b].geometry);
+  const double ra = detail::circleRadius(w.fixtures[c.a].geometry), rb = detail::circleRadius(w.fixtures[c.b].geometry);
+  const double depth = ra + rb - length(ca - cb);
+  // Or, without gravity, they were made overlapping (exemptIfMadeOverlapping).
+  const bool madeOverlapping = w.def.gravity == Vec2{} && depth > kMadeOverlapping * std::max(ra, rb);
   if (!held && !metInThisStep(w.bodies[ia]) && !metInThisStep(w.bodies[ib]) && !busy(w.bodies[ia]) &&
-      !busy(w.bodies[ib]))
+      !busy(w.bodies[ib]) && !madeOverlapping)
     return false;
   if (squeezeExempt(w, c.a, c.b)) return true;  // a second prediction of the pair, made before the first came
   // A point past the squeeze count meets again, at the very instant of its last contact with it, the
@@ -366,10 +392,7 @@ bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {
   // 5e10th of their approach per collision, all at one instant
   // (fuzz/regressions/world_api/budget-hybrid-light-disk-made-around-points). Such a pair passes
   // through each other, as a kinematic body passes over a squeezed one, until they no longer overlap.
-  const Vec2 ca = w.positionAt(w.bodies[ia], c.time) + detail::circleCentre(w.fixtures[c.a].geometry);
-  const Vec2 cb = w.positionAt(w.bodies[ib], c.time) + detail::circleCentre(w.fixtures[c.b].geometry);
-  const double ra = detail::circleRadius(w.fixtures[c.a].geometry), rb = detail::circleRadius(w.fixtures[c.b].geometry);
-  if (!(ra + rb - length(ca - cb) > Islands::kJamResidual * std::max(ra, rb))) return false;
+  if (!(depth > Islands::kJamResidual * std::max(ra, rb))) return false;
   if (!held) {
     exemptFromCollisions(w, c.a, c.b);
     return true;

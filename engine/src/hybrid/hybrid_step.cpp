@@ -171,6 +171,8 @@ void HybridStep::predict(uint32_t own, uint32_t other, double now, double dt, in
   if (dismissed != kNoFeature) resolved = dismissed;
 
   const auto impact = predictImpact(w, a, b, own, other, now, dt - now, resolved);
+  // An impact now may be a pair made overlapping (squeeze.cpp), parted by moving it rather than by events.
+  if (impact && impact->time == 0 && exemptIfMadeOverlapping(w, own, other, now)) return;
   if (impact) {
     queueContact(*impact, own, other, a.collisionCount, b.collisionCount, w.velocityAt(b, now), b.acceleration, now, dt,
                  dismissed != kNoFeature);
@@ -217,6 +219,7 @@ void HybridStep::predictPlainPair(uint32_t fa, uint32_t fb, uint32_t ba, uint32_
   circle.center -= positionB;
   auto impact = timeOfImpactCircleCircle(circle, relative, Circle{Vec2{0.0, 0.0}, radiusB}, dt - 0.0, kNoFeature);
   if (!impact) return;
+  if (impact->time == 0 && exemptIfMadeOverlapping(w, own, other, 0.0)) return;  // as in predict()
   impact->point += positionB;
   queueContact(*impact, own, other, a.collisionCount, b.collisionCount, velocityB, w.def.gravity, 0.0, dt);
 }
