@@ -393,6 +393,13 @@ double detail::Islands::gatherIslandContacts(const std::vector<uint32_t>& member
       const BodySlot& holder = w.bodies[j];
       // A kinematic body passing over a squeezed member holds it no more (squeeze.cpp).
       if (holder.type == BodyType::Kinematic && !w.squeezes.empty() && squeezeExempt(w, pair.own, pair.other)) continue;
+      // Without gravity, a pair of dynamic bodies passing through each other is no contact, nor is one made
+      // overlapping (squeeze.cpp): each step's start parts it (separation.cpp). Units spawned onto a queue
+      // were held on one another by the jam's solve, their overlap never parted.
+      if (holder.type == BodyType::Dynamic && w.def.gravity == Vec2{} &&
+          ((!w.squeezes.empty() && squeezeExempt(w, pair.own, pair.other)) ||
+           exemptIfMadeOverlapping(w, pair.own, pair.other, now)))
+        continue;
       const int kj = slot[j];
       if (kj >= 0 && kj <= static_cast<int>(k)) continue;  // a pair of members: once, from the lower
       // A free body's meetings with the island are events.

@@ -69,11 +69,6 @@ bool caughtAgainstFace(const detail::WorldState& w, const BodySlot& point, uint3
   return gap.distance <= cuspReach(w, holderFixture, gap.roundOff);
 }
 
-// Two dynamic bodies that overlap by more than this fraction of the larger radius when they meet were
-// made overlapping (a fixture created, a body set, over the other): events leave a pair touching, and
-// the solves of islands and jams leave at most Islands::kJamResidual (0.01) of a radius, well below it.
-constexpr double kMadeOverlapping = 0.05;
-
 // A stepped body lighter than this fraction of a point's mass gives back a fraction this small of the
 // point's approach at each meeting: to the point it is round-off, and as hard as a static body.
 constexpr double kFeatherRatio = 1e-9;

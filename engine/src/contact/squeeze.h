@@ -8,6 +8,11 @@
 
 namespace rattle::detail {
 
+/// Two dynamic bodies that overlap by more than this fraction of the larger radius when they meet were
+/// made overlapping (a fixture created, a body set, over the other): events leave a pair touching, and
+/// the solves of islands and jams leave at most Islands::kJamResidual (0.01) of a radius, well below it.
+inline constexpr double kMadeOverlapping = 0.05;
+
 /// A contact of two dynamic bodies made overlapping (deeper than kMadeOverlapping of the larger radius),
 /// or overlapping deeply with one of them stopped against a static face at this instant, the pair the
 /// last contact of one of them earlier in this step, or one of them past kSqueezeCollisions collisions
