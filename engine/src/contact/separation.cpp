@@ -52,23 +52,25 @@ bool movable(const detail::WorldState& w, uint32_t body) {
   });
 }
 
-// The static fixtures that collide, by the lower x edge of their boxes: the broad phase's bands are
-// those of its last sweep (none yet in the predictive mode, and without fixtures added since), so the
+// Fixtures by the lower x edge of their boxes where they are now: the broad phase's bands are those of
+// its last sweep (none yet in the predictive mode, and without fixtures added or moved since), so the
 // pass reads its own.
-struct Statics {
+struct SortedBoxes {
   std::vector<std::pair<Box, uint32_t>> byLowerX;
   double widest = 0;  // the widest box: a query starts that far before its own lower edge
 
-  explicit Statics(const detail::WorldState& w) {
+  // The live fixtures, not sensors, of bodies of type `type`.
+  SortedBoxes(const detail::WorldState& w, BodyType type) {
     for (uint32_t f = 0; f < w.fixtures.size(); ++f) {
       const detail::FixtureSlot& s = w.fixtures[f];
-      if (!s.alive || s.sensor || w.bodies[s.body].type != BodyType::Static) continue;
+      if (!s.alive || s.sensor || w.bodies[s.body].type != type) continue;
       const Box box = w.worldBox(f);
       byLowerX.push_back({box, f});
       widest = std::max(widest, box.max.x - box.min.x);
     }
-    std::sort(byLowerX.begin(), byLowerX.end(),
-              [](const auto& a, const auto& b) { return a.first.min.x < b.first.min.x || (a.first.min.x == b.first.min.x && a.second < b.second); });
+    std::sort(byLowerX.begin(), byLowerX.end(), [](const auto& a, const auto& b) {
+      return a.first.min.x < b.first.min.x || (a.first.min.x == b.first.min.x && a.second < b.second);
+    });
   }
   template <class Found>
   void query(const Box& q, Found&& found) const {
@@ -82,7 +84,7 @@ struct Statics {
 
 // The fraction in [0, 1] of the move `delta` the body can take before one of its fixtures touches a
 // static fixture it collides with (the time of impact of the move taken as a motion over unit time).
-double freeFraction(const detail::WorldState& w, const Statics& statics, uint32_t body, Vec2 delta) {
+double freeFraction(const detail::WorldState& w, const SortedBoxes& statics, uint32_t body, Vec2 delta) {
   double fraction = 1;
   const detail::BodySlot& b = w.bodies[body];
   for (uint32_t f : b.fixtures) {
@@ -142,7 +144,7 @@ void detail::separateExemptPairs(WorldState& w) {
   auto countOf = [&](uint32_t body) {
     return std::lower_bound(counts.begin(), counts.end(), std::pair<uint32_t, uint32_t>{body, 0})->second;
   };
-  const Statics statics(w);
+  const SortedBoxes statics(w, BodyType::Static);
   w.changes.roomToTouch(2 * pairs.size());
   // Nothing below allocates but keep(), which the step's undo needs and which fails cleanly.
   for (const Overlap& start : pairs) {
@@ -193,6 +195,22 @@ void detail::separateExemptPairs(WorldState& w) {
   for (const auto& count : counts) {
     const uint32_t body = count.first;
     for (uint32_t f : w.bodies[body].fixtures) w.broadPhase.setBox(f, w.worldBox(f));
+  }
+  if (w.def.gravity == Vec2{}) {
+    // A move may take a body deep into a third that nothing brings toward it (the next in a queue, which
+    // the game holds still): no impact would ever exempt that pair, and it stayed on one another. It is
+    // exempt now, and parted from the next step on, as a pair made overlapping.
+    const SortedBoxes dynamics(w, BodyType::Dynamic);
+    for (const auto& count : counts) {
+      for (uint32_t f : w.bodies[count.first].fixtures) {
+        if (w.fixtures[f].sensor || !isCircleLike(w.fixtures[f].geometry)) continue;
+        dynamics.query(w.worldBox(f), [&](uint32_t g) {
+          if (isCircleLike(w.fixtures[g].geometry) && detail::canCollide(w, f, g)) {
+            exemptIfMadeOverlapping(w, std::min(f, g), std::max(f, g), 0.0);
+          }
+        });
+      }
+    }
   }
   refreshSqueezes(w);  // the pairs parted are exempt no longer
 }
