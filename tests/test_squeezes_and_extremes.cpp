@@ -409,10 +409,11 @@ TEST(Separation, UnitsSpawnedOntoAQueueArePartedOnceTheGameStops) {
 
 // A wave of units made at one spawn point: 170 disks of radius 0.5 within 0.006 x 0.024 of it, each
 // overlapping all the others, steered toward two goals every tick. Each overlapping pair passes through
-// (guide, Squeezes), at once in the hybrid mode, at its first contact in the predictive. A second prediction of a pair already passing through changes
-// neither body's motion, but both were predicted again, which queued each of their still valid
-// predictions a second time, and those of exempt pairs, met again, queued theirs: 68,723 events in a
-// step of the hybrid mode (at 200 units a step did not return before the default budget of 10^6).
+// (guide, Squeezes): at once in the hybrid mode, once met again in the predictive one. A second
+// prediction of a pair already passing through changes neither body's motion, but both were predicted
+// again, which queued each of their still valid predictions a second time, and those of exempt pairs,
+// met again, queued theirs: 68,723 events in a step of the hybrid mode (at 200 units a step did not
+// return before the default budget of 10^6).
 TEST(Squeeze, UnitsMadeAtOnePointPassThroughEachOther) {
   for (StepMode mode : kExactModes) {
     SCOPED_TRACE(nameOf(mode));

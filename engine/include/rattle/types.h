@@ -177,8 +177,8 @@ struct StepStats {
   /// along a contact and the kinematic body closing on it set to pass over it, each member of a crowd
   /// held by the contact solve that a kinematic body was set to pass over once no velocities met every
   /// contact, and each pair of dynamic bodies made overlapping deeply set to pass through each other
-  /// until the steps' starts have moved it apart (README, "Squeezes"). It counts events, not bodies: one body squeezed against a wall by a piston
-  /// counts about twice.
+  /// until the steps' starts have moved it apart (README, "Squeezes"). It counts events, not bodies: one
+  /// body squeezed against a wall by a piston counts about twice.
   int squeezes = 0;
   /// The step's next change of motion would have taken it past WorldDef::maxEventsPerStep: every body
   /// stopped at that instant.

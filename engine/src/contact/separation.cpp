@@ -35,9 +35,8 @@ constexpr double kSeparationShare = 0.25;
 // Directions for a pair whose centres coincide (no line between them): picked by the pair's fixtures,
 // so that a crowd made at one point spreads in several directions, and the same on every run.
 constexpr double kHalfRoot2 = 0.70710678118654752440;
-constexpr Vec2 kCoincidentDirections[8] = {{1, 0},           {kHalfRoot2, kHalfRoot2}, {0, 1},
-                                           {-kHalfRoot2, kHalfRoot2}, {-1, 0},   {-kHalfRoot2, -kHalfRoot2},
-                                           {0, -1},          {kHalfRoot2, -kHalfRoot2}};
+constexpr Vec2 kCoincidentDirections[8] = {{1, 0},  {kHalfRoot2, kHalfRoot2},   {0, 1},  {-kHalfRoot2, kHalfRoot2},
+                                           {-1, 0}, {-kHalfRoot2, -kHalfRoot2}, {0, -1}, {kHalfRoot2, -kHalfRoot2}};
 
 bool isCircleLike(const Geometry& g) { return std::holds_alternative<Circle>(g) || std::holds_alternative<Point>(g); }
 
@@ -47,9 +46,8 @@ bool isCircleLike(const Geometry& g) { return std::holds_alternative<Circle>(g) 
 bool movable(const detail::WorldState& w, uint32_t body) {
   const detail::BodySlot& b = w.bodies[body];
   if (b.type != BodyType::Dynamic || b.asleep || b.sliding || !w.dependents[body].empty()) return false;
-  return std::all_of(b.fixtures.begin(), b.fixtures.end(), [&](uint32_t f) {
-    return w.fixtures[f].sensor || isCircleLike(w.fixtures[f].geometry);
-  });
+  return std::all_of(b.fixtures.begin(), b.fixtures.end(),
+                     [&](uint32_t f) { return w.fixtures[f].sensor || isCircleLike(w.fixtures[f].geometry); });
 }
 
 // Fixtures by the lower x edge of their boxes where they are now: the broad phase's bands are those of
@@ -92,8 +90,8 @@ double freeFraction(const detail::WorldState& w, const SortedBoxes& statics, uin
     const Box from = w.worldBox(f);
     statics.query(unionOf(from, from.translated(delta)), [&](uint32_t o) {
       if (!detail::canCollide(w, f, o)) return;
-      const auto hit = timeOfImpact(w.fixtures[f].geometry, b.position, w.fixtures[o].geometry,
-                                    w.bodyOf(o).position, Motion(delta), fraction);
+      const auto hit = timeOfImpact(w.fixtures[f].geometry, b.position, w.fixtures[o].geometry, w.bodyOf(o).position,
+                                    Motion(delta), fraction);
       if (hit) fraction = std::min(fraction, hit->time);
     });
   }
