@@ -37,6 +37,11 @@ BodyId disk(World& w, Vec2 position, Vec2 velocity, double radius, double restit
   return b;
 }
 
+// A closed Polyline round the rectangle from (x0, y0) to (x1, y1), counter-clockwise from its lower left.
+Polyline closedBox(double x0, double y0, double x1, double y1) {
+  return Polyline{{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}, {x0, y0}}};
+}
+
 Polygon boxPolygon(double halfWidth, double halfHeight) {
   return Polygon{
       {{-halfWidth, -halfHeight}, {halfWidth, -halfHeight}, {halfWidth, halfHeight}, {-halfWidth, halfHeight}}};
@@ -385,7 +390,7 @@ TEST(Separation, UnitsSpawnedOntoAQueueArePartedOnceTheGameStops) {
     SCOPED_TRACE(nameOf(mode));
     World w(defOf(mode));
     const BodyId box = w.createBody({.type = BodyType::Static});
-    w.createFixture(box, {.geometry = Polyline{{{-10, -10}, {10, -10}, {10, 10}, {-10, 10}, {-10, -10}}}});
+    w.createFixture(box, {.geometry = closedBox(-10, -10, 10, 10)});
     std::vector<BodyId> units;
     for (int k = 0; k < 8; ++k) units.push_back(disk(w, {9.5 - k, 0}, {}, 0.5, 0.1));
     for (int step = 0; step < 150; ++step) {
@@ -419,7 +424,7 @@ TEST(Squeeze, UnitsMadeAtOnePointPassThroughEachOther) {
     SCOPED_TRACE(nameOf(mode));
     World w(defOf(mode));
     const BodyId box = w.createBody({.type = BodyType::Static});
-    w.createFixture(box, {.geometry = Polyline{{{-20, -20}, {20, -20}, {20, 20}, {-20, 20}, {-20, -20}}}});
+    w.createFixture(box, {.geometry = closedBox(-20, -20, 20, 20)});
     std::vector<BodyId> units;
     for (int i = 0; i < 170; ++i) units.push_back(disk(w, {0.001 * (i % 7), 0.001 * (i / 7)}, {}, 0.5, 0.2));
     int squeezes = 0;
@@ -453,8 +458,10 @@ TEST(Squeeze, PointsMadeInsideAWedgedDiskFallThroughIt) {
     const Vec2 g{0, -9.81};
     World w(defOf(mode, g));
     const BodyId box = w.createBody({.type = BodyType::Static});
-    for (const auto& [centre, half] : {std::pair{Vec2{0, -1.25}, Vec2{1.5, 0.25}}, {Vec2{0, 1.25}, Vec2{1.5, 0.25}},
-                                       {Vec2{-1.25, 0}, Vec2{0.25, 1}}, {Vec2{1.25, 0}, Vec2{0.25, 1}}}) {
+    for (const auto& [centre, half] : {std::pair{Vec2{0, -1.25}, Vec2{1.5, 0.25}},
+                                       {Vec2{0, 1.25}, Vec2{1.5, 0.25}},
+                                       {Vec2{-1.25, 0}, Vec2{0.25, 1}},
+                                       {Vec2{1.25, 0}, Vec2{0.25, 1}}}) {
       Polygon p = boxPolygon(half.x, half.y);
       for (Vec2& v : p.points) v += centre;
       w.createFixture(box, {.geometry = p});
@@ -496,7 +503,7 @@ TEST(DiscreteContainer, APileStaysInsideAClosedBox) {
   World w(defOf(StepMode::Discrete, {0, -9.81}));
   const BodyId box = w.createBody({.type = BodyType::Static});
   const double width = 16, height = 40;
-  w.createFixture(box, {.geometry = Polyline{{{0, 0}, {width, 0}, {width, height}, {0, height}, {0, 0}}}});
+  w.createFixture(box, {.geometry = closedBox(0, 0, width, height)});
   std::vector<BodyId> disks;
   for (int row = 0; row < 25; ++row) {
     for (int col = 0; col < 14; ++col) {
@@ -613,7 +620,8 @@ TEST(DiscreteContainer, ADiskOnTheSeamOfTwoWallPolygonsIsNotPushedIntoEither) {
   const auto wall = [](double x0, double y0, double x1, double y1) {
     return Polygon{{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}};
   };
-  const std::vector<Polygon> walls = {wall(-3, -0.5, 3, 0), wall(-3, 5, 3, 5.5), wall(-3, 0, -2.5, 5), wall(2.5, 0, 3, 5)};
+  const std::vector<Polygon> walls = {wall(-3, -0.5, 3, 0), wall(-3, 5, 3, 5.5), wall(-3, 0, -2.5, 5),
+                                      wall(2.5, 0, 3, 5)};
   for (const Polygon& p : walls) w.createFixture(box, {.geometry = p});
   const double r = 0.05;
   const BodyId d = disk(w, {-2.75, 0}, {-0.3, -0.16}, r, 0.6);
@@ -624,8 +632,8 @@ TEST(DiscreteContainer, ADiskOnTheSeamOfTwoWallPolygonsIsNotPushedIntoEither) {
     w.step(i % 2 == 0 ? 0.0 : 1.0 / 60);
     const Vec2 p = w.position(d);
     for (size_t k = 0; k < walls.size(); ++k) {
-      ASSERT_FALSE(strictlyInside(p, walls[k])) << "step " << i + 1 << ": centre (" << p.x << ", " << p.y
-                                                << ") inside wall " << k;
+      ASSERT_FALSE(strictlyInside(p, walls[k]))
+          << "step " << i + 1 << ": centre (" << p.x << ", " << p.y << ") inside wall " << k;
     }
   }
 }
@@ -662,7 +670,7 @@ TEST(Piles, APileSettlesInEveryModeWithoutReachingTheEventBudget) {
     World w(defOf(mode, {0, -9.81}));
     const BodyId box = w.createBody({.type = BodyType::Static});
     const double width = 12, height = 40;
-    w.createFixture(box, {.geometry = Polyline{{{0, 0}, {width, 0}, {width, height}, {0, height}, {0, 0}}}});
+    w.createFixture(box, {.geometry = closedBox(0, 0, width, height)});
     std::vector<BodyId> disks;
     for (int row = 0; row < 20; ++row) {
       for (int col = 0; col < 10; ++col) {
@@ -725,7 +733,7 @@ TEST(DegenerateStart, ADenseLatticeIsNotDegenerate) {
     SCOPED_TRACE(nameOf(mode));
     World w(defOf(mode));
     const BodyId box = w.createBody({.type = BodyType::Static});
-    w.createFixture(box, {.geometry = Polyline{{{-1, -1}, {101, -1}, {101, 101}, {-1, 101}, {-1, -1}}}});
+    w.createFixture(box, {.geometry = closedBox(-1, -1, 101, 101)});
     for (int i = 0; i < 100; ++i) {
       for (int j = 0; j < 100; ++j) disk(w, {0.5 + i, 0.5 + j}, {0.1 * ((i + j) % 3 - 1), 0}, 0.5);
     }
@@ -806,7 +814,7 @@ TEST(ExtremeValues, AFastBodyNeverLeavesAWalledBox) {
       def.maxEventsPerStep = 20000;
       World w(def);
       const BodyId box = w.createBody({.type = BodyType::Static});
-      w.createFixture(box, {.geometry = Polyline{{{-5, -5}, {5, -5}, {5, 5}, {-5, 5}, {-5, -5}}}, .restitution = 1});
+      w.createFixture(box, {.geometry = closedBox(-5, -5, 5, 5), .restitution = 1});
       const BodyId d = disk(w, {0, 0}, {speed, speed * 0.37}, 0.5, 1);
       for (int i = 0; i < 5; ++i) {
         w.step(1.0 / 60);
@@ -880,7 +888,7 @@ TEST(TinyBodies, PointsSlidingIntoACornerStayInTheBox) {
       World w(defOf(mode, {0, -9.81}));
       const BodyId box = w.createBody({.type = BodyType::Static, .position = {1e-12, 1e-12}});
       const double a = 10.500149636933546;
-      w.createFixture(box, {.geometry = Polyline{{{-a, -a}, {a, -a}, {a, a}, {-a, a}, {-a, -a}}}});
+      w.createFixture(box, {.geometry = closedBox(-a, -a, a, a)});
       const BodyId p = w.createBody({.type = BodyType::Dynamic,
                                      .position = {-10.200149636932546, -10.400149636932547},
                                      .velocity = {-3.8724463275946235, -5.888607116417532}});
@@ -918,8 +926,9 @@ TEST(TinyBodies, PointsSlidingIntoACornerStayInTheBox) {
       const double a = 10.500149636933546;
       const Vec2 corners[4] = {{-a, -a}, {a, -a}, {a, a}, {-a, a}};
       for (int k = 0; k < 4; ++k) w.createFixture(box, {.geometry = Segment{corners[k], corners[(k + 1) % 4]}});
-      const BodyId p = w.createBody(
-          {.type = BodyType::Dynamic, .position = {-10.381016586071739, -a + 1e-12}, .velocity = {-3.8724463275946235, 0}});
+      const BodyId p = w.createBody({.type = BodyType::Dynamic,
+                                     .position = {-10.381016586071739, -a + 1e-12},
+                                     .velocity = {-3.8724463275946235, 0}});
       w.createFixture(p, {.geometry = Point{}, .restitution = 0.052404429253232944});
       for (int i = 0; i < 60; ++i) {
         w.step(0.05);
@@ -935,7 +944,7 @@ TEST(TinyBodies, PointsSlidingIntoACornerStayInTheBox) {
       World w(defOf(mode, {0, -9.81}));
       const BodyId box = w.createBody({.type = BodyType::Static, .position = {1e-12, 1e-12}});
       const double a = 10.500149636933546;
-      w.createFixture(box, {.geometry = Polyline{{{-a, -a}, {a, -a}, {a, a}, {-a, a}, {-a, -a}}}});
+      w.createFixture(box, {.geometry = closedBox(-a, -a, a, a)});
       const BodyId p = w.createBody({.type = BodyType::Dynamic,
                                      .position = {-10.485258493952553, -10.500149636932553},
                                      .velocity = {-1.2218951015142883, 0}});
@@ -958,7 +967,7 @@ TEST(TinyBodies, APointDroppedOnAFloorComesToRestOnIt) {
     World w(defOf(mode, {0, -9.81}));
     const BodyId box = w.createBody({.type = BodyType::Static, .position = {1e-12, 1e-12}});
     const double a = 10.500149636933546, b = 10.519303164427363;
-    w.createFixture(box, {.geometry = Polyline{{{-b, -a}, {b, -a}, {b, a}, {-b, a}, {-b, -a}}}});
+    w.createFixture(box, {.geometry = closedBox(-b, -a, b, a)});
     const BodyId p = w.createBody({.type = BodyType::Dynamic, .position = {-10.419303164426363, -10.400149636932547}});
     w.createFixture(p, {.geometry = Point{}, .restitution = 0.050498527257548789});
     const double floor = -a + 1e-12;
@@ -984,7 +993,7 @@ TEST(TinyBodies, APointAtRestOnAFloorThatTheGameSendsUpRises) {
       World w(defOf(mode, {0, -9.81}));
       const BodyId box = w.createBody({.type = BodyType::Static, .position = {1e-12, 1e-12}});
       const double a = 10.500149636933546;
-      w.createFixture(box, {.geometry = Polyline{{{-a, -a}, {a, -a}, {a, a}, {-a, a}, {-a, -a}}}});
+      w.createFixture(box, {.geometry = closedBox(-a, -a, a, a)});
       const BodyId p = w.createBody({.type = BodyType::Dynamic, .position = {-10.000149636932546, -10.4}});
       w.createFixture(p, {.geometry = Point{}, .restitution = 0.05});
       const double floor = -a + 1e-12;
@@ -1020,11 +1029,12 @@ TEST(TinyBodies, APointAtRestOnAFloorThatTheGameSendsUpRises) {
 TEST(TinyBodies, APointInABoxCornerThatTheGameSetsMovingStaysInside) {
   for (StepMode mode : kExactModes) {
     for (const Vec2 sent : {Vec2{1e-12, 1e-12}, Vec2{0.5, 0.5}, Vec2{-1e-12, 1e-12}, Vec2{1e-12, -1e-12}}) {
-      SCOPED_TRACE(std::string(nameOf(mode)) + " sent (" + std::to_string(sent.x) + ", " + std::to_string(sent.y) + ")");
+      SCOPED_TRACE(std::string(nameOf(mode)) + " sent (" + std::to_string(sent.x) + ", " + std::to_string(sent.y) +
+                   ")");
       World w(defOf(mode, {0, -9.81}));
       const BodyId box = w.createBody({.type = BodyType::Static, .position = {1e-12, 1e-12}});
       const double a = 10.500149636933546;
-      w.createFixture(box, {.geometry = Polyline{{{-a, -a}, {a, -a}, {a, a}, {-a, a}, {-a, -a}}}});
+      w.createFixture(box, {.geometry = closedBox(-a, -a, a, a)});
       const BodyId p = w.createBody({.type = BodyType::Dynamic, .position = {-10.0, -10.4}, .velocity = {-3, 0}});
       w.createFixture(p, {.geometry = Point{}, .restitution = 0});
       const double floor = -a + 1e-12, wall = -a + 1e-12;

@@ -34,7 +34,8 @@ Pieces forEachConvexPiece(const Geometry& g, Vec2 q, Found&& found) {
   if (const auto* s = std::get_if<Polygon>(&g)) {
     const size_t n = s->points.size();
     bool inside = true;
-    for (size_t i = 0; i < n && inside; ++i) inside = !(cross(s->points[(i + 1) % n] - s->points[i], q - s->points[i]) < 0);
+    for (size_t i = 0; i < n && inside; ++i)
+      inside = !(cross(s->points[(i + 1) % n] - s->points[i], q - s->points[i]) < 0);
     if (inside) return Pieces::Inside;
     for (size_t i = 0; i < n; ++i) found(closestOnSegment(s->points[i], s->points[(i + 1) % n], q, true));
     return Pieces::Listed;
@@ -86,6 +87,18 @@ inline Vec2 circleCentre(const Geometry& g) {
 inline double circleRadius(const Geometry& g) {
   if (const auto* c = std::get_if<Circle>(&g)) return c->radius;
   return 0;
+}
+/// Two circle-like geometries of bodies at `pa` and `pb`: their centres and radii, and how deep they
+/// overlap (negative: the gap between them).
+struct CircleOverlap {
+  Vec2 ca, cb;
+  double ra, rb;
+  double depth;
+};
+inline CircleOverlap circleOverlap(const Geometry& ga, Vec2 pa, const Geometry& gb, Vec2 pb) {
+  const Vec2 ca = pa + circleCentre(ga), cb = pb + circleCentre(gb);
+  const double ra = circleRadius(ga), rb = circleRadius(gb);
+  return {ca, cb, ra, rb, ra + rb - length(ca - cb)};
 }
 /// A Point or a circle of radius 0: no extent, so no overlap to tell its side of a line it lies on.
 inline bool isPoint(const Geometry& g) {

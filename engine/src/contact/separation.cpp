@@ -105,11 +105,9 @@ struct Overlap {
 };
 
 Overlap overlapOf(const detail::WorldState& w, uint32_t fa, uint32_t fb) {
-  const Geometry& ga = w.fixtures[fa].geometry;
-  const Geometry& gb = w.fixtures[fb].geometry;
-  const Vec2 ca = w.bodyOf(fa).position + detail::circleCentre(ga);
-  const Vec2 cb = w.bodyOf(fb).position + detail::circleCentre(gb);
-  return {fa, fb, ca, cb, detail::circleRadius(ga) + detail::circleRadius(gb) - length(cb - ca)};
+  const detail::CircleOverlap o = detail::circleOverlap(w.fixtures[fa].geometry, w.bodyOf(fa).position,
+                                                        w.fixtures[fb].geometry, w.bodyOf(fb).position);
+  return {fa, fb, o.ca, o.cb, o.depth};
 }
 
 }  // namespace

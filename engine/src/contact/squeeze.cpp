@@ -59,8 +59,7 @@ double cuspReach(const detail::WorldState& w, uint32_t holderFixture, double rou
 // the static face it remembers: on that face to its coordinates' round-off (a corner of the face and the
 // body, whatever the angle between their normals), or, where the two normals are opposed, in the cusp
 // the body leaves against the face (kCuspCosine).
-bool caughtAgainstFace(const detail::WorldState& w, const BodySlot& point, uint32_t holderFixture, Vec2 n,
-                       double now) {
+bool caughtAgainstFace(const detail::WorldState& w, const BodySlot& point, uint32_t holderFixture, Vec2 n, double now) {
   if (!detail::remembersLiveFace(w, point) || w.bodyOf(point.support.fixture).type != BodyType::Static) return false;
   const FaceGap gap = rememberedFaceGap(w, point, now);
   if (!(gap.distance >= -gap.roundOff)) return false;
@@ -306,11 +305,9 @@ bool detail::exemptIfMadeOverlapping(WorldState& w, uint32_t fa, uint32_t fb, do
   const BodySlot& a = w.bodyOf(fa);
   const BodySlot& b = w.bodyOf(fb);
   if (a.type != BodyType::Dynamic || b.type != BodyType::Dynamic) return false;
-  const Geometry& ga = w.fixtures[fa].geometry;
-  const Geometry& gb = w.fixtures[fb].geometry;
-  const double ra = detail::circleRadius(ga), rb = detail::circleRadius(gb);
-  const Vec2 ca = w.positionAt(a, now) + detail::circleCentre(ga), cb = w.positionAt(b, now) + detail::circleCentre(gb);
-  if (!(ra + rb - length(ca - cb) > kMadeOverlapping * std::max(ra, rb))) return false;
+  const CircleOverlap o =
+      circleOverlap(w.fixtures[fa].geometry, w.positionAt(a, now), w.fixtures[fb].geometry, w.positionAt(b, now));
+  if (!(o.depth > kMadeOverlapping * std::max(o.ra, o.rb))) return false;
   // The sweep's plain pairs reach here without a look at the exempt ones (passesThrough drops theirs).
   if (!squeezeExempt(w, fa, fb)) exemptFromCollisions(w, fa, fb);
   return true;
@@ -348,10 +345,9 @@ bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {
   // the walls hold, and pressed against a wall, went from the disk to the wall and back, 1e-13 s apart
   // (fuzz/regressions/world_api/budget-hybrid-point-between-a-wall-and-the-disk-it-is-in).
   auto busy = [&](const BodySlot& s) { return s.stepCollisions > w.kSqueezeCollisions; };
-  const Vec2 ca = w.positionAt(w.bodies[ia], c.time) + detail::circleCentre(w.fixtures[c.a].geometry);
-  const Vec2 cb = w.positionAt(w.bodies[ib], c.time) + detail::circleCentre(w.fixtures[c.b].geometry);
-  const double ra = detail::circleRadius(w.fixtures[c.a].geometry), rb = detail::circleRadius(w.fixtures[c.b].geometry);
-  const double depth = ra + rb - length(ca - cb);
+  const CircleOverlap o = circleOverlap(w.fixtures[c.a].geometry, w.positionAt(w.bodies[ia], c.time),
+                                        w.fixtures[c.b].geometry, w.positionAt(w.bodies[ib], c.time));
+  const double depth = o.depth, ra = o.ra, rb = o.rb;
   // Or, without gravity, they were made overlapping (exemptIfMadeOverlapping).
   const bool madeOverlapping = w.def.gravity == Vec2{} && depth > kMadeOverlapping * std::max(ra, rb);
   if (!held && !metInThisStep(w.bodies[ia]) && !metInThisStep(w.bodies[ib]) && !busy(w.bodies[ia]) &&
