@@ -897,8 +897,14 @@ detail::Islands::SweepEnd detail::Islands::sweepIslandAccelerated(std::vector<Ve
   direction.assign(rows.size(), 0.0);
   double previousResidual = 0;
   SweepEnd end = SweepEnd::Stopped;
+  // previous[] holds the multipliers before each sweep: copied here at the start and after a restart,
+  // and written by the search step otherwise, which saves a pass over the rows.
+  bool previousHeld = false;
   for (int iteration = 0; iteration < maxIterations; ++iteration) {
-    for (size_t at = 0; at < rows.size(); ++at) previous[at] = rows[at].lambda;
+    if (!previousHeld) {
+      for (size_t at = 0; at < rows.size(); ++at) previous[at] = rows[at].lambda;
+    }
+    previousHeld = false;
     const double worst = projectedSweep(rows, v, members);
     if (worst <= tolerance) {
       end = SweepEnd::Converged;
@@ -938,11 +944,14 @@ detail::Islands::SweepEnd detail::Islands::sweepIslandAccelerated(std::vector<Ve
       const double sweepChange = r.lambda - previous[at];
       const double step = beta * direction[at];
       direction[at] = step + sweepChange;
-      if (step == 0) continue;
-      r.lambda += step;
-      v[r.ka] += r.normal * (step * r.inverseA);
-      if (static_cast<size_t>(r.kb) < members) v[r.kb] -= r.normal * (step * r.inverseB);
+      if (step != 0) {
+        r.lambda += step;
+        v[r.ka] += r.normal * (step * r.inverseA);
+        if (static_cast<size_t>(r.kb) < members) v[r.kb] -= r.normal * (step * r.inverseB);
+      }
+      previous[at] = r.lambda;
     }
+    previousHeld = true;
   }
   v.resize(members);
   unscheduleSweeps();
