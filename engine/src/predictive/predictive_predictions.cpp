@@ -220,6 +220,12 @@ void Engine::pairWith(Prediction& q, uint32_t j, double until) {
   }
   auto impact = timeOfImpactCircleCircle(circleA, relative, Circle{Vec2{}, b.radius}, within, resolved);
   if (!impact) return;
+  if (impact->time == 0) {
+    // As in predictPair: a pair made overlapping passes through, with no event.
+    attach(p.slot);
+    attach(j);
+    if (exemptIfMadeOverlapping(w_, p.hot->fixture, b.fixture, now)) return;
+  }
   const double h = impact->time;
   const double time = std::min(now + h, q.horizon);
   PredictiveEvent& best = q.best;
