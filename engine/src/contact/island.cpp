@@ -403,8 +403,8 @@ double detail::Islands::gatherIslandContacts(const std::vector<uint32_t>& member
       if (holder.type == BodyType::Dynamic) {
         if (w.def.gravity == Vec2{} && !w.squeezes.empty() && squeezeExempt(w, pair.own, pair.other)) continue;
         // Made overlapping is tested on squares first, as nearly no pair is: a pile's gather meets every
-        // pair of neighbours, and a square root and a call for each made its step 2.6% slower. The 1e-9
-        // keeps every pair the exact test could take.
+        // pair of neighbours, where a square root and a call for each showed in the step's time
+        // (bench/README.md). The 1e-9 keeps every pair the exact test could take.
         const double otherRadius = detail::circleRadius(other.geometry);
         const double within = radius + otherRadius - kMadeOverlapping * std::max(radius, otherRadius);
         const Vec2 d = holderPosition + detail::circleCentre(other.geometry) - centre;
