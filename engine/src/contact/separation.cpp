@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "collision/closest_point.h"
+#include "contact/resting.h"
 #include "contact/squeeze.h"
 #include "rattle/time_of_impact.h"
 
@@ -145,6 +146,24 @@ void detail::separateExemptPairs(WorldState& w) {
   std::vector<Overlap> pairs;
   std::vector<uint32_t> partners;  // each pair's two bodies
   const bool underGravity = !(w.def.gravity == Vec2{});
+  if (underGravity) {
+    // A body asleep in a pair whose other body is awake wakes, with what it holds up, so that both can be
+    // moved: a row of units made at one point, landed on a floor between two of them already asleep,
+    // had no room, and its awake units were moved to and fro between the two for good.
+    std::vector<uint32_t> woken;
+    for (const WorldState::Squeeze& s : w.squeezes) {
+      const uint32_t fa = static_cast<uint32_t>(s.key >> 32), fb = static_cast<uint32_t>(s.key);
+      const FixtureSlot& a = w.fixtures[fa];
+      const FixtureSlot& b = w.fixtures[fb];
+      if (!a.alive || !b.alive || !isCircleLike(a.geometry) || !isCircleLike(b.geometry)) continue;
+      if (circleRadius(a.geometry) == 0 || circleRadius(b.geometry) == 0) continue;
+      if (!circleLike(w, a.body) || !circleLike(w, b.body)) continue;
+      if (w.bodies[a.body].asleep == w.bodies[b.body].asleep) continue;
+      if (!(overlapOf(w, fa, fb).depth > 0)) continue;
+      wakeUp(w, w.bodies[a.body].asleep ? a.body : b.body, 0.0, woken);
+    }
+    for (uint32_t i : woken) w.touched(i);
+  }
   for (const WorldState::Squeeze& s : w.squeezes) {
     const uint32_t fa = static_cast<uint32_t>(s.key >> 32), fb = static_cast<uint32_t>(s.key);
     const FixtureSlot& a = w.fixtures[fa];
