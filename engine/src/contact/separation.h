@@ -13,7 +13,8 @@ namespace rattle::detail {
 /// centre of mass stays where it is; under gravity level, square to gravity (each body's displacement
 /// bounded by the share), one body taking all of it when the other may not move, and not a pair with a
 /// point in it (the point falls through). Bodies asleep, holding up sleepers, or sliding (but on a level
-/// face under gravity) are left where they are. Fills WorldState::beingParted with the bodies moved.
+/// face under gravity) are left where they are; under gravity a sleeper in such a pair whose other body
+/// is awake is woken first. Fills WorldState::beingParted with the bodies moved.
 void separateExemptPairs(WorldState& w);
 
 }  // namespace rattle::detail
