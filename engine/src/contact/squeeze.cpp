@@ -301,6 +301,7 @@ void detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContac
 }
 
 bool detail::exemptIfMadeOverlapping(WorldState& w, uint32_t fa, uint32_t fb, double now) {
+  if (!(w.def.gravity == Vec2{})) return false;
   const BodySlot& a = w.bodyOf(fa);
   const BodySlot& b = w.bodyOf(fb);
   if (a.type != BodyType::Dynamic || b.type != BodyType::Dynamic) return false;
@@ -347,8 +348,8 @@ bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {
   const CircleOverlap o = circleOverlap(w.fixtures[c.a].geometry, w.positionAt(w.bodies[ia], c.time),
                                         w.fixtures[c.b].geometry, w.positionAt(w.bodies[ib], c.time));
   const double depth = o.depth, ra = o.ra, rb = o.rb;
-  // Or they were made overlapping (exemptIfMadeOverlapping).
-  const bool madeOverlapping = depth > kMadeOverlapping * std::max(ra, rb);
+  // Or, without gravity, they were made overlapping (exemptIfMadeOverlapping).
+  const bool madeOverlapping = w.def.gravity == Vec2{} && depth > kMadeOverlapping * std::max(ra, rb);
   if (!held && !metInThisStep(w.bodies[ia]) && !metInThisStep(w.bodies[ib]) && !busy(w.bodies[ia]) &&
       !busy(w.bodies[ib]) && !madeOverlapping)
     return false;
