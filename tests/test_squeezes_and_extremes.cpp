@@ -458,10 +458,8 @@ TEST(Squeeze, PointsMadeInsideAWedgedDiskFallThroughIt) {
     const Vec2 g{0, -9.81};
     World w(defOf(mode, g));
     const BodyId box = w.createBody({.type = BodyType::Static});
-    for (const auto& [centre, half] : {std::pair{Vec2{0, -1.25}, Vec2{1.5, 0.25}},
-                                       {Vec2{0, 1.25}, Vec2{1.5, 0.25}},
-                                       {Vec2{-1.25, 0}, Vec2{0.25, 1}},
-                                       {Vec2{1.25, 0}, Vec2{0.25, 1}}}) {
+    for (const auto& [centre, half] : {std::pair{Vec2{0, -1.25}, Vec2{1.5, 0.25}}, {Vec2{0, 1.25}, Vec2{1.5, 0.25}},
+                                       {Vec2{-1.25, 0}, Vec2{0.25, 1}}, {Vec2{1.25, 0}, Vec2{0.25, 1}}}) {
       Polygon p = boxPolygon(half.x, half.y);
       for (Vec2& v : p.points) v += centre;
       w.createFixture(box, {.geometry = p});
@@ -620,8 +618,7 @@ TEST(DiscreteContainer, ADiskOnTheSeamOfTwoWallPolygonsIsNotPushedIntoEither) {
   const auto wall = [](double x0, double y0, double x1, double y1) {
     return Polygon{{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}};
   };
-  const std::vector<Polygon> walls = {wall(-3, -0.5, 3, 0), wall(-3, 5, 3, 5.5), wall(-3, 0, -2.5, 5),
-                                      wall(2.5, 0, 3, 5)};
+  const std::vector<Polygon> walls = {wall(-3, -0.5, 3, 0), wall(-3, 5, 3, 5.5), wall(-3, 0, -2.5, 5), wall(2.5, 0, 3, 5)};
   for (const Polygon& p : walls) w.createFixture(box, {.geometry = p});
   const double r = 0.05;
   const BodyId d = disk(w, {-2.75, 0}, {-0.3, -0.16}, r, 0.6);
@@ -632,8 +629,8 @@ TEST(DiscreteContainer, ADiskOnTheSeamOfTwoWallPolygonsIsNotPushedIntoEither) {
     w.step(i % 2 == 0 ? 0.0 : 1.0 / 60);
     const Vec2 p = w.position(d);
     for (size_t k = 0; k < walls.size(); ++k) {
-      ASSERT_FALSE(strictlyInside(p, walls[k]))
-          << "step " << i + 1 << ": centre (" << p.x << ", " << p.y << ") inside wall " << k;
+      ASSERT_FALSE(strictlyInside(p, walls[k])) << "step " << i + 1 << ": centre (" << p.x << ", " << p.y
+                                                << ") inside wall " << k;
     }
   }
 }
@@ -926,9 +923,8 @@ TEST(TinyBodies, PointsSlidingIntoACornerStayInTheBox) {
       const double a = 10.500149636933546;
       const Vec2 corners[4] = {{-a, -a}, {a, -a}, {a, a}, {-a, a}};
       for (int k = 0; k < 4; ++k) w.createFixture(box, {.geometry = Segment{corners[k], corners[(k + 1) % 4]}});
-      const BodyId p = w.createBody({.type = BodyType::Dynamic,
-                                     .position = {-10.381016586071739, -a + 1e-12},
-                                     .velocity = {-3.8724463275946235, 0}});
+      const BodyId p = w.createBody(
+          {.type = BodyType::Dynamic, .position = {-10.381016586071739, -a + 1e-12}, .velocity = {-3.8724463275946235, 0}});
       w.createFixture(p, {.geometry = Point{}, .restitution = 0.052404429253232944});
       for (int i = 0; i < 60; ++i) {
         w.step(0.05);
@@ -1029,8 +1025,7 @@ TEST(TinyBodies, APointAtRestOnAFloorThatTheGameSendsUpRises) {
 TEST(TinyBodies, APointInABoxCornerThatTheGameSetsMovingStaysInside) {
   for (StepMode mode : kExactModes) {
     for (const Vec2 sent : {Vec2{1e-12, 1e-12}, Vec2{0.5, 0.5}, Vec2{-1e-12, 1e-12}, Vec2{1e-12, -1e-12}}) {
-      SCOPED_TRACE(std::string(nameOf(mode)) + " sent (" + std::to_string(sent.x) + ", " + std::to_string(sent.y) +
-                   ")");
+      SCOPED_TRACE(std::string(nameOf(mode)) + " sent (" + std::to_string(sent.x) + ", " + std::to_string(sent.y) + ")");
       World w(defOf(mode, {0, -9.81}));
       const BodyId box = w.createBody({.type = BodyType::Static, .position = {1e-12, 1e-12}});
       const double a = 10.500149636933546;

@@ -34,8 +34,7 @@ Pieces forEachConvexPiece(const Geometry& g, Vec2 q, Found&& found) {
   if (const auto* s = std::get_if<Polygon>(&g)) {
     const size_t n = s->points.size();
     bool inside = true;
-    for (size_t i = 0; i < n && inside; ++i)
-      inside = !(cross(s->points[(i + 1) % n] - s->points[i], q - s->points[i]) < 0);
+    for (size_t i = 0; i < n && inside; ++i) inside = !(cross(s->points[(i + 1) % n] - s->points[i], q - s->points[i]) < 0);
     if (inside) return Pieces::Inside;
     for (size_t i = 0; i < n; ++i) found(closestOnSegment(s->points[i], s->points[(i + 1) % n], q, true));
     return Pieces::Listed;

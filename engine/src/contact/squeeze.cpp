@@ -59,7 +59,8 @@ double cuspReach(const detail::WorldState& w, uint32_t holderFixture, double rou
 // the static face it remembers: on that face to its coordinates' round-off (a corner of the face and the
 // body, whatever the angle between their normals), or, where the two normals are opposed, in the cusp
 // the body leaves against the face (kCuspCosine).
-bool caughtAgainstFace(const detail::WorldState& w, const BodySlot& point, uint32_t holderFixture, Vec2 n, double now) {
+bool caughtAgainstFace(const detail::WorldState& w, const BodySlot& point, uint32_t holderFixture, Vec2 n,
+                       double now) {
   if (!detail::remembersLiveFace(w, point) || w.bodyOf(point.support.fixture).type != BodyType::Static) return false;
   const FaceGap gap = rememberedFaceGap(w, point, now);
   if (!(gap.distance >= -gap.roundOff)) return false;
@@ -307,7 +308,7 @@ bool detail::exemptIfMadeOverlapping(WorldState& w, uint32_t fa, uint32_t fb, do
   if (a.type != BodyType::Dynamic || b.type != BodyType::Dynamic) return false;
   const CircleOverlap o =
       circleOverlap(w.fixtures[fa].geometry, w.positionAt(a, now), w.fixtures[fb].geometry, w.positionAt(b, now));
-  if (!(o.depth > kMadeOverlapping * std::max(o.ra, o.rb))) return false;
+  if (!madeOverlapping(o)) return false;
   // The sweep's plain pairs reach here without a look at the exempt ones (passesThrough drops theirs).
   if (!squeezeExempt(w, fa, fb)) exemptFromCollisions(w, fa, fb);
   return true;
@@ -347,11 +348,10 @@ bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {
   auto busy = [&](const BodySlot& s) { return s.stepCollisions > w.kSqueezeCollisions; };
   const CircleOverlap o = circleOverlap(w.fixtures[c.a].geometry, w.positionAt(w.bodies[ia], c.time),
                                         w.fixtures[c.b].geometry, w.positionAt(w.bodies[ib], c.time));
-  const double depth = o.depth, ra = o.ra, rb = o.rb;
   // Or, without gravity, they were made overlapping (exemptIfMadeOverlapping).
-  const bool madeOverlapping = w.def.gravity == Vec2{} && depth > kMadeOverlapping * std::max(ra, rb);
+  const bool made = w.def.gravity == Vec2{} && madeOverlapping(o);
   if (!held && !metInThisStep(w.bodies[ia]) && !metInThisStep(w.bodies[ib]) && !busy(w.bodies[ia]) &&
-      !busy(w.bodies[ib]) && !madeOverlapping)
+      !busy(w.bodies[ib]) && !made)
     return false;
   if (squeezeExempt(w, c.a, c.b)) return true;  // a second prediction of the pair, made before the first came
   // A point past the squeeze count meets again, at the very instant of its last contact with it, the
@@ -383,7 +383,7 @@ bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {
   // 5e10th of their approach per collision, all at one instant
   // (fuzz/regressions/world_api/budget-hybrid-light-disk-made-around-points). Such a pair passes
   // through each other, as a kinematic body passes over a squeezed one, until they no longer overlap.
-  if (!(depth > Islands::kJamResidual * std::max(ra, rb))) return false;
+  if (!(o.depth > Islands::kJamResidual * std::max(o.ra, o.rb))) return false;
   if (!held) {
     exemptFromCollisions(w, c.a, c.b);
     return true;

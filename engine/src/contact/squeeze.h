@@ -2,8 +2,10 @@
 // bodies, is plain data in WorldState, which both exact modes read.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 
+#include "collision/closest_point.h"
 #include "world/world_impl.h"
 
 namespace rattle::detail {
@@ -12,6 +14,8 @@ namespace rattle::detail {
 /// made overlapping (a fixture created, a body set, over the other): events leave a pair touching, and
 /// the solves of islands and jams leave at most Islands::kJamResidual (0.01) of a radius, well below it.
 inline constexpr double kMadeOverlapping = 0.05;
+/// Whether two circle-like fixtures overlap that deeply.
+inline bool madeOverlapping(const CircleOverlap& o) { return o.depth > kMadeOverlapping * std::max(o.ra, o.rb); }
 
 /// A contact of two dynamic bodies made overlapping (deeper than kMadeOverlapping of the larger radius),
 /// or overlapping deeply with one of them stopped against a static face at this instant, the pair the
