@@ -1264,6 +1264,43 @@ void addBoxTenWide(World& world) {
   world.createFixture(box, cd);
 }
 
+TEST(GravityIsland, StepStatsCountTheContactRowsTheSolvesSweep) {
+  // 120 disks at rest in a lattice (spacing 1.2, columns jittered sideways by up to 0.05) fall together
+  // into a static box 15 wide. Until the bottom row, 0.5 above the floor, reaches it (t =
+  // sqrt(2 * 0.5 / 10) = 0.316 s, the 19th step) nothing touches and no solve runs:
+  // StepStats::contactRowsSwept is 0. The pile they land in is held by its islands' solves, which sweep
+  // rows (islands of more than a few dozen bodies are swept, not projected exactly); once every disk
+  // sleeps, nothing is solved again.
+  WorldDef def;
+  def.gravity = {0, -10};
+  World world(def);
+  const BodyId box = world.createBody(bodyDef(BodyType::Static));
+  FixtureDef cd;
+  cd.geometry = rattle::Polyline{{{0, 40}, {0, 0}, {15, 0}, {15, 40}}};
+  world.createFixture(box, cd);
+  Rng rng(7);
+  std::vector<DiskSpec> specs;
+  for (int row = 0; row < 10; ++row)
+    for (int i = 0; i < 12; ++i)
+      specs.push_back({{0.9 + 1.2 * i + rng.uniform(-0.05, 0.05), 1.0 + 1.2 * row}, {0, 0}, 0.5, 1.0, 0.5});
+  const auto disks = addDisks(world, specs);
+  long long swept = 0;
+  bool asleep = false;
+  for (int step = 1; step <= 900 && !asleep; ++step) {
+    world.step(1.0 / 60);
+    if (step <= 18) {
+      EXPECT_EQ(world.stats().contactRowsSwept, 0) << "step " << step << ": nothing touches yet";
+    }
+    swept += world.stats().contactRowsSwept;
+    asleep = true;
+    for (const Disk& d : disks) asleep = asleep && world.isAsleep(d.body);
+  }
+  ASSERT_TRUE(asleep);
+  EXPECT_GT(swept, 0) << "a pile of 120 came to rest without a swept contact solve";
+  world.step(1.0 / 60);
+  EXPECT_EQ(world.stats().contactRowsSwept, 0) << "a sleeping pile is solved again";
+}
+
 TEST(GravityIsland, DiskDroppedOnARestingPileBouncesThenJoinsItWithoutEnergyGain) {
   // A row of 10 disks resting on a floor (touching walls on both sides, so they cannot spread), a second
   // row of 9 in the pockets of the first; both at rest and asleep first. Then a disk dropped from 5

@@ -173,6 +173,11 @@ struct StepStats {
   int staleEvents = 0;        ///< predictions discarded because a body's motion changed first
   int requeries = 0;          ///< times a body's new path left its swept box and the broad phase was asked again
   int sleeping = 0;           ///< dynamic bodies asleep at the end of the step
+  /// Contact rows the contact solves swept: each contact of a solved island once per sweep of its
+  /// projected Gauss-Seidel (piles, jams; README, "Gravity and resting"). The work of holding pressed
+  /// bodies, which no event counts: a pile stepped a whole second at a time solves thousands of
+  /// speculative contacts in each of its solves.
+  long long contactRowsSwept = 0;
   /// Squeezes this step: each time a dynamic body caught between bodies that do not yield was stopped
   /// along a contact and the kinematic body closing on it set to pass over it, each member of a crowd
   /// held by the contact solve that a kinematic body was set to pass over once no velocities met every

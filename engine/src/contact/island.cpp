@@ -849,6 +849,7 @@ bool detail::Islands::sweepIsland(std::vector<Vec2>& v, double omega, double tol
   const auto overRelaxed = [&scale](size_t at, const SweepRow&, double gap) { return gap * scale[at]; };
   bool converged = false;
   for (int iteration = 0; iteration < maxIterations && !converged; ++iteration) {
+    w.stats.contactRowsSwept += static_cast<long long>(rows.size());
     const double worst = projectedSweep(rows, v, members, overRelaxed);
     converged = worst <= tolerance;
   }
@@ -888,6 +889,7 @@ detail::Islands::SweepEnd detail::Islands::sweepIslandAccelerated(std::vector<Ve
   double previousResidual = 0;
   SweepEnd end = SweepEnd::Stopped;
   for (int iteration = 0; iteration < maxIterations; ++iteration) {
+    w.stats.contactRowsSwept += static_cast<long long>(rows.size());
     for (size_t at = 0; at < rows.size(); ++at) previous[at] = rows[at].lambda;
     const double worst = projectedSweep(rows, v, members);
     if (worst <= tolerance) {
@@ -1015,6 +1017,7 @@ void detail::Islands::separateIsland(const std::vector<uint32_t>& members, const
       leftOut.push_back(static_cast<uint32_t>(at));
     }
   }
+  w.stats.contactRowsSwept += static_cast<long long>(kSeparateIterations) * static_cast<long long>(near.size());
   for (int iteration = 0; iteration < kSeparateIterations; ++iteration) projectedSweep(near, d, members.size());
   const bool reached = std::any_of(leftOut.begin(), leftOut.end(), [&](uint32_t at) {
     const SweepRow& r = rows[at];
@@ -1022,6 +1025,7 @@ void detail::Islands::separateIsland(const std::vector<uint32_t>& members, const
   });
   if (reached) {
     std::fill(d.begin(), d.end(), Vec2{});
+    w.stats.contactRowsSwept += static_cast<long long>(kSeparateIterations) * static_cast<long long>(rows.size());
     for (int iteration = 0; iteration < kSeparateIterations; ++iteration) projectedSweep(rows, d, members.size());
   }
   d.resize(members.size());
