@@ -104,7 +104,8 @@ for name in "${names[@]}"; do
   # in fuzz/world_api.cpp), but one step of a pile stepped a whole second still costs up to 0.4 s in the
   # release build and 2.5 s in this one (ASan, UBSan, coverage) on a busy machine, and rarer ones may
   # cost more: world_api gets 30 s, a margin over the worst seen (a CI run at 7899866 stopped at 10 s on
-  # an input with several such steps; bench/README.md, "Piles").
+  # an input it did not print; every one a local run found past 3 s had such steps; bench/README.md,
+  # "Piles").
   timeout=10
   [[ $name == world_api ]] && timeout=30
   args=(-max_total_time="$seconds" -timeout=$timeout -rss_limit_mb=2048 -malloc_limit_mb=512 -max_len=$max_len

@@ -105,8 +105,9 @@ constexpr double kBudgetSpeed = 1000;
 // whole second at a time (a valid extreme dt is 1 s; the README asks for 0.1 s at most) solves thousands
 // of speculative contacts per solve: one such step of 64 landing disks swept 21 million rows (0.4 s in
 // the release build, 2.4 s in the fuzz build), and a few of them with the save check's ran past
-// libFuzzer's 10 s (the CI run at 7899866 stopped there). The budget is 0.1 to 0.3 s of the release
-// build, three times what the seeds and kept inputs need (bench/README.md, "Piles").
+// libFuzzer's timeout (every input a local run found past 3 s; a CI run at 7899866 stopped at 10 s).
+// The budget is 0.1 to 0.3 s of the release build, three times what the seeds and kept inputs need
+// (bench/README.md, "Piles").
 constexpr long long kWorkBudget = 100000;
 constexpr long long kRowsPerTest = 200;
 
