@@ -1269,7 +1269,7 @@ TEST(GravityIsland, StepStatsCountTheContactRowsTheSolvesSweep) {
   // into a static box 15 wide. Until the bottom row, 0.5 above the floor, reaches it (t =
   // sqrt(2 * 0.5 / 10) = 0.316 s, the 19th step) nothing touches and no solve runs:
   // StepStats::contactRowsSwept is 0. The pile they land in is held by its islands' solves, which sweep
-  // rows (islands of more than a few dozen bodies are swept, not projected exactly); once every disk
+  // rows (under gravity islands of over 24 bodies are swept, not projected exactly); once every disk
   // sleeps, nothing is solved again.
   WorldDef def;
   def.gravity = {0, -10};
