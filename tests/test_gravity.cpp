@@ -938,6 +938,15 @@ TEST(GravityEnergy, ElasticGasInABoxKeepsKineticPlusPotentialEnergy) {
 // =====================================================================================================
 // 4. A pile of 2,000 disks in a container.
 
+// A static box open at the top: floor from (0, 0) to (width, 0), walls up to y = height, one Polyline
+// (its corners collide).
+void addOpenBox(World& world, double width, double height) {
+  const BodyId box = world.createBody(bodyDef(BodyType::Static));
+  FixtureDef cd;
+  cd.geometry = rattle::Polyline{{{0, height}, {0, 0}, {width, 0}, {width, height}}};
+  world.createFixture(box, cd);
+}
+
 TEST(GravityPile, TwoThousandDisksPouredIntoAContainer) {
   // 2,000 disks (radius 0.5, density 1, restitution 0.5) start as a loose block (a 40 x 50 lattice with
   // spacing 1.2, jittered, random velocities up to 0.5) above the floor of a U-shaped static Polyline
@@ -960,10 +969,7 @@ TEST(GravityPile, TwoThousandDisksPouredIntoAContainer) {
   def.maxEventsPerStep = 20000;
   World world(def);
   const double W = 50, H = 100, r = 0.5, rs = def.restingSpeed, g = 10;
-  const BodyId container = world.createBody(bodyDef(BodyType::Static));
-  FixtureDef cd;
-  cd.geometry = rattle::Polyline{{{0, H}, {0, 0}, {W, 0}, {W, H}}};
-  world.createFixture(container, cd);
+  addOpenBox(world, W, H);
   Rng rng(2024);
   std::vector<DiskSpec> specs;
   for (int j = 0; j < 50; ++j)
@@ -1161,10 +1167,7 @@ TEST(GravityPile, SettlingLatticeNeverFreezesAtOneInstant) {
   def.gravity = {0, -10};
   def.maxEventsPerStep = 20000;
   World world(def);
-  const BodyId container = world.createBody(bodyDef(BodyType::Static));
-  FixtureDef cd;
-  cd.geometry = rattle::Polyline{{{0, 100}, {0, 0}, {50, 0}, {50, 100}}};
-  world.createFixture(container, cd);
+  addOpenBox(world, 50, 100);
   Rng rng(2026);
   std::vector<DiskSpec> specs;
   for (int row = 0; specs.size() < 2000; ++row) {
@@ -1255,14 +1258,8 @@ TEST(GravityIsland, ColumnInAWellComesToRestAtItsAnalyticHeights) {
   EXPECT_LT(events, 100 * 20);
 }
 
-// A static box open at the top: floor from (0, 0) to (10, 0), walls up to y = 20, one Polyline (its
-// corners collide). Ten disks of radius 0.5 fill its floor exactly.
-void addBoxTenWide(World& world) {
-  const BodyId box = world.createBody(bodyDef(BodyType::Static));
-  FixtureDef cd;
-  cd.geometry = rattle::Polyline{{{0, 20}, {0, 0}, {10, 0}, {10, 20}}};
-  world.createFixture(box, cd);
-}
+// The open box 10 wide and 20 high: ten disks of radius 0.5 fill its floor exactly.
+void addBoxTenWide(World& world) { addOpenBox(world, 10, 20); }
 
 TEST(GravityIsland, StepStatsCountTheContactRowsTheSolvesSweep) {
   // 120 disks at rest in a lattice (spacing 1.2, columns jittered sideways by up to 0.05) fall together
@@ -1274,10 +1271,7 @@ TEST(GravityIsland, StepStatsCountTheContactRowsTheSolvesSweep) {
   WorldDef def;
   def.gravity = {0, -10};
   World world(def);
-  const BodyId box = world.createBody(bodyDef(BodyType::Static));
-  FixtureDef cd;
-  cd.geometry = rattle::Polyline{{{0, 40}, {0, 0}, {15, 0}, {15, 40}}};
-  world.createFixture(box, cd);
+  addOpenBox(world, 15, 40);
   Rng rng(7);
   std::vector<DiskSpec> specs;
   for (int row = 0; row < 10; ++row)
