@@ -393,21 +393,31 @@ double detail::Islands::gatherIslandContacts(const std::vector<uint32_t>& member
       const BodySlot& holder = w.bodies[j];
       // A kinematic body passing over a squeezed member holds it no more (squeeze.cpp).
       if (holder.type == BodyType::Kinematic && !w.squeezes.empty() && squeezeExempt(w, pair.own, pair.other)) continue;
-      // Without gravity, a pair of dynamic bodies passing through each other is no contact, nor is one made
-      // overlapping (squeeze.cpp): each step's start parts it (separation.cpp). Units spawned onto a queue
-      // were held on one another by the jam's solve, their overlap never parted.
-      if (holder.type == BodyType::Dynamic && w.def.gravity == Vec2{} &&
-          ((!w.squeezes.empty() && squeezeExempt(w, pair.own, pair.other)) ||
-           exemptIfMadeOverlapping(w, pair.own, pair.other, now)))
-        continue;
+      const Vec2 centre = w.positionAt(body, now) + detail::circleCentre(own.geometry);
+      const double radius = detail::circleRadius(own.geometry);
+      const Vec2 holderPosition = w.positionAt(holder, now);
+      // Without gravity, a pair of dynamic bodies passing through each other is no contact; nor, with or
+      // without gravity, is one made overlapping (squeeze.cpp): each step's start parts it
+      // (separation.cpp). Units spawned onto a queue were held on one another by the jam's solve, their
+      // overlap never parted.
+      if (holder.type == BodyType::Dynamic) {
+        if (w.def.gravity == Vec2{} && !w.squeezes.empty() && squeezeExempt(w, pair.own, pair.other)) continue;
+        // Made overlapping is tested on squares first, as nearly no pair is: a pile's gather meets every
+        // pair of neighbours, where a square root and a call for each showed in the step's time
+        // (bench/README.md). The 1e-9 keeps every pair the exact test could take.
+        const double otherRadius = detail::circleRadius(other.geometry);
+        const double within = radius + otherRadius - kMadeOverlapping * std::max(radius, otherRadius);
+        const Vec2 d = holderPosition + detail::circleCentre(other.geometry) - centre;
+        if (within > 0 && dot(d, d) < within * within * (1 + 1e-9) &&
+            exemptIfMadeOverlapping(w, pair.own, pair.other, now))
+          continue;
+      }
       const int kj = slot[j];
       if (kj >= 0 && kj <= static_cast<int>(k)) continue;  // a pair of members: once, from the lower
       // A free body's meetings with the island are events.
       if (kj < 0 && holder.type == BodyType::Dynamic && !holder.asleep && !holder.stepped) continue;
-      const Vec2 centre = w.positionAt(body, now) + detail::circleCentre(own.geometry);
-      const double radius = detail::circleRadius(own.geometry);
       const Vec2 holderVelocity = kj >= 0 ? Vec2{} : w.velocityAt(holder, now);
-      forEachPiece(other.geometry, w.positionAt(holder, now), centre, [&](Vec2 point, Vec2 normal, double distance) {
+      forEachPiece(other.geometry, holderPosition, centre, [&](Vec2 point, Vec2 normal, double distance) {
         const double gap = distance - radius;
         // Out of reach within the step even at twice the speeds at play (each member's, the holder's) and
         // what gravity adds.
@@ -888,9 +898,15 @@ detail::Islands::SweepEnd detail::Islands::sweepIslandAccelerated(std::vector<Ve
   direction.assign(rows.size(), 0.0);
   double previousResidual = 0;
   SweepEnd end = SweepEnd::Stopped;
+  // previous[] holds the multipliers before each sweep: copied here at the start and after a restart,
+  // and written by the search step otherwise, which saves a pass over the rows.
+  bool previousHeld = false;
   for (int iteration = 0; iteration < maxIterations; ++iteration) {
     w.stats.contactRowsSwept += static_cast<long long>(rows.size());
-    for (size_t at = 0; at < rows.size(); ++at) previous[at] = rows[at].lambda;
+    if (!previousHeld) {
+      for (size_t at = 0; at < rows.size(); ++at) previous[at] = rows[at].lambda;
+    }
+    previousHeld = false;
     const double worst = projectedSweep(rows, v, members);
     if (worst <= tolerance) {
       end = SweepEnd::Converged;
@@ -930,11 +946,14 @@ detail::Islands::SweepEnd detail::Islands::sweepIslandAccelerated(std::vector<Ve
       const double sweepChange = r.lambda - previous[at];
       const double step = beta * direction[at];
       direction[at] = step + sweepChange;
-      if (step == 0) continue;
-      r.lambda += step;
-      v[r.ka] += r.normal * (step * r.inverseA);
-      if (static_cast<size_t>(r.kb) < members) v[r.kb] -= r.normal * (step * r.inverseB);
+      if (step != 0) {
+        r.lambda += step;
+        v[r.ka] += r.normal * (step * r.inverseA);
+        if (static_cast<size_t>(r.kb) < members) v[r.kb] -= r.normal * (step * r.inverseB);
+      }
+      previous[at] = r.lambda;
     }
+    previousHeld = true;
   }
   v.resize(members);
   unscheduleSweeps();
@@ -1222,7 +1241,10 @@ void detail::Islands::endIslands(double end) {
   for (size_t k = 0; k < stepped.size(); ++k) {
     const BodySlot& b = w.bodies[stepped[k]];
     // At rest: still stepped, not moved on by an event since the solve, and slow.
-    candidate[k] = b.stepped && !b.asleep && b.collisionCount == steppedCounts[k] && length(b.velocity) < w.def.restingSpeed;
+    // Not a body being parted from another (separation.cpp): asleep, it would stay on it.
+    candidate[k] = b.stepped && !b.asleep && b.collisionCount == steppedCounts[k] &&
+                   length(b.velocity) < w.def.restingSpeed &&
+                   !std::binary_search(w.beingParted.begin(), w.beingParted.end(), stepped[k]);
   }
   for (const IslandContact& c : islandScratchStart) {
     const int ka = slot[c.a], kb = c.kb >= 0 ? slot[c.b] : -1;

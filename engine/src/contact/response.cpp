@@ -423,7 +423,9 @@ void detail::resolve(WorldState& w, const PredictedContact& c, std::vector<uint3
     const uint32_t rester = aRests ? ia : ib;
     const uint32_t holderFixture = aRests ? c.b : c.a;
     BodySlot& r = w.bodies[rester];
+    // Not a body that this step's start parts from another (separation.cpp): asleep, it would stay on it.
     if ((aRests || bRests) && length(r.velocity) < restingSpeed &&
+        !std::binary_search(w.beingParted.begin(), w.beingParted.end(), rester) &&
         supportsAt(w, rester, c.time, w.supporters, aRests ? n : -n, w.fixtures[holderFixture].body)) {
       putToSleep(w, rester, w.supporters);
     } else if ((aRests || bRests) && w.bodies[w.fixtures[holderFixture].body].type == BodyType::Static &&

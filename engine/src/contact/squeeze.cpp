@@ -302,7 +302,6 @@ void detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContac
 }
 
 bool detail::exemptIfMadeOverlapping(WorldState& w, uint32_t fa, uint32_t fb, double now) {
-  if (!(w.def.gravity == Vec2{})) return false;
   const BodySlot& a = w.bodyOf(fa);
   const BodySlot& b = w.bodyOf(fb);
   if (a.type != BodyType::Dynamic || b.type != BodyType::Dynamic) return false;
@@ -348,8 +347,8 @@ bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {
   auto busy = [&](const BodySlot& s) { return s.stepCollisions > w.kSqueezeCollisions; };
   const CircleOverlap o = circleOverlap(w.fixtures[c.a].geometry, w.positionAt(w.bodies[ia], c.time),
                                         w.fixtures[c.b].geometry, w.positionAt(w.bodies[ib], c.time));
-  // Or, without gravity, they were made overlapping (exemptIfMadeOverlapping).
-  const bool made = w.def.gravity == Vec2{} && madeOverlapping(o);
+  // Or they were made overlapping (exemptIfMadeOverlapping).
+  const bool made = madeOverlapping(o);
   if (!held && !metInThisStep(w.bodies[ia]) && !metInThisStep(w.bodies[ib]) && !busy(w.bodies[ia]) &&
       !busy(w.bodies[ib]) && !made)
     return false;
@@ -383,7 +382,11 @@ bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {
   // 5e10th of their approach per collision, all at one instant
   // (fuzz/regressions/world_api/budget-hybrid-light-disk-made-around-points). Such a pair passes
   // through each other, as a kinematic body passes over a squeezed one, until they no longer overlap.
-  if (!(o.depth > Islands::kJamResidual * std::max(o.ra, o.rb))) return false;
+  // Held, and met again at this instant: a body pressed into a static face and the other driving it
+  // there at once, however shallow the overlap (a point on a wall in a feather disk wedged in the box).
+  const bool heldAndMetNow =
+      held && (w.bodies[ia].last.is(c.a, c.b, c.time) || w.bodies[ib].last.is(c.a, c.b, c.time));
+  if (!heldAndMetNow && !(o.depth > Islands::kJamResidual * std::max(o.ra, o.rb))) return false;
   if (!held) {
     exemptFromCollisions(w, c.a, c.b);
     return true;

@@ -23,11 +23,11 @@ inline bool madeOverlapping(const CircleOverlap& o) { return o.depth > kMadeOver
 /// in the step: they pass through each other (exempt, as a squeeze's pair, until separateExemptPairs
 /// has parted them). Else false.
 bool passesThrough(WorldState& w, const detail::PredictedContact& c);
-/// Without gravity, a pair of dynamic bodies made overlapping (deeper than kMadeOverlapping of the
-/// larger radius at `now`): exempts it and returns true. Exact events would bounce each body of a wave
-/// of units spawned at one point off every other in turn, each bounce predicting it against all of them
-/// again (400 units took seconds a step); separateExemptPairs parts such a pair by moving it instead.
-/// Under gravity a separation would have to lift one body onto the other, and the pair collides.
+/// A pair of dynamic bodies made overlapping (deeper than kMadeOverlapping of the larger radius at
+/// `now`): exempts it and returns true. Exact events would bounce each body of a wave of units spawned
+/// at one point off every other in turn, each bounce predicting it against all of them again (a cost
+/// cubic in their number: bench/README.md, "Parting pairs made overlapping"); separateExemptPairs parts
+/// such a pair by moving it instead.
 bool exemptIfMadeOverlapping(WorldState& w, uint32_t fa, uint32_t fb, double now);
 /// Exempts the pair of fixtures from collisions until they no longer overlap (refreshSqueezes), and
 /// counts a squeeze.

@@ -38,6 +38,9 @@ void Engine::predictPair(uint32_t own, uint32_t other, double now, double horizo
   const int resolved = dismissed != kNoFeature ? dismissed : resolvedFeature(w_, a, b, own, other, now);
   const auto impact = predictImpact(w_, a, b, own, other, now, horizon - now, resolved);
   if (!impact) return;
+  // A pair made overlapping passes through from now on, with no event (as in HybridStep::predict): its
+  // event, and the predictions of both bodies again that it cost, made a wave made at one point cubic.
+  if (impact->time == 0 && exemptIfMadeOverlapping(w_, own, other, now)) return;
   const Vec2 vb = w_.velocityAt(b, now);
   const double h = impact->time;
   const double time = std::min(now + h, horizon);
@@ -102,6 +105,12 @@ void Engine::predictCircles(const Predicting& p, uint32_t j, double horizon, Pre
   }
   auto impact = timeOfImpactCircleCircle(circleA, relative, circleB, maxTime, resolved);
   if (!impact) return;
+  if (impact->time == 0) {
+    // As in predictPair: a pair made overlapping passes through, with no event.
+    attach(p.slot);
+    attach(j);
+    if (exemptIfMadeOverlapping(w_, a.fixture, b.fixture, now)) return;
+  }
   const double h = impact->time;
   const double time = std::min(now + h, horizon);
   if (time > best.time) return;
@@ -211,6 +220,12 @@ void Engine::pairWith(Prediction& q, uint32_t j, double until) {
   }
   auto impact = timeOfImpactCircleCircle(circleA, relative, Circle{Vec2{}, b.radius}, within, resolved);
   if (!impact) return;
+  if (impact->time == 0) {
+    // As in predictPair: a pair made overlapping passes through, with no event.
+    attach(p.slot);
+    attach(j);
+    if (exemptIfMadeOverlapping(w_, p.hot->fixture, b.fixture, now)) return;
+  }
   const double h = impact->time;
   const double time = std::min(now + h, q.horizon);
   PredictiveEvent& best = q.best;

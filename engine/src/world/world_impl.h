@@ -314,6 +314,9 @@ struct WorldState {
   };
   static constexpr size_t kSqueezeIndexTail = 64;
   SqueezeIndex squeezeIndex;
+  /// Bodies in a pair that this step's start parts (separateExemptPairs), sorted: they do not sleep, or a
+  /// pile of units made at one point fell asleep on one another, parted by a fraction of their overlap.
+  std::vector<uint32_t> beingParted;
   std::vector<uint32_t> squeezeCounted;  // bodies whose stepCollisions squeezeAt raised from 0 this step
   /// Bodies wedged between static faces this step: the instant and the normal of the last face they were
   /// stopped against (squeezeAt). Few: only bodies past kSqueezeCollisions.
