@@ -543,6 +543,33 @@ TEST(Squeeze, PointsMadeInsideAWedgedDiskFallThroughIt) {
   }
 }
 
+// A speck (a disk of radius 1e-12, a 1e22nd of the other's mass) at rest against a static block, and a
+// disk of radius 0.05 driven into it at 50 units/s. The speck is held at the block's face and met again
+// by the disk at one instant, each time overlapping it by less than the round-off of their coordinates,
+// far below the depth at which a held pair passes through (1% of the larger radius): the step looped
+// on the pair until the event budget ran out
+// (fuzz/regressions/world_api/budget-predictive-speck-held-at-a-block). A disk whose diameter is within
+// that depth of the other's radius is held like a point: the pair passes through, and the disk goes on.
+TEST(Squeeze, ASpeckHeldAtABlockByADiskDrivenIntoItEndsInBoundedWork) {
+  for (StepMode mode : kExactModes) {
+    SCOPED_TRACE(nameOf(mode));
+    World w(defOf(mode));
+    const BodyId block = w.createBody({.type = BodyType::Static, .position = {-0.5, 0}});
+    w.createFixture(block, {.geometry = boxPolygon(0.5, 0.5)});
+    const BodyId speck = disk(w, {1e-12, 0}, {}, 1e-12);
+    const BodyId driven = disk(w, {0.2, 0}, {-50, 0}, 0.05);
+    for (int step = 0; step < 10; ++step) {
+      w.setVelocity(driven, {-50, 0});
+      w.step(1.0 / 60);
+      ASSERT_FALSE(w.stats().eventBudgetReached) << "step " << step;
+      EXPECT_LE(w.stats().eventsProcessed, 1000) << "step " << step;
+      // Neither enters the block by more than 1% of its radius.
+      EXPECT_GE(w.position(speck).x, -0.01 * 1e-12 - 1e-15) << "step " << step;
+      EXPECT_GE(w.position(driven).x, 0.05 * 0.99) << "step " << step;
+    }
+  }
+}
+
 // ---- A closed container in the discrete mode ----------------------------------------------------------
 
 // The trial's soak, smaller: disks poured into a closed Polyline box under gravity, restitution 0.5. The
