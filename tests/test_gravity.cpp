@@ -767,6 +767,39 @@ TEST(GravityBall, ASlideEndsWhenTheSlopeIsMovedAway) {
   expectFreeFallOnceTheSlideEnds([](World& world, BodyId slope, const Disk&) { world.setPosition(slope, {0, -100}); });
 }
 
+// A slide ends where its contact passes the face's end. Ended exactly there, round-off put the ball back
+// on the face as often as past it: the face's contact started the slide again and the slide ended at
+// once, at one instant. Driven off a ledge, a ball took sixteen such turns and was then held at the
+// ledge's height for the rest of the step; one made on the seam of a thin block's two Polygons took
+// them until the event budget ran out, in both exact modes (found by the world_api fuzzer). Its slide
+// ends past the face's reach: from the instant it leaves the face, x = x0 - 50 t and the ball falls
+// freely, y = y0 - g (t - t_exit)^2 / 2.
+TEST(GravityBall, ASlideEndsAtTheEndOfALedgeAndTheBallFallsFromThere) {
+  for (rattle::StepMode mode : {rattle::StepMode::Hybrid, rattle::StepMode::Predictive}) {
+    for (const double y0 : {0.15, 0.0}) {  // on the ledge; on the seam, half inside each Polygon
+      SCOPED_TRACE(std::string(mode == rattle::StepMode::Hybrid ? "hybrid" : "predictive") +
+                   (y0 > 0 ? ", on the ledge" : ", on the seam"));
+      WorldDef def;
+      def.mode = mode;
+      def.gravity = {0, -9.81};
+      World world(def);
+      const BodyId block = world.createBody(bodyDef(BodyType::Static));
+      FixtureDef lower, upper;
+      lower.geometry = rattle::Polygon{{{-1, -0.1}, {1, -0.1}, {1, 0}, {-1, 0}}};
+      upper.geometry = rattle::Polygon{{{-1, 0}, {1, 0}, {1, 0.1}, {-1, 0.1}}};
+      world.createFixture(block, lower);
+      world.createFixture(block, upper);
+      const Disk ball = addDisk(world, {{-0.9, y0}, {-50, 0}, 0.05, 1.0, 0.0});
+      const double dt = 0.05, exit = 0.1 / 50;
+      world.step(dt);
+      ASSERT_FALSE(world.stats().eventBudgetReached);
+      EXPECT_LE(world.stats().eventsProcessed, 8);
+      EXPECT_NEAR(world.position(ball.body).x, -0.9 - 50 * dt, 1e-12);
+      EXPECT_NEAR(world.position(ball.body).y, y0 - 0.5 * 9.81 * (dt - exit) * (dt - exit), 1e-12);
+    }
+  }
+}
+
 // A disk at rest in the corner of one Polyline touches its floor and its wall at once. Asked what holds
 // it up, the rules saw only the fixture's closest point, the wall's at a tie, and the disk never slept.
 // It sleeps as on a floor alone, and a second disk dropped on it (restitution 0) comes to rest on it at
