@@ -317,17 +317,6 @@ bool inCusp(const detail::WorldState& w, const BodySlot& point, uint32_t pointFi
   return dot(toward, point.support.normal) < 0;
 }
 
-// Whether `r`, past the squeeze count in the step, was resolved against this very face at this very
-// instant already: a slide it starts here would end at once. A disk made inside a static box, its centre
-// reaching the end of the box's top face from below, slid off that end, was pressed onto the same face
-// at once (its centre on the end), slid again and off again, at one instant, until the step's budget of
-// 20,000 events ran out (fuzz/regressions/world_api/budget-predictive-disk-in-a-box-slides-off-at-once).
-// It bounces off at restingSpeed instead, and leaves the end.
-bool slidOffAtOnce(const BodySlot& r, const detail::PredictedContact& c) {
-  return r.stepCollisions > detail::WorldState::kSqueezeCollisions && r.last.is(c.a, c.b, c.time) &&
-         r.last.feature == c.feature;
-}
-
 }  // namespace
 
 void detail::resolve(WorldState& w, const PredictedContact& c, std::vector<uint32_t>& woken, bool zenoGuard,
@@ -429,7 +418,7 @@ void detail::resolve(WorldState& w, const PredictedContact& c, std::vector<uint3
         supportsAt(w, rester, c.time, w.supporters, aRests ? n : -n, w.fixtures[holderFixture].body)) {
       putToSleep(w, rester, w.supporters);
     } else if ((aRests || bRests) && w.bodies[w.fixtures[holderFixture].body].type == BodyType::Static &&
-               isFlatFeature(w, holderFixture, c.feature) && aRests && !slidOffAtOnce(r, c)) {
+               isFlatFeature(w, holderFixture, c.feature) && aRests) {
       startSliding(w, rester, holderFixture, c.feature, n);
       slider = &r;
       j = -vn / inverseSum;
