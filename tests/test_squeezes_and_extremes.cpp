@@ -198,6 +198,46 @@ TEST(Squeeze, ADiskAroundASmallStaticPolygonStopsInBoundedWork) {
   }
 }
 
+// A disk made over the top-left corner of a static block, beside a wall: the gap between wall and corner
+// (0.51) is narrower than the disk (0.566). Driven down and into the block, it bounces off the corner into
+// the wall, and off the wall back into the corner at the same instant; past the squeeze count each stop
+// against the corner, whose normal tilts up, left it moving back into the wall, and wall and corner took
+// turns 1e-15 s apart until the step's 20,000 events ran out (a family the world_api fuzzer found, of a
+// disk wedged at a corner of two overlapping boxes). A bounce off one static face and a stop against
+// another at the same instant corner it, as two stops do: it stops, against the wall, no deeper in the
+// block than it was made.
+TEST(Squeeze, ADiskMadeOverACornerBesideAWallStops) {
+  for (StepMode mode : kExactModes) {
+    SCOPED_TRACE(nameOf(mode));
+    WorldDef def = defOf(mode);
+    def.maxEventsPerStep = 20000;
+    World w(def);
+    const BodyId wall = w.createBody({.type = BodyType::Static});
+    w.createFixture(wall, {.geometry = Polygon{{{-4.5, -6}, {-4, -6}, {-4, 6}, {-4.5, 6}}}});
+    const BodyId block = w.createBody({.type = BodyType::Static});
+    const Vec2 corner{-3.49, -1.918};
+    w.createFixture(block,
+                    {.geometry = Polygon{{{corner.x, corner.y - 0.5}, {3, corner.y - 0.5}, {3, corner.y}, corner}}});
+    const double r = 0.28289953827992992;
+    const Vec2 start{-3.6840556063615044, -1.8821960112928393};
+    const BodyId d = disk(w, start, {4.5987369609305722, -5.9712686166417992}, r, 0.61464079591196064);
+    const double madeDepth = r - length(start - corner);
+    int squeezes = 0;
+    for (int i = 0; i < 5; ++i) {
+      w.step(1.0);
+      squeezes += w.stats().squeezes;
+      ASSERT_FALSE(w.stats().eventBudgetReached) << "step " << i;
+      ASSERT_LE(w.stats().eventsProcessed, 4 * kSqueezeCollisions) << "step " << i;
+      const Vec2 p = w.position(d);
+      EXPECT_GE(p.x, -4 + r - 1e-12) << "step " << i;
+      EXPECT_LE(r - length(p - corner), madeDepth) << "step " << i;
+    }
+    EXPECT_GE(squeezes, 1);
+    EXPECT_EQ(w.velocity(d).x, 0);
+    EXPECT_EQ(w.velocity(d).y, 0);
+  }
+}
+
 // A piston closing on a crowd against the far wall of a closed box (a gate shutting on a crowd of
 // units), no gravity; the piston ends a unit short of the wall. Found by a check of the documented
 // behaviour through the installed package: the islands' solve met its contacts with the piston after

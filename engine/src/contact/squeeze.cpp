@@ -126,6 +126,7 @@ void detail::refreshSqueezes(WorldState& w) {
   for (uint32_t body : w.squeezeCounted) w.bodies[body].stepCollisions = 0;
   w.squeezeCounted.clear();
   w.wedged.clear();
+  w.bouncedOffStatic.clear();
   if (w.squeezes.empty()) {
     rebuildSqueezeIndex(w);
     return;
@@ -159,7 +160,21 @@ bool detail::squeezeAt(WorldState& w, const detail::PredictedContact& c) {
     // Wedged between static bodies (a body larger than the gap it was put in): it bounces from one to the
     // other at one instant without end. Only such bounces, at the instant of its last collision, count
     // here; a fast body crossing a small box does not. It stops moving into this one.
-    if (a.last.time != c.time) return false;
+    const auto bounced = std::find_if(w.bouncedOffStatic.begin(), w.bouncedOffStatic.end(),
+                                      [&](const WorldState::Wedged& e) { return e.body == ia; });
+    if (a.last.time != c.time) {
+      // A bounce, but remembered: a body bounced off a wall into a face that its overlap already
+      // touches meets that face at the same instant (a disk made over a corner, then slid down along
+      // a wall beside it: the corner's normal tilts up, so each stop against the corner left it moving
+      // back into the wall, and wall and corner took turns 1e-15 s apart until the step's budget ran
+      // out; test Squeeze.ADiskMadeOverACornerBesideAWallStops).
+      if (bounced != w.bouncedOffStatic.end()) {
+        *bounced = {ia, c.time, c.normal};
+      } else {
+        w.bouncedOffStatic.push_back({ia, c.time, c.normal});
+      }
+      return false;
+    }
     // Not moving into it, only pressed into it by gravity (a point at rest in a box's corner): there is
     // no bounce to stop, and stopping nothing found the same contact again at the same instant without
     // end (fuzz/regressions/world_api/budget-predictive-points-in-a-corner). resolve()'s resting rules
@@ -175,17 +190,29 @@ bool detail::squeezeAt(WorldState& w, const detail::PredictedContact& c) {
     // slot) it slides on.
     const auto found =
         std::find_if(w.wedged.begin(), w.wedged.end(), [&](const WorldState::Wedged& e) { return e.body == ia; });
-    const bool cornered =
-        found != w.wedged.end() && found->time == c.time && std::fabs(cross(found->normal, c.normal)) > kWedgeAngle;
+    const auto metAtThisInstant = [&](const auto it, const auto end) {
+      return it != end && it->time == c.time && std::fabs(cross(it->normal, c.normal)) > kWedgeAngle;
+    };
+    const bool stoppedNow = metAtThisInstant(found, w.wedged.end());
+    const bool cornered = stoppedNow || metAtThisInstant(bounced, w.bouncedOffStatic.end());
+    // The record of this stop, for the next contact at this instant.
+    const auto rememberStop = [&] {
+      if (found != w.wedged.end()) {
+        *found = {ia, c.time, c.normal};
+      } else {
+        w.wedged.push_back({ia, c.time, c.normal});
+      }
+    };
     if (cornered) {
+      const Vec2 otherFace = stoppedNow ? found->normal : bounced->normal;
       a.velocity = Vec2{};
       // Stopped in a corner whose two faces hold it up against gravity (a point in the apex of a
       // needle), it rests there: left stopped, it slid on along the face gravity pressed it into, past
       // the apex, where neither face reaches, and fell out of the tip.
-      if (w.def.restingSpeed > 0 && heldUpBy(w.def.gravity, found->normal, c.normal)) {
+      if (w.def.restingSpeed > 0 && heldUpBy(w.def.gravity, otherFace, c.normal)) {
         ++a.collisionCount;
         a.setLast(detail::LastContact{std::min(c.a, c.b), std::max(c.a, c.b), c.feature, c.time});
-        *found = {ia, c.time, c.normal};
+        rememberStop();
         w.supporters.clear();
         putToSleep(w, ia, w.supporters);
         ++w.stats.squeezes;
@@ -194,11 +221,7 @@ bool detail::squeezeAt(WorldState& w, const detail::PredictedContact& c) {
     } else {
       a.velocity -= c.normal * dot(a.velocity, c.normal);
     }
-    if (found != w.wedged.end()) {
-      *found = {ia, c.time, c.normal};
-    } else {
-      w.wedged.push_back({ia, c.time, c.normal});
-    }
+    rememberStop();
     ++a.collisionCount;
     a.setLast(detail::LastContact{std::min(c.a, c.b), std::max(c.a, c.b), c.feature, c.time});
     // Pressed into a flat face by gravity, it slides on it, as resolve()'s resting rules would have it:

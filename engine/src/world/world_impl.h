@@ -326,6 +326,10 @@ struct WorldState {
     Vec2 normal;
   };
   std::vector<Wedged> wedged;
+  /// Bodies past kSqueezeCollisions bounced off a static face this step at an instant other than their
+  /// last collision's: that instant and the face's normal, so that a second face met at the same
+  /// instant corners them as a stop would (squeezeAt).
+  std::vector<Wedged> bouncedOffStatic;
   /// Sleepers held by an awake body, (sleeper, holder) in order: a point put to sleep caught between a
   /// stepped body at rest and a face (squeeze.cpp). They wake when the holder moves
   /// (wakeSleepersOfMovingBodies); a holder that sleeps holds them as any sleeper does. Derived from the
