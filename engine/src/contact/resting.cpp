@@ -162,6 +162,23 @@ bool detail::pointKnowsSideOfFace(const WorldState& w, const BodySlot& b, uint32
   return true;
 }
 
+int detail::polygonFacesUnderPoint(const WorldState& w, const BodySlot& b, uint32_t fixture, double now,
+                                   Vec2 (&outward)[2]) {
+  const auto* polygon = std::get_if<Polygon>(&w.fixtures[fixture].geometry);
+  if (!polygon) return 0;
+  const Vec2 p = firstCentreAt(w, b, now);
+  const Vec2 at = w.bodies[w.fixtures[fixture].body].position;
+  const size_t n = polygon->points.size();
+  int found = 0;
+  for (size_t k = 0; k < n && found < 2; ++k) {
+    const Vec2 a0 = at + polygon->points[k], d = polygon->points[(k + 1) % n] - polygon->points[k];
+    if (!pointOnFace(p, a0, d)) continue;
+    // Wound counter-clockwise (the world's form): the outside of edge d is d turned a quarter clockwise.
+    outward[found++] = Vec2{d.y, -d.x} * (1.0 / length(d));
+  }
+  return found;
+}
+
 bool detail::isFlatFeature(const WorldState& w, uint32_t fixture, int feature) {
   Vec2 a, b;
   return flatFeature(w.fixtures[fixture].geometry, feature, a, b);

@@ -54,6 +54,11 @@ void findSleepersOnAwakeBodies(WorldState& w);
 /// lies on both (resting.cpp says how). `side` is that face's unit normal toward the point.
 bool pointKnowsSideOfFace(const WorldState& w, const detail::BodySlot& b, uint32_t fixture, int feature, double now,
                           Vec2& side);
+/// The outward unit normals of the faces of the polygon `fixture` that a point lies on, within the
+/// round-off the time of impact allows (two at its corner): outside a solid polygon, a point's side of
+/// its face needs no memory. Returns how many (0 to 2); 0 when the fixture is not a polygon.
+int polygonFacesUnderPoint(const WorldState& w, const detail::BodySlot& b, uint32_t fixture, double now,
+                           Vec2 (&outward)[2]);
 /// Whether `feature` of the fixture is a straight face (a segment, a polyline's or a polygon's edge).
 bool isFlatFeature(const WorldState& w, uint32_t fixture, int feature);
 /// A point at the end of the face it slides on, resolved against `feature` of `fixture` there: whether
