@@ -35,6 +35,7 @@
 
 #include <rattle/rattle.h>
 
+#include <cmath>
 #include <vector>
 
 #include "container_search_support.h"
@@ -371,5 +372,38 @@ TEST(BodiesInCorners, APointAsleepOnAnAwakeDiskFallsWhenTheDiskMoves) {
     world->step(1.0 / 60);
     EXPECT_FALSE(world->isAsleep(bodies[kPoint]));
     EXPECT_LT(world->position(bodies[kPoint]).y, at.y);
+  }
+}
+
+// A point resting on the floor of a box of four polygons, far from the origin, two round-offs of its
+// world coordinates below the floor's line (where the world_api fuzzer's point came to rest: 1.4e-14 at
+// 51 units out), slides into the corner. The wall stands on the floor's line; in the wall's frame its
+// coordinates are small, and the reach of its face's end was read from them alone, so the point passed
+// under it, out of the box (fuzz/regressions/world_api/escape-predictive-point-under-a-polygon-wall-far-
+// out). It meets the wall and stays in the box.
+TEST(BodiesInCorners, APointSlidingAnUlpBelowAFloorFarOutMeetsThePolygonWall) {
+  const double h = 1.1693890087734498;
+  for (StepMode mode : {StepMode::Predictive, StepMode::Hybrid}) {
+    SCOPED_TRACE(mode == StepMode::Hybrid ? "hybrid" : "predictive");
+    WorldDef def;
+    def.mode = mode;
+    def.gravity = {0, -9.81};
+    World w(def);
+    const BodyId box = w.createBody({.type = BodyType::Static, .position = {-50, -50}});
+    w.createFixture(box, {.geometry = Polygon{{{-1.5, -h - 0.5}, {1.5, -h - 0.5}, {1.5, -h}, {-1.5, -h}}}});
+    w.createFixture(box, {.geometry = Polygon{{{-1.5, h}, {1.5, h}, {1.5, h + 0.5}, {-1.5, h + 0.5}}}});
+    w.createFixture(box, {.geometry = Polygon{{{-1.5, -h}, {-1, -h}, {-1, h}, {-1.5, h}}}});
+    w.createFixture(box, {.geometry = Polygon{{{1, -h}, {1.5, -h}, {1.5, h}, {1, h}}}});
+    const double floor = -50 - h;
+    const double below = std::nextafter(std::nextafter(floor, -100.0), -100.0);
+    const BodyId point = w.createBody({.type = BodyType::Dynamic, .position = {-50.3, below}, .velocity = {-1.9, 0}});
+    w.createFixture(point, {.geometry = Circle{{0, 0}, 0}});
+    for (int step = 0; step < 3; ++step) {
+      w.step(1.0);
+      const Vec2 p = w.position(point);
+      EXPECT_GE(p.x, -51.0) << "step " << step;
+      EXPECT_LE(p.x, -49.0) << "step " << step;
+      EXPECT_GE(p.y, floor - 1e-12) << "step " << step;
+    }
   }
 }

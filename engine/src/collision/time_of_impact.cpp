@@ -120,7 +120,10 @@ struct Edge {
   // coordinates, the bound the resting rules use for a point on a face (featureLeftByPoint). The line's
   // start alone was too tight: a point that slid down one face of a V into the joint and was resolved
   // there lay off the other face's line by more, on its far side, and went through it.
-  double pointSlack(Vec2 centre) const { return detail::pointRoundOff(centre, a, u * length); }
+  double pointSlack(Vec2 centre) const { return detail::pointRoundOff(centre, a, u * length) + frameSlack; }
+  // The round-off a point's coordinates carry from the world's frame into this one (a polygon of a
+  // body far from the origin, whose own coordinates are small): see circlePolygonInWorld.
+  double frameSlack = 0;
 };
 
 Edge edgeOf(Vec2 a, Vec2 b) {
@@ -186,7 +189,7 @@ std::optional<Impact> faceImpact(const Circle& circle, const Motion& m, const Ed
   const Vec2 along = rel + travel(m, *t);
   double tau = dot(edge.u, along);
   if (circle.radius == 0) {
-    const double slack = detail::pointRoundOff(circle.center, edge.a, along);
+    const double slack = detail::pointRoundOff(circle.center, edge.a, along) + edge.frameSlack;
     // A point that slid down one segment of a polyline into a valley lies off that segment's line by
     // its round-off, and meets the next segment's line that far over the sine of the angle between
     // them before or past the joint. Missed there, it passed under the joint and out of the valley, or
@@ -391,13 +394,15 @@ std::optional<Impact> timeOfImpactCirclePolyline(const Circle& a, const Motion& 
   return circlePolylineImpact(a, motion, b, maxTime, resolvedFeature, nullptr);
 }
 
-std::optional<Impact> timeOfImpactCirclePolygon(const Circle& a, const Motion& motion, const Polygon& b, double maxTime,
-                                                int resolvedFeature) {
+namespace {
+std::optional<Impact> circlePolygonImpact(const Circle& a, const Motion& motion, const Polygon& b, double maxTime,
+                                          int resolvedFeature, double frameSlack) {
   const int n = static_cast<int>(b.points.size());
   std::optional<Impact> best;
   for (int i = 0; i < n; ++i) {
-    keepEarlier(best, faceImpact(a, motion, edgeOf(b.points[i], b.points[(i + 1) % n]), true, maxTime, i,
-                                 isResolved(i, resolvedFeature)));
+    Edge edge = edgeOf(b.points[i], b.points[(i + 1) % n]);
+    edge.frameSlack = frameSlack;
+    keepEarlier(best, faceImpact(a, motion, edge, true, maxTime, i, isResolved(i, resolvedFeature)));
   }
   for (int k = 0; k < n; ++k) {
     const int feature = n + k;
@@ -411,6 +416,12 @@ std::optional<Impact> timeOfImpactCirclePolygon(const Circle& a, const Motion& m
     keepEarlier(best, pointImpact(a.center, motion, b.points[k], 0.0, *t, feature));
   }
   return best;
+}
+}  // namespace
+
+std::optional<Impact> timeOfImpactCirclePolygon(const Circle& a, const Motion& motion, const Polygon& b, double maxTime,
+                                                int resolvedFeature) {
+  return circlePolygonImpact(a, motion, b, maxTime, resolvedFeature, 0);
 }
 
 // ---- Dispatch ----------------------------------------------------------------------------------------
@@ -459,7 +470,23 @@ constexpr PairFunction kCircleCircle = circleVs<Circle, timeOfImpactCircleCircle
 constexpr PairFunction kCirclePoint = circleVs<Point, timeOfImpactCirclePoint>;
 constexpr PairFunction kCircleSegment = circleVs<Segment, timeOfImpactCircleSegment>;
 constexpr PairFunction kCirclePolyline = circleVs<Polyline, timeOfImpactCirclePolyline>;
-constexpr PairFunction kCirclePolygon = circleVs<Polygon, timeOfImpactCirclePolygon>;
+// A point against a polygon of a body far from the origin: in the body's frame the polygon's coordinates
+// are small, and so is the round-off faceImpact reads from them, but the point's carry the world's. A
+// point that came to rest on a box's floor two round-offs of its world coordinates below the floor's
+// line (1.4e-14 at 51 units out) slid along it into the corner, passed under the end of the wall's face
+// (the wall a polygon standing on the floor's line) and left the box
+// (fuzz/regressions/world_api/escape-predictive-point-under-a-polygon-wall-far-out).
+std::optional<Impact> circlePolygonInWorld(const Geometry& a, Vec2 positionA, const Geometry& b, Vec2 positionB,
+                                           const Motion& m, double maxTime, int resolvedFeature) {
+  Circle circle = asCircle(a, positionA);
+  const double frameSlack = circle.radius == 0 ? detail::pointRoundOff(circle.center, positionB) : 0.0;
+  circle.center -= positionB;
+  auto impact = circlePolygonImpact(circle, m, std::get<Polygon>(b), maxTime, resolvedFeature, frameSlack);
+  if (impact) impact->point += positionB;
+  return impact;
+}
+
+constexpr PairFunction kCirclePolygon = circlePolygonInWorld;
 
 // A point on the moving side is a circle of radius 0, so "point vs X" reuses the circle functions
 // (asCircle handles both); a point on the resting side uses circle-point.
