@@ -437,15 +437,23 @@ Circle asCircle(const Geometry& g, Vec2 position) {
   return Circle{std::get<Point>(g).position + position, 0.0};
 }
 
+// Circle (or point) A into B's frame, `solve` there, the answer back (circleVs, and the entries that pass
+// the solve more than the dispatch table does).
+template <class Solve>
+std::optional<Impact> inFrameOf(const Geometry& a, Vec2 positionA, Vec2 positionB, Solve solve) {
+  Circle circle = asCircle(a, positionA);
+  circle.center -= positionB;
+  auto impact = solve(circle);
+  if (impact) impact->point += positionB;
+  return impact;
+}
+
 // Circle (or point) A against geometry B of type Shape: the circle goes into B's frame, the answer back.
 template <class Shape, std::optional<Impact> (*Fn)(const Circle&, const Motion&, const Shape&, double, int)>
 std::optional<Impact> circleVs(const Geometry& a, Vec2 positionA, const Geometry& b, Vec2 positionB, const Motion& m,
                                double maxTime, int resolvedFeature) {
-  Circle circle = asCircle(a, positionA);
-  circle.center -= positionB;
-  auto impact = Fn(circle, m, std::get<Shape>(b), maxTime, resolvedFeature);
-  if (impact) impact->point += positionB;
-  return impact;
+  return inFrameOf(a, positionA, positionB,
+                   [&](const Circle& circle) { return Fn(circle, m, std::get<Shape>(b), maxTime, resolvedFeature); });
 }
 
 // The other order: B is the circle. Solve with the roles swapped and the motion reversed, then turn
@@ -478,12 +486,11 @@ constexpr PairFunction kCirclePolyline = circleVs<Polyline, timeOfImpactCirclePo
 // (fuzz/regressions/world_api/escape-predictive-point-under-a-polygon-wall-far-out).
 std::optional<Impact> circlePolygonInWorld(const Geometry& a, Vec2 positionA, const Geometry& b, Vec2 positionB,
                                            const Motion& m, double maxTime, int resolvedFeature) {
-  Circle circle = asCircle(a, positionA);
-  const double frameSlack = circle.radius == 0 ? detail::pointRoundOff(circle.center, positionB) : 0.0;
-  circle.center -= positionB;
-  auto impact = circlePolygonImpact(circle, m, std::get<Polygon>(b), maxTime, resolvedFeature, frameSlack);
-  if (impact) impact->point += positionB;
-  return impact;
+  const Circle inWorld = asCircle(a, positionA);
+  const double frameSlack = inWorld.radius == 0 ? detail::pointRoundOff(inWorld.center, positionB) : 0.0;
+  return inFrameOf(a, positionA, positionB, [&](const Circle& circle) {
+    return circlePolygonImpact(circle, m, std::get<Polygon>(b), maxTime, resolvedFeature, frameSlack);
+  });
 }
 
 constexpr PairFunction kCirclePolygon = circlePolygonInWorld;
@@ -505,21 +512,6 @@ std::optional<Impact> timeOfImpact(const Geometry& a, Vec2 positionA, const Geom
                                    const Motion& relativeMotion, double maxTime, int resolvedFeature) {
   return kTable[a.index()][b.index()](a, positionA, b, positionB, relativeMotion, maxTime, resolvedFeature);
 }
-
-namespace {
-
-// circleVs for the entries below, which pass the solve more than the dispatch table does: circle (or
-// point) A into B's frame, `solve` there, the answer back.
-template <class Solve>
-std::optional<Impact> inFrameOf(const Geometry& a, Vec2 positionA, Vec2 positionB, Solve solve) {
-  Circle circle = asCircle(a, positionA);
-  circle.center -= positionB;
-  auto impact = solve(circle);
-  if (impact) impact->point += positionB;
-  return impact;
-}
-
-}  // namespace
 
 std::optional<Impact> detail::timeOfImpactPolylineWith(const Geometry& a, Vec2 positionA, const Polyline& b,
                                                        Vec2 positionB, const Motion& relativeMotion, double maxTime,
