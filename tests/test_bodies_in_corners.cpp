@@ -407,3 +407,49 @@ TEST(BodiesInCorners, APointSlidingAnUlpBelowAFloorFarOutMeetsThePolygonWall) {
     }
   }
 }
+
+// The same far out for a closed Polyline box and a box of four Segments meeting end to end: the faces
+// read their reach past a corner from the coordinates in the body's frame (about 1 unit) too, and a point
+// three round-offs of its world coordinates below the floor's line passed under the wall's end and fell
+// out of the box, either way along the floor, in both exact modes. It meets the wall and stays in.
+TEST(BodiesInCorners, APointSlidingUlpsBelowAFloorFarOutMeetsTheWall) {
+  const double h = 1.1693890087734498;
+  for (StepMode mode : {StepMode::Predictive, StepMode::Hybrid}) {
+    SCOPED_TRACE(mode == StepMode::Hybrid ? "hybrid" : "predictive");
+    for (bool polyline : {true, false}) {
+      SCOPED_TRACE(polyline ? "closed polyline" : "four segments");
+      WorldDef def;
+      def.mode = mode;
+      def.gravity = {0, -9.81};
+      World w(def);
+      const BodyId box = w.createBody({.type = BodyType::Static, .position = {-50, -50}});
+      if (polyline) {
+        w.createFixture(box, {.geometry = Polyline{{{-1, h}, {-1, -h}, {1, -h}, {1, h}, {-1, h}}}});
+      } else {
+        w.createFixture(box, {.geometry = Segment{{-1, -h}, {1, -h}}});
+        w.createFixture(box, {.geometry = Segment{{-1, -h}, {-1, h}}});
+        w.createFixture(box, {.geometry = Segment{{1, -h}, {1, h}}});
+        w.createFixture(box, {.geometry = Segment{{-1, h}, {1, h}}});
+      }
+      const double floor = -50 - h;
+      double below = floor;
+      for (int ulps = 1; ulps <= 3; ++ulps) {
+        below = std::nextafter(below, -100.0);
+        for (double vx : {-1.9, 1.9}) {
+          const BodyId point =
+              w.createBody({.type = BodyType::Dynamic, .position = {-50.3, below}, .velocity = {vx, 0}});
+          w.createFixture(point, {.geometry = Circle{{0, 0}, 0}});
+          for (int step = 0; step < 3; ++step) {
+            w.step(1.0);
+            const Vec2 p = w.position(point);
+            SCOPED_TRACE(testing::Message() << "step " << step << ", " << ulps << " ulps below, vx " << vx);
+            EXPECT_GE(p.x, -51.0);
+            EXPECT_LE(p.x, -49.0);
+            EXPECT_GE(p.y, floor - 1e-12);
+          }
+          w.destroyBody(point);
+        }
+      }
+    }
+  }
+}

@@ -121,8 +121,8 @@ struct Edge {
   // start alone was too tight: a point that slid down one face of a V into the joint and was resolved
   // there lay off the other face's line by more, on its far side, and went through it.
   double pointSlack(Vec2 centre) const { return detail::pointRoundOff(centre, a, u * length) + frameSlack; }
-  // The round-off a point's coordinates carry from the world's frame into this one (a polygon of a
-  // body far from the origin, whose own coordinates are small): see circlePolygonInWorld.
+  // The round-off a point's coordinates carry from the world's frame into this one (a shape of a body
+  // far from the origin, whose own coordinates are small): see inFrameOf.
   double frameSlack = 0;
 };
 
@@ -247,9 +247,11 @@ bool isResolved(int feature, int resolvedFeature) {
 }
 
 std::optional<Impact> segmentImpact(const Circle& a, const Motion& m, Vec2 p0, Vec2 p1, double maxTime, int feature,
-                                    bool justResolved, double jointSlackStart = 0, double jointSlackEnd = 0,
-                                    const Vec2* beforeStart = nullptr, const Vec2* afterEnd = nullptr) {
+                                    bool justResolved, double frameSlack, double jointSlackStart = 0,
+                                    double jointSlackEnd = 0, const Vec2* beforeStart = nullptr,
+                                    const Vec2* afterEnd = nullptr) {
   Edge edge = edgeOf(p0, p1);
+  edge.frameSlack = frameSlack;
   edge.jointSlackStart = jointSlackStart;
   edge.jointSlackEnd = jointSlackEnd;
   edge.beforeStart = beforeStart;
@@ -303,15 +305,17 @@ std::optional<Impact> timeOfImpactCirclePoint(const Circle& a, const Motion& mot
 
 namespace {
 
-// `neighbours` (null: none known) are the Segments met at its ends (detail::timeOfImpactSegmentWith).
+// `neighbours` (null: none known) are the Segments met at its ends (detail::timeOfImpactSegmentWith);
+// `frameSlack` is Edge::frameSlack.
 std::optional<Impact> circleSegmentImpact(const Circle& a, const Motion& motion, const Segment& b, double maxTime,
-                                          int resolvedFeature, const detail::SegmentNeighbours* neighbours) {
+                                          int resolvedFeature, const detail::SegmentNeighbours* neighbours,
+                                          double frameSlack) {
   // Another fixture's face may meet this one at either end (two Segments in a V): for a point, the face
   // reaches past its ends by the round-off of such a neighbour (Edge::jointSlackStart), taken as its own
   // where the neighbour is not known. Missed there, a point bounced at the joint onto the other Segment
   // passed under this one's end. A known neighbour is read as a Polyline's: in a needle of two Segments
   // (an apex of a third of a degree), a point slid along one past the joint, out of its container.
-  if (a.radius != 0) return segmentImpact(a, motion, b.a, b.b, maxTime, 0, isResolved(0, resolvedFeature));
+  if (a.radius != 0) return segmentImpact(a, motion, b.a, b.b, maxTime, 0, isResolved(0, resolvedFeature), 0);
   double start = detail::pointRoundOff(b.a, b.b, b.b - b.a), end = start;
   const Vec2* beforeStart = nullptr;
   const Vec2* afterEnd = nullptr;
@@ -323,23 +327,23 @@ std::optional<Impact> circleSegmentImpact(const Circle& a, const Motion& motion,
     afterEnd = &neighbours->afterEnd;
     end = detail::pointRoundOff(*afterEnd, b.b, b.b - *afterEnd);
   }
-  return segmentImpact(a, motion, b.a, b.b, maxTime, 0, isResolved(0, resolvedFeature), start, end, beforeStart,
-                       afterEnd);
+  return segmentImpact(a, motion, b.a, b.b, maxTime, 0, isResolved(0, resolvedFeature), frameSlack, start, end,
+                       beforeStart, afterEnd);
 }
 
 }  // namespace
 
 std::optional<Impact> timeOfImpactCircleSegment(const Circle& a, const Motion& motion, const Segment& b, double maxTime,
                                                 int resolvedFeature) {
-  return circleSegmentImpact(a, motion, b, maxTime, resolvedFeature, nullptr);
+  return circleSegmentImpact(a, motion, b, maxTime, resolvedFeature, nullptr, 0);
 }
 
 namespace {
 
 // `known` (null: none) says which faces are taken as resolved too, or left out
-// (detail::timeOfImpactPolylineWith).
+// (detail::timeOfImpactPolylineWith); `frameSlack` is Edge::frameSlack.
 std::optional<Impact> circlePolylineImpact(const Circle& a, const Motion& motion, const Polyline& b, double maxTime,
-                                           int resolvedFeature, const detail::KnownFaces* known) {
+                                           int resolvedFeature, const detail::KnownFaces* known, double frameSlack) {
   const int n = static_cast<int>(b.points.size());
   // A closed Polyline (its last point its first) has a joint there too: to a point it is an inner
   // corner, met through the faces beside it. As two ends, a point that slid into it took a normal from
@@ -371,8 +375,8 @@ std::optional<Impact> circlePolylineImpact(const Circle& a, const Motion& motion
       if (reading == detail::KnownFaces::Reading::LeftOut) continue;
       if (reading == detail::KnownFaces::Reading::Resolved) resolved = true;
     }
-    keepEarlier(best, segmentImpact(a, motion, b.points[i], b.points[i + 1], maxTime, i, resolved, start, end,
-                                    beforeStart, afterEnd));
+    keepEarlier(best, segmentImpact(a, motion, b.points[i], b.points[i + 1], maxTime, i, resolved, frameSlack, start,
+                                    end, beforeStart, afterEnd));
   }
   for (int k = 0; k < n; ++k) {
     // A point meets a joint only along an exact line, and then its normal is no face's: met there
@@ -391,7 +395,7 @@ std::optional<Impact> circlePolylineImpact(const Circle& a, const Motion& motion
 
 std::optional<Impact> timeOfImpactCirclePolyline(const Circle& a, const Motion& motion, const Polyline& b,
                                                  double maxTime, int resolvedFeature) {
-  return circlePolylineImpact(a, motion, b, maxTime, resolvedFeature, nullptr);
+  return circlePolylineImpact(a, motion, b, maxTime, resolvedFeature, nullptr, 0);
 }
 
 namespace {
@@ -437,23 +441,35 @@ Circle asCircle(const Geometry& g, Vec2 position) {
   return Circle{std::get<Point>(g).position + position, 0.0};
 }
 
-// Circle (or point) A into B's frame, `solve` there, the answer back (circleVs, and the entries that pass
-// the solve more than the dispatch table does).
+// Circle (or point) A into B's frame, `solve(circle, frameSlack)` there, the answer back (the dispatch
+// table's entries, and those that pass the solve more than the table does). frameSlack, for a point, is
+// the round-off its coordinates carry from the world's frame (Edge::frameSlack): in the frame of a body
+// far from the origin the shape's coordinates are small, and so is the round-off faceImpact reads from
+// them, but the point's carry the world's. A point that came to rest on a box's floor two round-offs of
+// its world coordinates below the floor's line (1.4e-14 at 51 units out) slid along it into the corner,
+// passed under the end of the wall's face (the wall a polygon standing on the floor's line) and left the
+// box (fuzz/regressions/world_api/escape-predictive-point-under-a-polygon-wall-far-out); so too under a
+// Segment's end, or a closed Polyline's corner, three round-offs below
+// (BodiesInCorners.APointSlidingUlpsBelowAFloorFarOutMeetsTheWall). The frame's offset is what the
+// round-off read in it leaves out (|world| <= |in the frame| + |offset|): a body at the origin adds none.
 template <class Solve>
 std::optional<Impact> inFrameOf(const Geometry& a, Vec2 positionA, Vec2 positionB, Solve solve) {
   Circle circle = asCircle(a, positionA);
+  const double frameSlack = circle.radius == 0 ? detail::pointRoundOff(positionB, {}) : 0.0;
   circle.center -= positionB;
-  auto impact = solve(circle);
+  auto impact = solve(circle, frameSlack);
   if (impact) impact->point += positionB;
   return impact;
 }
 
 // Circle (or point) A against geometry B of type Shape: the circle goes into B's frame, the answer back.
+// (A point against a point or a circle meets it only on an exact distance, with no face to reach past.)
 template <class Shape, std::optional<Impact> (*Fn)(const Circle&, const Motion&, const Shape&, double, int)>
 std::optional<Impact> circleVs(const Geometry& a, Vec2 positionA, const Geometry& b, Vec2 positionB, const Motion& m,
                                double maxTime, int resolvedFeature) {
-  return inFrameOf(a, positionA, positionB,
-                   [&](const Circle& circle) { return Fn(circle, m, std::get<Shape>(b), maxTime, resolvedFeature); });
+  return inFrameOf(a, positionA, positionB, [&](const Circle& circle, double) {
+    return Fn(circle, m, std::get<Shape>(b), maxTime, resolvedFeature);
+  });
 }
 
 // The other order: B is the circle. Solve with the roles swapped and the motion reversed, then turn
@@ -476,23 +492,30 @@ std::optional<Impact> noImpact(const Geometry&, Vec2, const Geometry&, Vec2, con
 
 constexpr PairFunction kCircleCircle = circleVs<Circle, timeOfImpactCircleCircle>;
 constexpr PairFunction kCirclePoint = circleVs<Point, timeOfImpactCirclePoint>;
-constexpr PairFunction kCircleSegment = circleVs<Segment, timeOfImpactCircleSegment>;
-constexpr PairFunction kCirclePolyline = circleVs<Polyline, timeOfImpactCirclePolyline>;
-// A point against a polygon of a body far from the origin: in the body's frame the polygon's coordinates
-// are small, and so is the round-off faceImpact reads from them, but the point's carry the world's. A
-// point that came to rest on a box's floor two round-offs of its world coordinates below the floor's
-// line (1.4e-14 at 51 units out) slid along it into the corner, passed under the end of the wall's face
-// (the wall a polygon standing on the floor's line) and left the box
-// (fuzz/regressions/world_api/escape-predictive-point-under-a-polygon-wall-far-out).
+// A Segment, Polyline or Polygon in its body's frame, with the frame's round-off for a point (inFrameOf).
+std::optional<Impact> circleSegmentInWorld(const Geometry& a, Vec2 positionA, const Geometry& b, Vec2 positionB,
+                                           const Motion& m, double maxTime, int resolvedFeature) {
+  return inFrameOf(a, positionA, positionB, [&](const Circle& circle, double frameSlack) {
+    return circleSegmentImpact(circle, m, std::get<Segment>(b), maxTime, resolvedFeature, nullptr, frameSlack);
+  });
+}
+
+std::optional<Impact> circlePolylineInWorld(const Geometry& a, Vec2 positionA, const Geometry& b, Vec2 positionB,
+                                            const Motion& m, double maxTime, int resolvedFeature) {
+  return inFrameOf(a, positionA, positionB, [&](const Circle& circle, double frameSlack) {
+    return circlePolylineImpact(circle, m, std::get<Polyline>(b), maxTime, resolvedFeature, nullptr, frameSlack);
+  });
+}
+
 std::optional<Impact> circlePolygonInWorld(const Geometry& a, Vec2 positionA, const Geometry& b, Vec2 positionB,
                                            const Motion& m, double maxTime, int resolvedFeature) {
-  const Circle inWorld = asCircle(a, positionA);
-  const double frameSlack = inWorld.radius == 0 ? detail::pointRoundOff(inWorld.center, positionB) : 0.0;
-  return inFrameOf(a, positionA, positionB, [&](const Circle& circle) {
+  return inFrameOf(a, positionA, positionB, [&](const Circle& circle, double frameSlack) {
     return circlePolygonImpact(circle, m, std::get<Polygon>(b), maxTime, resolvedFeature, frameSlack);
   });
 }
 
+constexpr PairFunction kCircleSegment = circleSegmentInWorld;
+constexpr PairFunction kCirclePolyline = circlePolylineInWorld;
 constexpr PairFunction kCirclePolygon = circlePolygonInWorld;
 
 // A point on the moving side is a circle of radius 0, so "point vs X" reuses the circle functions
@@ -516,16 +539,16 @@ std::optional<Impact> timeOfImpact(const Geometry& a, Vec2 positionA, const Geom
 std::optional<Impact> detail::timeOfImpactPolylineWith(const Geometry& a, Vec2 positionA, const Polyline& b,
                                                        Vec2 positionB, const Motion& relativeMotion, double maxTime,
                                                        int resolvedFeature, const KnownFaces& known) {
-  return inFrameOf(a, positionA, positionB, [&](const Circle& circle) {
-    return circlePolylineImpact(circle, relativeMotion, b, maxTime, resolvedFeature, &known);
+  return inFrameOf(a, positionA, positionB, [&](const Circle& circle, double frameSlack) {
+    return circlePolylineImpact(circle, relativeMotion, b, maxTime, resolvedFeature, &known, frameSlack);
   });
 }
 
 std::optional<Impact> detail::timeOfImpactSegmentWith(const Geometry& a, Vec2 positionA, const Segment& b,
                                                       Vec2 positionB, const Motion& relativeMotion, double maxTime,
                                                       int resolvedFeature, const SegmentNeighbours& neighbours) {
-  return inFrameOf(a, positionA, positionB, [&](const Circle& circle) {
-    return circleSegmentImpact(circle, relativeMotion, b, maxTime, resolvedFeature, &neighbours);
+  return inFrameOf(a, positionA, positionB, [&](const Circle& circle, double frameSlack) {
+    return circleSegmentImpact(circle, relativeMotion, b, maxTime, resolvedFeature, &neighbours, frameSlack);
   });
 }
 
