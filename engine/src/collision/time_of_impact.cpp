@@ -442,20 +442,25 @@ Circle asCircle(const Geometry& g, Vec2 position) {
 }
 
 // Circle (or point) A into B's frame, `solve(circle, frameSlack)` there, the answer back (the dispatch
-// table's entries, and those that pass the solve more than the table does). frameSlack, for a point, is
-// the round-off its coordinates carry from the world's frame (Edge::frameSlack): in the frame of a body
-// far from the origin the shape's coordinates are small, and so is the round-off faceImpact reads from
-// them, but the point's carry the world's. A point that came to rest on a box's floor two round-offs of
-// its world coordinates below the floor's line (1.4e-14 at 51 units out) slid along it into the corner,
-// passed under the end of the wall's face (the wall a polygon standing on the floor's line) and left the
-// box (fuzz/regressions/world_api/escape-predictive-point-under-a-polygon-wall-far-out); so too under a
-// Segment's end, or a closed Polyline's corner, three round-offs below
-// (BodiesInCorners.APointSlidingUlpsBelowAFloorFarOutMeetsTheWall). The frame's offset is what the
-// round-off read in it leaves out (|world| <= |in the frame| + |offset|): a body at the origin adds none.
+// table's entries, and those that pass the solve more than the table does). frameSlack, for a point, is the
+// round-off its coordinates carry from the world's frame (Edge::frameSlack): in the frame of a body far from
+// the origin the shape's coordinates are small, and so is the round-off faceImpact reads from them, but the
+// point's carry the world's. A point that came to rest on a box's floor two round-offs of its world
+// coordinates below the floor's line (1.4e-14 at 51 units out) slid along it into the corner, passed under
+// the end of the wall's face (the wall a polygon standing on the floor's line) and left the box
+// (fuzz/regressions/world_api/escape-predictive-point-under-a-polygon-wall-far-out); so too under a Segment's
+// end, or a closed Polyline's corner, three round-offs below
+// (BodiesInCorners.APointSlidingUlpsBelowAFloorFarOutMeetsTheWall), and points thrown into a tilted box far
+// out left it through its corners (BodiesInCorners.PointsThrownIntoATiltedBoxFarOutStayIn). Two round-offs
+// are lost in the frame: the point's world coordinates' own, and the shape's placement in the world (its
+// body's position). A body at the origin loses neither: its frame is the world's, whose round-off the faces
+// read already, and adding it there let a point out of a box of Segments at the origin
+// (PointsOnWalls.NoBodyLeavesAContainerWhereAPointLiesOnAWall).
 template <class Solve>
 std::optional<Impact> inFrameOf(const Geometry& a, Vec2 positionA, Vec2 positionB, Solve solve) {
   Circle circle = asCircle(a, positionA);
-  const double frameSlack = circle.radius == 0 ? detail::pointRoundOff(positionB, {}) : 0.0;
+  const bool offset = positionB.x != 0 || positionB.y != 0;
+  const double frameSlack = circle.radius == 0 && offset ? detail::pointRoundOff(circle.center, positionB) : 0.0;
   circle.center -= positionB;
   auto impact = solve(circle, frameSlack);
   if (impact) impact->point += positionB;
