@@ -46,7 +46,8 @@ struct Impact {
   /// Which part of B is touched. Circle, point, segment: 0. Polyline with n points: segment i is i
   /// (0..n-2), corner k is n-1+k (a circle of radius 0 meets an inner corner, 0 < k < n-1, as the segment
   /// beside it, which reaches past the corner by round-off; in a closed Polyline, whose last point is its
-  /// first, the two ends too). Polygon with n points: edge i (from point i to i+1) is i, corner k is n+k.
+  /// first, the two ends too). Polygon with n points: edge i (from point i to i+1) is i, corner k is n+k
+  /// (a circle of radius 0 meets every corner as an edge beside it, which reaches past it by round-off).
   int feature = 0;
 };
 

@@ -408,7 +408,13 @@ std::optional<Impact> circlePolygonImpact(const Circle& a, const Motion& motion,
     edge.frameSlack = frameSlack;
     keepEarlier(best, faceImpact(a, motion, edge, true, maxTime, i, isResolved(i, resolvedFeature)));
   }
-  for (int k = 0; k < n; ++k) {
+  // A point meets a corner only on an exact line, and its normal is then no edge's but its own motion's
+  // (pointImpact): the edges beside the corner reach past it by round-off and meet the point instead, as
+  // a Polyline's inner corner does. A point that slid along a wall polygon's face into its corner on a
+  // floor polygon met the corner, stopped there (restitution 0), then met the wall's bottom face from
+  // below, on the floor's line, and slid out along the seam between the two polygons
+  // (BodiesInCorners.PointsThrownIntoATiltedBoxFarOutStayIn).
+  for (int k = 0; k < n && a.radius > 0; ++k) {
     const int feature = n + k;
     auto t = timeToReach(a.center - b.points[k], motion, a.radius, maxTime, isResolved(feature, resolvedFeature));
     if (!t) continue;
