@@ -31,6 +31,13 @@ namespace {
 // Two unit normals whose cross product is smaller than this are one face's to round-off.
 constexpr double kWedgeAngle = 1e-9;
 
+// "One instant" to two bodies at time t: times closer than either takes to move its coordinates'
+// round-off there, which their positions cannot tell apart (0 when neither moves).
+double oneInstant(const detail::WorldState& w, const BodySlot& a, const BodySlot& b, double t) {
+  const double speed = length(w.velocityAt(a, t)) + length(w.velocityAt(b, t));
+  return speed > 0 ? detail::pointRoundOff(w.positionAt(a, t), w.positionAt(b, t)) / speed : 0;
+}
+
 // A point and a stepped body it keeps meeting are in a cusp with the face the point remembers when the
 // body's normal at the point is within this of the face's, reversed (cos 2.6 degrees), and the point is
 // no farther from the face than such a normal leaves it from a body that touches the face, as a
@@ -262,9 +269,7 @@ bool detail::squeezeAt(WorldState& w, const detail::PredictedContact& c) {
   // Squeeze.ADiskInALiftedBoxStaysIn).
   if (a.last.time >= 0) {
     const uint32_t lastOther = w.fixtures[a.last.fixtureLow].body == ia ? a.last.fixtureHigh : a.last.fixtureLow;
-    const double speed = length(w.velocityAt(a, c.time)) + length(w.velocityAt(b, c.time));
-    const double instant = speed > 0 ? pointRoundOff(w.positionAt(a, c.time), w.positionAt(b, c.time)) / speed : 0.0;
-    if (w.fixtures[lastOther].body == ib && std::fabs(c.time - a.last.time) > instant) return false;
+    if (w.fixtures[lastOther].body == ib && std::fabs(c.time - a.last.time) > oneInstant(w, a, b, c.time)) return false;
   }
   w.advance(a, c.time);
   a.velocity -= c.normal * dot(a.velocity, c.normal);
@@ -394,10 +399,7 @@ bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {
   // at-a-block-a-round-off-apart).
   double instant = -1;  // worked out when first asked: most contacts never ask
   auto atThisInstant = [&](double t) {
-    if (instant < 0) {
-      const double speed = length(w.velocityAt(w.bodies[ia], c.time)) + length(w.velocityAt(w.bodies[ib], c.time));
-      instant = speed > 0 ? pointRoundOff(pa, pb) / speed : 0;
-    }
+    if (instant < 0) instant = oneInstant(w, w.bodies[ia], w.bodies[ib], c.time);
     return std::fabs(c.time - t) <= instant;
   };
   // One of the two was stopped against a static face at this instant (above), and the other keeps
@@ -420,21 +422,21 @@ bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {
       !busy(w.bodies[ib]) && !made)
     return false;
   if (squeezeExempt(w, c.a, c.b)) return true;  // a second prediction of the pair, made before the first came
-  // A point past the squeeze count meets again, at the instant of its last contact with it, the body it
-  // last met: something sent the body straight back (a third body it was bounced into), and it is caught
-  // between the two, as between a kinematic body and a static one. (This instant as above: the meetings
-  // of such a loop came 1e-17 s apart as well, two or three round-offs of the time, and asked for the
-  // very instant the loop ran to the budget: fuzz/regressions/world_api/budget-hybrid-two-points-on-a-
-  // light-disk-ulps-apart.) A point joins no island,
-  // so no solve sees both contacts at once, and each bounces the body into the other. Two points of mass 1
-  // closing on a disk 3e12 times lighter that filled the gap between them, resting on a floor, bounced
-  // it from one to the other about 9,700 times each at one instant, until the step's budget of 20,000
-  // events ran out (fuzz/regressions/world_api/budget-hybrid-two-points-on-a-light-disk-at-one-instant);
-  // the two touch there, too shallow for the depth below. The point passes through the caught body, as
-  // a kinematic body passes over a squeezed one, until they no longer overlap. Not a point that
-  // remembers a static face: caught in the cusp of that face and a stepped disk, it is held there
-  // (stopPointAtSteppedBody), where passing through the disk let it fall through
-  // (tests: BodiesInCorners.APointAsleepOnAnAwakeDiskFallsWhenTheDiskMoves).
+  // A point past the squeeze count meets again, at the instant of its last contact with it, the body it last
+  // met: something sent the body straight back (a third body it was bounced into), and it is caught between
+  // the two, as between a kinematic body and a static one. (This instant as above: the meetings of such a
+  // loop came 1e-17 s apart as well, two or three round-offs of the time, and asked for the very instant the
+  // loop ran to the budget: fuzz/regressions/world_api/budget-hybrid-two-points-on-a-light-disk-ulps-apart.)
+  // A point joins no island, so no solve sees both contacts at once, and each bounces the body into the
+  // other. Two points of mass 1 closing on a disk 3e12 times lighter that filled the gap between them,
+  // resting on a floor, bounced it from one to the other about 9,700 times each at one instant, until the
+  // step's budget of 20,000 events ran out
+  // (fuzz/regressions/world_api/budget-hybrid-two-points-on-a-light-disk-at-one-instant); the two touch
+  // there, too shallow for the depth below. The point passes through the caught body, as a kinematic body
+  // passes over a squeezed one, until they no longer overlap. Not a point that remembers a static face:
+  // caught in the cusp of that face and a stepped disk, it is held there (stopPointAtSteppedBody), where
+  // passing through the disk let it fall through (tests:
+  // BodiesInCorners.APointAsleepOnAnAwakeDiskFallsWhenTheDiskMoves).
   auto metAgainNow = [&](const BodySlot& point, uint32_t pointFixture) {
     return busy(point) && detail::isPoint(w.fixtures[pointFixture].geometry) && point.last.time >= 0 &&
            point.last.is(c.a, c.b, point.last.time) && atThisInstant(point.last.time) && !remembersLiveFace(w, point);
