@@ -415,6 +415,8 @@ bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {
   // the walls hold, and pressed against a wall, went from the disk to the wall and back, 1e-13 s apart
   // (fuzz/regressions/world_api/budget-hybrid-point-between-a-wall-and-the-disk-it-is-in).
   auto busy = [&](const BodySlot& s) { return s.stepCollisions > w.kSqueezeCollisions; };
+  // Or, the rules below ask, this pair was its last contact at this instant.
+  auto metNowBy = [&](const BodySlot& s) { return metInThisStep(s) && atThisInstant(s.last.time); };
   const CircleOverlap o = circleOverlap(w.fixtures[c.a].geometry, pa, w.fixtures[c.b].geometry, pb);
   // Or they were made overlapping (exemptIfMadeOverlapping).
   const bool made = madeOverlapping(o);
@@ -438,8 +440,8 @@ bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {
   // passing through the disk let it fall through (tests:
   // BodiesInCorners.APointAsleepOnAnAwakeDiskFallsWhenTheDiskMoves).
   auto metAgainNow = [&](const BodySlot& point, uint32_t pointFixture) {
-    return busy(point) && detail::isPoint(w.fixtures[pointFixture].geometry) && point.last.time >= 0 &&
-           point.last.is(c.a, c.b, point.last.time) && atThisInstant(point.last.time) && !remembersLiveFace(w, point);
+    return busy(point) && detail::isPoint(w.fixtures[pointFixture].geometry) && metNowBy(point) &&
+           !remembersLiveFace(w, point);
   };
   if (metAgainNow(w.bodies[ia], c.a) || metAgainNow(w.bodies[ib], c.b)) {
     exemptFromCollisions(w, c.a, c.b);
@@ -463,7 +465,6 @@ bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {
   // Not two disks of a size: a column a game drives into a wall has its disks held and met again at one
   // instant, and passing through each other there they packed 7% of a radius deep (tests: DrivenCrowd).
   const bool pointLike = 2 * std::min(o.ra, o.rb) <= Islands::kJamResidual * std::max(o.ra, o.rb);
-  auto metNowBy = [&](const BodySlot& s) { return metInThisStep(s) && atThisInstant(s.last.time); };
   const bool metNow = metNowBy(w.bodies[ia]) || metNowBy(w.bodies[ib]);
   const bool heldAndMetNow = held && pointLike && metNow;
   const bool deep = o.depth > Islands::kJamResidual * std::max(o.ra, o.rb);
