@@ -78,12 +78,16 @@ std::optional<Vec2> neighbourFarEnd(const detail::WorldState& w, uint32_t f, int
 // time of impact takes a point to be on a line; along it, as far past its ends as the time of impact
 // reaches past a joint (a neighbour's round-off over the sine of the approach, down to 1/64:
 // Edge::jointSlackStart). A point resolved in the bottom of a V lay 1.02 round-offs beyond the next
-// face's end: taken as off it, it was taken as just arriving there, from below.
-bool pointOnFace(Vec2 p, Vec2 a0, Vec2 d) {
+// face's end: taken as off it, it was taken as just arriving there, from below. `frame`: the position of
+// the face's body, whose round-off the time of impact adds for a body away from the origin (inFrameOf,
+// time_of_impact.cpp); without it a point in a corner of a box 1,000 units out that the time of impact
+// took as on the wall's line was taken here as off it, and was sent out through the wall.
+bool pointOnFace(Vec2 p, Vec2 a0, Vec2 d, Vec2 frame) {
   const double len = length(d);
   if (!(len > 0)) return false;
   const Vec2 u = d * (1.0 / len), n{-u.y, u.x};
-  const double slack = detail::pointRoundOff(p, a0, d), reach = 65 * slack;
+  const double frameSlack = frame.x != 0 || frame.y != 0 ? detail::pointRoundOff(p, frame) : 0.0;
+  const double slack = detail::pointRoundOff(p, a0, d) + frameSlack, reach = 65 * slack;
   const double across = dot(n, p - a0), along = dot(u, p - a0);
   return std::fabs(across) <= slack && along >= -reach && along <= len + reach;
 }
@@ -91,6 +95,13 @@ bool pointOnFace(Vec2 p, Vec2 a0, Vec2 d) {
 // The centre of the body's first fixture at `now`: where a point is, for the rules below.
 Vec2 firstCentreAt(const detail::WorldState& w, const BodySlot& b, double now) {
   return w.positionAt(b, now) + detail::circleCentre(w.fixtures[b.fixtures.front()].geometry);
+}
+
+// Where the body of a face is at `now`: a kinematic body moves within the step, and a point's side of
+// its face is read against the face where it is then (a static body's position, as it is).
+Vec2 faceBodyAt(const detail::WorldState& w, uint32_t fixture, double now) {
+  const BodySlot& body = w.bodyOf(fixture);
+  return body.type == BodyType::Kinematic ? w.positionAt(body, now) : body.position;
 }
 
 }  // namespace
@@ -106,8 +117,8 @@ bool detail::pointOnRememberedFace(const WorldState& w, const BodySlot& b, doubl
   if (!remembersLiveFace(w, b) || !flatFeature(w.fixtures[b.support.fixture].geometry, b.support.feature, f0, f1)) {
     return false;
   }
-  const Vec2 at = w.bodies[w.fixtures[b.support.fixture].body].position;
-  return pointOnFace(firstCentreAt(w, b, now), at + f0, f1 - f0);
+  const Vec2 at = faceBodyAt(w, b.support.fixture, now);
+  return pointOnFace(firstCentreAt(w, b, now), at + f0, f1 - f0, at);
 }
 
 double detail::distanceFromRememberedFace(const WorldState& w, const BodySlot& b, double now) {
@@ -115,7 +126,7 @@ double detail::distanceFromRememberedFace(const WorldState& w, const BodySlot& b
   if (!remembersLiveFace(w, b) || !flatFeature(w.fixtures[b.support.fixture].geometry, b.support.feature, f0, f1)) {
     return std::numeric_limits<double>::quiet_NaN();
   }
-  const Vec2 at = w.bodies[w.fixtures[b.support.fixture].body].position;
+  const Vec2 at = faceBodyAt(w, b.support.fixture, now);
   return dot(firstCentreAt(w, b, now) - (at + f0), b.support.normal);
 }
 
@@ -131,15 +142,15 @@ bool detail::pointKnowsSideOfFace(const WorldState& w, const BodySlot& b, uint32
   if (!flatFeature(w.fixtures[b.support.fixture].geometry, b.support.feature, f0, f1)) return false;
   if (!flatFeature(w.fixtures[fixture].geometry, feature, g0, g1)) return false;
   const Vec2 p = firstCentreAt(w, b, now);
-  const Vec2 fAt = w.bodies[w.fixtures[b.support.fixture].body].position;
-  const Vec2 gAt = w.bodies[w.fixtures[fixture].body].position;
+  const Vec2 fAt = faceBodyAt(w, b.support.fixture, now);
+  const Vec2 gAt = faceBodyAt(w, fixture, now);
   f0 += fAt, f1 += fAt, g0 += gAt, g1 += gAt;
-  if (!pointOnFace(p, f0, f1 - f0)) return false;
+  if (!pointOnFace(p, f0, f1 - f0, fAt)) return false;
   if (fixture == b.support.fixture && feature == b.support.feature) {
     side = b.support.normal;
     return true;
   }
-  if (!pointOnFace(p, g0, g1 - g0)) return false;
+  if (!pointOnFace(p, g0, g1 - g0, gAt)) return false;
   const Vec2 fFar = length(f0 - p) > length(f1 - p) ? f0 : f1;
   const Vec2 gFar = length(g0 - p) > length(g1 - p) ? g0 : g1;
   const Vec2 d = g1 - g0;
@@ -167,12 +178,12 @@ int detail::polygonFacesUnderPoint(const WorldState& w, const BodySlot& b, uint3
   const auto* polygon = std::get_if<Polygon>(&w.fixtures[fixture].geometry);
   if (!polygon) return 0;
   const Vec2 p = firstCentreAt(w, b, now);
-  const Vec2 at = w.bodies[w.fixtures[fixture].body].position;
+  const Vec2 at = faceBodyAt(w, fixture, now);
   const size_t n = polygon->points.size();
   int found = 0;
   for (size_t k = 0; k < n && found < 2; ++k) {
     const Vec2 a0 = at + polygon->points[k], d = polygon->points[(k + 1) % n] - polygon->points[k];
-    if (!pointOnFace(p, a0, d)) continue;
+    if (!pointOnFace(p, a0, d, at)) continue;
     // Wound counter-clockwise (the world's form): the outside of edge d is d turned a quarter clockwise.
     outward[found++] = Vec2{d.y, -d.x} * (1.0 / length(d));
   }
@@ -210,7 +221,7 @@ bool detail::leavesCorner(const WorldState& w, const BodySlot& b, uint32_t fixtu
     return dot(relative, outward) >= 0;
   }
   if (!flatFeature(w.fixtures[b.support.fixture].geometry, b.support.feature, s0, s1)) return true;
-  const Vec2 supportAt = w.bodies[w.fixtures[b.support.fixture].body].position;
+  const Vec2 supportAt = faceBodyAt(w, b.support.fixture, now);
   const Vec2 p = firstCentreAt(w, b, now);
   const Vec2 near = supportAt + s0, far = supportAt + s1;
   const Vec2 away = length(near - p) > length(far - p) ? near : far;  // the support's other end
@@ -251,13 +262,13 @@ int detail::featureLeftByPoint(const WorldState& w, const BodySlot& b, uint32_t 
   const bool remembered = fixture == b.support.fixture;
   const int otherwise = remembered && leavesRemembered ? b.support.feature : kNoFeature;
   const Geometry& g = w.fixtures[fixture].geometry;
-  const Vec2 at = w.bodies[w.fixtures[fixture].body].position;
+  const Vec2 at = faceBodyAt(w, fixture, now);
   const Vec2 p = firstCentreAt(w, b, now);
   int left = otherwise;
   Vec2 e0, e1;
   for (int f = 0; flatFeature(g, f, e0, e1); ++f) {
     if (remembered && f == b.support.feature) continue;
-    if (!pointOnFace(p, at + e0, e1 - e0)) continue;
+    if (!pointOnFace(p, at + e0, e1 - e0, at)) continue;
     if (!leavesCorner(w, b, fixture, f, now)) return otherwise;
     left = left == kNoFeature ? f : kEveryFeature;
   }
@@ -321,9 +332,9 @@ bool detail::supportsAt(const WorldState& w, uint32_t bodyIndex, double now, std
     const detail::Support& face = body.support;
     if (remembersLiveFace(w, body)) {
       Vec2 e0, e1;
-      const Vec2 at = w.bodies[w.fixtures[face.fixture].body].position;
+      const Vec2 at = faceBodyAt(w, face.fixture, now);
       if (body.sliding || (flatFeature(w.fixtures[face.fixture].geometry, face.feature, e0, e1) &&
-                           pointOnFace(firstCentreAt(w, body, now), at + e0, e1 - e0))) {
+                           pointOnFace(firstCentreAt(w, body, now), at + e0, e1 - e0, at))) {
         add(face.normal, w.fixtures[face.fixture].body);
       }
     }
