@@ -626,3 +626,36 @@ TEST(BodiesInCorners, APointInAMovingBoxFarOutStaysInItsCorner) {
     }
   }
 }
+
+// A point thrown into the lower corner of a box of four Polygons on a kinematic body moving (0.71, 0.17),
+// turned by 101 degrees, 7 units out (predictive mode, a step of 1 s). It slides down the wall into the
+// corner on the floor polygon, bounces off the floor and then off the wall's side face, and gravity's
+// part across the floor lifts it off the floor's line. At a24d8d1 it then met the wall's bottom face,
+// which lies on the floor's line, from below at once (the point a round-off beside the wall, moving
+// away from it) and was sent down through the floor: a point at a polygon's corner leaves a face when it
+// moves out through the other face there faster than into this one (leavesCorner).
+TEST(BodiesInCorners, APointBouncedOffAWallPolygonInItsCornerStaysIn) {
+  using namespace tilted_box;
+  const double angle = (3 + 0.37) * 2 * M_PI / 12;
+  const double c = std::cos(angle), s = std::sin(angle);
+  const Vec2 centre{-7, 0.6 * 7};
+  WorldDef def;
+  def.mode = StepMode::Predictive;
+  def.gravity = {0, -9.81};
+  World w(def);
+  const BodyId box = build(w, BoxWalls::Polygons, centre, angle, {0.71, 0.17});
+  const double hw = kHalfWidth, hh = kHalfHeight;
+  const Vec2 at{c * -0.4 - s * 0.1, s * -0.4 + c * 0.1};
+  const BodyId point = w.createBody({.type = BodyType::Dynamic,
+                                     .position = {at.x + centre.x, at.y + centre.y},
+                                     .velocity = {c * -7 * hw - s * -7 * hh, s * -7 * hw + c * -7 * hh}});
+  w.createFixture(point, {.geometry = Circle{{0, 0}, 0}});
+  for (int step = 0; step < 6; ++step) {
+    w.step(1.0);
+    ASSERT_FALSE(w.stats().eventBudgetReached);
+    const Vec2 d = w.position(point) - w.position(box);
+    const double x = c * d.x + s * d.y, y = -s * d.x + c * d.y;
+    ASSERT_LE(std::fabs(x), kHalfWidth + 1e-9) << "step " << step << ", at (" << x << ", " << y << ")";
+    ASSERT_LE(std::fabs(y), kHalfHeight + 1e-9) << "step " << step << ", at (" << x << ", " << y << ")";
+  }
+}

@@ -218,7 +218,22 @@ bool detail::leavesCorner(const WorldState& w, const BodySlot& b, uint32_t fixtu
   if (std::holds_alternative<Polygon>(w.fixtures[fixture].geometry)) {
     const Vec2 d = f1 - f0;
     const Vec2 outward{d.y, -d.x};  // counter-clockwise points (geometry.h)
-    return dot(relative, outward) >= 0;
+    if (dot(relative, outward) >= 0) return true;
+    // At a corner the point lies on the other face's line too, and moving out through that face faster
+    // than into this one it leaves the polygon there, beside this face's end: this face's line lies
+    // beyond the other's. Taken as arriving at this face, a point that bounced off a wall polygon's side
+    // face in its corner on a floor polygon (a box on a kinematic body), lifted off the floor by
+    // gravity's part across it, met the wall's bottom face from below at once and was sent through the
+    // floor. A motion out through the other face slower than into this one is not enough: a point
+    // sliding on the floor into the wall, 1e-6 of its speed into the floor by round-off, passed into
+    // the wall (PointsInBoxesOfWalls.NoPointLeavesATurnedBoxOfFourPolygons).
+    const double into = -dot(relative, outward * (1.0 / length(outward)));
+    Vec2 faces[2];
+    const int on = polygonFacesUnderPoint(w, b, fixture, now, faces);
+    for (int k = 0; k < on; ++k) {
+      if (dot(relative, faces[k]) > into) return true;
+    }
+    return false;
   }
   if (!flatFeature(w.fixtures[b.support.fixture].geometry, b.support.feature, s0, s1)) return true;
   const Vec2 supportAt = faceBodyAt(w, b.support.fixture, now);
