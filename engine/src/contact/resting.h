@@ -49,9 +49,10 @@ void sleepOnAwakeBody(WorldState& w, uint32_t body, uint32_t supporter);
 void wakeSleepersOfMovingBodies(WorldState& w);
 /// Lists every sleeper held by an awake body (what sleepOnAwakeBody listed), in order: a loaded world's.
 void findSleepersOnAwakeBodies(WorldState& w);
-/// The side of face `feature` of the static `fixture` that a point lying on it is on, when the point
-/// knows it: the face it remembers (Support), or another face in a corner with that one, where the point
-/// lies on both (resting.cpp says how). `side` is that face's unit normal toward the point.
+/// The side of face `feature` of the static or kinematic `fixture` that a point lying on it is on, when
+/// the point knows it: the face it remembers (Support), or another face in a corner with that one, where
+/// the point lies on both (resting.cpp says how). A kinematic body's faces are taken where it is at
+/// `now`. `side` is that face's unit normal toward the point.
 bool pointKnowsSideOfFace(const WorldState& w, const detail::BodySlot& b, uint32_t fixture, int feature, double now,
                           Vec2& side);
 /// The outward unit normals of the faces of the polygon `fixture` that a point lies on, within the
@@ -62,7 +63,8 @@ int polygonFacesUnderPoint(const WorldState& w, const detail::BodySlot& b, uint3
 /// Whether `feature` of the fixture is a straight face (a segment, a polyline's or a polygon's edge).
 bool isFlatFeature(const WorldState& w, uint32_t fixture, int feature);
 /// A point at the end of the face it slides on, resolved against `feature` of `fixture` there: whether
-/// it moves away from that face (true) or could turn back into it.
+/// it moves away from that face (true) or could turn back into it. At a polygon's corner it also leaves
+/// the face when it moves out through the other face there faster than into this one.
 bool leavesCorner(const WorldState& w, const detail::BodySlot& b, uint32_t fixture, int feature, double now);
 /// The feature of `fixture` a point on its remembered face is leaving: that face, or kEveryFeature when it
 /// sits in a corner of several faces and leaves them all (resting.cpp says why). For a fixture other than

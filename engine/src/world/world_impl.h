@@ -46,9 +46,10 @@ struct LastContact {
 
 // A body resting on a flat feature of a static fixture: it slides along it (no friction) with gravity's
 // tangential part, and the feature is left out of its predictions until it slides off the end
-// (BodySlot::sliding). When it is not sliding, a point (radius 0) keeps here the feature of a fixture that
-// cannot move that it last touched, and the side it touched it from (`normal`, toward the point): a point
-// lying on a line has no overlap to tell its side, and this does (detail::resolvedFeature).
+// (BodySlot::sliding). When it is not sliding, a point (radius 0) keeps here the feature of a static or
+// kinematic fixture that it last touched, and the side it touched it from (`normal`, toward the point): a
+// point lying on a line has no overlap to tell its side, and this does (detail::resolvedFeature). Bodies
+// do not turn, so the side holds as a kinematic body moves.
 struct Support {
   uint32_t fixture = 0;
   uint32_t generation = 0;  // the fixture's: 0 names none
