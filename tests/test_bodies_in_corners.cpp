@@ -465,10 +465,10 @@ const char* nameOf(BoxWalls walls) {
 constexpr double kHalfWidth = 1.3, kHalfHeight = 0.9, kThickness = 0.4;
 
 // A box of 2 kHalfWidth x 2 kHalfHeight inside, on a body at `centre`, turned by `angle`: static, or
-// kinematic moving at `velocity`.
-BodyId build(World& w, BoxWalls walls, Vec2 centre, double angle, Vec2 velocity = {}) {
+// kinematic moving at `velocity`; its shapes centred on `shapesAt` in the body's frame.
+BodyId build(World& w, BoxWalls walls, Vec2 centre, double angle, Vec2 velocity = {}, Vec2 shapesAt = {}) {
   const double c = std::cos(angle), s = std::sin(angle);
-  auto P = [&](double x, double y) { return Vec2{c * x - s * y, s * x + c * y}; };
+  auto P = [&](double x, double y) { return shapesAt + Vec2{c * x - s * y, s * x + c * y}; };
   const double hw = kHalfWidth, hh = kHalfHeight, t = kThickness, W = hw + t;
   const BodyType type = velocity == Vec2{} ? BodyType::Static : BodyType::Kinematic;
   const BodyId box = w.createBody({.type = type, .position = centre, .velocity = velocity});
@@ -591,26 +591,14 @@ TEST(BodiesInCorners, APointInAMovingBoxFarOutStaysInItsCorner) {
   const double c = std::cos(angle), s = std::sin(angle);
   const Vec2 centre{-1000, 600};
   auto at = [&](double x, double y) { return centre + Vec2{c * x - s * y, s * x + c * y}; };
-  const double hw = kHalfWidth, hh = kHalfHeight, t = kThickness, W = hw + t;
+  const double hw = kHalfWidth, hh = kHalfHeight;
   for (BoxWalls walls : {BoxWalls::Polyline, BoxWalls::Segments, BoxWalls::Polygons}) {
     SCOPED_TRACE(nameOf(walls));
     WorldDef def;
     def.gravity = {0, -9.81};
     World w(def);
-    const BodyId box = w.createBody({.type = BodyType::Kinematic, .velocity = {0.31, 0.17}});
-    if (walls == BoxWalls::Polyline) {
-      w.createFixture(box, {.geometry = Polyline{{at(-hw, hh), at(-hw, -hh), at(hw, -hh), at(hw, hh), at(-hw, hh)}}});
-    } else if (walls == BoxWalls::Segments) {
-      w.createFixture(box, {.geometry = Segment{at(-hw, -hh), at(hw, -hh)}});
-      w.createFixture(box, {.geometry = Segment{at(hw, -hh), at(hw, hh)}});
-      w.createFixture(box, {.geometry = Segment{at(hw, hh), at(-hw, hh)}});
-      w.createFixture(box, {.geometry = Segment{at(-hw, hh), at(-hw, -hh)}});
-    } else {
-      w.createFixture(box, {.geometry = Polygon{{at(-W, -hh - t), at(W, -hh - t), at(W, -hh), at(-W, -hh)}}});
-      w.createFixture(box, {.geometry = Polygon{{at(-W, hh), at(W, hh), at(W, hh + t), at(-W, hh + t)}}});
-      w.createFixture(box, {.geometry = Polygon{{at(-W, -hh), at(-hw, -hh), at(-hw, hh), at(-W, hh)}}});
-      w.createFixture(box, {.geometry = Polygon{{at(hw, -hh), at(W, -hh), at(W, hh), at(hw, hh)}}});
-    }
+    // The body at the origin, its walls 1,000 units out in its frame.
+    const BodyId box = build(w, walls, {}, angle, {0.31, 0.17}, centre);
     const BodyId point = w.createBody({.type = BodyType::Dynamic,
                                        .position = at(-0.2, 0.2),
                                        .velocity = {c * -3 * hw - s * 3 * hh, s * -3 * hw + c * 3 * hh}});
