@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "collision/closest_point.h"
 #include "collision/polyline_impact.h"
@@ -328,28 +329,63 @@ bool inCusp(const detail::WorldState& w, const BodySlot& point, uint32_t pointFi
   return dot(toward, point.support.normal) < 0;
 }
 
-// Whether the stepped body of a stepped-and-free pair holds at this contact (resolve() says why): the
-// straight paths approach, the parabola does not (vn, from impactNormalVelocity, is 0), the free body is
-// a point held on its face (holdOnFaces), and its energy does not grow when it alone takes, along the
-// face, the impulse that stops the straight approach.
-bool steppedPathHolds(const detail::WorldState& w, const BodySlot& a, uint32_t fixtureA, const BodySlot& b,
-                      uint32_t fixtureB, Vec2 n, double t, double vn) {
-  if (a.stepped == b.stepped || !(vn == 0) || a.asleep || b.asleep) return false;
+// Where only the straight paths of a stepped body and a point held on its face (holdOnFaces) approach
+// (resolve() says why), the impulse that stops that approach, with no bounce, and how it acts; nothing
+// for other pairs, or when neither way below keeps the energy at the step's end from rising.
+//  - Held: the stepped body holds, as a kinematic one would, and the point alone stops its approach
+//    along its face (holdOnFaces against what does not move). The stepped body's path stays as it is,
+//    so its island need not be solved again. Refused where the point would speed up (caught from
+//    behind).
+//  - Level: the stepped body takes its share across gravity only, as the contacts of its island that
+//    hold it up would take the rest (a stepped body is held, or it would fall free). Its potential energy
+//    at the step's end is then untouched, and the pair's kinetic energy does not rise when the stepped
+//    body's velocity has no part along gravity (a disk its island holds on a floor).
+// The energy at the step's end: the point's kinetic energy, and the stepped body's along its straight
+// path for the rest of the step, tau, potential included.
+struct SteppedResponse {
+  FaceHold hold;
+  bool steppedHolds = false;  // Held: the stepped body takes nothing
+};
+std::optional<SteppedResponse> steppedPathResponse(const detail::WorldState& w, const BodySlot& a, uint32_t fixtureA,
+                                                   const BodySlot& b, uint32_t fixtureB, Vec2 n, double t,
+                                                   double vn, double stepEnd) {
+  if (a.stepped == b.stepped || !(vn == 0) || a.asleep || b.asleep || !(stepEnd >= t)) return std::nullopt;
+  const Vec2 g = w.def.gravity;
+  if (g == Vec2{}) return std::nullopt;
   const Vec2 va = w.velocityAt(a, t), vb = w.velocityAt(b, t);
   const double straight = dot(va - vb, n);
-  if (!(straight < 0)) return false;
-  const FaceHold hold = holdOnFaces(a, a.stepped ? 0.0 : a.inverseMass, w.fixtures[fixtureA].geometry, b,
-                                    b.stepped ? 0.0 : b.inverseMass, w.fixtures[fixtureB].geometry, n,
-                                    /*againstStatic=*/true);
-  if (!(a.stepped ? hold.heldB : hold.heldA)) return false;
-  const detail::PairImpulse& p = hold.impulse;
-  if (!(p.inverseSum() > 0)) return false;
-  const double j = -straight / p.inverseSum();
-  // The free body's change of kinetic energy: j v.d + j^2 (1/m) d.d / 2, with d.d = d.n (d is n or n
-  // projected on the face), so effective / 2 for the second term.
-  const double gain = a.stepped ? -j * dot(vb, p.directionB) + 0.5 * j * j * p.effectiveB
-                                : j * dot(va, p.directionA) + 0.5 * j * j * p.effectiveA;
-  return gain <= 0;
+  if (!(straight < 0)) return std::nullopt;
+  const double tau = stepEnd - t;
+  auto rises = [&](const detail::PairImpulse& p) {
+    if (!(p.inverseSum() > 0)) return true;
+    const double j = -straight / p.inverseSum();
+    auto gain = [&](const BodySlot& s, Vec2 v, Vec2 change) {
+      if (change == Vec2{}) return 0.0;
+      const double kinetic = s.mass * (dot(v, change) + 0.5 * dot(change, change));
+      return s.stepped ? kinetic - s.mass * dot(g, change) * tau : kinetic;
+    };
+    const double total = gain(a, va, p.directionA * (j * p.inverseA)) + gain(b, vb, p.directionB * (-j * p.inverseB));
+    return !(total <= 0);
+  };
+  const Geometry& ga = w.fixtures[fixtureA].geometry;
+  const Geometry& gb = w.fixtures[fixtureB].geometry;
+  SteppedResponse held{holdOnFaces(a, a.stepped ? 0.0 : a.inverseMass, ga, b, b.stepped ? 0.0 : b.inverseMass, gb, n,
+                                   /*againstStatic=*/true),
+                       true};
+  if ((a.stepped ? held.hold.heldB : held.hold.heldA) && !rises(held.hold.impulse)) return held;
+  SteppedResponse level{holdOnFaces(a, a.inverseMass, ga, b, b.inverseMass, gb, n)};
+  if (!(a.stepped ? level.hold.heldB : level.hold.heldA)) return std::nullopt;
+  const Vec2 across = n - g * (dot(n, g) / dot(g, g));  // n with its part along gravity taken out
+  detail::PairImpulse& p = level.hold.impulse;
+  if (a.stepped) {
+    p.directionA = across;
+    p.effectiveA = p.inverseA * dot(across, n);
+  } else {
+    p.directionB = across;
+    p.effectiveB = p.inverseB * dot(across, n);
+  }
+  if (rises(p)) return std::nullopt;
+  return level;
 }
 
 }  // namespace
@@ -405,19 +441,19 @@ void detail::resolve(WorldState& w, const PredictedContact& c, std::vector<uint3
     vn = approach();
   }
   // Where the stepped body's straight path approaches the free body but the parabola it stands in for
-  // does not (vn is 0), any impulse on the stepped body gains: j vp + j^2 / (2 mu) > 0 for vp >= 0. A
-  // point held on its face takes an impulse along n with the small inverse mass (1/m) (1 - (n.f)^2), so
-  // the stepped body took nearly all of it: sliding on a floor under a stepped disk made overlapping the
-  // floor, a point lifted the disk, which rose the rest of the step with no gravity to take it back, and
-  // the step ended 0.0023 above its start
-  // (fuzz/regressions/world_api/energy-predictive-point-sliding-under-a-stepped-disk). There the stepped
-  // body holds, as a kinematic one would, and the point alone stops its straight approach along its face,
-  // with no bounce. Other pairs share the impulse as before.
-  const bool steppedHolds = steppedPathHolds(w, a, c.a, b, c.b, n, c.time, vn);
+  // does not (vn is 0), an impulse along n gains: j vp + j^2 / (2 mu) > 0 for vp >= 0. Sliding on a
+  // floor under a stepped disk that an island held on that floor, a point lifted the disk, which then
+  // rose the rest of the step with no gravity to take it back
+  // (fuzz/regressions/world_api/energy-predictive-point-sliding-under-a-stepped-disk); a stepped disk
+  // sliding along the floor into such a point from behind was lifted likewise
+  // (fuzz/regressions/world_api/energy-predictive-stepped-disk-catches-a-sliding-point). There the pair
+  // stops its straight approach, with no bounce, in a way that does not gain (steppedPathResponse).
+  const std::optional<SteppedResponse> stepped = steppedPathResponse(w, a, c.a, b, c.b, n, c.time, vn, stepEnd);
+  const bool steppedHolds = stepped && stepped->steppedHolds;
   const double inverseA = a.asleep || (steppedHolds && a.stepped) ? 0.0 : a.inverseMass;
   const double inverseB = b.asleep || (steppedHolds && b.stepped) ? 0.0 : b.inverseMass;
   const double inverseSum = inverseA + inverseB;
-  if (steppedHolds) vn = dot(w.velocityAt(a, c.time) - w.velocityAt(b, c.time), n);
+  if (stepped) vn = dot(w.velocityAt(a, c.time) - w.velocityAt(b, c.time), n);
   if (!(inverseSum > 0)) {
     // Put to sleep on this contact: a point rests on the face it arrived at, and remembers its side
     // (Support) as a resolved contact would. Still remembering the face it bounced off before, in the
@@ -442,12 +478,13 @@ void detail::resolve(WorldState& w, const PredictedContact& c, std::vector<uint3
   }
   const bool rapid =
       collapsing || now - a.lastContactTime < w.def.collapseTime || now - b.lastContactTime < w.def.collapseTime;
-  const double e = steppedHolds ? 0.0
-                   : rapid      ? 1.0
-                                : std::max(w.fixtures[c.a].restitution, w.fixtures[c.b].restitution);
+  const double e = stepped ? 0.0
+                   : rapid  ? 1.0
+                            : std::max(w.fixtures[c.a].restitution, w.fixtures[c.b].restitution);
   double separation = -e * vn;
-  const FaceHold hold = holdOnFaces(a, inverseA, w.fixtures[c.a].geometry, b, inverseB, w.fixtures[c.b].geometry, n,
-                                    /*againstStatic=*/steppedHolds);
+  const FaceHold hold = stepped ? stepped->hold
+                                : holdOnFaces(a, inverseA, w.fixtures[c.a].geometry, b, inverseB,
+                                              w.fixtures[c.b].geometry, n);
   double j = hold.impulse.bounce(a.velocity, b.velocity, vn, e);
 
   // Resting (resting.cpp): only when gravity presses the two together, so that a slow bounce would
@@ -492,7 +529,7 @@ void detail::resolve(WorldState& w, const PredictedContact& c, std::vector<uint3
       } else if (r.sliding) {
         slider = &r;  // it slides on along its face, away from the cusp
       }
-    } else if (!steppedHolds) {
+    } else if (!stepped) {
       // Bounce off at restingSpeed at least: bounded bounce rate instead of a Zeno sequence.
       const double extra = (restingSpeed - separation) / hold.impulse.inverseSum();
       hold.impulse.apply(a.velocity, b.velocity, extra);
