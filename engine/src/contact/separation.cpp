@@ -92,19 +92,37 @@ struct SortedBoxes {
   }
 };
 
-// The fraction in [0, 1] of the move `delta` the body can take before one of its fixtures touches a
-// static fixture it collides with (the time of impact of the move taken as a motion over unit time).
+// The fraction in [0, 1] of the move `delta` the body can take and stay clear of every static fixture it
+// collides with: the time of impact of the move taken as a motion over unit time, less what keeps it the
+// coordinates' round-off off the face (64 ulps of them, beyond the slack within which a point is taken as
+// on a face's line, Edge::pointSlack). A point left on the line has no side but its motion's: moving
+// away from a wall it was parted onto, it reads as arriving from beyond, and its first collision bounced
+// it out of its container (fuzz/regressions/world_api/escape-predictive-point-parted-onto-a-wall).
 double freeFraction(const detail::WorldState& w, const SortedBoxes& statics, uint32_t body, Vec2 delta) {
   double fraction = 1;
   const detail::BodySlot& b = w.bodies[body];
   for (uint32_t f : b.fixtures) {
     if (w.fixtures[f].sensor) continue;
     const Box from = w.worldBox(f);
-    statics.query(unionOf(from, from.translated(delta)), [&](uint32_t o) {
+    // Widened by the round-off: a point come to rest in a corner lies on the wall's line to round-off,
+    // which may be an ulp beyond the wall's box, and a move out through the corner met no wall.
+    const Box swept = unionOf(from, from.translated(delta));
+    const double reach = 64 * std::numeric_limits<double>::epsilon() *
+                         std::max({1.0, std::fabs(swept.min.x), std::fabs(swept.min.y), std::fabs(swept.max.x),
+                                   std::fabs(swept.max.y)});
+    statics.query({swept.min - Vec2{reach, reach}, swept.max + Vec2{reach, reach}}, [&](uint32_t o) {
       if (!detail::canCollide(w, f, o)) return;
       const auto hit = timeOfImpact(w.fixtures[f].geometry, b.position, w.fixtures[o].geometry, w.bodyOf(o).position,
                                     Motion(delta), fraction);
-      if (hit) fraction = std::min(fraction, hit->time);
+      if (!hit) return;
+      const Box wall = w.worldBox(o);
+      const double coordinates = length(b.position) + length(w.bodyOf(o).position) +
+                                 std::max({std::fabs(wall.min.x), std::fabs(wall.min.y), std::fabs(wall.max.x),
+                                           std::fabs(wall.max.y)});
+      const double clearance = 64 * std::numeric_limits<double>::epsilon() * coordinates;
+      // Along the face's normal: a move nearly along the face keeps only its normal part's clearance.
+      const double closing = std::fabs(dot(delta, hit->normal));
+      fraction = std::min(fraction, closing > 0 ? std::max(0.0, hit->time - clearance / closing) : 0.0);
     });
   }
   return fraction;
