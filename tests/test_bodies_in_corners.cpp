@@ -40,6 +40,7 @@
 #include <vector>
 
 #include "container_search_support.h"
+#include "saved_trial223.h"
 
 using namespace rattle;
 using container_search::Container;
@@ -347,14 +348,19 @@ TEST(BodiesInCorners, NoBodyLeavesAndNoStepReachesTheBudget) {
 // Search trial 223 of seed 3 (above): the point ends its last step asleep in the cusp, held by a disk that
 // is stepped, at rest and awake. Set moving, the disk no longer holds it, and the point falls: at the next
 // step's start, in the world itself and in one loaded from its save (which must find the sleeper again,
-// as nothing saved names it).
+// as nothing saved names it). The trial starts from its save before that step (saved_trial223.h says why).
 TEST(BodiesInCorners, APointAsleepOnAnAwakeDiskFallsWhenTheDiskMoves) {
   constexpr size_t kTrial223 = 6, kPoint = 3, kDisk = 13;
   const Container& c = kContainers[kTrial223];
   ASSERT_EQ(c.bodies[kPoint].radius, 0.0);
   ASSERT_GT(c.bodies[kDisk].radius, 0.0);
-  auto [w, bodies] = container_search::setUp(c);
-  for (const container_search::Step& step : c.steps) container_search::play(w, bodies, step);
+  // The trial's bodies, made one after another after the container's wall: ids 1 to 14.
+  std::vector<BodyId> bodies;
+  for (uint32_t i = 0; i < c.bodies.size(); ++i) bodies.push_back(BodyId{i + 1, 1});
+  World w = World::load(
+      std::vector<uint8_t>(std::begin(kTrial223BeforeItsLastStep), std::end(kTrial223BeforeItsLastStep)));
+  ASSERT_EQ(std::get<Circle>(w.geometry(w.fixtures(bodies[kDisk]).at(0))).radius, c.bodies[kDisk].radius);
+  container_search::play(w, bodies, c.steps.back());
   ASSERT_TRUE(w.isAsleep(bodies[kPoint]));
   ASSERT_FALSE(w.isAsleep(bodies[kDisk]));
   ASSERT_EQ(w.velocity(bodies[kDisk]), (Vec2{0, 0}));
