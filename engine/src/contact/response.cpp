@@ -519,8 +519,11 @@ void detail::resolve(WorldState& w, const PredictedContact& c, std::vector<uint3
       const Vec2 toward = aRests ? n : -n;  // from the holder toward the point
       const Vec2 before = r.velocity;
       r.velocity = detail::nearestVelocityMeeting(r.velocity, r.support.normal, toward, 0.0);
-      // The bounce above is already applied: the impulse is its and this change's together.
-      j += dot(r.velocity - before, toward) / (aRests ? inverseA : inverseB);
+      // The bounce above is already applied: the impulse is its and this change's together. Only what
+      // takes the point farther from the holder is this contact's; what takes it back toward the holder
+      // is the face's, which stops the bounce (reported as this contact's, it made the event's impulse
+      // negative: fuzz/regressions/world_api/events-hybrid-point-at-a-disk-touching-a-wall).
+      j += std::max(0.0, dot(r.velocity - before, toward)) / (aRests ? inverseA : inverseB);
       if (length(r.velocity) < restingSpeed) {
         w.supporters.clear();
         const uint32_t holder = w.fixtures[holderFixture].body;
