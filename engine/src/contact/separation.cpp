@@ -93,11 +93,11 @@ struct SortedBoxes {
 };
 
 // The fraction in [0, 1] of the move `delta` the body can take and stay clear of every static fixture it
-// collides with: the time of impact of the move taken as a motion over unit time, less what keeps it the
-// coordinates' round-off off the face (64 ulps of them, beyond the slack within which a point is taken as
-// on a face's line, Edge::pointSlack). A point left on the line has no side but its motion's: moving
-// away from a wall it was parted onto, it reads as arriving from beyond, and its first collision bounced
-// it out of its container (fuzz/regressions/world_api/escape-predictive-point-parted-onto-a-wall).
+// collides with: the time of impact of the move taken as a motion over unit time, less what keeps the
+// body 64 round-offs of the coordinates off the face (beyond the slack within which a point counts as on
+// a face's line, Edge::pointSlack). A point left on the line has no side but its motion's: moving away
+// from a wall it was parted onto, it read as arriving from beyond, and its first collision bounced it
+// out of its container (fuzz/regressions/world_api/escape-predictive-point-parted-onto-a-wall).
 double freeFraction(const detail::WorldState& w, const SortedBoxes& statics, uint32_t body, Vec2 delta) {
   double fraction = 1;
   const detail::BodySlot& b = w.bodies[body];

@@ -218,7 +218,8 @@ bool detail::squeezeAt(WorldState& w, const detail::PredictedContact& c) {
     const auto found =
         std::find_if(w.wedged.begin(), w.wedged.end(), [&](const WorldState::Wedged& e) { return e.body == ia; });
     const auto metAtThisInstant = [&](const auto it, const auto end) {
-      return it != end && std::fabs(it->time - c.time) <= instant && std::fabs(cross(it->normal, c.normal)) > kWedgeAngle;
+      return it != end && std::fabs(it->time - c.time) <= instant &&
+             std::fabs(cross(it->normal, c.normal)) > kWedgeAngle;
     };
     const bool stoppedNow = metAtThisInstant(found, w.wedged.end());
     const bool cornered = stoppedNow || metAtThisInstant(bounced, w.bouncedOffStatic.end());
