@@ -15,13 +15,9 @@ import random
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from world_api_seeds import HYB, PRE, head, real, step, vec  # noqa: E402
+from world_api_seeds import HYB, PRE, disk, head, real, step, vec  # noqa: E402
 
 ZERO = bytes([0xF8, 0])  # the first of world_api_seeds.EXTREMES: 0.0 (a circle of radius 0, a point)
-
-
-def disk(p, v, radius, restitution):
-    return bytes([0]) + vec(*p, -100, 100) + vec(*v, -50, 50) + radius + real(restitution, 0, 1) + bytes([0, 0])
 
 
 def box(rng, kind, centre, hx, hy, count, radius, speed, restitution):

@@ -8,7 +8,10 @@ def real(v, lo, hi):
 def vec(x, y, lo, hi): return real(x, lo, hi) + real(y, lo, hi)
 DT = {0: 0, 240: 1, 120: 2, 60: 3, 30: 5, 20: 6, 10: 7}
 def step(per_second=60): return bytes([12, DT[per_second]])
-def disk(p, v, r, e=0.0): return bytes([0]) + vec(*p, -100, 100) + vec(*v, -50, 50) + real(r, 0.05, 5) + real(e, 0, 1) + bytes([0, 0])
+# r: a radius in [0.05, 5], or its two bytes already encoded (extreme(0.0) for a point).
+def disk(p, v, r, e=0.0):
+    radius = r if isinstance(r, bytes) else real(r, 0.05, 5)
+    return bytes([0]) + vec(*p, -100, 100) + vec(*v, -50, 50) + radius + real(e, 0, 1) + bytes([0, 0])
 def body(t, p, v=(0, 0)):
     b = bytes([2, t]) + vec(*p, -100, 100)
     return b + (bytes([0]) if t == 0 else vec(*v, -50, 50))
