@@ -935,6 +935,25 @@ TEST(WorldEventBudget, RattleStopsAtBudgetAndReportsIt) {
   EXPECT_EQ(full.world.stats().eventsProcessed, 50);
 }
 
+TEST(WorldEventBudget, BodiesStopAtTheLastCollisionBeforeTheBudget) {
+  // types.h, WorldDef::maxEventsPerStep: the step out of budget leaves every body where it was after the
+  // last collision it resolved (bounce 10, at the left wall), not at the 11th bounce's instant, where the
+  // disk touches the right wall and still moves into it. By the unfolding above: after an even bounce
+  // the disk is at x = 1 moving right.
+  for (const rattle::StepMode mode : {rattle::StepMode::Hybrid, rattle::StepMode::Predictive}) {
+    rattle::WorldDef def = worldDefWithBudget(10);
+    def.mode = mode;
+    RattleScene s(def);
+    s.world.step(1.0);
+    ASSERT_TRUE(s.world.stats().eventBudgetReached);
+    const Vec2 p = s.world.position(s.disk.body), v = s.world.velocity(s.disk.body);
+    const double t10 = static_cast<double>(RattleScene::bounceTime(10));
+    EXPECT_NEAR(p.x, 1.0, 1e-12) << "mode " << static_cast<int>(mode);
+    EXPECT_NEAR(p.y, RattleScene::kY0 + RattleScene::kVy * t10, 1e-12) << "mode " << static_cast<int>(mode);
+    EXPECT_DOUBLE_EQ(v.x, RattleScene::kVx) << "mode " << static_cast<int>(mode);
+  }
+}
+
 TEST(WorldEventBudget, HeldBodyIsNotRunInto) {
   // Budget 1, spent on an unrelated pair at t = 0.1. Disk B (starting at (5, 0.3), moving up) has a
   // collision with C due at t = 0.47, so B is held. A runs along y = 0 to (5, 0): with B moving it would

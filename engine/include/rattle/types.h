@@ -90,8 +90,10 @@ struct WorldDef {
   /// fixtures' restitution.
   double collapseTime = 0;
   /// Collisions resolved in one step at most. When the next one would exceed it, at time t_b inside the
-  /// step, every body stays where it is at t_b for the rest of the step (the step then simulates only t_b
-  /// seconds of motion, so nothing passes through anything), and StepStats::eventBudgetReached says so.
+  /// step, every body stays where it was at t_l, the last instant before t_b at which a collision (or
+  /// another event) changed a body's motion, for the rest of the step: the step then simulates only t_l
+  /// seconds of motion, so nothing passes through anything and no body is left touching what it was about
+  /// to meet. StepStats::eventBudgetReached says so.
   /// The predictive mode also stops there when it has taken 16 times this many events of any kind (cell
   /// crossings, stale predictions) from its queue, so that every step returns.
   int maxEventsPerStep = 1'000'000;
@@ -186,7 +188,7 @@ struct StepStats {
   /// body squeezed against a wall by a piston counts about twice.
   int squeezes = 0;
   /// The step's next change of motion would have taken it past WorldDef::maxEventsPerStep: every body
-  /// stopped at that instant.
+  /// stopped at the last change of motion before it (WorldDef::maxEventsPerStep).
   bool eventBudgetReached = false;
 };
 

@@ -243,6 +243,7 @@ class Engine {
   bool handsOver(uint32_t most, bool driven) const;
   bool collapsing(uint32_t body, uint32_t stepCollisions, double time);
   double finishStep(double dt);
+  double lastChangeBefore(double next) const;
   double budgetTime_ = 0;  // where the step ended, when it ended early
   bool pile_ = false;      // handed over at budgetTime_ (kPileCollisions)
   bool pilesForm_ = false, jamsForm_ = false;

@@ -288,7 +288,7 @@ void Engine::runEvents(double dt) {
     if (!(c.time <= dt)) break;
     if (++queueEvents > queueBudget) {
       w_.stats.eventBudgetReached = true;
-      budgetTime_ = c.time;
+      budgetTime_ = lastChangeBefore(c.time);
       break;
     }
     // A heap grown large (events denser than the calendar was cut for): cut it again from here.
@@ -523,7 +523,7 @@ bool Engine::collidePlainPair(uint32_t i, uint32_t j, const PredictiveEvent& c, 
   }
   if (w_.stats.eventsProcessed >= w_.def.maxEventsPerStep) {
     w_.stats.eventBudgetReached = true;
-    budgetTime_ = c.time;
+    budgetTime_ = lastChangeBefore(c.time);
     return false;
   }
   if (plainWorld_ && j != PredictiveState::kNone) return collidePlainPair(i, j, c, tolerance);
@@ -599,8 +599,22 @@ bool Engine::collidePlainPair(uint32_t i, uint32_t j, const PredictiveEvent& c, 
   return true;
 }
 
+// Where a step out of budget stops, as the hybrid step's HybridStep::lastChangeBefore (why there): the latest
+// instant at which an event changed a body's motion, not the time `next` of the event it could not take.
+// The copies are the truth for tracked bodies (a plain collision leaves the BodySlot behind, attach()).
+double Engine::lastChangeBefore(double next) const {
+  double last = 0;
+  for (const HotBody& h : s_.hot) last = std::max(last, h.localTime);
+  for (uint32_t body : s_.untracked) {
+    const BodySlot& b = w_.bodies[body];
+    if (b.type == BodyType::Dynamic) last = std::max(last, b.localTime);
+  }
+  return std::min(last, next);
+}
+
 // 3. Sensor events, from the paths the bodies took. Then every body to the end of the step (out of
-// budget: to the instant the budget ran out, as the hybrid step does); the clocks start again from there.
+// budget: to the last change of motion before it ran out, as the hybrid step does); the clocks start
+// again from there.
 double Engine::finishStep(double dt) {
   const bool pile = pile_;
   const double end = w_.stats.eventBudgetReached || pile ? budgetTime_ : dt;
