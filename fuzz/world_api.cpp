@@ -52,8 +52,8 @@
 // "escape,budget"), and RATTLE_WORLD_API_MODES the modes to run (e.g. "hybrid,predictive"; inputs for
 // other modes return at once); "extreme" in RATTLE_WORLD_API_OFF makes no extreme values, and
 // "gravity-energy" leaves out the energy check under gravity only. Unset, everything is checked in every
-// mode. RATTLE_WORLD_API_VERBOSE prints what each input does, for writing
-// reproducers. fuzz/README.md says more.
+// mode. RATTLE_WORLD_API_VERBOSE prints what each input does (calls, bodies after each step, the
+// step's first contact events), for writing reproducers. fuzz/README.md says more.
 #include <rattle/rattle.h>
 
 #include <algorithm>
@@ -804,6 +804,15 @@ class Program {
         std::fprintf(stderr, "  body (%u, %u) at (%.17g, %.17g) velocity (%.17g, %.17g)\n", b.index, b.generation, p.x, p.y,
                      v.x, v.y);
       }
+      // The step's contact events, the first kShownContacts of them (a looping step has 20,000).
+      constexpr size_t kShownContacts = 40;
+      const auto contacts = world_.contactEvents();
+      for (size_t k = 0; k < std::min(contacts.size(), kShownContacts); ++k) {
+        const rattle::ContactEvent& e = contacts[k];
+        std::fprintf(stderr, "  contact at t %.17g: bodies %u and %u, point (%.17g, %.17g), normal (%.17g, %.17g), impulse %.17g\n",
+                     e.time, e.bodyA.index, e.bodyB.index, e.point.x, e.point.y, e.normal.x, e.normal.y, e.impulse);
+      }
+      std::fprintf(stderr, "  %zu contact events\n", contacts.size());
     }
     work_ += world_.stats().timeOfImpactTests + world_.stats().contactRowsSwept / kRowsPerTest;
     if (!valid && (checks & kStepError)) finding("error", "step(%.17g) was accepted; dt must be finite and >= 0", dt);
