@@ -809,7 +809,9 @@ class Program {
       const auto contacts = world_.contactEvents();
       for (size_t k = 0; k < std::min(contacts.size(), kShownContacts); ++k) {
         const rattle::ContactEvent& e = contacts[k];
-        std::fprintf(stderr, "  contact at t %.17g: bodies %u and %u, point (%.17g, %.17g), normal (%.17g, %.17g), impulse %.17g\n",
+        std::fprintf(stderr,
+                     "  contact at t %.17g: bodies %u and %u, point (%.17g, %.17g), normal (%.17g, %.17g), "
+                     "impulse %.17g\n",
                      e.time, e.bodyA.index, e.bodyB.index, e.point.x, e.point.y, e.normal.x, e.normal.y, e.impulse);
       }
       std::fprintf(stderr, "  %zu contact events\n", contacts.size());

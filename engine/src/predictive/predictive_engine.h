@@ -409,8 +409,8 @@ class Engine {
   }
   void crossingStraight(Vec2 centre, Vec2 velocity, const ColdBody& cell, double& h, int& side) const;
   void crossing(const Predicting& p, double& h, int& side) const;
-  /// `dismissed`: a feature of `other` taken as separating (dismissedFeature), or kNoFeature.
   double centreExit(uint32_t own, uint32_t other, double now) const;
+  /// `dismissed`: a feature of `other` taken as separating (dismissedFeature), or kNoFeature.
   void predictPair(uint32_t own, uint32_t other, double now, double horizon, PredictiveEvent& best,
                    int dismissed = kNoFeature);
   void predictCircles(const Predicting& p, uint32_t j, double horizon, PredictiveEvent& best);
