@@ -484,7 +484,7 @@ bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {
     return std::any_of(w.wedged.begin(), w.wedged.end(),
                        [&](const WorldState::Wedged& e) { return e.body == body && atThisInstant(e.time); });
   };
-  const bool bothHeldNow = pointLike && held && heldNow(ia) && heldNow(ib);
+  const bool bothHeldNow = pointLike && heldNow(ia) && heldNow(ib);
   const bool deep = o.depth > Islands::kJamResidual * std::max(o.ra, o.rb);
   // The wedged one stops moving into the face it was stopped against: the push it took from the other
   // at this instant would carry it through (a point lies on the face, with nothing to tell its side).

@@ -409,7 +409,7 @@ class Engine {
   }
   void crossingStraight(Vec2 centre, Vec2 velocity, const ColdBody& cell, double& h, int& side) const;
   void crossing(const Predicting& p, double& h, int& side) const;
-  double centreExit(uint32_t own, uint32_t other, double now) const;
+  double centreExit(uint32_t own, uint32_t other, const Polygon& polygon, double now) const;
   /// `dismissed`: a feature of `other` taken as separating (dismissedFeature), or kNoFeature.
   void predictPair(uint32_t own, uint32_t other, double now, double horizon, PredictiveEvent& best,
                    int dismissed = kNoFeature);

@@ -27,12 +27,10 @@ void Engine::crossing(const Predicting& p, double& h, int& side) const {
   if (y < kMaxCoord) keep(exitTime((s_.y0 + (y + 1.0) * s + d) - c.y, -v.y, -0.5 * a.y), 3);
 }
 
-// When, from `now`, the centre of circle or point `own` leaves polygon `other` it lies inside (by more than
-// its coordinates' round-off), along the pair's relative path: the first time it crosses an edge's line
-// outward. +infinity when it is not inside or never leaves.
-double Engine::centreExit(uint32_t own, uint32_t other, double now) const {
-  const auto* polygon = std::get_if<Polygon>(&w_.fixtures[other].geometry);
-  if (polygon == nullptr) return kInf;
+// When, from `now`, the centre of circle or point `own` leaves `polygon` (fixture `other`), which it lies
+// inside by more than its coordinates' round-off, along the pair's relative path: the first time it
+// crosses an edge's line outward. +infinity when it is not inside or never leaves.
+double Engine::centreExit(uint32_t own, uint32_t other, const Polygon& polygon, double now) const {
   const Geometry& g = w_.fixtures[own].geometry;
   const auto* circle = std::get_if<Circle>(&g);
   const auto* point = std::get_if<Point>(&g);
@@ -42,10 +40,10 @@ double Engine::centreExit(uint32_t own, uint32_t other, double now) const {
   const Vec2 pb = w_.positionAt(b, now);
   const Vec2 centre = w_.positionAt(a, now) + (circle != nullptr ? circle->center : point->position);
   const Vec2 v = w_.velocityAt(a, now) - w_.velocityAt(b, now), acc = a.acceleration - b.acceleration;
-  const size_t n = polygon->points.size();
+  const size_t n = polygon.points.size();
   double exit = kInf;
   for (size_t i = 0; i < n; ++i) {
-    const Vec2 p = polygon->points[i] + pb, e = polygon->points[(i + 1) % n] - polygon->points[i];
+    const Vec2 p = polygon.points[i] + pb, e = polygon.points[(i + 1) % n] - polygon.points[i];
     const double length = std::sqrt(dot(e, e));
     if (!(length > 0)) continue;
     const Vec2 outward{e.y / length, -e.x / length};  // counter-clockwise points
@@ -72,8 +70,8 @@ void Engine::predictPair(uint32_t own, uint32_t other, double now, double horizo
   // horizon): a disk made with its centre in a floor block, rising out of it and falling back before a
   // cell crossing came, fell through the block (fuzz/regressions/world_api/inside-predictive-disk-
   // rises-out-of-a-block-and-falls-back).
-  if (std::holds_alternative<Polygon>(w_.fixtures[other].geometry)) {
-    const double exit = centreExit(own, other, now);
+  if (const auto* polygon = std::get_if<Polygon>(&w_.fixtures[other].geometry)) {
+    const double exit = centreExit(own, other, *polygon, now);
     // (Only when the clock moves on: an exit sooner than its round-off would be the same instant again.)
     if (exit < kInf && now + exit > now && now + exit < std::min(horizon, impact ? now + impact->time : kInf)) {
       const PredictiveEvent e{now + exit, own, own, -1, 0, PredictiveKind::Cross, PredictiveState::kNone, {}, {}};
