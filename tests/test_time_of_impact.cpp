@@ -594,6 +594,43 @@ TEST(TimeOfImpactCirclePolygon, TouchingCases) {
   ASSERT_NO_FATAL_FAILURE(expectImpact(corner, 0.0, {1.0, 1.0}, {0.6, 0.8}, 6));
 }
 
+// A circle wider than a thin polygon, its centre outside it (above the top edge): the bottom edge's line is
+// less than a radius below the centre, but the centre is on the top edge's side, and only the edges it is
+// in front of hold it. The slab [-1,1] x [-0.25,0.25] (edges: 0 bottom, 1 right, 2 top, 3 left), circle
+// of radius 5 centred at (0, 4.1): it overlaps the top edge by 0.65 and reaches 4.35 below the slab's bottom
+// line. Moving down: the top edge at once (normal +y, point (0, 0.25)). Moving up, away from the top edge:
+// nothing (the bottom edge, met as if from below, bounced it back into the top one).
+TEST(TimeOfImpactCirclePolygon, AWideCircleOverAThinPolygonMeetsOnlyTheNearEdges) {
+  const Polygon slab{{{-1.0, -0.25}, {1.0, -0.25}, {1.0, 0.25}, {-1.0, 0.25}}};
+  ASSERT_NO_FATAL_FAILURE(expectImpact(rattle::timeOfImpactCirclePolygon({{0.0, 4.1}, 5.0}, Vec2{0.0, -3.0}, slab, 1.0),
+                                       0.0, {0.0, 0.25}, {0.0, 1.0}, 2));
+  expectNone(rattle::timeOfImpactCirclePolygon({{0.0, 4.1}, 5.0}, Vec2{0.0, 3.0}, slab, 1.0));
+  expectNone(rattle::timeOfImpactCirclePolygon({{0.0, 4.1}, 5.0}, Vec2{-2.0, 3.0}, slab, 1.0));
+  // A centre inside keeps the overlap rules of every edge it is within a radius of: (0, 0.1), radius 0.5,
+  // moving down, 0.15 behind the top edge's line, goes deeper behind it, and the top edge meets it at once
+  // (the modes let a disk made so pass through, by the pair's made-overlapping exemption, not here).
+  const auto inside = rattle::timeOfImpactCirclePolygon({{0.0, 0.1}, 0.5}, Vec2{0.0, -1.0}, slab, 1.0);
+  ASSERT_TRUE(inside.has_value());
+  EXPECT_EQ(inside->time, 0.0);
+  EXPECT_EQ(inside->feature, 2);
+}
+
+// A corner is the contact only where it is the polygon's nearest point: a circle over the bottom edge of the
+// square, overlapping it by 0.05 near corner (-1,-1) (centre (-0.8, -1.45), radius 0.5, 0.492 from the
+// corner), sliding along the edge toward the corner and past it, meets nothing: its centre is over the edge,
+// whose face it moves along, until it is past the corner's perpendicular, and from there it moves away from
+// the corner. (Taken as met at once by the corner, normal (-0.41, -0.91), a speck of radius 1e-12 lying so
+// over a polygon's corner was pushed into a disk pressing it back, at one instant, without end.)
+TEST(TimeOfImpactCirclePolygon, ACornerIsNotMetOverAnEdge) {
+  expectNone(rattle::timeOfImpactCirclePolygon({{-0.8, -1.45}, 0.5}, Vec2{-1.0, 0.0}, square(), 10.0));
+  // From the corner's own region (left of x = -1, below y = -1) and approaching it, the corner is met.
+  const auto corner = rattle::timeOfImpactCirclePolygon({{-1.3, -1.4}, 0.5}, Vec2{1.0, 1.0}, square(), 10.0);
+  ASSERT_TRUE(corner.has_value());
+  EXPECT_EQ(corner->time, 0.0);
+  EXPECT_EQ(corner->feature, 4);
+  EXPECT_TRUE(nearVec(corner->normal, Vec2{-0.6, -0.8}));
+}
+
 TEST(TimeOfImpactCirclePolygon, ImpactExactlyAtMaxTime) {
   // The top-edge hit (see Edges) is at t = (5 - 1 - 1) / 2 = 1.5 exactly.
   const auto hit = rattle::timeOfImpactCirclePolygon({{0.5, 5.0}, 1.0}, Vec2{0.0, -2.0}, square(), 1.5);

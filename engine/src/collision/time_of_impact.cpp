@@ -403,10 +403,23 @@ std::optional<Impact> circlePolygonImpact(const Circle& a, const Motion& motion,
                                           int resolvedFeature, double frameSlack) {
   const int n = static_cast<int>(b.points.size());
   std::optional<Impact> best;
+  // A face's overlap rule (faceImpact's `front`) takes a centre up to a radius behind the face's line as
+  // in front of it, for a disk made across the face. A centre outside the polygon, in front of another
+  // face, is on that face's side, not this one's: read as in front of both, a disk of radius 5 above a
+  // floor polygon 0.5 thick met the bottom face as if from below the instant it bounced off the top
+  // one, and the two faces took it back and forth at one instant until the step's budget ran out
+  // (fuzz/regressions/world_api/budget-predictive-big-disk-across-a-thin-floor-polygon).
+  bool outside = false;
+  for (int i = 0; i < n && a.radius > 0 && !outside; ++i) {
+    const Vec2 here = b.points[i], next = b.points[(i + 1) % n];
+    outside = cross(next - here, a.center - here) < 0;
+  }
   for (int i = 0; i < n; ++i) {
-    Edge edge = edgeOf(b.points[i], b.points[(i + 1) % n]);
+    const Vec2 here = b.points[i], next = b.points[(i + 1) % n];
+    Edge edge = edgeOf(here, next);
     edge.frameSlack = frameSlack;
-    keepEarlier(best, faceImpact(a, motion, edge, true, maxTime, i, isResolved(i, resolvedFeature)));
+    const bool front = !outside || cross(next - here, a.center - here) <= 0;
+    keepEarlier(best, faceImpact(a, motion, edge, front, maxTime, i, isResolved(i, resolvedFeature)));
   }
   // A point meets a corner only on an exact line, and its normal is then no edge's but its own motion's
   // (pointImpact): the edges beside the corner reach past it by round-off and meet the point instead, as
@@ -418,11 +431,16 @@ std::optional<Impact> circlePolygonImpact(const Circle& a, const Motion& motion,
     const int feature = n + k;
     auto t = timeToReach(a.center - b.points[k], motion, a.radius, maxTime, isResolved(feature, resolvedFeature));
     if (!t) continue;
-    // A corner is met from outside the polygon: the centre then lies outside one of the corner's two
-    // edges. A centre inside the polygon reaching a corner's distance is an overlap from within.
+    // A corner is the contact only where it is the polygon's nearest point to the centre: past the end of
+    // the edge before it and short of the start of the one after (the corner's Voronoi region, outside
+    // the polygon). A centre inside the polygon reaching a corner's distance is an overlap from within;
+    // one in front of an edge, over the edge, is the face's to meet. Met as a corner there, a disk of
+    // radius 1e-12 lying 1e-12 from a polygon's corner, over its bottom face, was pushed away from the
+    // corner, into a disk pressing it back, at one instant until the step's budget ran out
+    // (fuzz/regressions/world_api/budget-predictive-big-disk-across-a-thin-floor-polygon, its second loop).
     const Vec2 c = a.center + travel(motion, *t);
     const Vec2 prev = b.points[(k + n - 1) % n], here = b.points[k], next = b.points[(k + 1) % n];
-    if (cross(here - prev, c - prev) >= 0 && cross(next - here, c - here) >= 0) continue;
+    if (dot(c - here, here - prev) < 0 || dot(c - here, next - here) > 0) continue;
     keepEarlier(best, pointImpact(a.center, motion, b.points[k], 0.0, *t, feature));
   }
   return best;
