@@ -521,6 +521,21 @@ bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {
                        [&](const WorldState::Wedged& e) { return e.body == body && atThisInstant(e.time); });
   };
   const bool bothHeldNow = pointLike && heldNow(ia) && heldNow(ib);
+  // Or a point past the squeeze count, held at a static face at this instant, that a stepped body (an
+  // island's member, whose contacts its solve holds and whose last contact it forgets) drives into that
+  // face from the other side, the two normals opposed as in a cusp (kCuspCosine). A disk wider than its
+  // box slid down between the walls, and a point on a wall under its rim, taking a fiftieth of each push
+  // along the wall, met it and the wall in turn 9,700 times at one instant until the step's budget ran
+  // out (fuzz/regressions/world_api/budget-predictive-point-in-the-cusp-of-a-falling-disk-and-a-wall).
+  auto drivenIntoItsFace = [&](uint32_t point, uint32_t pointFixture, uint32_t other) {
+    if (!detail::isPoint(w.fixtures[pointFixture].geometry) || !busy(w.bodies[point]) || !w.bodies[other].stepped)
+      return false;
+    const Vec2 n = pointFixture == c.a ? c.normal : -c.normal;  // from the stepped body toward the point
+    return std::any_of(w.wedged.begin(), w.wedged.end(), [&](const WorldState::Wedged& e) {
+      return e.body == point && atThisInstant(e.time) && dot(e.normal, n) < -kCuspCosine;
+    });
+  };
+  const bool cuspNow = drivenIntoItsFace(ia, c.a, ib) || drivenIntoItsFace(ib, c.b, ia);
   const bool deep = o.depth > Islands::kJamResidual * std::max(o.ra, o.rb);
   // The wedged one stops moving into the face it was stopped against: the push it took from the other
   // at this instant would carry it through (a point lies on the face, with nothing to tell its side).
@@ -572,7 +587,7 @@ bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {
     ++w.stats.squeezes;
     return true;
   }
-  if (!heldAndMetNow && !bothHeldNow && !deep) return false;
+  if (!heldAndMetNow && !bothHeldNow && !cuspNow && !deep) return false;
   if (!held) {
     exemptFromCollisions(w, c.a, c.b);
     return true;
