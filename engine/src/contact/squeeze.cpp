@@ -522,11 +522,13 @@ bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {
   };
   const bool bothHeldNow = pointLike && heldNow(ia) && heldNow(ib);
   // Or a point past the squeeze count, held at a static face at this instant, that a stepped body (an
-  // island's member, whose contacts its solve holds and whose last contact it forgets) drives into that
-  // face from the other side, the two normals opposed as in a cusp (kCuspCosine). A disk wider than its
-  // box slid down between the walls, and a point on a wall under its rim, taking a fiftieth of each push
-  // along the wall, met it and the wall in turn 9,700 times at one instant until the step's budget ran
-  // out (fuzz/regressions/world_api/budget-predictive-point-in-the-cusp-of-a-falling-disk-and-a-wall).
+  // island's member, whose contacts its solve holds and whose last contact it forgets) meets from the
+  // other side, the two normals opposed as in a cusp (kCuspCosine): caught in the pinch of the body and
+  // the face. A disk wider than its box slid down between the walls, and a point on a wall under its rim,
+  // taking a fiftieth of each push along the wall, met it and the wall in turn 9,700 times at one instant
+  // until the step's budget ran out (fuzz/regressions/world_api/budget-predictive-point-in-the-cusp-of-a-
+  // falling-disk-and-a-wall); a point falling down a wall onto the touch of a small disk resting against
+  // it met the two in turn so as well (budget-hybrid-point-falls-into-the-touch-of-a-disk-and-a-wall).
   auto drivenIntoItsFace = [&](uint32_t point, uint32_t pointFixture, uint32_t other) {
     if (!detail::isPoint(w.fixtures[pointFixture].geometry) || !busy(w.bodies[point]) || !w.bodies[other].stepped)
       return false;
