@@ -538,6 +538,30 @@ bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {
     });
   };
   const bool cuspNow = drivenIntoItsFace(ia, c.a, ib) || drivenIntoItsFace(ib, c.b, ia);
+  // Or a point past the squeeze count that meets this body at the instant of its last contact, with
+  // another dynamic body whose normal at the point is more than a right angle from this one's: caught
+  // between the two, it bounces from one to the other at one instant. A point moving into the narrow
+  // wedge where two slightly overlapping disks meet (their normals there 3.6 degrees from opposed), the
+  // disks held still by others, met them in turn at one instant until the step's 20,000 events ran out
+  // (fuzz/regressions/world_api/budget-hybrid-point-in-the-wedge-of-two-disks). Neither the point's last
+  // contact nor this one is this pair met again, which the rules above ask for.
+  auto pinched = [&](uint32_t point, uint32_t pointFixture) {
+    const BodySlot& p = w.bodies[point];
+    if (!detail::isPoint(w.fixtures[pointFixture].geometry) || !busy(p) || p.last.time < 0 ||
+        !atThisInstant(p.last.time))
+      return false;
+    const uint32_t last = w.fixtures[p.last.fixtureLow].body == point ? p.last.fixtureHigh : p.last.fixtureLow;
+    const detail::FixtureSlot& lastFixture = w.fixtures[last];
+    if (last == c.a || last == c.b || w.bodies[lastFixture.body].type != BodyType::Dynamic) return false;
+    const Vec2 at = w.positionAt(p, c.time) + detail::circleCentre(w.fixtures[pointFixture].geometry);
+    // A dynamic body holds only circles and points: its normal at the point is from its centre.
+    const Vec2 lastCentre =
+        w.positionAt(w.bodies[lastFixture.body], c.time) + detail::circleCentre(lastFixture.geometry);
+    const Vec2 away = at - lastCentre;
+    const Vec2 n = pointFixture == c.a ? c.normal : -c.normal;  // from this body toward the point
+    return dot(away, n) < 0;
+  };
+  const bool pinchNow = pinched(ia, c.a) || pinched(ib, c.b);
   const bool deep = o.depth > Islands::kJamResidual * std::max(o.ra, o.rb);
   // The wedged one stops moving into the face it was stopped against: the push it took from the other
   // at this instant would carry it through (a point lies on the face, with nothing to tell its side).
@@ -589,7 +613,7 @@ bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {
     ++w.stats.squeezes;
     return true;
   }
-  if (!heldAndMetNow && !bothHeldNow && !cuspNow && !deep) return false;
+  if (!heldAndMetNow && !bothHeldNow && !cuspNow && !pinchNow && !deep) return false;
   if (!held) {
     exemptFromCollisions(w, c.a, c.b);
     return true;
