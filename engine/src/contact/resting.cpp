@@ -190,6 +190,35 @@ int detail::polygonFacesUnderPoint(const WorldState& w, const BodySlot& b, uint3
   return found;
 }
 
+int detail::lineFacesUnderPoint(const WorldState& w, const BodySlot& b, uint32_t fixture, double now, Vec2 against,
+                                Vec2 (&normal)[2]) {
+  const Geometry& g = w.fixtures[fixture].geometry;
+  Vec2 ends[2];
+  const Vec2* points = nullptr;
+  size_t count = 0;
+  if (const auto* s = std::get_if<Segment>(&g)) {
+    ends[0] = s->a;
+    ends[1] = s->b;
+    points = ends;
+    count = 2;
+  } else if (const auto* l = std::get_if<Polyline>(&g)) {
+    points = l->points.data();
+    count = l->points.size();
+  }
+  const Vec2 p = firstCentreAt(w, b, now);
+  const Vec2 at = faceBodyAt(w, fixture, now);
+  int found = 0;
+  for (size_t k = 0; k + 1 < count && found < 2; ++k) {
+    const Vec2 a0 = at + points[k], d = points[k + 1] - points[k];
+    if (!pointOnFace(p, a0, d, at)) continue;
+    const Vec2 side = Vec2{d.y, -d.x} * (1.0 / length(d));
+    const double facing = dot(side, against);
+    if (facing == 0) continue;
+    normal[found++] = facing < 0 ? side : -side;
+  }
+  return found;
+}
+
 bool detail::isFlatFeature(const WorldState& w, uint32_t fixture, int feature) {
   Vec2 a, b;
   return flatFeature(w.fixtures[fixture].geometry, feature, a, b);

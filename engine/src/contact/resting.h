@@ -60,6 +60,13 @@ bool pointKnowsSideOfFace(const WorldState& w, const detail::BodySlot& b, uint32
 /// its face needs no memory. Returns how many (0 to 2); 0 when the fixture is not a polygon.
 int polygonFacesUnderPoint(const WorldState& w, const detail::BodySlot& b, uint32_t fixture, double now,
                            Vec2 (&outward)[2]);
+/// The unit normals of the faces of the Segment or Polyline `fixture` that a point lies on, within the
+/// round-off the time of impact allows (two at a joint), each on the side facing against `against`: a
+/// point on a line has no side of its own, and one that a body's contact (normal `against`, toward the
+/// point) drives into the line lies on the side that stops it. Returns how many (0 to 2); 0 for other
+/// geometries.
+int lineFacesUnderPoint(const WorldState& w, const detail::BodySlot& b, uint32_t fixture, double now, Vec2 against,
+                        Vec2 (&normal)[2]);
 /// Whether `feature` of the fixture is a straight face (a segment, a polyline's or a polygon's edge).
 bool isFlatFeature(const WorldState& w, uint32_t fixture, int feature);
 /// A point at the end of the face it slides on, resolved against `feature` of `fixture` there: whether

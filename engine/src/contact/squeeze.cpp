@@ -99,15 +99,19 @@ bool heldUpBy(Vec2 g, Vec2 f, Vec2 n) {
 }
 
 // Whether a point that a stepped body's contact (normal n toward the point) holds is held up against
-// gravity by that contact and a face of a static polygon the point lies on: the corner of a box's wall
-// and a disk that fills the box, when the face the point remembers is the box's ceiling.
+// gravity by that contact and a static face the point lies on: the corner of a box's wall and a disk that
+// fills the box, when the face the point remembers is the box's ceiling. A polygon's face has its outside;
+// a Segment's or a Polyline's is taken on the side that stops the body's push (a box of Segments, where
+// such a point slid along the ceiling into the wall, off it, and back, 1e-13 s apart, until the step's
+// budget ran out: fuzz/regressions/world_api/budget-hybrid-points-at-a-segment-box-ceiling-corner).
 bool heldUpAtStaticPolygon(const detail::WorldState& w, uint32_t point, Vec2 n, double now) {
   for (const detail::CandidatePair& pair : w.pairsOfBody[point]) {
     if (w.bodyOf(pair.other).type != BodyType::Static) continue;
-    Vec2 outward[2];
-    const int faces = detail::polygonFacesUnderPoint(w, w.bodies[point], pair.other, now, outward);
+    Vec2 normal[2];
+    int faces = detail::polygonFacesUnderPoint(w, w.bodies[point], pair.other, now, normal);
+    if (faces == 0) faces = detail::lineFacesUnderPoint(w, w.bodies[point], pair.other, now, n, normal);
     for (int k = 0; k < faces; ++k) {
-      if (heldUpBy(w.def.gravity, outward[k], n)) return true;
+      if (heldUpBy(w.def.gravity, normal[k], n)) return true;
     }
   }
   return false;
