@@ -104,7 +104,7 @@ bool heldUpBy(Vec2 g, Vec2 f, Vec2 n) {
 // a Segment's or a Polyline's is taken on the side that stops the body's push (a box of Segments, where
 // such a point slid along the ceiling into the wall, off it, and back, 1e-13 s apart, until the step's
 // budget ran out: fuzz/regressions/world_api/budget-hybrid-points-at-a-segment-box-ceiling-corner).
-bool heldUpAtStaticPolygon(const detail::WorldState& w, uint32_t point, Vec2 n, double now) {
+bool heldUpAtStaticFace(const detail::WorldState& w, uint32_t point, Vec2 n, double now) {
   for (const detail::CandidatePair& pair : w.pairsOfBody[point]) {
     if (w.bodyOf(pair.other).type != BodyType::Static) continue;
     Vec2 normal[2];
@@ -131,7 +131,7 @@ Vec2 slideOffAlongFace(const detail::WorldState& w, const BodySlot& p, uint32_t 
   const double leave = target + w.def.restingSpeed;
   if (!(w.def.restingSpeed > 0) || !(leave > 0) || !(dot(p.velocity, n) < leave)) return p.velocity;
   if (!detail::pressedTogether(p.acceleration - o.acceleration, n)) return p.velocity;
-  if (heldUpBy(w.def.gravity, p.support.normal, n) || heldUpAtStaticPolygon(w, point, n, now)) return p.velocity;
+  if (heldUpBy(w.def.gravity, p.support.normal, n) || heldUpAtStaticFace(w, point, n, now)) return p.velocity;
   const Vec2 along{-p.support.normal.y, p.support.normal.x};
   const double rate = dot(along, n);  // how fast a slide along the face leaves the body
   if (!(std::fabs(rate) >= 0.1)) return p.velocity;
@@ -353,14 +353,14 @@ void detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContac
       // What holds it up may be a face it does not remember: a point that rose into a box's ceiling
       // corner inside a feather disk, the ceiling remembered, was held by the wall and the disk's rim, and
       // slid along the rim into the wall at 5e-9 units/s, meeting the disk every 3.4e-14 s until the
-      // budget ran out (budget-hybrid-points-at-a-box-ceiling-corner). A static polygon's face needs no
-      // memory of the side the point is on (heldUpAtStaticPolygon).
+      // budget ran out (budget-hybrid-points-at-a-box-ceiling-corner). A static face needs no memory of
+      // the side the point is on (heldUpAtStaticFace).
       // Not in the cusp of a body that moves: a point above a disk sliding down a wall, stopped there
       // at each meeting, met it again and again as it fell after it (tens of thousands of events a step
       // where the normal's part alone takes a few thousand).
       p.velocity = detail::nearestVelocityMeeting(p.velocity, p.support.normal, n, target);
       if (length(p.velocity) < w.def.restingSpeed &&
-          (heldUpBy(w.def.gravity, p.support.normal, n) || heldUpAtStaticPolygon(w, ip, n, c.time))) {
+          (heldUpBy(w.def.gravity, p.support.normal, n) || heldUpAtStaticFace(w, ip, n, c.time))) {
         sleepOnAwakeBody(w, ip, io);
         continue;
       }
