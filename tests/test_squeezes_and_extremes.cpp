@@ -172,10 +172,10 @@ TEST(Squeeze, ABodyWedgedBetweenStaticWallsStops) {
 }
 
 // A disk around a small static polygon (the polygon wholly inside it, as setPosition can leave them), its
-// centre outside the polygon, to its left. Only the faces its centre is in front of hold it (README,
-// Geometry): the far faces, met as if from outside, bounced it between them and the near ones at one
-// instant until the squeeze rule stopped it. Thrown away from the near faces it leaves with its velocity
-// and meets nothing; thrown into them it bounces off them once, by its restitution, and leaves.
+// centre outside the polygon, to its left. Only the faces its centre is in front of hold it (docs/guide.md,
+// "Behaviour that changed"): the far faces, met as if from outside, bounced it between them and the near
+// ones at one instant until the squeeze rule stopped it. Thrown away from the near faces it leaves with its
+// velocity and meets nothing; thrown into them it bounces off them once, by its restitution, and leaves.
 TEST(Squeeze, ADiskAroundASmallStaticPolygonIsHeldByItsNearFacesOnly) {
   for (StepMode mode : kExactModes) {
     for (const double vx : {-49.8, 49.8}) {

@@ -619,7 +619,7 @@ TEST(TimeOfImpactCirclePolygon, AWideCircleOverAThinPolygonMeetsOnlyTheNearEdges
 // square, overlapping it by 0.05 near corner (-1,-1) (centre (-0.8, -1.45), radius 0.5, 0.492 from the
 // corner), sliding along the edge toward the corner and past it, meets nothing: its centre is over the edge,
 // whose face it moves along, until it is past the corner's perpendicular, and from there it moves away from
-// the corner. (Taken as met at once by the corner, normal (-0.41, -0.91), a speck of radius 1e-12 lying so
+// the corner. (Taken as met at once by the corner, normal (0.41, -0.91), a speck of radius 1e-12 lying so
 // over a polygon's corner was pushed into a disk pressing it back, at one instant, without end.)
 TEST(TimeOfImpactCirclePolygon, ACornerIsNotMetOverAnEdge) {
   expectNone(rattle::timeOfImpactCirclePolygon({{-0.8, -1.45}, 0.5}, Vec2{-1.0, 0.0}, square(), 10.0));
