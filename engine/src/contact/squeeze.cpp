@@ -300,7 +300,7 @@ bool detail::squeezeAt(WorldState& w, const detail::PredictedContact& c) {
   // platform (a box of one Polyline) passed over it and it fell out of the lifted box (tests:
   // Squeeze.ADiskInALiftedBoxStaysIn).
   if (a.last.time >= 0) {
-    const uint32_t lastOther = w.fixtures[a.last.fixtureLow].body == ia ? a.last.fixtureHigh : a.last.fixtureLow;
+    const uint32_t lastOther = w.lastPartnerFixture(ia);
     if (w.fixtures[lastOther].body == ib && std::fabs(c.time - a.last.time) > oneInstant(w, a, b, c.time)) return false;
   }
   w.advance(a, c.time);
@@ -566,7 +566,7 @@ bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {
     if (!detail::isPoint(w.fixtures[pointFixture].geometry) || !busy(p) || p.last.time < 0 ||
         !remembersLiveFace(w, p))
       return false;
-    const uint32_t last = w.fixtures[p.last.fixtureLow].body == point ? p.last.fixtureHigh : p.last.fixtureLow;
+    const uint32_t last = w.lastPartnerFixture(point);
     if (last != p.support.fixture || w.bodyOf(last).type != BodyType::Static) return false;
     const Vec2 n = pointFixture == c.a ? c.normal : -c.normal;  // from the other body toward the point
     return dot(p.support.normal, n) < -kCuspCosine && dot(w.velocityAt(w.bodies[other], c.time), n) > 0;
@@ -585,7 +585,7 @@ bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {
     if (!detail::isPoint(w.fixtures[pointFixture].geometry) || !busy(p) || p.last.time < 0 ||
         !atThisInstant(p.last.time))
       return false;
-    const uint32_t last = w.fixtures[p.last.fixtureLow].body == point ? p.last.fixtureHigh : p.last.fixtureLow;
+    const uint32_t last = w.lastPartnerFixture(point);
     const detail::FixtureSlot& lastFixture = w.fixtures[last];
     if (last == c.a || last == c.b || w.bodies[lastFixture.body].type != BodyType::Dynamic) return false;
     const Vec2 at = w.positionAt(p, c.time) + detail::circleCentre(w.fixtures[pointFixture].geometry);

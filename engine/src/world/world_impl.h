@@ -237,6 +237,11 @@ struct WorldState {
 
   detail::BodySlot& bodyOf(uint32_t fixture) { return bodies[fixtures[fixture].body]; }
   const detail::BodySlot& bodyOf(uint32_t fixture) const { return bodies[fixtures[fixture].body]; }
+  /// The fixture on the other side of body `i`'s last contact (BodySlot::last, which must be set).
+  uint32_t lastPartnerFixture(uint32_t i) const {
+    const LastContact& l = bodies[i].last;
+    return fixtures[l.fixtureLow].body == i ? l.fixtureHigh : l.fixtureLow;
+  }
   bool moves(const detail::BodySlot& b) const { return b.type != BodyType::Static; }
   Box worldBox(uint32_t fixture) const { return fixtures[fixture].localBox.translated(bodyOf(fixture).position); }
 
