@@ -804,10 +804,15 @@ class Program {
         std::fprintf(stderr, "  body (%u, %u) at (%.17g, %.17g) velocity (%.17g, %.17g)\n", b.index, b.generation, p.x, p.y,
                      v.x, v.y);
       }
-      // The step's contact events, the first kShownContacts of them (a looping step has 20,000).
+      // The step's contact events, the first and the last kShownContacts of them (a looping step has
+      // 20,000, and the loop is at its end).
       constexpr size_t kShownContacts = 40;
       const auto contacts = world_.contactEvents();
-      for (size_t k = 0; k < std::min(contacts.size(), kShownContacts); ++k) {
+      for (size_t k = 0; k < contacts.size(); ++k) {
+        if (k == kShownContacts && contacts.size() > 2 * kShownContacts) {
+          std::fprintf(stderr, "  ...\n");
+          k = contacts.size() - kShownContacts;
+        }
         const rattle::ContactEvent& e = contacts[k];
         std::fprintf(stderr,
                      "  contact at t %.17g: bodies %u and %u, point (%.17g, %.17g), normal (%.17g, %.17g), "
