@@ -367,35 +367,50 @@ void detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContac
       p.velocity = slideOffAlongFace(w, p, ip, o, n, target, c.time);
     } else {
       const bool onFace = remembersLiveFace(w, p) && pointOnRememberedFace(w, p, c.time);
+      const double leave = target + w.def.restingSpeed;
+      const bool pressed = w.def.restingSpeed > 0 && detail::pressedTogether(p.acceleration - o.acceleration, n) &&
+                           vp < leave;
+      const bool knowsFace =
+          remembersLiveFace(w, p) && std::isfinite(detail::distanceFromRememberedFace(w, p, c.time));
+      const bool feather = o.mass <= kFeatherRatio * p.mass;
+      const bool clear = knowsFace && clearOfRememberedFace(w, p, pointIsA ? c.b : c.a, c.time);
+      // Pressed into the body by gravity and leaving it slower than restingSpeed, it bounces off at
+      // restingSpeed, as resolve() has a body bounce off what cannot move: stopped along the normal, or
+      // left separating by round-off, it met the body again as soon as gravity brought back an approach. A
+      // point of mass 1 falling along the rim of a disk three thousand billion times lighter, which its
+      // island held still, met it every 5e-16 s until the step's budget of 20,000 events ran out
+      // (fuzz/regressions/world_api/budget-hybrid-point-along-a-light-disk-held-still); one sliding over
+      // such a disk's top at 0.74 units/s, its position frozen by round-off, every 3.6e-16 s
+      // (budget-hybrid-point-sliding-over-a-feather-disk-at-rest). A point that remembers a static face
+      // (a flat one: a corner's side is not known) bounces only off a body too light to give anything back
+      // (kFeatherRatio): a disk of some weight is left out, as the point of tests:
+      // BodiesInCorners.APointAsleepOnAnAwakeDiskFallsWhenTheDiskMoves, bounced off its disk (47 times
+      // lighter than the point) on the way, no longer reached the cusp the test needs. Away from that
+      // face (clear of it) the bounce is along the normal: one 0.32 from it, following a disk 3e12 times
+      // lighter that moved down ahead of it, met it every 2.5e-15 s until the budget ran out
+      // (budget-hybrid-point-following-a-light-disk-away-from-a-face). Near the face, that bounce may take
+      // it into the face (budget-hybrid-point-below-the-corner-of-a-small-box spent its budget so), so
+      // the velocity nearest its own that leaves the body at restingSpeed and does not enter the face
+      // (zero meets both where the body moves away faster than restingSpeed; where it does not, the
+      // cases above and the slide below hold the point). Points on a wall above a feather disk that moved
+      // down along it followed it, met every 3e-16 s: two on one spot, met in turn, until the budget ran
+      // out (budget-hybrid-two-points-on-one-spot-under-a-feather-disk, and ten more such inputs of steps
+      // of 1 s from one fuzz run).
       bool acted = false;
-      if (vp < 0 && vp < vo) {
+      if (pressed && knowsFace && feather && !clear && leave <= 0) {
+        acted = true;
+        p.velocity = detail::nearestVelocityMeeting(p.velocity, p.support.normal, n, leave);
+      } else if (pressed && (!knowsFace || (feather && clear))) {
+        acted = true;
+        p.velocity += n * (leave - vp);
+      } else if (vp < 0 && vp < vo) {
         acted = true;
         p.velocity += n * (target - vp);
         // On a face it remembers (sliding along a floor into the cusp under a disk that rests on it), the
         // normal above is the face's to within round-off, and the point's speed along the face gave the
         // part removed: taken out, the point went into the floor. So the face's constraint is met as well:
         // the velocity nearest this one that meets both, which never speeds the point up.
-        if (onFace) {
-          p.velocity = detail::nearestVelocityMeeting(p.velocity, p.support.normal, n, target);
-        } else if (w.def.restingSpeed > 0 && detail::pressedTogether(p.acceleration - o.acceleration, n) &&
-                   (!remembersLiveFace(w, p) ||
-                    (o.mass <= kFeatherRatio * p.mass && clearOfRememberedFace(w, p, pointIsA ? c.b : c.a, c.time)))) {
-          // Pressed into the body by gravity, it bounces off at restingSpeed, as resolve() has a body
-          // bounce off what cannot move: stopped along the normal it met the body again as soon as gravity
-          // brought back an approach beyond round-off. A point of mass 1 falling along the rim of a disk
-          // three thousand billion times lighter, which its island held still, met it every 5e-16 s until
-          // the step's budget of 20,000 events ran out
-          // (fuzz/regressions/world_api/budget-hybrid-point-along-a-light-disk-held-still). A point that
-          // remembers a static face does so only on a body too light to give anything back (kFeatherRatio)
-          // and away from that face: one 0.32 from it, following a disk 3e12 times lighter that moved down
-          // ahead of it, met it every 2.5e-15 s until the budget ran out
-          // (budget-hybrid-point-following-a-light-disk-away-from-a-face). Near the face the bounce may
-          // take it into it, and there the cases above hold it (budget-hybrid-point-below-the-corner-of-a-
-          // small-box spent its budget so). A disk of some weight is left out too: the point of tests:
-          // BodiesInCorners.APointAsleepOnAnAwakeDiskFallsWhenTheDiskMoves, bounced off its disk (47 times
-          // lighter than the point) on the way, no longer reached the cusp the test needs.
-          p.velocity += n * w.def.restingSpeed;
-        }
+        if (onFace) p.velocity = detail::nearestVelocityMeeting(p.velocity, p.support.normal, n, target);
       }
       // The contact's own response may leave it just separating from the body, on its face, and gravity
       // brings the approach back at once: it slides off all the same (the point on a box's ceiling above
