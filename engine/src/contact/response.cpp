@@ -303,12 +303,10 @@ ContactEvent detail::contactEventOf(const WorldState& w, uint32_t a, uint32_t b,
 
 namespace {
 
-// Whether the other body of `s`'s last contact cannot move (static, kinematic or asleep): resolved
-// against it, `s` stays resolved whatever else changes `s`'s own velocity at that instant.
-bool lastPartnerHolds(const detail::WorldState& w, const BodySlot& s) {
-  const uint32_t low = s.last.fixtureLow, high = s.last.fixtureHigh;
-  const uint32_t other = &w.bodies[w.fixtures[low].body] == &s ? high : low;
-  const BodySlot& partner = w.bodies[w.fixtures[other].body];
+// Whether the other body of `body`'s last contact cannot move (static, kinematic or asleep): resolved
+// against it, `body` stays resolved whatever else changes its own velocity at that instant.
+bool lastPartnerHolds(const detail::WorldState& w, uint32_t body) {
+  const BodySlot& partner = w.bodyOf(w.lastPartnerFixture(body));
   return partner.type != BodyType::Dynamic || partner.asleep;
 }
 
@@ -558,7 +556,7 @@ void detail::resolve(WorldState& w, const PredictedContact& c, std::vector<uint3
     // A disk has its overlap to tell its side of that earlier face, and the slide may turn it back into
     // it: in an acute corner of two Segments a disk resolved against one wall, then landing on the
     // other and sliding down it into the first, was taken as leaving the first and slid out through it.
-    const bool keepsEarlier = s == slider && s->last.time == c.time && lastPartnerHolds(w, *s) &&
+    const bool keepsEarlier = s == slider && s->last.time == c.time && lastPartnerHolds(w, s == &a ? ia : ib) &&
                               detail::isPoint(w.fixtures[s == &a ? c.a : c.b].geometry);
     if (!keepsEarlier) s->setLast(last);
     s->lastContactTime = now;

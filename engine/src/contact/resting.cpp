@@ -15,6 +15,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <span>
 
 #include "collision/closest_point.h"
 #include "collision/polyline_impact.h"
@@ -173,50 +175,55 @@ bool detail::pointKnowsSideOfFace(const WorldState& w, const BodySlot& b, uint32
   return true;
 }
 
+namespace {
+// The faces of a chain of corners (closed: the last joins the first) that a point lies on, within the
+// round-off the time of impact allows, at most two (at a corner): `normalOf` takes each such face's unit
+// normal on its right-hand side (the edge turned a quarter clockwise) and gives the one to report, or
+// nothing to pass the face over.
+template <typename NormalOf>
+int chainFacesUnderPoint(const detail::WorldState& w, const BodySlot& b, uint32_t fixture, double now,
+                         std::span<const Vec2> corners, bool closed, NormalOf normalOf, Vec2 (&normal)[2]) {
+  const Vec2 p = firstCentreAt(w, b, now);
+  const Vec2 at = faceBodyAt(w, fixture, now);
+  const size_t n = corners.size();
+  const size_t faces = closed ? n : (n > 0 ? n - 1 : 0);
+  int found = 0;
+  for (size_t k = 0; k < faces && found < 2; ++k) {
+    const Vec2 a0 = at + corners[k], d = corners[(k + 1) % n] - corners[k];
+    if (!pointOnFace(p, a0, d, at)) continue;
+    if (const std::optional<Vec2> chosen = normalOf(Vec2{d.y, -d.x} * (1.0 / length(d)))) normal[found++] = *chosen;
+  }
+  return found;
+}
+}  // namespace
+
 int detail::polygonFacesUnderPoint(const WorldState& w, const BodySlot& b, uint32_t fixture, double now,
                                    Vec2 (&outward)[2]) {
   const auto* polygon = std::get_if<Polygon>(&w.fixtures[fixture].geometry);
   if (!polygon) return 0;
-  const Vec2 p = firstCentreAt(w, b, now);
-  const Vec2 at = faceBodyAt(w, fixture, now);
-  const size_t n = polygon->points.size();
-  int found = 0;
-  for (size_t k = 0; k < n && found < 2; ++k) {
-    const Vec2 a0 = at + polygon->points[k], d = polygon->points[(k + 1) % n] - polygon->points[k];
-    if (!pointOnFace(p, a0, d, at)) continue;
-    // Wound counter-clockwise (the world's form): the outside of edge d is d turned a quarter clockwise.
-    outward[found++] = Vec2{d.y, -d.x} * (1.0 / length(d));
-  }
-  return found;
+  // Wound counter-clockwise (the world's form): a face's right-hand side is its outside.
+  return chainFacesUnderPoint(
+      w, b, fixture, now, polygon->points, true, [](Vec2 right) { return std::optional<Vec2>(right); }, outward);
 }
 
 int detail::lineFacesUnderPoint(const WorldState& w, const BodySlot& b, uint32_t fixture, double now, Vec2 against,
                                 Vec2 (&normal)[2]) {
   const Geometry& g = w.fixtures[fixture].geometry;
+  std::span<const Vec2> corners;
   Vec2 ends[2];
-  const Vec2* points = nullptr;
-  size_t count = 0;
   if (const auto* s = std::get_if<Segment>(&g)) {
     ends[0] = s->a;
     ends[1] = s->b;
-    points = ends;
-    count = 2;
+    corners = ends;
   } else if (const auto* l = std::get_if<Polyline>(&g)) {
-    points = l->points.data();
-    count = l->points.size();
+    corners = l->points;
   }
-  const Vec2 p = firstCentreAt(w, b, now);
-  const Vec2 at = faceBodyAt(w, fixture, now);
-  int found = 0;
-  for (size_t k = 0; k + 1 < count && found < 2; ++k) {
-    const Vec2 a0 = at + points[k], d = points[k + 1] - points[k];
-    if (!pointOnFace(p, a0, d, at)) continue;
-    const Vec2 side = Vec2{d.y, -d.x} * (1.0 / length(d));
-    const double facing = dot(side, against);
-    if (facing == 0) continue;
-    normal[found++] = facing < 0 ? side : -side;
-  }
-  return found;
+  auto facingAgainst = [against](Vec2 right) -> std::optional<Vec2> {
+    const double facing = dot(right, against);
+    if (facing == 0) return std::nullopt;
+    return facing < 0 ? right : -right;
+  };
+  return chainFacesUnderPoint(w, b, fixture, now, corners, false, facingAgainst, normal);
 }
 
 bool detail::isFlatFeature(const WorldState& w, uint32_t fixture, int feature) {
