@@ -337,8 +337,14 @@ void detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContac
     // At rest: still, or moving by what a solve leaves as round-off, far below any bounce (a feather disk
     // that the walls hold, at 3e-269 units/s, kept a point in the box's ceiling corner from the rules
     // below, and the two met 9,700 times at one instant until the step's budget ran out:
-    // fuzz/regressions/world_api/budget-hybrid-point-at-a-feather-disk-still-to-round-off).
-    const bool holderAtRest = length(holderVelocity) <= detail::kAbsorbRoundOff * w.def.restingSpeed;
+    // fuzz/regressions/world_api/budget-hybrid-point-at-a-feather-disk-still-to-round-off). Or slower
+    // than restingSpeed, as a body that may sleep, and not closing on the point: a point falling into the
+    // V of a wall and a disk resting against it, the disk's island drifting down at 2e-5 units/s, bounced
+    // across the V, 1e-14 wide, every 1.5e-12 s until the step's budget ran out
+    // (budget-hybrid-point-rattling-in-the-cusp-of-a-drifting-disk-and-a-wall). A point asleep on a body
+    // that moves wakes at the next step's start (wakeSleepersOfMovingBodies).
+    const bool holderAtRest = length(holderVelocity) <= detail::kAbsorbRoundOff * w.def.restingSpeed ||
+                              (length(holderVelocity) < w.def.restingSpeed && vo <= 0);
     if (holderAtRest && caughtAgainstFace(w, p, pointIsA ? c.b : c.a, n, c.time)) {
       // Caught where the stepped body, at rest, touches the face the point remembers, the two normals
       // opposed: each contact's impulse (the island's bounce at restingSpeed, the face's) drives it into
