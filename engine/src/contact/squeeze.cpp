@@ -98,6 +98,17 @@ bool heldUpBy(Vec2 g, Vec2 f, Vec2 n) {
   return a >= 0 && b >= 0;
 }
 
+// Whether contacts with normals f and n (toward the body), opposed as in a cusp (kCuspCosine), make a
+// channel that lies level to within that same angle: one of them within it of straight up. Such a channel
+// holds a point in it as a level floor would; the cone test (heldUpBy) asks for up strictly between the
+// two, which a channel on a disk's top 2.4e-6 of a radian off its apex is not.
+bool levelChannel(Vec2 g, Vec2 f, Vec2 n) {
+  const double weight = length(g);
+  if (!(weight > 0) || !(dot(f, n) < -kCuspCosine)) return false;
+  const Vec2 up = -g * (1.0 / weight);
+  return dot(f, up) >= kCuspCosine || dot(n, up) >= kCuspCosine;
+}
+
 // Whether a point that a stepped body's contact (normal n toward the point) holds is held up against
 // gravity by that contact and a static face the point lies on: the corner of a box's wall and a disk that
 // fills the box, when the face the point remembers is the box's ceiling. A polygon's face has its outside;
@@ -360,13 +371,17 @@ void detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContac
       // corner inside a feather disk, the ceiling remembered, was held by the wall and the disk's rim, and
       // slid along the rim into the wall at 5e-9 units/s, meeting the disk every 3.4e-14 s until the
       // budget ran out (budget-hybrid-points-at-a-box-ceiling-corner). A static face needs no memory of
-      // the side the point is on (heldUpAtStaticFace).
+      // the side the point is on (heldUpAtStaticFace). A level channel holds it up too (levelChannel): a
+      // point on the top of a disk at rest, 2.4e-6 of a radian off its apex, under a ceiling 6e-12 above,
+      // bounced off the disk into the ceiling and was stopped, and met the disk again every 6.5e-9 s,
+      // until the step's budget ran out (budget-hybrid-point-between-a-disk-top-and-a-ceiling).
       // Not in the cusp of a body that moves: a point above a disk sliding down a wall, stopped there
       // at each meeting, met it again and again as it fell after it (tens of thousands of events a step
       // where the normal's part alone takes a few thousand).
       p.velocity = detail::nearestVelocityMeeting(p.velocity, p.support.normal, n, target);
       if (length(p.velocity) < w.def.restingSpeed &&
-          (heldUpBy(w.def.gravity, p.support.normal, n) || heldUpAtStaticFace(w, ip, n, c.time))) {
+          (heldUpBy(w.def.gravity, p.support.normal, n) || levelChannel(w.def.gravity, p.support.normal, n) ||
+           heldUpAtStaticFace(w, ip, n, c.time))) {
         sleepOnAwakeBody(w, ip, io);
         continue;
       }
