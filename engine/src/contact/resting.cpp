@@ -450,13 +450,15 @@ void detail::placePointOnFace(WorldState& w, BodySlot& b, const PredictedContact
   if (length(at - b.position) <= 0x1p-20 * (length(at) + 1)) b.position = at;
 }
 
-void detail::sleepOnAwakeBody(WorldState& w, uint32_t bodyIndex, uint32_t supporter) {
-  w.supporters.assign(1, supporter);
+void detail::sleepOnAwakeBodies(WorldState& w, uint32_t bodyIndex, std::span<const uint32_t> supporters) {
+  w.supporters.assign(supporters.begin(), supporters.end());
   putToSleep(w, bodyIndex, w.supporters);
-  const std::pair<uint32_t, uint32_t> entry{bodyIndex, supporter};
   auto& list = w.sleepersOnAwakeBodies;
-  const auto at = std::lower_bound(list.begin(), list.end(), entry);
-  if (at == list.end() || *at != entry) list.insert(at, entry);
+  for (uint32_t supporter : supporters) {
+    const std::pair<uint32_t, uint32_t> entry{bodyIndex, supporter};
+    const auto at = std::lower_bound(list.begin(), list.end(), entry);
+    if (at == list.end() || *at != entry) list.insert(at, entry);
+  }
 }
 
 void detail::wakeSleepersOfMovingBodies(WorldState& w) {

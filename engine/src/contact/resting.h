@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "world/world_impl.h"
@@ -41,13 +42,14 @@ double distanceFromRememberedFace(const WorldState& w, const detail::BodySlot& b
 /// A point meeting a static face at `c`: where the time of impact took it as met at the face's end from
 /// beyond it (a joint's reach, time_of_impact.cpp), it moves to that end, the contact's point.
 void placePointOnFace(WorldState& w, detail::BodySlot& b, const detail::PredictedContact& c);
-/// Puts a point to sleep held by an awake body at rest (squeeze.cpp: a point caught between a stepped
-/// body and a face), and lists it in WorldState::sleepersOnAwakeBodies.
-void sleepOnAwakeBody(WorldState& w, uint32_t body, uint32_t supporter);
+/// Puts a point to sleep held by awake bodies at rest (squeeze.cpp: a point caught between a stepped
+/// body and a face, or in the pinch of two bodies), and lists it in WorldState::sleepersOnAwakeBodies
+/// with each of them.
+void sleepOnAwakeBodies(WorldState& w, uint32_t body, std::span<const uint32_t> supporters);
 /// At a step's start: wakes the sleepers of WorldState::sleepersOnAwakeBodies whose supporter moves,
 /// and forgets those whose supporter has gone to sleep (its wake wakes them) or that are awake.
 void wakeSleepersOfMovingBodies(WorldState& w);
-/// Lists every sleeper held by an awake body (what sleepOnAwakeBody listed), in order: a loaded world's.
+/// Lists every sleeper held by an awake body (what sleepOnAwakeBodies listed), in order: a loaded world's.
 void findSleepersOnAwakeBodies(WorldState& w);
 /// The side of face `feature` of the static or kinematic `fixture` that a point lying on it is on, when
 /// the point knows it: the face it remembers (Support), or another face in a corner with that one, where

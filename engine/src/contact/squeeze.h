@@ -50,7 +50,7 @@ bool squeezeAt(WorldState& w, const detail::PredictedContact& c);
 /// stops doing so, at the velocity the island left that body (never faster than it was). Caught between
 /// that body, at rest, and the face the point remembers (on the face, or in the cusp the body leaves
 /// against it), the point takes the velocity nearest its own that meets both contacts, and sleeps there
-/// when that is slow and the two hold it up (sleepOnAwakeBody).
+/// when that is slow and the two hold it up (sleepOnAwakeBodies).
 void stopPointAtSteppedBody(WorldState& w, const detail::PredictedContact& c);
 
 }  // namespace rattle::detail
