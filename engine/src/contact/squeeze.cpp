@@ -642,12 +642,15 @@ bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {
   };
   const bool pinchNow = pinched(ia, c.a) || pinched(ib, c.b);
   // Or such a point, past the squeeze count, whose last contact was with another dynamic body that it
-  // still touches (within the cusp's reach), both bodies still to round-off, the two contacts holding it
-  // up: it rests in the pinch. A point fell into the V of two disks touching side by side on a floor,
-  // just above their touch, and bounced from one to the other at restingSpeed every 2.2e-12 s until the
+  // still touches (within the cusp's reach), both bodies asleep or slower than restingSpeed and not
+  // closing on it (as stopPointAtSteppedBody takes a holder at rest), the two contacts holding it up: it
+  // rests in the pinch. A point fell into the V of two disks touching side by side on a floor, just
+  // above their touch, and bounced from one to the other at restingSpeed every 2.2e-12 s until the
   // step's 20,000 events ran out (fuzz/regressions/world_api/budget-predictive-point-in-the-pinch-of-two-
-  // disks-on-a-floor). Passed through, it would fall through what holds it up; it sleeps there instead,
-  // woken at the next step's start unless both are stepped and still (wakeSleepersOfMovingBodies).
+  // disks-on-a-floor); another did so between a sleeping disk and one in an island moving at 4e-13 units/s
+  // (budget-hybrid-point-in-the-pinch-of-a-sleeping-disk-and-a-stepped-one). Passed through, it would fall
+  // through what holds it up; it sleeps there instead, woken at the next step's start unless both are
+  // asleep or stepped and still (wakeSleepersOfMovingBodies).
   auto restsInPinch = [&](uint32_t point, uint32_t pointFixture, uint32_t other) {
     const BodySlot& p = w.bodies[point];
     if (!(w.def.restingSpeed > 0) || !detail::isPoint(w.fixtures[pointFixture].geometry) || !busy(p) ||
@@ -656,18 +659,19 @@ bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {
     const uint32_t last = w.lastPartnerFixture(point);
     const detail::FixtureSlot& lastFixture = w.fixtures[last];
     const BodySlot& lastBody = w.bodies[lastFixture.body];
-    if (last == c.a || last == c.b || lastBody.type != BodyType::Dynamic || lastBody.asleep) return false;
-    auto still = [&](const BodySlot& b) {
-      return length(w.velocityAt(b, c.time)) <= detail::kAbsorbRoundOff * w.def.restingSpeed;
-    };
-    if (!still(lastBody) || !still(w.bodies[other])) return false;
+    if (last == c.a || last == c.b || lastBody.type != BodyType::Dynamic) return false;
     const Vec2 at = w.positionAt(p, c.time) + detail::circleCentre(w.fixtures[pointFixture].geometry);
     const Vec2 lastCentre = w.positionAt(lastBody, c.time) + detail::circleCentre(lastFixture.geometry);
     const double distance = length(at - lastCentre);
     const double gap = distance - detail::circleRadius(lastFixture.geometry);
     if (!(distance > 0) || !(std::fabs(gap) <= cuspReach(w, last, detail::pointRoundOff(at, lastCentre)))) return false;
+    const Vec2 f = (at - lastCentre) * (1.0 / distance);  // from the last body toward the point
     const Vec2 n = pointFixture == c.a ? c.normal : -c.normal;  // from this body toward the point
-    return heldUpBy(w.def.gravity, (at - lastCentre) * (1.0 / distance), n);
+    auto holds = [&](const BodySlot& b, Vec2 toward) {
+      const Vec2 v = w.velocityAt(b, c.time);
+      return b.asleep || (length(v) < w.def.restingSpeed && !(dot(v, toward) > 0));
+    };
+    return holds(lastBody, f) && holds(w.bodies[other], n) && heldUpBy(w.def.gravity, f, n);
   };
   for (const auto& [point, pointFixture, other] : {std::tuple{ia, c.a, ib}, std::tuple{ib, c.b, ia}}) {
     if (!restsInPinch(point, pointFixture, other)) continue;
