@@ -422,8 +422,7 @@ void detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContac
       // (zero meets both where the body moves away faster than restingSpeed; where it does not, the
       // cases above and the slide below hold the point). Points on a wall above a feather disk that moved
       // down along it followed it, met every 3e-16 s: two on one spot, met in turn, until the budget ran
-      // out (budget-hybrid-two-points-on-one-spot-under-a-feather-disk, and ten more such inputs of steps
-      // of 1 s from one fuzz run).
+      // out (budget-hybrid-two-points-on-one-spot-under-a-feather-disk).
       bool acted = false;
       if (pressed && knowsFace && feather && !clear && leave <= 0) {
         acted = true;
