@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <span>
 #include <tuple>
 
@@ -103,6 +104,12 @@ bool heldUpBy(Vec2 g, Vec2 f, Vec2 n) {
   if (det == 0 || (g.x == 0 && g.y == 0)) return false;
   const double a = cross(-g, n) / det, b = cross(f, -g) / det;
   return a >= 0 && b >= 0;
+}
+
+// Whether a body moving at v holds a point it touches (its normal `toward` the point) as one at rest
+// would: slower than restingSpeed, as a body that may sleep, and not closing on the point.
+bool slowAndNotClosing(const detail::WorldState& w, Vec2 v, Vec2 toward) {
+  return length(v) < w.def.restingSpeed && !(dot(v, toward) > 0);
 }
 
 // Whether contacts with normals f and n (toward the body), opposed as in a cusp (kCuspCosine), make a
@@ -362,7 +369,7 @@ void detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContac
     // (budget-hybrid-point-rattling-in-the-cusp-of-a-drifting-disk-and-a-wall). A point asleep on a body
     // that moves wakes at the next step's start (wakeSleepersOfMovingBodies).
     const bool holderAtRest = length(holderVelocity) <= detail::kAbsorbRoundOff * w.def.restingSpeed ||
-                              (length(holderVelocity) < w.def.restingSpeed && vo <= 0);
+                              slowAndNotClosing(w, holderVelocity, n);
     if (holderAtRest && caughtAgainstFace(w, p, pointIsA ? c.b : c.a, n, c.time)) {
       // Caught where the stepped body, at rest, touches the face the point remembers, the two normals
       // opposed: each contact's impulse (the island's bounce at restingSpeed, the face's) drives it into
@@ -396,8 +403,9 @@ void detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContac
     } else {
       const bool onFace = remembersLiveFace(w, p) && pointOnRememberedFace(w, p, c.time);
       const double leave = target + w.def.restingSpeed;
-      const bool pressed = w.def.restingSpeed > 0 && detail::pressedTogether(p.acceleration - o.acceleration, n) &&
-                           vp < leave;
+      // Pressed into the body by gravity and leaving it slower than restingSpeed (below).
+      const bool pressedSlow =
+          w.def.restingSpeed > 0 && detail::pressedTogether(p.acceleration - o.acceleration, n) && vp < leave;
       const bool knowsFace =
           remembersLiveFace(w, p) && std::isfinite(detail::distanceFromRememberedFace(w, p, c.time));
       const bool feather = o.mass <= kFeatherRatio * p.mass;
@@ -424,10 +432,10 @@ void detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContac
       // down along it followed it, met every 3e-16 s: two on one spot, met in turn, until the budget ran
       // out (budget-hybrid-two-points-on-one-spot-under-a-feather-disk).
       bool acted = false;
-      if (pressed && knowsFace && feather && !clear && leave <= 0) {
+      if (pressedSlow && knowsFace && feather && !clear && leave <= 0) {
         acted = true;
         p.velocity = detail::nearestVelocityMeeting(p.velocity, p.support.normal, n, leave);
-      } else if (pressed && (!knowsFace || (feather && clear))) {
+      } else if (pressedSlow && (!knowsFace || (feather && clear))) {
         acted = true;
         p.velocity += n * (leave - vp);
       } else if (vp < 0 && vp < vo) {
@@ -627,21 +635,28 @@ bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {
   // disks held still by others, met them in turn at one instant until the step's 20,000 events ran out
   // (fuzz/regressions/world_api/budget-hybrid-point-in-the-wedge-of-two-disks). Neither the point's last
   // contact nor this one is this pair met again, which the rules above ask for.
-  auto pinched = [&](uint32_t point, uint32_t pointFixture) {
+  // A point past the squeeze count whose last contact in this step was with a dynamic body other than
+  // this pair's: that contact's other fixture, and the point's centre and that fixture's centre now (a
+  // dynamic body holds only circles and points: its normal at the point is from its centre).
+  struct LastPartner {
+    uint32_t fixture;
+    Vec2 at, centre;
+  };
+  auto lastDynamicPartner = [&](uint32_t point, uint32_t pointFixture) -> std::optional<LastPartner> {
     const BodySlot& p = w.bodies[point];
-    if (!detail::isPoint(w.fixtures[pointFixture].geometry) || !busy(p) || p.last.time < 0 ||
-        !atThisInstant(p.last.time))
-      return false;
+    if (!detail::isPoint(w.fixtures[pointFixture].geometry) || !busy(p) || p.last.time < 0) return std::nullopt;
     const uint32_t last = w.lastPartnerFixture(point);
     const detail::FixtureSlot& lastFixture = w.fixtures[last];
-    if (last == c.a || last == c.b || w.bodies[lastFixture.body].type != BodyType::Dynamic) return false;
-    const Vec2 at = w.positionAt(p, c.time) + detail::circleCentre(w.fixtures[pointFixture].geometry);
-    // A dynamic body holds only circles and points: its normal at the point is from its centre.
-    const Vec2 lastCentre =
-        w.positionAt(w.bodies[lastFixture.body], c.time) + detail::circleCentre(lastFixture.geometry);
-    const Vec2 away = at - lastCentre;
+    if (last == c.a || last == c.b || w.bodies[lastFixture.body].type != BodyType::Dynamic) return std::nullopt;
+    return LastPartner{last, w.positionAt(p, c.time) + detail::circleCentre(w.fixtures[pointFixture].geometry),
+                       w.positionAt(w.bodies[lastFixture.body], c.time) + detail::circleCentre(lastFixture.geometry)};
+  };
+  auto pinched = [&](uint32_t point, uint32_t pointFixture) {
+    const BodySlot& p = w.bodies[point];
+    if (p.last.time < 0 || !atThisInstant(p.last.time)) return false;
+    const std::optional<LastPartner> last = lastDynamicPartner(point, pointFixture);
     const Vec2 n = pointFixture == c.a ? c.normal : -c.normal;  // from this body toward the point
-    return dot(away, n) < 0;
+    return last && dot(last->at - last->centre, n) < 0;
   };
   const bool pinchNow = pinched(ia, c.a) || pinched(ib, c.b);
   // Or such a point, past the squeeze count, whose last contact was with another dynamic body that it
@@ -655,26 +670,19 @@ bool detail::passesThrough(WorldState& w, const detail::PredictedContact& c) {
   // through what holds it up; it sleeps there instead, woken at the next step's start unless both are
   // asleep or stepped and still (wakeSleepersOfMovingBodies).
   auto restsInPinch = [&](uint32_t point, uint32_t pointFixture, uint32_t other) {
-    const BodySlot& p = w.bodies[point];
-    if (!(w.def.restingSpeed > 0) || !detail::isPoint(w.fixtures[pointFixture].geometry) || !busy(p) ||
-        p.last.time < 0)
-      return false;
-    const uint32_t last = w.lastPartnerFixture(point);
-    const detail::FixtureSlot& lastFixture = w.fixtures[last];
-    const BodySlot& lastBody = w.bodies[lastFixture.body];
-    if (last == c.a || last == c.b || lastBody.type != BodyType::Dynamic) return false;
-    const Vec2 at = w.positionAt(p, c.time) + detail::circleCentre(w.fixtures[pointFixture].geometry);
-    const Vec2 lastCentre = w.positionAt(lastBody, c.time) + detail::circleCentre(lastFixture.geometry);
-    const double distance = length(at - lastCentre);
-    const double gap = distance - detail::circleRadius(lastFixture.geometry);
-    if (!(distance > 0) || !(std::fabs(gap) <= cuspReach(w, last, detail::pointRoundOff(at, lastCentre)))) return false;
-    const Vec2 f = (at - lastCentre) * (1.0 / distance);  // from the last body toward the point
-    const Vec2 n = pointFixture == c.a ? c.normal : -c.normal;  // from this body toward the point
+    if (!(w.def.restingSpeed > 0)) return false;
+    const std::optional<LastPartner> last = lastDynamicPartner(point, pointFixture);
+    if (!last) return false;
+    const double distance = length(last->at - last->centre);
+    const double gap = distance - detail::circleRadius(w.fixtures[last->fixture].geometry);
+    const double roundOff = detail::pointRoundOff(last->at, last->centre);
+    if (!(distance > 0) || !(std::fabs(gap) <= cuspReach(w, last->fixture, roundOff))) return false;
+    const Vec2 f = (last->at - last->centre) * (1.0 / distance);  // from the last body toward the point
+    const Vec2 n = pointFixture == c.a ? c.normal : -c.normal;     // from this body toward the point
     auto holds = [&](const BodySlot& b, Vec2 toward) {
-      const Vec2 v = w.velocityAt(b, c.time);
-      return b.asleep || (length(v) < w.def.restingSpeed && !(dot(v, toward) > 0));
+      return b.asleep || slowAndNotClosing(w, w.velocityAt(b, c.time), toward);
     };
-    return holds(lastBody, f) && holds(w.bodies[other], n) && heldUpBy(w.def.gravity, f, n);
+    return holds(w.bodyOf(last->fixture), f) && holds(w.bodies[other], n) && heldUpBy(w.def.gravity, f, n);
   };
   for (const auto& [point, pointFixture, other] : {std::tuple{ia, c.a, ib}, std::tuple{ib, c.b, ia}}) {
     if (!restsInPinch(point, pointFixture, other)) continue;
