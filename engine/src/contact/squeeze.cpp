@@ -337,7 +337,7 @@ bool detail::squeezeAt(WorldState& w, const detail::PredictedContact& c) {
   return true;
 }
 
-void detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContact& c) {
+void detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContact& c, double dt) {
   // A point joins no island (jam.cpp: an island's contacts cannot tell a point's side of a face). A
   // stepped body it hits takes the hit as a free body would, and the solve of its island after it
   // (settleAround) takes back what the island's holders do not let it keep, while the point keeps what
@@ -370,7 +370,17 @@ void detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContac
     // that moves wakes at the next step's start (wakeSleepersOfMovingBodies).
     const bool holderAtRest = length(holderVelocity) <= detail::kAbsorbRoundOff * w.def.restingSpeed ||
                               slowAndNotClosing(w, holderVelocity, n);
-    if (holderAtRest && caughtAgainstFace(w, p, pointIsA ? c.b : c.a, n, c.time)) {
+    // Or leaving the point, not closing on it, so slowly that a point asleep there hovers above it by the
+    // step's end no more than an island's solve may leave two bodies overlapping (kJamResidual of its
+    // radius): a point that fell into the V of a wall and a disk sliding down it at three times
+    // restingSpeed bounced across the V, 1e-13 wide, every 5e-12 s until the step's budget ran out
+    // (budget-hybrid-point-in-the-v-of-a-wall-and-a-disk-sliding-down-it). The velocity that meets both
+    // contacts there is the V's own, the body's along the face.
+    const double hover = length(holderVelocity) * (dt - c.time);
+    const bool holderLeavesSlowly =
+        !(dot(holderVelocity, n) > 0) &&
+        hover <= Islands::kJamResidual * detail::circleRadius(w.fixtures[pointIsA ? c.b : c.a].geometry);
+    if ((holderAtRest || holderLeavesSlowly) && caughtAgainstFace(w, p, pointIsA ? c.b : c.a, n, c.time)) {
       // Caught where the stepped body, at rest, touches the face the point remembers, the two normals
       // opposed: each contact's impulse (the island's bounce at restingSpeed, the face's) drives it into
       // the other, and the bounces come ever faster as it goes deeper. Under an overhang, a point that
@@ -389,11 +399,14 @@ void detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContac
       // point on the top of a disk at rest, 2.4e-6 of a radian off its apex, under a ceiling 6e-12 above,
       // bounced off the disk into the ceiling and was stopped, and met the disk again every 6.5e-9 s,
       // until the step's budget ran out (budget-hybrid-point-between-a-disk-top-and-a-ceiling).
-      // Not in the cusp of a body that moves: a point above a disk sliding down a wall, stopped there
-      // at each meeting, met it again and again as it fell after it (tens of thousands of events a step
-      // where the normal's part alone takes a few thousand).
+      // In the cusp of a body that moves, only where a point asleep there would hover within kJamResidual
+      // (above): stopped there at each meeting instead of put to sleep, a point above a disk sliding down a
+      // wall met it again and again as it fell after it (tens of thousands of events a step where the
+      // normal's part alone takes a few thousand). Asleep, it keeps no velocity, and the body's own (which
+      // is what meets both contacts) counts as slow.
       p.velocity = detail::nearestVelocityMeeting(p.velocity, p.support.normal, n, target);
-      if (length(p.velocity) < w.def.restingSpeed &&
+      const double carried = holderAtRest ? 0.0 : length(holderVelocity);
+      if (length(p.velocity) < w.def.restingSpeed + carried &&
           (heldUpBy(w.def.gravity, p.support.normal, n) || levelChannel(w.def.gravity, p.support.normal, n) ||
            heldUpAtStaticFace(w, ip, n, c.time))) {
         sleepOnAwakeBodies(w, ip, std::span<const uint32_t>(&io, 1));

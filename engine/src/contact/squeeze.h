@@ -48,9 +48,11 @@ bool squeezeAt(WorldState& w, const detail::PredictedContact& c);
 /// After a collision of a point with a stepped body (an island's member) and the island's solve after
 /// it: a point past kSqueezeCollisions collisions in the step that still moves into the stepped body
 /// stops doing so, at the velocity the island left that body (never faster than it was). Caught between
-/// that body, at rest, and the face the point remembers (on the face, or in the cusp the body leaves
-/// against it), the point takes the velocity nearest its own that meets both contacts, and sleeps there
-/// when that is slow and the two hold it up (sleepOnAwakeBodies).
-void stopPointAtSteppedBody(WorldState& w, const detail::PredictedContact& c);
+/// that body, at rest or leaving so slowly that it would leave a sleeper there at most
+/// Islands::kJamResidual of its radius below by the step's end `dt`, and the face the point remembers (on
+/// the face, or in the cusp the body leaves against it), the point takes the velocity nearest its own
+/// that meets both contacts, and sleeps there when that is slow and the two hold it up
+/// (sleepOnAwakeBodies).
+void stopPointAtSteppedBody(WorldState& w, const detail::PredictedContact& c, double dt);
 
 }  // namespace rattle::detail

@@ -656,7 +656,7 @@ void HybridStep::collide(const PredictedContact& c, double dt, std::vector<uint3
     h_.islands.settleAround(std::span(&body, 1), 1, c.time, dt);
   }
   // A point that keeps meeting a stepped body there meets one that does not yield (squeeze.cpp).
-  if (zenoGuard) detail::stopPointAtSteppedBody(w, c);
+  if (zenoGuard) detail::stopPointAtSteppedBody(w, c, dt);
   for (uint32_t body : woken) {
     if (body != ia && body != ib) repredict(body, c.time, dt, true);
   }
