@@ -347,12 +347,13 @@ void detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContac
   // that does not yield: the point's velocity along the normal becomes the body's (or zero, when the body
   // comes toward it), which only ever slows the point.
   for (const bool pointIsA : {true, false}) {
-    const uint32_t ip = w.fixtures[pointIsA ? c.a : c.b].body;
-    const uint32_t io = w.fixtures[pointIsA ? c.b : c.a].body;
+    const uint32_t pointFixture = pointIsA ? c.a : c.b, holderFixture = pointIsA ? c.b : c.a;
+    const uint32_t ip = w.fixtures[pointFixture].body;
+    const uint32_t io = w.fixtures[holderFixture].body;
     BodySlot& p = w.bodies[ip];
     const BodySlot& o = w.bodies[io];
     if (!o.stepped || p.type != BodyType::Dynamic || p.asleep || p.stepCollisions <= w.kSqueezeCollisions) continue;
-    if (!detail::isPoint(w.fixtures[pointIsA ? c.a : c.b].geometry)) continue;
+    if (!detail::isPoint(w.fixtures[pointFixture].geometry)) continue;
     const Vec2 n = pointIsA ? c.normal : -c.normal;  // from the stepped body toward the point
     w.advance(p, c.time);
     const double vp = dot(p.velocity, n);
@@ -379,8 +380,8 @@ void detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContac
     const double hover = length(holderVelocity) * (dt - c.time);
     const bool holderLeavesSlowly =
         !(dot(holderVelocity, n) > 0) &&
-        hover <= Islands::kJamResidual * detail::circleRadius(w.fixtures[pointIsA ? c.b : c.a].geometry);
-    if ((holderAtRest || holderLeavesSlowly) && caughtAgainstFace(w, p, pointIsA ? c.b : c.a, n, c.time)) {
+        hover <= Islands::kJamResidual * detail::circleRadius(w.fixtures[holderFixture].geometry);
+    if ((holderAtRest || holderLeavesSlowly) && caughtAgainstFace(w, p, holderFixture, n, c.time)) {
       // Caught where the stepped body, at rest, touches the face the point remembers, the two normals
       // opposed: each contact's impulse (the island's bounce at restingSpeed, the face's) drives it into
       // the other, and the bounces come ever faster as it goes deeper. Under an overhang, a point that
@@ -422,7 +423,7 @@ void detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContac
       const bool knowsFace =
           remembersLiveFace(w, p) && std::isfinite(detail::distanceFromRememberedFace(w, p, c.time));
       const bool feather = o.mass <= kFeatherRatio * p.mass;
-      const bool clear = knowsFace && clearOfRememberedFace(w, p, pointIsA ? c.b : c.a, c.time);
+      const bool clear = knowsFace && clearOfRememberedFace(w, p, holderFixture, c.time);
       // Pressed into the body by gravity and leaving it slower than restingSpeed, it bounces off at
       // restingSpeed, as resolve() has a body bounce off what cannot move: stopped along the normal, or
       // left separating by round-off, it met the body again as soon as gravity brought back an approach. A
