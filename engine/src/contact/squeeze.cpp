@@ -163,6 +163,48 @@ Vec2 slideOffAlongFace(const detail::WorldState& w, const BodySlot& p, uint32_t 
   const Vec2 off = rate > 0 ? along : -along;
   return off * std::max(dot(p.velocity, off), leave / std::fabs(rate));
 }
+
+// Whether a body moving at v holds a point moving at vp that it touches (its normal `toward` the point)
+// as one at rest would to within the round-off of their relative velocity (kAbsorbRoundOff, as an
+// approach is read at a contact): slower than restingSpeed, and closing on the point no faster than that.
+bool closesByRoundOff(const detail::WorldState& w, Vec2 vp, Vec2 v, Vec2 toward) {
+  return length(v) < w.def.restingSpeed && dot(v, toward) <= detail::kAbsorbRoundOff * (length(vp) + length(v));
+}
+
+// The other side of a cusp that a point meeting a stepped body (normal n toward the point) is caught in,
+// where that side is a body's rim rather than a static face (caughtAgainstFace): a dynamic disk among the
+// point's candidates, other than the stepped body, that holds the point as one at rest would
+// (closesByRoundOff), its normal at the point opposed to n (kCuspCosine), the point on its rim to within
+// the cusp's reach.
+struct CuspSide {
+  uint32_t body;
+  Vec2 normal;  // toward the point
+};
+std::optional<CuspSide> cuspWithBody(const detail::WorldState& w, uint32_t point, uint32_t holderFixture, Vec2 n,
+                                     double now) {
+  if (point >= w.pairsOfBody.size()) return std::nullopt;
+  const BodySlot& p = w.bodies[point];
+  const Vec2 at = w.positionAt(p, now);
+  const uint32_t holder = w.fixtures[holderFixture].body;
+  for (const detail::CandidatePair& pair : w.pairsOfBody[point]) {
+    const detail::FixtureSlot& own = w.fixtures[pair.own];
+    const detail::FixtureSlot& other = w.fixtures[pair.other];
+    const BodySlot& q = w.bodies[other.body];
+    if (own.sensor || other.sensor || other.body == holder || q.type != BodyType::Dynamic) continue;
+    const Vec2 centre = w.positionAt(q, now) + detail::circleCentre(other.geometry);
+    const Vec2 r = at - centre;
+    const double distance = length(r);
+    if (!(distance > 0)) continue;
+    const Vec2 f = r * (1.0 / distance);
+    if (!(dot(f, n) < -kCuspCosine)) continue;
+    if (!q.asleep && !closesByRoundOff(w, w.velocityAt(p, now), w.velocityAt(q, now), f)) continue;
+    const double radius = detail::circleRadius(other.geometry);
+    const double holderRadius = detail::circleRadius(w.fixtures[holderFixture].geometry);
+    const double reach = (1 - kCuspCosine) * std::min(radius, holderRadius) + detail::pointRoundOff(at, centre);
+    if (std::fabs(distance - radius) <= reach) return CuspSide{other.body, f};
+  }
+  return std::nullopt;
+}
 }  // namespace
 
 bool detail::jamsAsDriven(const WorldState& w, uint32_t body) {
@@ -381,7 +423,9 @@ void detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContac
     const bool holderLeavesSlowly =
         !(dot(holderVelocity, n) > 0) &&
         hover <= Islands::kJamResidual * detail::circleRadius(w.fixtures[holderFixture].geometry);
-    if ((holderAtRest || holderLeavesSlowly) && caughtAgainstFace(w, p, holderFixture, n, c.time)) {
+    const bool holderHolds = holderAtRest || holderLeavesSlowly;
+    const double carried = holderAtRest ? 0.0 : length(holderVelocity);
+    if (holderHolds && caughtAgainstFace(w, p, holderFixture, n, c.time)) {
       // Caught where the stepped body, at rest, touches the face the point remembers, the two normals
       // opposed: each contact's impulse (the island's bounce at restingSpeed, the face's) drives it into
       // the other, and the bounces come ever faster as it goes deeper. Under an overhang, a point that
@@ -406,7 +450,6 @@ void detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContac
       // normal's part alone takes a few thousand). Asleep, it keeps no velocity, and the body's own (which
       // is what meets both contacts) counts as slow.
       p.velocity = detail::nearestVelocityMeeting(p.velocity, p.support.normal, n, target);
-      const double carried = holderAtRest ? 0.0 : length(holderVelocity);
       if (length(p.velocity) < w.def.restingSpeed + carried &&
           (heldUpBy(w.def.gravity, p.support.normal, n) || levelChannel(w.def.gravity, p.support.normal, n) ||
            heldUpAtStaticFace(w, ip, n, c.time))) {
@@ -414,6 +457,23 @@ void detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContac
         continue;
       }
       p.velocity = slideOffAlongFace(w, p, ip, o, n, target, c.time);
+    } else if (const std::optional<CuspSide> side = holderHolds || closesByRoundOff(w, p.velocity, holderVelocity, n)
+                                                        ? cuspWithBody(w, ip, holderFixture, n, c.time)
+                                                        : std::nullopt;
+               side &&
+               (heldUpBy(w.def.gravity, side->normal, n) || levelChannel(w.def.gravity, side->normal, n)) &&
+               length(detail::nearestVelocityMeeting(p.velocity, side->normal, n, target)) <
+                   w.def.restingSpeed + carried) {
+      // So too in the cusp where the stepped body touches another disk at rest, each contact's bounce
+      // driving the point into the other: a point that fell at 2.7 units/s into the waist of two disks
+      // touching on a floor (one stepped, closing on it at 7e-15 units/s, round-off to the point's speed;
+      // one free and still) met them in turn every 3.6e-13 s until the step's budget of 20,000 events
+      // ran out (fuzz/regressions/world_api/budget-predictive-point-falls-into-the-waist-of-two-disks).
+      // It sleeps there, held by the two, and falls again at the next step's start unless each of them is
+      // asleep then or still in its island (wakeSleepersOfMovingBodies).
+      const uint32_t holders[] = {io, side->body};
+      sleepOnAwakeBodies(w, ip, holders);
+      continue;
     } else {
       const bool onFace = remembersLiveFace(w, p) && pointOnRememberedFace(w, p, c.time);
       const double leave = target + w.def.restingSpeed;
