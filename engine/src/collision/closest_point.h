@@ -116,10 +116,17 @@ inline constexpr double kAbsorbRoundOff = 16 * std::numeric_limits<double>::epsi
 /// (fuzz/regressions/world_api/budget-predictive-row-pressed-by-round-off).
 inline constexpr double kPressRoundOff = 1e-9;
 
+/// A few ulps, relative: what round-off puts in a quantity worked out from numbers of a given size.
+inline constexpr double kRoundOffUlps = 16 * std::numeric_limits<double>::epsilon();
+
 /// What round-off can put in a distance computed from these coordinates: a few ulps of each. A point
 /// (isPoint) this near a line is on it, for its times of impact, its slide's ends and its corners alike.
 inline double pointRoundOff(Vec2 a, Vec2 b, Vec2 c = {}) {
-  return 16 * std::numeric_limits<double>::epsilon() * (length(a) + length(b) + length(c));
+  return kRoundOffUlps * (length(a) + length(b) + length(c));
 }
+
+/// What round-off can put in a position reached at `speed` by a time read from a clock at `clock`: a
+/// few ulps of the clock, travelled at that speed. Beyond pointRoundOff for fast bodies or late times.
+inline double timeRoundOff(double clock, double speed) { return kRoundOffUlps * clock * speed; }
 
 }  // namespace rattle::detail

@@ -13,6 +13,7 @@
 #include <limits>
 #include <vector>
 
+#include "collision/closest_point.h"
 #include "collision/polynomial.h"
 #include "rattle/time_of_impact.h"
 
@@ -142,7 +143,7 @@ std::optional<double> timeOfOverlapChange(const Geometry& a, Vec2 positionA, con
                        std::fabs(positionB.y) + length(boxOf(a).max - boxOf(a).min) +
                        length(boxOf(b).max - boxOf(b).min);
   const double merge =
-      std::max(1e-12 * maxTime, speed > 0 ? 16 * std::numeric_limits<double>::epsilon() * scale / speed : 0.0);
+      std::max(1e-12 * maxTime, speed > 0 ? detail::kRoundOffUlps * scale / speed : 0.0);
   size_t kept = 0;
   for (size_t i = 0; i < times.size(); ++i) {
     if (kept == 0 || times[i] - times[kept - 1] > merge) times[kept++] = times[i];

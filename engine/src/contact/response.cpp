@@ -168,8 +168,7 @@ bool meetsKnownFaceFromBehind(const detail::WorldState& w, const BodySlot& a, ui
   // floor by a bounce off it, met it from below at that instant, was stopped along it as squeezed, and
   // slid out through the box's corner: fuzz/regressions/world_api/escape-hybrid-fast-point-between-floor-
   // and-ceiling). Within that, the face it remembers keeps its remembered side.
-  const double timeRoundOff = 16 * std::numeric_limits<double>::epsilon() * (std::fabs(now) + t) * length(v);
-  if (!(travel <= roundOff + timeRoundOff)) return false;
+  if (!(travel <= roundOff + detail::timeRoundOff(std::fabs(now) + t, length(v)))) return false;
   if (!detail::remembersLiveFace(w, a) || a.support.fixture != other || a.support.feature != impact.feature)
     return false;
   return dot(impact.normal, a.support.normal) < 0;
