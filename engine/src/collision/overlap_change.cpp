@@ -10,7 +10,6 @@
 // touch) is skipped by the same test, so a body grazing a sensor begins and ends nothing.
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <vector>
 
 #include "collision/closest_point.h"
