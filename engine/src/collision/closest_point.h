@@ -104,9 +104,12 @@ inline bool isPoint(const Geometry& g) {
   if (const auto* c = std::get_if<Circle>(&g)) return c->radius == 0;
   return std::holds_alternative<Point>(g);
 }
+/// A few ulps, relative: what round-off puts in a quantity worked out from numbers of a given size.
+inline constexpr double kRoundOffUlps = 16 * std::numeric_limits<double>::epsilon();
+
 /// At an event's pop, an approach slower than this times the pair's speeds (the round-off of their
 /// difference) is taken as round-off and dismissed; a faster one that is no collision is absorbed.
-inline constexpr double kAbsorbRoundOff = 16 * std::numeric_limits<double>::epsilon();
+inline constexpr double kAbsorbRoundOff = kRoundOffUlps;
 
 /// A relative acceleration presses a pair together along its contact normal only beyond this fraction
 /// of itself. A normal worked out from two centres is off by the round-off of their coordinates over
@@ -115,9 +118,6 @@ inline constexpr double kAbsorbRoundOff = 16 * std::numeric_limits<double>::epsi
 /// 1e-13 of g, and the pair was resolved at one instant without end, the resolve changing nothing
 /// (fuzz/regressions/world_api/budget-predictive-row-pressed-by-round-off).
 inline constexpr double kPressRoundOff = 1e-9;
-
-/// A few ulps, relative: what round-off puts in a quantity worked out from numbers of a given size.
-inline constexpr double kRoundOffUlps = 16 * std::numeric_limits<double>::epsilon();
 
 /// What round-off can put in a distance computed from these coordinates: a few ulps of each. A point
 /// (isPoint) this near a line is on it, for its times of impact, its slide's ends and its corners alike.
