@@ -359,6 +359,7 @@ void detail::Islands::joinIslands(std::span<const uint32_t> joining, double now,
     b.acceleration = {};
     b.clearSupport();
     b.stepped = true;
+    b.steppedSinceStart = false;
     gravityAllowance[i] = 0.5 * b.mass * dot(w.def.gravity, w.def.gravity) * (dt - now) * (dt - now);
   }
 }
@@ -1189,9 +1190,12 @@ void detail::Islands::startIslands(double dt, std::vector<uint32_t>& freed) {
   freed.clear();
   if (gravityAllowance.size() < w.bodies.size()) gravityAllowance.resize(w.bodies.size(), 0.0);
   if (steppedHeld.size() < w.bodies.size()) steppedHeld.resize(w.bodies.size(), 0);
+  if (w.stepStartVelocity.size() < w.bodies.size()) w.stepStartVelocity.resize(w.bodies.size());
   for (uint32_t i : stepped) {  // gathered by the step's first pass over the bodies
     BodySlot& b = w.bodies[i];
     w.keep(b);
+    w.stepStartVelocity[i] = b.velocity;
+    b.steppedSinceStart = true;
     b.velocity += w.def.gravity * dt;
     steppedHeld[i] = 0;
     gravityAllowance[i] = 0.5 * b.mass * dot(w.def.gravity, w.def.gravity) * dt * dt;

@@ -417,6 +417,13 @@ void detail::resolve(WorldState& w, const PredictedContact& c, std::vector<uint3
   // (fuzz/regressions/world_api/energy-predictive-free-disk-meets-a-stepped-one). From the slower of
   // the two approaches, it never does. The path stays the straight one: the last loop below keeps that
   // from still approaching.
+  // A body stepped since the step's start is read a third way, on the parabola it began the step on (its
+  // velocity then plus g t), before its island's first solve: that solve may have handed it a speed that
+  // the island pays for and a free body does not. A disk sunk through a floor, a heavy disk pressing it
+  // down, was squeezed out sideways at 17 times the heavy one's fall; a point it met took that speed as its
+  // approach and left with energy the island's own check never saw
+  // (fuzz/regressions/world_api/energy-hybrid-point-meets-a-disk-sunk-through-a-floor). The slowest of
+  // the three readings is taken (impactNormalVelocity).
   // A contact predicted as "pressing" (touching, not moving apart, pushed together by gravity) may read
   // as slightly separating after round-off: treat it as touching.
   auto approach = [&] { return std::min(impactNormalVelocity(w, a, b, n, c.time, stepEnd), 0.0); };

@@ -82,17 +82,32 @@ std::optional<Impact> pointSegmentTimeOfImpact(const WorldState& w, uint32_t own
 ContactEvent contactEventOf(const WorldState& w, uint32_t a, uint32_t b, double time, Vec2 point, Vec2 normal,
                             double impulse);
 
-/// The relative normal velocity (a's minus b's along n, which points from b toward a) that a contact's
-/// impulse is computed from at time t: where one of the two is stepped and the other is not, the
-/// slower approach of the straight path's and of the parabola's it stands in for, ending at stepEnd
-/// (response.cpp says why). stepEnd < 0 (no stepped bodies): the straight one.
-inline double impactNormalVelocity(const WorldState& w, const BodySlot& a, const BodySlot& b, Vec2 n, double t,
-                                   double stepEnd) {
+/// The relative normal velocity (a's minus b's along n, which points from b toward a) of their paths at
+/// time t: where one of the two is stepped and the other is not, the slower approach of the straight
+/// path's and of the parabola's it stands in for, ending at stepEnd (response.cpp says why). stepEnd < 0
+/// (no stepped bodies): the straight one. HybridStep::joinsIsland reads this one.
+inline double pathNormalVelocity(const WorldState& w, const BodySlot& a, const BodySlot& b, Vec2 n, double t,
+                                 double stepEnd) {
   const double straight = dot(w.velocityAt(a, t) - w.velocityAt(b, t), n);
   if (stepEnd < 0 || a.stepped == b.stepped) return straight;
   const Vec2 g = w.def.gravity * (stepEnd - t);  // what the stepped one has taken ahead of its parabola
   const double parabola = straight + dot(a.stepped ? -g : g, n);
   return std::max(straight, parabola);
+}
+
+/// The relative normal velocity that a contact's impulse is computed from at time t: the paths' reading
+/// (pathNormalVelocity), and where the stepped one has been stepped since the step's start, the slower of
+/// that and the approach it would have on the parabola it began the step on (response.cpp says why).
+inline double impactNormalVelocity(const WorldState& w, const BodySlot& a, const BodySlot& b, Vec2 n, double t,
+                                   double stepEnd) {
+  const double path = pathNormalVelocity(w, a, b, n, t, stepEnd);
+  if (stepEnd < 0 || a.stepped == b.stepped) return path;
+  const BodySlot& s = a.stepped ? a : b;
+  if (!s.steppedSinceStart) return path;
+  const Vec2 onStartParabola = w.stepStartVelocity[static_cast<size_t>(&s - w.bodies.data())] + w.def.gravity * t;
+  const double start = a.stepped ? dot(onStartParabola - w.velocityAt(b, t), n)
+                                 : dot(w.velocityAt(a, t) - onStartParabola, n);
+  return std::max(path, start);
 }
 
 }  // namespace rattle::detail

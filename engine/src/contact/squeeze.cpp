@@ -205,7 +205,49 @@ std::optional<CuspSide> cuspWithBody(const detail::WorldState& w, uint32_t point
   }
   return std::nullopt;
 }
+
+// A point caught against the face it remembers by a stepped body that moves along that face too fast to
+// hold it as one at rest would (stopPointAtSteppedBody's holderHolds), not closing on it, where the face
+// and the body hold it up against gravity (heldUpBy): the wedge between a box's wall and a disk that an
+// island moves down along it. Gravity's part along the body's normal presses the point into it, the
+// bounce off the body at restingSpeed takes it into the face, and the face sends it back: a point 1.6e-5
+// of a radian above such a disk's equator met it every 1.6e-8 s until the step's 20,000 events ran out
+// (fuzz/regressions/world_api/budget-hybrid-point-in-the-wedge-of-a-wall-and-a-disk-moving-down-it). A
+// point joins no island, so nothing else carries it down with the body, and it cannot sleep there (the
+// body moves). It takes the velocity nearest its own that meets both contacts (target along the body's
+// normal n, toward the point) and no acceleration for the rest of the step: the body's island is held on
+// straight paths too, so the wedge moves on a straight line and the point in it stays there. The step's
+// end gives gravity back (restoreCarriedPoints). Not where that velocity rises against gravity: the point
+// falls more slowly than it would, which gives nothing back only while it does not climb.
+bool carryPointInWedge(detail::WorldState& w, uint32_t point, uint32_t holderFixture, Vec2 n, double target,
+                       double now) {
+  BodySlot& p = w.bodies[point];
+  const Vec2 g = w.def.gravity;
+  if (!(w.def.restingSpeed > 0) || !(target <= 0) || !heldUpBy(g, p.support.normal, n) ||
+      !caughtAgainstFace(w, p, holderFixture, n, now))
+    return false;
+  const Vec2 velocity = detail::nearestVelocityMeeting(p.velocity, p.support.normal, n, target);
+  if (dot(velocity, g) < 0) return false;
+  w.keep(p);
+  p.velocity = velocity;
+  p.acceleration = {};
+  w.carriedPoints.push_back(point);
+  return true;
+}
+
 }  // namespace
+
+void detail::restoreCarriedPoints(WorldState& w, double end) {
+  for (uint32_t i : w.carriedPoints) {
+    BodySlot& b = w.bodies[i];
+    // Asleep, stepped or sliding since, its acceleration is already what that state asks for.
+    if (!b.alive || b.type != BodyType::Dynamic || b.asleep || b.stepped || b.sliding || !(b.acceleration == Vec2{}))
+      continue;
+    w.advance(b, end);
+    b.acceleration = w.def.gravity;
+  }
+  w.carriedPoints.clear();
+}
 
 bool detail::jamsAsDriven(const WorldState& w, uint32_t body) {
   if (w.bodies[body].driven) return true;
@@ -425,7 +467,9 @@ void detail::stopPointAtSteppedBody(WorldState& w, const detail::PredictedContac
         hover <= Islands::kJamResidual * detail::circleRadius(w.fixtures[holderFixture].geometry);
     const bool holderHolds = holderAtRest || holderLeavesSlowly;
     const double carried = holderAtRest ? 0.0 : length(holderVelocity);
-    if (holderHolds && caughtAgainstFace(w, p, holderFixture, n, c.time)) {
+    if (!holderHolds && carryPointInWedge(w, ip, holderFixture, n, target, c.time)) {
+      // Carried (carryPointInWedge): it keeps no acceleration the step's next meetings could read.
+    } else if (holderHolds && caughtAgainstFace(w, p, holderFixture, n, c.time)) {
       // Caught where the stepped body, at rest, touches the face the point remembers, the two normals
       // opposed: each contact's impulse (the island's bounce at restingSpeed, the face's) drives it into
       // the other, and the bounces come ever faster as it goes deeper. Under an overhang, a point that

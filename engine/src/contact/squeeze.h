@@ -53,6 +53,12 @@ bool squeezeAt(WorldState& w, const detail::PredictedContact& c);
 /// the face, or in the cusp the body leaves against it), the point takes the velocity nearest its own
 /// that meets both contacts, and sleeps there when that is slow and the two hold it up
 /// (sleepOnAwakeBodies).
+/// Caught so against a face by a stepped body that moves along it too fast to hold it, not closing on it,
+/// where the two hold it up, the point is carried: that velocity and no acceleration for the rest of the
+/// step (WorldState::carriedPoints), until restoreCarriedPoints.
 void stopPointAtSteppedBody(WorldState& w, const detail::PredictedContact& c, double dt);
+/// At the step's end `end`, before the last pass: gives the points stopPointAtSteppedBody carried their
+/// gravity back, their clocks moved to `end` first, and empties the list.
+void restoreCarriedPoints(WorldState& w, double end);
 
 }  // namespace rattle::detail

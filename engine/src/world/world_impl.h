@@ -77,6 +77,10 @@ struct alignas(64) BodySlot {
   // In a stepped island (island.cpp): its contacts with other stepped bodies and with what cannot move
   // are held by a solve once per step, and it moves along straight lines. Kept from step to step.
   bool stepped : 1 = false;
+  // Stepped since the step's start (Islands::startIslands), its velocity before that step's gravity and
+  // solve in WorldState::stepStartVelocity; a body that joins an island mid-step clears it
+  // (Islands::joinIslands). Read only while `stepped`, so a stale value between steps is never read.
+  bool steppedSinceStart : 1 = false;
   // The hybrid step's first pass reads only this line of a body whose state allows it; these three say
   // whether it does. `sliding`: `support` is the face it slides on (setSupport, clearSupport).
   bool sliding : 1 = false;
@@ -233,6 +237,13 @@ struct WorldState {
 
   // Step scratch, kept to reuse its memory.
   detail::LargeArray<std::vector<detail::CandidatePair>> pairsOfBody;  // by body index; dynamic bodies only
+  /// By body: the velocity a body stepped since the step's start had then, before the step's gravity and
+  /// its island's solve (BodySlot::steppedSinceStart): the parabola it began the step on
+  /// (impactNormalVelocity reads it).
+  std::vector<Vec2> stepStartVelocity;
+  /// Points carried along a stepped body for the rest of the step, their gravity taken off
+  /// (squeeze.cpp: carryPointInWedge); the step's end gives it back (restoreCarriedPoints).
+  std::vector<uint32_t> carriedPoints;
   std::vector<uint32_t> supporters;
 
   detail::BodySlot& bodyOf(uint32_t fixture) { return bodies[fixtures[fixture].body]; }
