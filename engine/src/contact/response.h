@@ -85,7 +85,7 @@ ContactEvent contactEventOf(const WorldState& w, uint32_t a, uint32_t b, double 
 /// The relative normal velocity (a's minus b's along n, which points from b toward a) of their paths at
 /// time t: where one of the two is stepped and the other is not, the slower approach of the straight
 /// path's and of the parabola's it stands in for, ending at stepEnd (response.cpp says why). stepEnd < 0
-/// (no stepped bodies): the straight one. HybridStep::joinsIsland reads this one.
+/// (no stepped bodies): the straight one. HybridStep::joinsIsland reads this one where the paths close fast.
 inline double pathNormalVelocity(const WorldState& w, const BodySlot& a, const BodySlot& b, Vec2 n, double t,
                                  double stepEnd) {
   const double straight = dot(w.velocityAt(a, t) - w.velocityAt(b, t), n);
