@@ -350,6 +350,19 @@ bool inCusp(const detail::WorldState& w, const BodySlot& point, uint32_t pointFi
 //    body's velocity has no part along gravity (a disk its island holds on a floor).
 // The energy at the step's end: the point's kinetic energy, and the stepped body's along its straight
 // path for the rest of the step, tau, potential included.
+// The stepped side of an impulse p along n (a's when aStepped, else b's) taken across gravity g only: n
+// with its part along g taken out, a level push that a straight path keeps without gaining height.
+void levelSteppedSide(detail::PairImpulse& p, bool aStepped, Vec2 n, Vec2 g) {
+  const Vec2 across = n - g * (dot(n, g) / dot(g, g));
+  if (aStepped) {
+    p.directionA = across;
+    p.effectiveA = p.inverseA * dot(across, n);
+  } else {
+    p.directionB = across;
+    p.effectiveB = p.inverseB * dot(across, n);
+  }
+}
+
 struct SteppedResponse {
   FaceHold hold;
   bool steppedHolds = false;  // Held: the stepped body takes nothing
@@ -383,15 +396,8 @@ std::optional<SteppedResponse> steppedPathResponse(const detail::WorldState& w, 
   if ((a.stepped ? held.hold.heldB : held.hold.heldA) && !rises(held.hold.impulse)) return held;
   SteppedResponse level{holdOnFaces(a, a.inverseMass, ga, b, b.inverseMass, gb, n)};
   if (!(a.stepped ? level.hold.heldB : level.hold.heldA)) return std::nullopt;
-  const Vec2 across = n - g * (dot(n, g) / dot(g, g));  // n with its part along gravity taken out
   detail::PairImpulse& p = level.hold.impulse;
-  if (a.stepped) {
-    p.directionA = across;
-    p.effectiveA = p.inverseA * dot(across, n);
-  } else {
-    p.directionB = across;
-    p.effectiveB = p.inverseB * dot(across, n);
-  }
+  levelSteppedSide(p, a.stepped, n, g);
   if (rises(p)) return std::nullopt;
   return level;
 }
@@ -440,14 +446,7 @@ std::optional<FaceHold> levelLift(const detail::WorldState& w, const BodySlot& a
   }
   FaceHold level = hold;
   detail::PairImpulse& p = level.impulse;
-  const Vec2 across = n - g * (dot(n, g) / dot(g, g));  // n with its part along gravity taken out
-  if (a.stepped) {
-    p.directionA = across;
-    p.effectiveA = p.inverseA * dot(across, n);
-  } else {
-    p.directionB = across;
-    p.effectiveB = p.inverseB * dot(across, n);
-  }
+  levelSteppedSide(p, a.stepped, n, g);
   if (!(p.inverseSum() > 0)) return std::nullopt;
   Vec2 ua = va, ub = vb;
   if (!(impulseOf(p, ua, ub, n, vn, e) > 0)) return std::nullopt;
