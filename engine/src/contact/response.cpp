@@ -485,7 +485,7 @@ void detail::resolve(WorldState& w, const PredictedContact& c, std::vector<uint3
   // the three readings is taken (impactNormalVelocity).
   // A contact predicted as "pressing" (touching, not moving apart, pushed together by gravity) may read
   // as slightly separating after round-off: treat it as touching.
-  auto approach = [&] { return std::min(impactNormalVelocity(w, a, b, n, c.time, stepEnd), 0.0); };
+  auto approach = [&] { return std::min(impactNormalVelocity(w, ia, ib, n, c.time, stepEnd), 0.0); };
   double vn = approach();
 
   // A sleeping body holds like a static one against soft hits; a harder hit, or a kinematic body,

@@ -95,19 +95,27 @@ inline double pathNormalVelocity(const WorldState& w, const BodySlot& a, const B
   return std::max(straight, parabola);
 }
 
-/// The relative normal velocity that a contact's impulse is computed from at time t: the paths' reading
-/// (pathNormalVelocity), and where the stepped one has been stepped since the step's start, the slower of
-/// that and the approach it would have on the parabola it began the step on (response.cpp says why).
-inline double impactNormalVelocity(const WorldState& w, const BodySlot& a, const BodySlot& b, Vec2 n, double t,
-                                   double stepEnd) {
-  const double path = pathNormalVelocity(w, a, b, n, t, stepEnd);
+/// `path`, the paths' reading of bodies ia and ib at time t (pathNormalVelocity), or where the stepped one of
+/// the two has been stepped since the step's start, the slower of that and the approach it would have on the
+/// parabola it began the step on (response.cpp says why).
+inline double slowerOnStartParabola(const WorldState& w, uint32_t ia, uint32_t ib, Vec2 n, double t, double stepEnd,
+                                    double path) {
+  const BodySlot& a = w.bodies[ia];
+  const BodySlot& b = w.bodies[ib];
   if (stepEnd < 0 || a.stepped == b.stepped) return path;
-  const BodySlot& s = a.stepped ? a : b;
-  if (!s.steppedSinceStart) return path;
-  const Vec2 onStartParabola = w.stepStartVelocity[static_cast<size_t>(&s - w.bodies.data())] + w.def.gravity * t;
+  const uint32_t stepped = a.stepped ? ia : ib;
+  if (!w.bodies[stepped].steppedSinceStart) return path;
+  const Vec2 onStartParabola = w.stepStartVelocity[stepped] + w.def.gravity * t;
   const double start = a.stepped ? dot(onStartParabola - w.velocityAt(b, t), n)
                                  : dot(w.velocityAt(a, t) - onStartParabola, n);
   return std::max(path, start);
+}
+
+/// The relative normal velocity that a contact's impulse is computed from at time t, of bodies ia and ib:
+/// the paths' reading, or the start parabola's where that is slower (slowerOnStartParabola).
+inline double impactNormalVelocity(const WorldState& w, uint32_t ia, uint32_t ib, Vec2 n, double t, double stepEnd) {
+  const double path = pathNormalVelocity(w, w.bodies[ia], w.bodies[ib], n, t, stepEnd);
+  return slowerOnStartParabola(w, ia, ib, n, t, stepEnd, path);
 }
 
 }  // namespace rattle::detail

@@ -282,8 +282,9 @@ void HybridStep::repredict(uint32_t bodyIndex, double now, double dt, bool force
 bool HybridStep::joinsIsland(const PredictedContact& c, double stepEnd) const {
   const detail::WorldState& w = w_;
   if (!(w.def.restingSpeed > 0)) return false;
-  const BodySlot& a = w.bodyOf(c.a);
-  const BodySlot& b = w.bodyOf(c.b);
+  const uint32_t ia = w.fixtures[c.a].body, ib = w.fixtures[c.b].body;
+  const BodySlot& a = w.bodies[ia];
+  const BodySlot& b = w.bodies[ib];
   auto movable = [](const BodySlot& s) { return s.type == BodyType::Dynamic && !s.asleep; };
   if (!movable(a) || !movable(b)) return false;
   // An island's contacts are built from distances (island.cpp), which cannot tell a point's side of a
@@ -292,22 +293,21 @@ bool HybridStep::joinsIsland(const PredictedContact& c, double stepEnd) const {
   // Pressed together by gravity, or one of them already held by an island that pushes it into the other.
   if (!a.stepped && !b.stepped && !(dot(a.acceleration - b.acceleration, c.normal) < 0)) return false;
   // The bounce resolve() would give (Newton's law with the TC model's exception), against restingSpeed,
-  // from the approach resolve() reads (impactNormalVelocity, which reads a body stepped since the step's
-  // start on the parabola it began the step on), where the paths close no faster than restingSpeed plus
-  // a step of gravity: a free disk landing on a pile then joins it instead of bouncing on it, and the
-  // landing takes fewer collisions. Where the paths close faster, from the paths' approach alone: read the
-  // other way there too, pairs that came together at speed joined, and a pile of 2,000 poured into a
-  // container overlapped by 1.2% of a radius (tests: GravityPile).
-  const double path = std::min(pathNormalVelocity(w, a, b, c.normal, c.time, stepEnd), 0.0);
-  const bool slowPaths = -path <= w.def.restingSpeed + length(w.def.gravity) * stepEnd;
-  const double vn = slowPaths ? std::min(impactNormalVelocity(w, a, b, c.normal, c.time, stepEnd), 0.0) : path;
+  // from the approach resolve() reads (impactNormalVelocity: the paths' reading, or the slower reading of
+  // a body stepped since the step's start on the parabola it began the step on), where the paths close no
+  // faster than restingSpeed plus a step of gravity: a free disk landing on a pile then joins it instead
+  // of bouncing on it, and the landing takes fewer collisions. Where the paths close faster, from the
+  // paths' approach alone: read the other way there too, pairs that came together at speed joined, and a
+  // pile of 2,000 poured into a container overlapped by 1.2% of a radius (tests: GravityPile).
+  const double path = pathNormalVelocity(w, a, b, c.normal, c.time, stepEnd);
+  const bool slowPaths = -std::min(path, 0.0) <= w.def.restingSpeed + length(w.def.gravity) * stepEnd;
+  const double vn = std::min(slowPaths ? slowerOnStartParabola(w, ia, ib, c.normal, c.time, stepEnd, path) : path, 0.0);
   const double now = w.time + c.time;
   const bool rapid = now - a.lastContactTime < w.def.collapseTime || now - b.lastContactTime < w.def.collapseTime;
   const double e = rapid ? 1.0 : std::max(w.fixtures[c.a].restitution, w.fixtures[c.b].restitution);
   if (!(-e * vn < w.def.restingSpeed)) return false;
   // Nor a body with a circle centred on a static fixture's boundary (made over a wall's face): no island
   // contact would hold it there (Islands::heldByIslandContacts).
-  const uint32_t ia = w.fixtures[c.a].body, ib = w.fixtures[c.b].body;
   return h_.islands.heldByIslandContacts(ia, c.time) && h_.islands.heldByIslandContacts(ib, c.time);
 }
 
