@@ -48,6 +48,8 @@
 //    solve leaves is taken out at the next step's start by moving positions (separateIsland). The solve
 //    at a step's start has a fixed number of sweeps; a body whose velocity would still close a contact
 //    is stopped for the step (trimIsland), so the step ends with no contact closed beyond kTrimSlack.
+//    Under gravity the start solve stops short only while a pile lands, and is trimmed the same way, but
+//    only a body that a contact pushes stops: a body no contact pushes is freed onto its parabola.
 //  - Cost: one solve of all stepped bodies a step (warm-started, so a resting pile converges in a few
 //    sweeps), and a small solve for each join and hit. Accuracy: a solve stops when no impulse changes a
 //    velocity by more than 1e-6 of the speeds at play, or under gravity when no contact would close more
@@ -82,12 +84,14 @@ namespace {
 // each sweep), gets kStartIterations. Under gravity the sweeps are accelerated and stop when close
 // enough (sweepIslandAccelerated), and fewer are allowed: a landing pile solved again whole a few dozen
 // times in a step made that step's cost, and the overlap the lower limits leave stays far below 1% of a
-// radius (bench/README.md, "Piles").
+// radius (bench/README.md, "Piles"). A start solve under gravity that stops short is trimmed as one
+// without (trimIsland), which let its sweeps fall from 300: a landing pile's start solves stopped at
+// their 300 sweeps and were half of its rows.
 constexpr int kPartIterations = 100;
 constexpr int kIslandIterations = 300;
 constexpr int kStartIterations = 25;
 constexpr int kIslandIterationsUnderGravity = 100;
-constexpr int kStartIterationsUnderGravity = 300;
+constexpr int kStartIterationsUnderGravity = 100;
 // Without gravity the start solve's sweeps are few (kStartIterations), and the bodies whose velocities
 // would still close a contact are stopped for the step (trimIsland): a jam of thousands that a game
 // drives into a doorway is some 45 layers deep, and its sweeps, which carry a push about a layer each,
@@ -760,6 +764,10 @@ detail::Islands::IslandSolve detail::Islands::solveIsland(const std::vector<uint
     if (!converged) trimIsland(members, v, h);
     separateIsland(members, v, h);
   }
+  // Under gravity the start solve's sweeps are few too (kStartIterationsUnderGravity), and what they
+  // leave unmet is taken out the same way, but only from members a contact pushes: the others are freed
+  // onto their parabolas after the solve (startIslands), and what they close is met as events.
+  if (warmStart && !noGravity && h > 0 && !converged) trimIsland(members, v, h);
   for (size_t k = 0; k < members.size(); ++k) {
     BodySlot& b = w.bodies[members[k]];
     if (v[k].x == b.velocity.x && v[k].y == b.velocity.y) continue;
@@ -1135,7 +1143,19 @@ void detail::Islands::trimIsland(const std::vector<uint32_t>& members, std::vect
   t.queue.resize(contacts.size());
   std::iota(t.queue.begin(), t.queue.end(), 0u);
   t.queued.assign(contacts.size(), 1);
+  // Under gravity a member that no contact pushes is freed after the start solve, its step of gravity
+  // taken back (startIslands): stopped, it would rise at g dt.
+  const bool gravity = w.def.gravity.x != 0 || w.def.gravity.y != 0;
+  if (gravity) {
+    t.pushed.assign(n, 0);
+    for (const IslandContact& c : contacts) {
+      if (!(c.lambda > 0)) continue;
+      t.pushed[static_cast<size_t>(c.ka)] = 1;
+      if (c.kb >= 0) t.pushed[static_cast<size_t>(c.kb)] = 1;
+    }
+  }
   const auto stop = [&](size_t k) {
+    if (gravity && !t.pushed[k]) return;
     v[k] = Vec2{};
     for (uint32_t at = t.first[k]; at < t.first[k + 1]; ++at) {
       const uint32_t j = t.contactsOf[at];

@@ -89,14 +89,16 @@ struct Islands {
     std::vector<SweepRow> nearRows;  // the rows the sweeps look at (separateIsland)
     std::vector<uint32_t> leftOut;   // the positions of the others in the schedule
   } separateScratch;
-  /// Without gravity, at a step's start when the sweeps stopped short (before separateIsland): stops the
+  /// At a step's start when the sweeps stopped short (without gravity before separateIsland): stops the
   /// members whose velocities in v would close a contact more than kTrimSlack of its smaller radius
-  /// beyond its gap within the h seconds left, and those that then would (island.cpp).
+  /// beyond its gap within the h seconds left, and those that then would; under gravity only members a
+  /// contact pushes (island.cpp).
   void trimIsland(const std::vector<uint32_t>& members, std::vector<Vec2>& v, double h);
   struct TrimScratch {
     std::vector<uint32_t> first, next;        // by member: where its contacts start in contactsOf
     std::vector<uint32_t> contactsOf, queue;  // contacts by member; the worklist
     std::vector<char> queued;                 // by contact
+    std::vector<char> pushed;                 // by member, under gravity: a contact pushes it
   } trimScratch;
   /// Without gravity, at a step's start: moves the members (advanced to the step's start, their
   /// velocities solved) apart where they overlap, without touching a velocity (island.cpp).
