@@ -389,6 +389,7 @@ double detail::Islands::gatherIslandContacts(const std::vector<uint32_t>& member
   std::vector<IslandContact>& contacts = islandScratch;
   contacts.clear();
   islandKinematicHolder = false;
+  islandSegmentMembers.clear();
   double speed = w.def.restingSpeed;
   for (uint32_t i : members) speed = std::max(speed, length(w.bodies[i].velocity));
   const auto reachSpeed = [&](size_t k) { return reachSpeeds.empty() ? speed : reachSpeeds[k]; };
@@ -401,6 +402,9 @@ double detail::Islands::gatherIslandContacts(const std::vector<uint32_t>& member
       if (own.sensor || other.sensor) continue;
       const uint32_t j = other.body;
       const BodySlot& holder = w.bodies[j];
+      if (holder.type == BodyType::Static && std::holds_alternative<Segment>(other.geometry) &&
+          (islandSegmentMembers.empty() || islandSegmentMembers.back() != k))
+        islandSegmentMembers.push_back(static_cast<uint32_t>(k));
       // A kinematic body passing over a squeezed member holds it no more (squeeze.cpp).
       if (holder.type == BodyType::Kinematic && !w.squeezes.empty() && squeezeExempt(w, pair.own, pair.other)) continue;
       const Vec2 centre = w.positionAt(body, now) + detail::circleCentre(own.geometry);
@@ -460,17 +464,6 @@ double detail::Islands::gatherIslandContacts(const std::vector<uint32_t>& member
   return speed;
 }
 
-bool detail::Islands::anyStaticSegment() {
-  if (staticSegmentsVersion_ != w.changes.staticVersion) {
-    staticSegmentsVersion_ = w.changes.staticVersion;
-    staticSegments_ = std::any_of(w.fixtures.begin(), w.fixtures.end(), [&](const detail::FixtureSlot& f) {
-      return f.alive && !f.sensor && std::holds_alternative<Segment>(f.geometry) &&
-             w.bodies[f.body].type == BodyType::Static;
-    });
-  }
-  return staticSegments_;
-}
-
 bool detail::Islands::holdSegmentCrossings(const std::vector<uint32_t>& members, const std::vector<Vec2>& v,
                                            double now, double h) {
   // A bare Segment's ends hold nothing (forEachPiece), so a member beside one, past the Segment's end, has
@@ -480,16 +473,16 @@ bool detail::Islands::holdSegmentCrossings(const std::vector<uint32_t>& members,
   // along its solved path, is held from now on as a contact with the face it meets (its plane, at the
   // gap the member has from it now), and the solve sweeps on. Only static Segments: every other geometry's
   // pieces hold all of it. Returns whether it added a contact.
-  // Most worlds have no static Segment, and the pass below reads every pair of every member of every
-  // solve (2% of rattle-bench's pile).
-  if (!anyStaticSegment()) return false;
+  // Only the members the gather saw with a pair with a static Segment (islandSegmentMembers): reading
+  // every pair of every member again was 2% of rattle-bench's pile.
+  if (islandSegmentMembers.empty()) return false;
   std::vector<IslandContact>& contacts = islandScratch;
   // The (member fixture, Segment) pairs the gather holds, sorted; listed only once a path reaches a
   // Segment, as most solves have none near.
   std::vector<std::pair<uint32_t, uint32_t>>& held = islandHeldSegments;
   bool listed = false;
   bool added = false;
-  for (size_t k = 0; k < members.size(); ++k) {
+  for (const uint32_t k : islandSegmentMembers) {
     const uint32_t i = members[k];
     const BodySlot& body = w.bodies[i];
     const Vec2 position = w.positionAt(body, now);

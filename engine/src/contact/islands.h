@@ -162,11 +162,9 @@ struct Islands {
   /// Adds to islandScratch a contact for each static Segment that a member's straight path along v crosses
   /// within h though no contact of the gather holds it (a bare Segment's end holds nothing); true if any.
   bool holdSegmentCrossings(const std::vector<uint32_t>& members, const std::vector<Vec2>& v, double now, double h);
-  /// Whether any static fixture that is not a sensor is a Segment; looked for again when the statics
-  /// change (ChangeLog::staticVersion). Without one, holdSegmentCrossings has nothing to hold.
-  bool anyStaticSegment();
-  uint64_t staticSegmentsVersion_ = ~uint64_t{0};
-  bool staticSegments_ = true;
+  /// The members (their indices in the last gather's list, ascending) with a candidate pair with a static
+  /// Segment (neither fixture a sensor): the only ones holdSegmentCrossings can hold.
+  std::vector<uint32_t> islandSegmentMembers;
   std::vector<std::pair<uint32_t, uint32_t>> islandHeldSegments;  // its (member fixture, Segment) pairs
   /// `start`: the step's first solve, after which startIslands frees the members no contact pushed.
   void keepIslandEnergy(const std::vector<uint32_t>& members, std::vector<Vec2>& v, double h, bool start);
