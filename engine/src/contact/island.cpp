@@ -48,8 +48,8 @@
 //    solve leaves is taken out at the next step's start by moving positions (separateIsland). The solve
 //    at a step's start has a fixed number of sweeps; a body whose velocity would still close a contact
 //    is stopped for the step (trimIsland), so the step ends with no contact closed beyond kTrimSlack.
-//    Under gravity a start solve that stops short (a landing pile's) is trimmed the same way, but only a
-//    body that a contact pushes stops: a body no contact pushes is freed onto its parabola.
+//    Under gravity the start solve stops short only while a pile lands, and is trimmed the same way, but
+//    only a body that a contact pushes stops: a body no contact pushes is freed onto its parabola.
 //  - Cost: one solve of all stepped bodies a step (warm-started, so a resting pile converges in a few
 //    sweeps), and a small solve for each join and hit. Accuracy: a solve stops when no impulse changes a
 //    velocity by more than 1e-6 of the speeds at play, or under gravity when no contact would close more
@@ -846,6 +846,7 @@ void detail::Islands::scheduleSweeps(size_t memberCount) {
   s.rows.resize(n);
   s.holders.clear();
   s.contactAt.resize(n);
+  s.positionOf.resize(n);
   for (size_t i = 0; i < n; ++i) {
     const uint32_t at = s.next[s.level[i]]++;
     const IslandContact& c = contacts[i];
@@ -856,6 +857,7 @@ void detail::Islands::scheduleSweeps(size_t memberCount) {
     }
     s.rows[at] = {c.ka, kb, c.normal, c.inverseA, c.inverseB, c.target, c.lambda};
     s.contactAt[at] = static_cast<uint32_t>(i);
+    s.positionOf[i] = at;
   }
 }
 
