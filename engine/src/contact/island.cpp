@@ -763,18 +763,16 @@ detail::Islands::IslandSolve detail::Islands::solveIsland(const std::vector<uint
   const std::vector<IslandContact>& contacts = islandScratch;
   const bool noGravity = w.def.gravity.x == 0 && w.def.gravity.y == 0;
   keepIslandEnergy(members, v, h, warmStart);
-  // Without gravity, at a step's start: what the sweeps left unmet is taken out of the velocities
-  // (trimIsland), and then the overlap left from before out of the positions (separateIsland, which keeps
-  // every contact open along the trimmed velocities). In the other order the separation was asked to
-  // open what the trim then took out anyway, and its sweeps, short of that, pushed other pairs together.
-  if (warmStart && noGravity && h > 0) {
+  // At a step's start: what the sweeps left unmet is taken out of the velocities (trimIsland; under
+  // gravity only from members a contact pushes: the others are freed onto their parabolas after the
+  // solve, startIslands, and what they close is met as events), and then, without gravity, the overlap
+  // left from before out of the positions (separateIsland, which keeps every contact open along the
+  // trimmed velocities). In the other order the separation was asked to open what the trim then took out
+  // anyway, and its sweeps, short of that, pushed other pairs together.
+  if (warmStart && h > 0) {
     if (!converged) trimIsland(members, v, h);
-    separateIsland(members, v, h);
+    if (noGravity) separateIsland(members, v, h);
   }
-  // Under gravity the start solve's sweeps are few too (kStartIterationsUnderGravity), and what they
-  // leave unmet is taken out the same way, but only from members a contact pushes: the others are freed
-  // onto their parabolas after the solve (startIslands), and what they close is met as events.
-  if (warmStart && !noGravity && h > 0 && !converged) trimIsland(members, v, h);
   for (size_t k = 0; k < members.size(); ++k) {
     BodySlot& b = w.bodies[members[k]];
     if (v[k].x == b.velocity.x && v[k].y == b.velocity.y) continue;

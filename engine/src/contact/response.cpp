@@ -337,19 +337,6 @@ bool inCusp(const detail::WorldState& w, const BodySlot& point, uint32_t pointFi
   return dot(toward, point.support.normal) < 0;
 }
 
-// Where only the straight paths of a stepped body and a point held on its face (holdOnFaces) approach
-// (resolve() says why), the impulse that stops that approach, with no bounce, and how it acts; nothing
-// for other pairs, or when neither way below keeps the energy at the step's end from rising.
-//  - Held: the stepped body holds, as a kinematic one would, and the point alone stops its approach
-//    along its face (holdOnFaces against what does not move). The stepped body's path stays as it is,
-//    so its island need not be solved again. Refused where the point would speed up (caught from
-//    behind).
-//  - Level: the stepped body takes its share across gravity only, as the contacts of its island that
-//    hold it up would take the rest (a stepped body is held, or it would fall free). Its potential energy
-//    at the step's end is then untouched, and the pair's kinetic energy does not rise when the stepped
-//    body's velocity has no part along gravity (a disk its island holds on a floor).
-// The energy at the step's end: the point's kinetic energy, and the stepped body's along its straight
-// path for the rest of the step, tau, potential included.
 // The stepped side of an impulse p along n (a's when aStepped, else b's) taken across gravity g only: n
 // with its part along g taken out, a level push that a straight path keeps without gaining height.
 void levelSteppedSide(detail::PairImpulse& p, bool aStepped, Vec2 n, Vec2 g) {
@@ -363,6 +350,19 @@ void levelSteppedSide(detail::PairImpulse& p, bool aStepped, Vec2 n, Vec2 g) {
   }
 }
 
+// Where only the straight paths of a stepped body and a point held on its face (holdOnFaces) approach
+// (resolve() says why), the impulse that stops that approach, with no bounce, and how it acts; nothing
+// for other pairs, or when neither way below keeps the energy at the step's end from rising.
+//  - Held: the stepped body holds, as a kinematic one would, and the point alone stops its approach
+//    along its face (holdOnFaces against what does not move). The stepped body's path stays as it is,
+//    so its island need not be solved again. Refused where the point would speed up (caught from
+//    behind).
+//  - Level: the stepped body takes its share across gravity only, as the contacts of its island that
+//    hold it up would take the rest (a stepped body is held, or it would fall free). Its potential energy
+//    at the step's end is then untouched, and the pair's kinetic energy does not rise when the stepped
+//    body's velocity has no part along gravity (a disk its island holds on a floor).
+// The energy at the step's end: the point's kinetic energy, and the stepped body's along its straight
+// path for the rest of the step, tau, potential included.
 struct SteppedResponse {
   FaceHold hold;
   bool steppedHolds = false;  // Held: the stepped body takes nothing
