@@ -925,6 +925,57 @@ TEST(GravityResting, DiskWedgedBetweenAWallAndAStaticDiskComesToRest) {
   }
 }
 
+// Two disks (radius 0.5, restitution 0.5) in a pocket of three static circles (radius 0.5), placed as a
+// settled pile of 300 left them (rattle-soak's, 55 s in, shifted): the left disk lies on a circle below
+// and to its left, the right one on a circle below and to its right with another circle beside it, and
+// the two lean on each other, the right one a little higher. Neither is held by its circles alone (up
+// is not within the cone of their normals); each is with the other's normal added, an arch of two. Each
+// bounced off its circle at restingSpeed for ever, some 36 events a step, and kept the pile awake. Both
+// must sleep within half a second (they did after two steps), touching what holds them: within the height
+// of a bounce at restingSpeed (v^2 / g, resting.cpp), and not overlapping it.
+TEST(GravityResting, TwoDisksLeaningOnEachOtherInAPocketSleep) {
+  for (rattle::StepMode mode : {rattle::StepMode::Hybrid, rattle::StepMode::Predictive}) {
+    SCOPED_TRACE(mode == rattle::StepMode::Hybrid ? "hybrid" : "predictive");
+    WorldDef def;
+    def.mode = mode;
+    def.gravity = {0, -9.81};
+    World world(def);
+    const BodyId ground = world.createBody(bodyDef(BodyType::Static));
+    for (const Vec2 centre : {Vec2{0.008960984279597, -0.0358944198402593}, Vec2{1.999949299521905, 0.0980626069079396},
+                              Vec2{2.499929139883863, 0.9640918370610576}}) {
+      FixtureDef cd;
+      cd.geometry = rattle::Circle{centre, 0.5};
+      cd.restitution = 0.5;
+      world.createFixture(ground, cd);
+    }
+    const Vec2 restA{0.50892279591382, 0.8301530308848291}, restB{1.499921911512635, 0.9640721976404141};
+    const Disk a = addDisk(world, {restA + Vec2{0, 1e-3}, {0, 0}, 0.5, 1.0, 0.5});
+    const Disk b = addDisk(world, {restB + Vec2{0, 1e-3}, {0, 0}, 0.5, 1.0, 0.5});
+    long long events = 0;
+    int lastEventStep = -1;
+    for (int step = 0; step < 60; ++step) {
+      world.step(1.0 / 60);
+      events += static_cast<long long>(world.contactEvents().size());
+      if (!world.contactEvents().empty()) lastEventStep = step;
+    }
+    std::printf("[ arch of two ] %lld events, the last in step %d; at %s and %s\n", events, lastEventStep,
+                str(world.position(a.body)).c_str(), str(world.position(b.body)).c_str());
+    EXPECT_TRUE(world.isAsleep(a.body));
+    EXPECT_TRUE(world.isAsleep(b.body));
+    EXPECT_LT(lastEventStep, 30) << "still bouncing";
+    const double restReach = def.restingSpeed * def.restingSpeed / 9.81;
+    const Vec2 pa = world.position(a.body), pb = world.position(b.body);
+    for (const auto& [gap, what] : {std::pair{length(pa - pb) - 1, "between the two"},
+                                    std::pair{length(pa - Vec2{0.008960984279597, -0.0358944198402593}) - 1,
+                                              "the left disk on its circle"},
+                                    std::pair{length(pb - Vec2{1.999949299521905, 0.0980626069079396}) - 1,
+                                              "the right disk on its circle"}}) {
+      EXPECT_GE(gap, -1e-9) << what;
+      EXPECT_LE(gap, restReach) << what;
+    }
+  }
+}
+
 // =====================================================================================================
 // 3. Energy with restitution 1 under gravity.
 

@@ -581,6 +581,13 @@ void detail::resolve(WorldState& w, const PredictedContact& c, std::vector<uint3
         !std::binary_search(w.beingParted.begin(), w.beingParted.end(), rester) &&
         supportsAt(w, rester, c.time, w.supporters, aRests ? n : -n, w.fixtures[holderFixture].body)) {
       putToSleep(w, rester, w.supporters);
+    } else if ((aRests || bRests) && length(r.velocity) < restingSpeed &&
+               !std::binary_search(w.beingParted.begin(), w.beingParted.end(), rester) &&
+               leansOnSlowNeighbour(w, rester, c.time, w.supporters)) {
+      // Held by an awake disk too: it wakes at the next step's start unless that disk is asleep by then
+      // (wakeSleepersOfMovingBodies), as the disk does on meeting it, now held.
+      const std::vector<uint32_t> supporters = w.supporters;
+      sleepOnAwakeBodies(w, rester, supporters);
     } else if ((aRests || bRests) && w.bodies[w.fixtures[holderFixture].body].type == BodyType::Static &&
                isFlatFeature(w, holderFixture, c.feature) && aRests) {
       startSliding(w, rester, holderFixture, c.feature, n);

@@ -326,13 +326,27 @@ int detail::featureLeftByPoint(const WorldState& w, const BodySlot& b, uint32_t 
   return left;
 }
 
-bool detail::supportsAt(const WorldState& w, uint32_t bodyIndex, double now, std::vector<uint32_t>& supporters,
-                        Vec2 contactNormal, uint32_t holderIndex) {
-  const BodySlot& body = w.bodies[bodyIndex];
-  const Vec2 up = -w.def.gravity * (1.0 / length(w.def.gravity));
-  supporters.clear();
+namespace {
+
+// What the static fixtures and sleeping bodies a body touches give it to rest on: their unit normals
+// toward it at the points it touches, and the sleeping bodies among them (supporters).
+struct Holds {
   Vec2 normals[16];
   int count = 0;
+  void add(Vec2 n) {
+    if (count < 16) normals[count++] = n;
+  }
+};
+
+// Touching: within round-off, or within the height of a bounce at restingSpeed (v^2 / 2g, doubled),
+// since a body bouncing between two supports at that speed touches them one at a time.
+double touchReach(const detail::WorldState& w, double radius) {
+  return 1e-7 * std::max(radius, 1e-9) + w.def.restingSpeed * w.def.restingSpeed / length(w.def.gravity);
+}
+
+void holdsOfFixedBodies(const detail::WorldState& w, uint32_t bodyIndex, double now, Vec2 up, Holds& holds,
+                        std::vector<uint32_t>& supporters) {
+  const BodySlot& body = w.bodies[bodyIndex];
   for (const auto& pair : w.pairsOfBody[bodyIndex]) {
     const detail::FixtureSlot& own = w.fixtures[pair.own];
     const detail::FixtureSlot& other = w.fixtures[pair.other];
@@ -347,21 +361,41 @@ bool detail::supportsAt(const WorldState& w, uint32_t bodyIndex, double now, std
       if (!closest.collidable) return;
       const Vec2 r = centre - closest.point;
       const double distance = length(r);
-      // Touching: within round-off, or within the height of a bounce at restingSpeed (v^2 / 2g,
-      // doubled), since a body bouncing between two supports at that speed touches them one at a time.
-      const double reach =
-          1e-7 * std::max(radius, 1e-9) + w.def.restingSpeed * w.def.restingSpeed / length(w.def.gravity);
-      if (!(distance > 0) || distance - radius > reach) return;
+      if (!(distance > 0) || distance - radius > touchReach(w, radius)) return;
       const Vec2 n = r * (1.0 / distance);
       // Beside (a wall) still helps to hold it, together with something below; above holds nothing up.
       if (dot(n, up) < -1e-12) return;
-      if (count < 16) normals[count++] = n;
+      holds.add(n);
       if (holder.type == BodyType::Dynamic &&
           std::find(supporters.begin(), supporters.end(), other.body) == supporters.end()) {
         supporters.push_back(other.body);
       }
     });
   }
+}
+
+// Held when up lies within the cone of the normals: one normal straight up (a level floor), or two on
+// either side of up (a cradle of two disks, a wedge).
+bool upWithinCone(const Holds& holds, Vec2 up) {
+  const Vec2* normals = holds.normals;
+  for (int i = 0; i < holds.count; ++i) {
+    if (dot(normals[i], up) >= 1 - 1e-12) return true;
+    for (int j = 0; j < holds.count; ++j) {
+      if (cross(normals[i], up) >= 0 && cross(up, normals[j]) >= 0 && cross(normals[i], normals[j]) > 0) return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+bool detail::supportsAt(const WorldState& w, uint32_t bodyIndex, double now, std::vector<uint32_t>& supporters,
+                        Vec2 contactNormal, uint32_t holderIndex) {
+  const BodySlot& body = w.bodies[bodyIndex];
+  const Vec2 up = -w.def.gravity * (1.0 / length(w.def.gravity));
+  supporters.clear();
+  Holds holds;
+  holdsOfFixedBodies(w, bodyIndex, now, up, holds, supporters);
   // A point touches at distance 0, where the pieces it touches give no direction: the contact at hand
   // and the face it slides on do. Without them a point that slid into the bottom of a V of two faces
   // could never rest there: it slid down one face into the other, and down that one back into the
@@ -373,8 +407,7 @@ bool detail::supportsAt(const WorldState& w, uint32_t bodyIndex, double now, std
     // a point together (up lies within the cone of their normals), and the cone test below asks for
     // both.
     auto add = [&](Vec2 n, uint32_t holder) {
-      if (w.bodies[holder].type != BodyType::Static || count >= 16) return;
-      normals[count++] = n;
+      if (w.bodies[holder].type == BodyType::Static) holds.add(n);
     };
     if (contactNormal.x != 0 || contactNormal.y != 0) add(contactNormal, holderIndex);
     // The face it remembers (Support) while it still lies on it: sliding there, or in a corner where it
@@ -390,13 +423,48 @@ bool detail::supportsAt(const WorldState& w, uint32_t bodyIndex, double now, std
       }
     }
   }
-  // Held when up lies within the cone of the normals: one normal straight up (a level floor), or two on
-  // either side of up (a cradle of two disks, a wedge).
-  for (int i = 0; i < count; ++i) {
-    if (dot(normals[i], up) >= 1 - 1e-12) return true;
-    for (int j = 0; j < count; ++j) {
-      if (cross(normals[i], up) >= 0 && cross(up, normals[j]) >= 0 && cross(normals[i], normals[j]) > 0) return true;
-    }
+  return upWithinCone(holds, up);
+}
+
+bool detail::leansOnSlowNeighbour(const WorldState& w, uint32_t bodyIndex, double now,
+                                  std::vector<uint32_t>& supporters) {
+  // Two free disks each on one sleeper's slope and leaning on each other, an arch of two, are held by
+  // each other, and neither alone: bounced off its sleeper at restingSpeed each time, each rattled for
+  // ever against the other and kept a pile of 300 awake (a minute of rattle-soak's pile). The forces
+  // that hold them exist when up lies within the cone of each one's normals, the other's included; a
+  // normal from beside and a little above counts here, since the other disk presses it sideways.
+  const BodySlot& body = w.bodies[bodyIndex];
+  if (body.stepped || detail::isPoint(w.fixtures[body.fixtures.front()].geometry)) return false;
+  const Vec2 up = -w.def.gravity * (1.0 / length(w.def.gravity));
+  supporters.clear();
+  Holds own;
+  holdsOfFixedBodies(w, bodyIndex, now, up, own, supporters);
+  if (own.count == 0) return false;
+  std::vector<uint32_t> unused;
+  for (const auto& pair : w.pairsOfBody[bodyIndex]) {
+    const detail::FixtureSlot& mine = w.fixtures[pair.own];
+    const detail::FixtureSlot& theirs = w.fixtures[pair.other];
+    const BodySlot& other = w.bodies[theirs.body];
+    if (mine.sensor || theirs.sensor || other.type != BodyType::Dynamic || other.asleep || other.stepped) continue;
+    if (detail::isPoint(theirs.geometry) || !(length(w.velocityAt(other, now)) < w.def.restingSpeed)) continue;
+    if (std::binary_search(w.beingParted.begin(), w.beingParted.end(), theirs.body)) continue;
+    const Vec2 r = w.positionAt(body, now) + detail::circleCentre(mine.geometry) -
+                   (w.positionAt(other, now) + detail::circleCentre(theirs.geometry));
+    const double distance = length(r);
+    const double radius = std::min(detail::circleRadius(mine.geometry), detail::circleRadius(theirs.geometry));
+    const double gap = distance - detail::circleRadius(mine.geometry) - detail::circleRadius(theirs.geometry);
+    if (!(distance > 0) || gap > touchReach(w, radius)) continue;
+    const Vec2 n = r * (1.0 / distance);  // toward this body
+    Holds withOther = own;
+    withOther.add(n);
+    if (!upWithinCone(withOther, up)) continue;
+    Holds theirsHeld;
+    unused.clear();
+    holdsOfFixedBodies(w, theirs.body, now, up, theirsHeld, unused);
+    theirsHeld.add(-n);
+    if (!upWithinCone(theirsHeld, up)) continue;
+    supporters.push_back(theirs.body);
+    return true;
   }
   return false;
 }

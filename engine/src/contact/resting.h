@@ -88,6 +88,10 @@ int featureLeftByPoint(const WorldState& w, const detail::BodySlot& b, uint32_t 
 /// the direction from what it touches, is held by it and by the face it slides on when they are static.
 bool supportsAt(const WorldState& w, uint32_t body, double now, std::vector<uint32_t>& supporters,
                 Vec2 contactNormal = {}, uint32_t holder = 0);
+/// Whether the body, a disk that the static and sleeping bodies it touches do not hold up alone, is held
+/// together with a slow awake disk that touches it and that they, with this body, hold up in turn: an
+/// arch of two. Its supporters (sleeping ones and that disk) are put in `supporters`.
+bool leansOnSlowNeighbour(const WorldState& w, uint32_t body, double now, std::vector<uint32_t>& supporters);
 /// A point that moves into a static face (`vn` < 0, its normal velocity at contact `c`) no faster than
 /// the contact's rest tolerance, a contact dismissed as at rest, stops there; true when it did (its
 /// velocity changed at c.time).
