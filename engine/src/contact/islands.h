@@ -74,7 +74,6 @@ struct Islands {
     std::vector<SweepRow> rows;          // in sweep order
     std::vector<Vec2> holders;           // the holder rows' velocities, in the order of their slots
     std::vector<uint32_t> contactAt;     // sweep position -> index into islandScratch
-    std::vector<uint32_t> positionOf;    // index into islandScratch -> sweep position
     std::vector<double> scale;           // the over-relaxed sweeps' omega / (inverseA + inverseB) by row
     std::vector<uint32_t> level, next;   // scratch: each row's level; each member's next level, then
                                          // each level's next position
