@@ -604,15 +604,21 @@ void detail::Islands::keepIslandEnergy(const std::vector<uint32_t>& members, std
   }
 }
 
-// Marks what the solve's contacts held, and reports as collisions those that closed faster than
-// reportAbove (and reportPair's), at most maxReports. Returns how many it reported.
+void detail::Islands::markHeld() {
+  for (const IslandContact& c : islandScratch) {
+    if (!(c.lambda > 0)) continue;
+    steppedHeld[c.a] = 1;
+    if (c.kb >= 0) steppedHeld[c.b] = 1;
+  }
+}
+
+// Reports as collisions the contacts that closed faster than reportAbove (and reportPair's), at most
+// maxReports. Returns how many it reported.
 int detail::Islands::reportIslandContacts(double now, double reportAbove, uint64_t reportPair, int maxReports) {
   const std::vector<IslandContact>& contacts = islandScratch;
   int reported = 0;
   for (const IslandContact& c : contacts) {
     if (!(c.lambda > 0)) continue;
-    steppedHeld[c.a] = 1;
-    if (c.kb >= 0) steppedHeld[c.b] = 1;
     if (!(c.approach > reportAbove) && islandKey(c.fa, c.fb) != reportPair) continue;
     if (reported >= maxReports) continue;
     ++reported;
@@ -768,6 +774,7 @@ detail::Islands::IslandSolve detail::Islands::solveIsland(const std::vector<uint
   const std::vector<IslandContact>& contacts = islandScratch;
   const bool noGravity = w.def.gravity.x == 0 && w.def.gravity.y == 0;
   keepIslandEnergy(members, v, h, warmStart);
+  markHeld();
   // At a step's start: what the sweeps left unmet is taken out of the velocities (trimIsland; under
   // gravity only from members a contact pushes: the others are freed onto their parabolas after the
   // solve, startIslands, and what they close is met as events), and then, without gravity, the overlap
@@ -1148,18 +1155,11 @@ void detail::Islands::trimIsland(const std::vector<uint32_t>& members, std::vect
   std::iota(t.queue.begin(), t.queue.end(), 0u);
   t.queued.assign(contacts.size(), 1);
   // Under gravity a member that no contact pushes is freed after the start solve, its step of gravity
-  // taken back (startIslands): stopped, it would rise at g dt.
+  // taken back (startIslands): stopped, it would rise at g dt. The solve has marked those it pushes
+  // (markHeld), and nothing before the start solve had.
   const bool gravity = w.def.gravity.x != 0 || w.def.gravity.y != 0;
-  if (gravity) {
-    t.pushed.assign(n, 0);
-    for (const IslandContact& c : contacts) {
-      if (!(c.lambda > 0)) continue;
-      t.pushed[static_cast<size_t>(c.ka)] = 1;
-      if (c.kb >= 0) t.pushed[static_cast<size_t>(c.kb)] = 1;
-    }
-  }
   const auto stop = [&](size_t k) {
-    if (gravity && !t.pushed[k]) return;
+    if (gravity && !steppedHeld[members[k]]) return;
     v[k] = Vec2{};
     for (uint32_t at = t.first[k]; at < t.first[k + 1]; ++at) {
       const uint32_t j = t.contactsOf[at];

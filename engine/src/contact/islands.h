@@ -97,7 +97,6 @@ struct Islands {
     std::vector<uint32_t> first, next;        // by member: where its contacts start in contactsOf
     std::vector<uint32_t> contactsOf, queue;  // contacts by member; the worklist
     std::vector<char> queued;                 // by contact
-    std::vector<char> pushed;                 // by member, under gravity: a contact pushes it
   } trimScratch;
   /// Without gravity, at a step's start: moves the members (advanced to the step's start, their
   /// velocities solved) apart where they overlap, without touching a velocity (island.cpp).
@@ -178,10 +177,11 @@ struct Islands {
   /// By body, for stepped bodies: the energy its island's solves may still give back of what its straight
   /// path lost against the parabola it stands in for (keepIslandEnergy). Set when the path begins.
   std::vector<double> gravityAllowance;
-  /// By body: a contact of an island solve pushed it this step (reportIslandContacts marks it, and
-  /// startIslands, which clears the stepped bodies' marks before its solve, reads them). Sized by
-  /// startIslands, which every hybrid step runs before any solve.
+  /// By body: a contact of an island solve pushed it this step (markHeld marks it after each solve; the
+  /// start solve's trimIsland and then startIslands, which clears the stepped bodies' marks before that
+  /// solve, read them). Sized by startIslands, which every hybrid step runs before any solve.
   std::vector<uint8_t> steppedHeld;
+  void markHeld();
   int reportIslandContacts(double now, double reportAbove, uint64_t reportPair, int maxReports);
   /// Moves the seeds' part of their island after their motion changed at `now` (a hit, a join): the
   /// stepped bodies within `hops` pairs of them, or the whole island when that part cannot keep clear of
