@@ -934,23 +934,28 @@ TEST(GravityResting, DiskWedgedBetweenAWallAndAStaticDiskComesToRest) {
 // must sleep within half a second (they did after two steps), touching what holds them: within the height
 // of a bounce at restingSpeed (v^2 / g, resting.cpp), and not overlapping it.
 TEST(GravityResting, TwoDisksLeaningOnEachOtherInAPocketSleep) {
+  const Vec2 circles[] = {{0.008960984279597, -0.0358944198402593},
+                          {1.999949299521905, 0.0980626069079396},
+                          {2.499929139883863, 0.9640918370610576}};
+  const Vec2 restA{0.50892279591382, 0.8301530308848291}, restB{1.499921911512635, 0.9640721976404141};
+  const auto build = [&](World& world) {
+    const BodyId ground = world.createBody(bodyDef(BodyType::Static));
+    for (const Vec2 centre : circles) {
+      FixtureDef cd;
+      cd.geometry = rattle::Circle{centre, 0.5};
+      cd.restitution = 0.5;
+      world.createFixture(ground, cd);
+    }
+    return std::pair{addDisk(world, {restA + Vec2{0, 1e-3}, {0, 0}, 0.5, 1.0, 0.5}),
+                     addDisk(world, {restB + Vec2{0, 1e-3}, {0, 0}, 0.5, 1.0, 0.5})};
+  };
   for (rattle::StepMode mode : {rattle::StepMode::Hybrid, rattle::StepMode::Predictive}) {
     SCOPED_TRACE(mode == rattle::StepMode::Hybrid ? "hybrid" : "predictive");
     WorldDef def;
     def.mode = mode;
     def.gravity = {0, -9.81};
     World world(def);
-    const BodyId ground = world.createBody(bodyDef(BodyType::Static));
-    for (const Vec2 centre : {Vec2{0.008960984279597, -0.0358944198402593}, Vec2{1.999949299521905, 0.0980626069079396},
-                              Vec2{2.499929139883863, 0.9640918370610576}}) {
-      FixtureDef cd;
-      cd.geometry = rattle::Circle{centre, 0.5};
-      cd.restitution = 0.5;
-      world.createFixture(ground, cd);
-    }
-    const Vec2 restA{0.50892279591382, 0.8301530308848291}, restB{1.499921911512635, 0.9640721976404141};
-    const Disk a = addDisk(world, {restA + Vec2{0, 1e-3}, {0, 0}, 0.5, 1.0, 0.5});
-    const Disk b = addDisk(world, {restB + Vec2{0, 1e-3}, {0, 0}, 0.5, 1.0, 0.5});
+    const auto [a, b] = build(world);
     long long events = 0;
     int lastEventStep = -1;
     for (int step = 0; step < 60; ++step) {
@@ -966,13 +971,34 @@ TEST(GravityResting, TwoDisksLeaningOnEachOtherInAPocketSleep) {
     const double restReach = def.restingSpeed * def.restingSpeed / 9.81;
     const Vec2 pa = world.position(a.body), pb = world.position(b.body);
     for (const auto& [gap, what] : {std::pair{length(pa - pb) - 1, "between the two"},
-                                    std::pair{length(pa - Vec2{0.008960984279597, -0.0358944198402593}) - 1,
-                                              "the left disk on its circle"},
-                                    std::pair{length(pb - Vec2{1.999949299521905, 0.0980626069079396}) - 1,
-                                              "the right disk on its circle"}}) {
+                                    std::pair{length(pa - circles[0]) - 1, "the left disk on its circle"},
+                                    std::pair{length(pb - circles[1]) - 1, "the right disk on its circle"}}) {
       EXPECT_GE(gap, -1e-9) << what;
       EXPECT_LE(gap, restReach) << what;
     }
+
+    // In steps of 1/6000 s one sleeps on the other while that one is still awake at a step's end
+    // (sleepOnAwakeBodies). A save made then holds it: two worlds loaded from it have the one asleep and
+    // the other awake, step alike bit for bit (README, "Saving a world"), and come to rest.
+    World fine(def);
+    const auto [fa, fb] = build(fine);
+    int step = 0;
+    while (step < 1000 && fine.isAsleep(fa.body) == fine.isAsleep(fb.body)) {
+      fine.step(1.0 / 6000);
+      ++step;
+    }
+    ASSERT_LT(step, 1000) << "never one asleep and the other awake at a step's end";
+    const std::vector<uint8_t> save = fine.save();
+    World first = World::load(save), second = World::load(save);
+    EXPECT_EQ(first.isAsleep(fa.body), fine.isAsleep(fa.body));
+    EXPECT_EQ(first.isAsleep(fb.body), fine.isAsleep(fb.body));
+    for (int more = 0; more < 600; ++more) {
+      first.step(1.0 / 6000);
+      second.step(1.0 / 6000);
+      ASSERT_EQ(first.stateHash(), second.stateHash()) << "step " << more << " after the load";
+    }
+    EXPECT_TRUE(first.isAsleep(fa.body));
+    EXPECT_TRUE(first.isAsleep(fb.body));
   }
 }
 
