@@ -584,8 +584,10 @@ void detail::resolve(WorldState& w, const PredictedContact& c, std::vector<uint3
     } else if ((aRests || bRests) && length(r.velocity) < restingSpeed &&
                !std::binary_search(w.beingParted.begin(), w.beingParted.end(), rester) &&
                leansOnSlowNeighbour(w, rester, c.time, w.supporters)) {
-      // Held by an awake disk too: it wakes at the next step's start unless that disk is asleep by then
-      // (wakeSleepersOfMovingBodies), as the disk does on meeting it, now held.
+      // Held with a slow awake disk: it sleeps on that disk as a point in a cusp does, and wakes at the
+      // next step's start unless the disk is asleep by then (wakeSleepersOfMovingBodies); the disk, held
+      // now, sleeps at its next contact with it or with its own holders. (A copy: sleepOnAwakeBodies
+      // writes w.supporters from the list it is given.)
       const std::vector<uint32_t> supporters = w.supporters;
       sleepOnAwakeBodies(w, rester, supporters);
     } else if ((aRests || bRests) && w.bodies[w.fixtures[holderFixture].body].type == BodyType::Static &&
