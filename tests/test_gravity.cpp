@@ -1002,6 +1002,50 @@ TEST(GravityResting, TwoDisksLeaningOnEachOtherInAPocketSleep) {
   }
 }
 
+// A disk (radius 0.5, restitution 0.5) wedged between two static circles (radius 0.5), placed as a
+// settled pile of 300 left it against its left wall (rattle-soak's predictive pile, 50 s in, shifted):
+// one circle below and to its right, whose slope it rests on, the other above and to its left, pressing
+// it down and to the right. Up lies within the cone of the two normals, one of them pointing down: the
+// wedge holds it. Taken as holding nothing (a normal from above), it bounced off the slope at
+// restingSpeed and back off the circle above for ever, some 20 events a step. It must sleep within half
+// a second, touching both.
+TEST(GravityResting, ADiskWedgedUnderAnOverhangSleeps) {
+  const Vec2 below{0.613637, -0.789589}, above{-0.928882, 0.370383};
+  for (rattle::StepMode mode : {rattle::StepMode::Hybrid, rattle::StepMode::Predictive}) {
+    SCOPED_TRACE(mode == rattle::StepMode::Hybrid ? "hybrid" : "predictive");
+    WorldDef def;
+    def.mode = mode;
+    def.gravity = {0, -9.81};
+    World world(def);
+    const BodyId ground = world.createBody(bodyDef(BodyType::Static));
+    for (const Vec2 centre : {below, above}) {
+      FixtureDef cd;
+      cd.geometry = rattle::Circle{centre, 0.5};
+      cd.restitution = 0.5;
+      world.createFixture(ground, cd);
+    }
+    world.createFixture(ground, segmentFixture({-1.428882, -2}, {-1.428882, 3}));
+    const Disk d = addDisk(world, {{0, 1e-3}, {0, 0}, 0.5, 1.0, 0.5});
+    long long events = 0;
+    int lastEventStep = -1;
+    for (int step = 0; step < 60; ++step) {
+      world.step(1.0 / 60);
+      events += static_cast<long long>(world.contactEvents().size());
+      if (!world.contactEvents().empty()) lastEventStep = step;
+    }
+    std::printf("[ wedged under an overhang ] %lld events, the last in step %d; at %s\n", events, lastEventStep,
+                str(world.position(d.body)).c_str());
+    EXPECT_TRUE(world.isAsleep(d.body));
+    EXPECT_LT(lastEventStep, 30) << "still bouncing";
+    const double restReach = def.restingSpeed * def.restingSpeed / 9.81;
+    for (const Vec2 centre : {below, above}) {
+      const double gap = length(world.position(d.body) - centre) - 1;
+      EXPECT_GE(gap, -1e-9);
+      EXPECT_LE(gap, restReach);
+    }
+  }
+}
+
 // =====================================================================================================
 // 3. Energy with restitution 1 under gravity.
 

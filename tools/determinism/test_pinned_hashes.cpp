@@ -35,7 +35,7 @@ using rattle::StepMode;
 const Pinned kPinned[] = {
     {"gas", StepMode::Discrete, 0x86c8116bfbbf36e8},       {"gas", StepMode::Hybrid, 0xef8626af8f7350c0},
     {"gas", StepMode::Predictive, 0xc6fb1d9b81e9f0b8},     {"pile", StepMode::Discrete, 0x59db58347c70023b},
-    {"pile", StepMode::Hybrid, 0x1743f66adbe16b98},        {"pile", StepMode::Predictive, 0x5ee6cc08399012bb},
+    {"pile", StepMode::Hybrid, 0x78b4934a912bce0b},        {"pile", StepMode::Predictive, 0xb0689ca28cb03c4a},
     {"bullets", StepMode::Discrete, 0xe0e44a1acacf69c4},   {"bullets", StepMode::Hybrid, 0x4967d9a4a82be735},
     {"bullets", StepMode::Predictive, 0x96540e0f02999b15}, {"sensors", StepMode::Discrete, 0xacda9670e7a43d36},
     {"sensors", StepMode::Hybrid, 0xb0079c3b59625bff},     {"sensors", StepMode::Predictive, 0xf966fb83ffdda990},

@@ -363,8 +363,15 @@ void holdsOfFixedBodies(const detail::WorldState& w, uint32_t bodyIndex, double 
       const double distance = length(r);
       if (!(distance > 0) || distance - radius > touchReach(w, radius)) return;
       const Vec2 n = r * (1.0 / distance);
-      // Beside (a wall) still helps to hold it, together with something below; above holds nothing up.
-      if (dot(n, up) < -1e-12) return;
+      // Beside (a wall) still helps to hold it, together with something below (the cone test); so does
+      // a round piece above and beside it, a sleeper or a static circle: a disk pressed into a sleeper's
+      // slope by a sleeper above it is wedged, and bounced off the slope at restingSpeed it rattled
+      // between the two for ever (rattle-soak's predictive pile of 300). A flat static face above it
+      // holds nothing here: under an overhanging wall the disk slides down its slope into the corner,
+      // where it rests exactly.
+      const bool flat = holder.type == BodyType::Static && !std::holds_alternative<Circle>(other.geometry) &&
+                        !std::holds_alternative<Point>(other.geometry);
+      if (flat && dot(n, up) < -1e-12) return;
       holds.add(n);
       if (holder.type == BodyType::Dynamic &&
           std::find(supporters.begin(), supporters.end(), other.body) == supporters.end()) {
@@ -431,8 +438,7 @@ bool detail::leansOnSlowNeighbour(const WorldState& w, uint32_t bodyIndex, doubl
   // Two free disks each on one sleeper's slope and leaning on each other, an arch of two, are held by
   // each other, and neither alone: bounced off its sleeper at restingSpeed each time, each rattled for
   // ever against the other and kept a pile of 300 awake (a minute of rattle-soak's pile). The forces
-  // that hold them exist when up lies within the cone of each one's normals, the other's included; a
-  // normal from beside and a little above counts here, since the other disk presses it sideways.
+  // that hold them exist when up lies within the cone of each one's normals, the other's included.
   const BodySlot& body = w.bodies[bodyIndex];
   if (body.stepped || detail::isPoint(w.fixtures[body.fixtures.front()].geometry)) return false;
   const Vec2 up = -w.def.gravity * (1.0 / length(w.def.gravity));
