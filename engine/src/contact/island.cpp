@@ -105,14 +105,14 @@ constexpr int kRegathers = 3;
 // tenth kept a crowd's squeezed disks apart at about the cost the crowd had before (bench/README.md,
 // "Crowds").
 constexpr int kCarriedShare = 10;
+// How many members ahead the gather asks for a member's pair list (gatherIslandContacts).
+constexpr size_t kGatherAhead = 4;
 // Parts a settleAround tries, the last the whole island: without gravity hops, 4 x hops, 16 x hops, all.
 // A jam of thousands solved again whole for each part that failed spent most of its step there (1,228
 // whole solves in the first 30 ticks of rattle-demo --units 5000 --steering naive, two thirds of the
 // solves' work); the part sixteen times as deep mostly holds there. Under gravity the deeper part made a
 // landing pile slower (rattle-bench's pile of 1,000: 600-713 ms per simulated second against 492), so
 // piles go from 4 x hops to the whole island.
-// How many members ahead the gather asks for a member's pair list (gatherIslandContacts).
-constexpr size_t kGatherAhead = 4;
 constexpr int kSettleAttemptsWithoutGravity = 4;
 constexpr int kSettleAttemptsUnderGravity = 3;
 // Without gravity the sweeps over-relax (projected SOR): a jam of thousands that a game presses into a
