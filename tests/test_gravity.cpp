@@ -925,6 +925,19 @@ TEST(GravityResting, DiskWedgedBetweenAWallAndAStaticDiskComesToRest) {
   }
 }
 
+// Steps the world `steps` times by dt; returns the contact events reported and the last step with any
+// (-1 for none).
+std::pair<long long, int> stepCountingEvents(World& world, int steps, double dt) {
+  long long events = 0;
+  int lastEventStep = -1;
+  for (int step = 0; step < steps; ++step) {
+    world.step(dt);
+    events += static_cast<long long>(world.contactEvents().size());
+    if (!world.contactEvents().empty()) lastEventStep = step;
+  }
+  return {events, lastEventStep};
+}
+
 // Two disks (radius 0.5, restitution 0.5) in a pocket of three static circles (radius 0.5), placed as a
 // settled pile of 300 left them (rattle-soak's, 55 s in, shifted): the left disk lies on a circle below
 // and to its left, the right one on a circle below and to its right with another circle beside it, and
@@ -956,13 +969,7 @@ TEST(GravityResting, TwoDisksLeaningOnEachOtherInAPocketSleep) {
     def.gravity = {0, -9.81};
     World world(def);
     const auto [a, b] = build(world);
-    long long events = 0;
-    int lastEventStep = -1;
-    for (int step = 0; step < 60; ++step) {
-      world.step(1.0 / 60);
-      events += static_cast<long long>(world.contactEvents().size());
-      if (!world.contactEvents().empty()) lastEventStep = step;
-    }
+    const auto [events, lastEventStep] = stepCountingEvents(world, 60, 1.0 / 60);
     std::printf("[ arch of two ] %lld events, the last in step %d; at %s and %s\n", events, lastEventStep,
                 str(world.position(a.body)).c_str(), str(world.position(b.body)).c_str());
     EXPECT_TRUE(world.isAsleep(a.body));
@@ -1026,13 +1033,7 @@ TEST(GravityResting, ADiskWedgedUnderAnOverhangSleeps) {
     }
     world.createFixture(ground, segmentFixture({-1.428882, -2}, {-1.428882, 3}));
     const Disk d = addDisk(world, {{0, 1e-3}, {0, 0}, 0.5, 1.0, 0.5});
-    long long events = 0;
-    int lastEventStep = -1;
-    for (int step = 0; step < 60; ++step) {
-      world.step(1.0 / 60);
-      events += static_cast<long long>(world.contactEvents().size());
-      if (!world.contactEvents().empty()) lastEventStep = step;
-    }
+    const auto [events, lastEventStep] = stepCountingEvents(world, 60, 1.0 / 60);
     std::printf("[ wedged under an overhang ] %lld events, the last in step %d; at %s\n", events, lastEventStep,
                 str(world.position(d.body)).c_str());
     EXPECT_TRUE(world.isAsleep(d.body));
