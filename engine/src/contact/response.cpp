@@ -577,19 +577,15 @@ void detail::resolve(WorldState& w, const PredictedContact& c, std::vector<uint3
     const uint32_t holderFixture = aRests ? c.b : c.a;
     BodySlot& r = w.bodies[rester];
     // Not a body that this step's start parts from another (separation.cpp): asleep, it would stay on it.
-    if ((aRests || bRests) && length(r.velocity) < restingSpeed &&
-        !std::binary_search(w.beingParted.begin(), w.beingParted.end(), rester) &&
-        supportsAt(w, rester, c.time, w.supporters, aRests ? n : -n, w.fixtures[holderFixture].body)) {
+    const bool mayRest = (aRests || bRests) && length(r.velocity) < restingSpeed &&
+                         !std::binary_search(w.beingParted.begin(), w.beingParted.end(), rester);
+    if (mayRest && supportsAt(w, rester, c.time, w.supporters, aRests ? n : -n, w.fixtures[holderFixture].body)) {
       putToSleep(w, rester, w.supporters);
-    } else if ((aRests || bRests) && length(r.velocity) < restingSpeed &&
-               !std::binary_search(w.beingParted.begin(), w.beingParted.end(), rester) &&
-               leansOnSlowNeighbour(w, rester, c.time, w.supporters)) {
+    } else if (mayRest && leansOnSlowNeighbour(w, rester, c.time, w.supporters)) {
       // Held with a slow awake disk: it sleeps on that disk as a point in a cusp does, and wakes at the
       // next step's start unless the disk is asleep by then (wakeSleepersOfMovingBodies); the disk, held
-      // now, sleeps at its next contact with it or with its own holders. (A copy: sleepOnAwakeBodies
-      // writes w.supporters from the list it is given.)
-      const std::vector<uint32_t> supporters = w.supporters;
-      sleepOnAwakeBodies(w, rester, supporters);
+      // now, sleeps at its next contact with it or with its own holders.
+      sleepOnAwakeBodies(w, rester, w.supporters);
     } else if ((aRests || bRests) && w.bodies[w.fixtures[holderFixture].body].type == BodyType::Static &&
                isFlatFeature(w, holderFixture, c.feature) && aRests) {
       startSliding(w, rester, holderFixture, c.feature, n);

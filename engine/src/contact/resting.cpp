@@ -344,8 +344,9 @@ double touchReach(const detail::WorldState& w, double radius) {
   return 1e-7 * std::max(radius, 1e-9) + w.def.restingSpeed * w.def.restingSpeed / length(w.def.gravity);
 }
 
+// The dynamic holders (sleepers) go to `supporters` when it is given.
 void holdsOfFixedBodies(const detail::WorldState& w, uint32_t bodyIndex, double now, Vec2 up, Holds& holds,
-                        std::vector<uint32_t>& supporters) {
+                        std::vector<uint32_t>* supporters) {
   const BodySlot& body = w.bodies[bodyIndex];
   for (const auto& pair : w.pairsOfBody[bodyIndex]) {
     const detail::FixtureSlot& own = w.fixtures[pair.own];
@@ -373,9 +374,9 @@ void holdsOfFixedBodies(const detail::WorldState& w, uint32_t bodyIndex, double 
                         !std::holds_alternative<Point>(other.geometry);
       if (flat && dot(n, up) < -1e-12) return;
       holds.add(n);
-      if (holder.type == BodyType::Dynamic &&
-          std::find(supporters.begin(), supporters.end(), other.body) == supporters.end()) {
-        supporters.push_back(other.body);
+      if (supporters && holder.type == BodyType::Dynamic &&
+          std::find(supporters->begin(), supporters->end(), other.body) == supporters->end()) {
+        supporters->push_back(other.body);
       }
     });
   }
@@ -402,7 +403,7 @@ bool detail::supportsAt(const WorldState& w, uint32_t bodyIndex, double now, std
   const Vec2 up = -w.def.gravity * (1.0 / length(w.def.gravity));
   supporters.clear();
   Holds holds;
-  holdsOfFixedBodies(w, bodyIndex, now, up, holds, supporters);
+  holdsOfFixedBodies(w, bodyIndex, now, up, holds, &supporters);
   // A point touches at distance 0, where the pieces it touches give no direction: the contact at hand
   // and the face it slides on do. Without them a point that slid into the bottom of a V of two faces
   // could never rest there: it slid down one face into the other, and down that one back into the
@@ -444,9 +445,8 @@ bool detail::leansOnSlowNeighbour(const WorldState& w, uint32_t bodyIndex, doubl
   const Vec2 up = -w.def.gravity * (1.0 / length(w.def.gravity));
   supporters.clear();
   Holds own;
-  holdsOfFixedBodies(w, bodyIndex, now, up, own, supporters);
+  holdsOfFixedBodies(w, bodyIndex, now, up, own, &supporters);
   if (own.count == 0) return false;
-  std::vector<uint32_t> unused;
   for (const auto& pair : w.pairsOfBody[bodyIndex]) {
     const detail::FixtureSlot& mine = w.fixtures[pair.own];
     const detail::FixtureSlot& theirs = w.fixtures[pair.other];
@@ -465,8 +465,7 @@ bool detail::leansOnSlowNeighbour(const WorldState& w, uint32_t bodyIndex, doubl
     withOther.add(n);
     if (!upWithinCone(withOther, up)) continue;
     Holds theirsHeld;
-    unused.clear();
-    holdsOfFixedBodies(w, theirs.body, now, up, theirsHeld, unused);
+    holdsOfFixedBodies(w, theirs.body, now, up, theirsHeld, nullptr);
     theirsHeld.add(-n);
     if (!upWithinCone(theirsHeld, up)) continue;
     supporters.push_back(theirs.body);
@@ -490,7 +489,7 @@ void detail::sleepIfZeno(WorldState& w, uint32_t bodyIndex, double now, Vec2 con
   }
 }
 
-void detail::putToSleep(WorldState& w, uint32_t bodyIndex, const std::vector<uint32_t>& supporters) {
+void detail::putToSleep(WorldState& w, uint32_t bodyIndex, std::span<const uint32_t> supporters) {
   BodySlot& b = w.bodies[bodyIndex];
   w.keep(b);
   b.asleep = true;
@@ -525,8 +524,7 @@ void detail::placePointOnFace(WorldState& w, BodySlot& b, const PredictedContact
 }
 
 void detail::sleepOnAwakeBodies(WorldState& w, uint32_t bodyIndex, std::span<const uint32_t> supporters) {
-  w.supporters.assign(supporters.begin(), supporters.end());
-  putToSleep(w, bodyIndex, w.supporters);
+  putToSleep(w, bodyIndex, supporters);
   auto& list = w.sleepersOnAwakeBodies;
   for (uint32_t supporter : supporters) {
     const std::pair<uint32_t, uint32_t> entry{bodyIndex, supporter};

@@ -12,7 +12,7 @@ namespace rattle::detail {
 
 /// Puts the body to sleep where it is (velocity and acceleration zero), held up by `supporters`, which
 /// wake it when they wake (WorldState::dependents).
-void putToSleep(WorldState& w, uint32_t body, const std::vector<uint32_t>& supporters);
+void putToSleep(WorldState& w, uint32_t body, std::span<const uint32_t> supporters);
 /// The predictive mode's guard against a Zeno sequence: counts a collision of `body` in this step.
 /// `contactNormal` (toward the body) and `holder` are the contact at hand's, as for supportsAt.
 void sleepIfZeno(WorldState& w, uint32_t body, double now, Vec2 contactNormal = {}, uint32_t holder = 0);
@@ -42,9 +42,10 @@ double distanceFromRememberedFace(const WorldState& w, const detail::BodySlot& b
 /// A point meeting a static face at `c`: where the time of impact took it as met at the face's end from
 /// beyond it (a joint's reach, time_of_impact.cpp), it moves to that end, the contact's point.
 void placePointOnFace(WorldState& w, detail::BodySlot& b, const detail::PredictedContact& c);
-/// Puts a point to sleep held by awake bodies at rest (squeeze.cpp: a point caught between a stepped
-/// body and a face, or in the pinch of two bodies), and lists it in WorldState::sleepersOnAwakeBodies
-/// with each of them.
+/// Puts a body to sleep held by awake bodies at rest (squeeze.cpp: a point caught between a stepped
+/// body and a face, or in the pinch of two bodies; response.cpp: a disk in an arch of two with a slow
+/// awake disk, leansOnSlowNeighbour), and lists it in WorldState::sleepersOnAwakeBodies with each of
+/// them.
 void sleepOnAwakeBodies(WorldState& w, uint32_t body, std::span<const uint32_t> supporters);
 /// At a step's start: wakes the sleepers of WorldState::sleepersOnAwakeBodies whose supporter moves,
 /// and forgets those whose supporter has gone to sleep (its wake wakes them) or that are awake.
