@@ -666,6 +666,43 @@ TEST(TimeOfImpactCirclePolygon, ExcludedEdgeIsIgnored) {
   EXPECT_EQ(hit->time, 0.0);
 }
 
+// A face or corner the circle cannot reach within maxTime is skipped without solving for it (its centre
+// moves at most |v| T + |a| T^2 / 2): at the edge of that reach the answer must still be the analytic one.
+TEST(TimeOfImpactReach, AFaceOrCornerJustWithinReachIsMetAndJustBeyondIsNot) {
+  // Falling onto the floor of a closed box: 2.5 = 4 t + 4.905 t^2 (the gap from y 3 - 0.5 to the floor).
+  const Polyline box{{{-5.0, 0.0}, {5.0, 0.0}, {5.0, 10.0}, {-5.0, 10.0}, {-5.0, 0.0}}};
+  const rattle::Circle disk{{1.0, 3.0}, 0.5};
+  const rattle::Motion fall{{0.0, -4.0}, {0.0, -9.81}};
+  const double fallTime = (-4.0 + std::sqrt(16.0 + 4 * 4.905 * 2.5)) / (2 * 4.905);
+  // Toward the corner (1, 1) of the square from (3, 3): the distance 2 sqrt 2 closes to 0.5 at speed 2.
+  const rattle::Circle outside{{3.0, 3.0}, 0.5};
+  const Vec2 diagonal{-std::sqrt(2.0), -std::sqrt(2.0)};
+  const double cornerTime = (2 * std::sqrt(2.0) - 0.5) / 2;
+  // Along an open Polyline's line into its end (1, 1) from (3, 1): 1.5 at speed 3.
+  const Polyline open{{{-1.0, 1.0}, {1.0, 1.0}}};
+  const rattle::Circle beside{{3.0, 1.0}, 0.5};
+  const double endTime = 0.5;
+  for (const double share : {1 - 1e-3, 1 - 1e-9, 1 + 1e-9, 1 + 1e-3}) {
+    SCOPED_TRACE(share);
+    const auto floor = rattle::timeOfImpactCirclePolyline(disk, fall, box, fallTime * share);
+    const auto corner = rattle::timeOfImpactCirclePolygon(outside, diagonal, square(), cornerTime * share);
+    const auto end = rattle::timeOfImpactCirclePolyline(beside, Vec2{-3.0, 0.0}, open, endTime * share);
+    if (share < 1) {
+      expectNone(floor);
+      expectNone(corner);
+      expectNone(end);
+      continue;
+    }
+    ASSERT_TRUE(floor && corner && end);
+    EXPECT_NEAR(floor->time, fallTime, 1e-14);
+    EXPECT_EQ(floor->feature, 0);
+    EXPECT_NEAR(corner->time, cornerTime, 1e-14);
+    EXPECT_EQ(corner->feature, 4 + 2);  // corner 2 of square(): (1, 1)
+    EXPECT_NEAR(end->time, endTime, 1e-14);
+    EXPECT_EQ(end->feature, 1 + 1);  // the Polyline's corner 1, its end
+  }
+}
+
 // =========================================================================================================
 // A point (radius 0) on a line: round-off decides nothing
 

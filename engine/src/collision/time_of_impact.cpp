@@ -234,6 +234,28 @@ std::optional<Impact> faceImpact(const Circle& circle, const Motion& m, const Ed
   return Impact{*t, edge.a + edge.u * tau, edge.n, feature};
 }
 
+// How far a centre moves at most over [0, maxTime]: |v| T + |a| T^2 / 2.
+double reachWithin(const Motion& m, double maxTime) {
+  return length(m.velocity) * maxTime + 0.5 * length(m.acceleration) * maxTime * maxTime;
+}
+
+// Whether a circle of radius > 0 whose centre moves at most `reach` (reachWithin) stays farther than its
+// radius from the segment p0-p1 (a point when p0 = p1), by more than round-off. A face is met only where
+// the centre lies the radius from the face's line over the segment itself (faceImpact takes no slack
+// along the face but a point's), and a corner where it lies the radius from the corner, so such a
+// segment's faces and ends have no impact to find; most segments of a wall around a scene are that far
+// from most bodies. The margin, 1e-9 of the coordinates at play, is far above the rounding of the gap,
+// of tau and of the times of impact. A non-finite reach or coordinate answers false.
+inline bool beyondReach(const Circle& a, double reach, Vec2 p0, Vec2 p1) {
+  const Vec2 d = p1 - p0, r = a.center - p0;
+  const double dd = dot(d, d);
+  const double along = dd > 0 ? std::clamp(dot(r, d) / dd, 0.0, 1.0) : 0.0;
+  const double distance = length(r - d * along);
+  const double scale = std::fabs(a.center.x) + std::fabs(a.center.y) + std::fabs(p0.x) + std::fabs(p0.y) +
+                       std::fabs(p1.x) + std::fabs(p1.y) + a.radius + reach;
+  return a.radius > 0 && distance - reach - a.radius > 1e-9 * scale;
+}
+
 void keepEarlier(std::optional<Impact>& best, const std::optional<Impact>& candidate) {
   if (candidate && (!best || candidate->time < best->time)) best = candidate;
 }
@@ -349,6 +371,7 @@ std::optional<Impact> circlePolylineImpact(const Circle& a, const Motion& motion
   // corner, met through the faces beside it. As two ends, a point that slid into it took a normal from
   // its own motion and was bounced back into the face it came along, out of the closed box.
   const bool closed = n > 3 && b.points.front() == b.points.back();
+  const double reach = reachWithin(motion, maxTime);
   std::optional<Impact> best;
   for (int i = 0; i + 1 < n; ++i) {
     // The round-off of the neighbouring segments' lines (Edge::jointSlackStart, jointSlackEnd), for a
@@ -369,6 +392,7 @@ std::optional<Impact> circlePolylineImpact(const Circle& a, const Motion& motion
         afterEnd = &b.points[after + 1];
       }
     }
+    if (beyondReach(a, reach, b.points[i], b.points[i + 1])) continue;
     bool resolved = isResolved(i, resolvedFeature);
     if (known != nullptr) {
       const detail::KnownFaces::Reading reading = known->readingOf(i);
@@ -384,6 +408,7 @@ std::optional<Impact> circlePolylineImpact(const Circle& a, const Motion& motion
     // its own motion, was taken to leave both faces, and went on through the next one. The two faces
     // reach past the joint by the round-off (Edge::jointSlackStart, jointSlackEnd) and meet it instead.
     if (a.radius == 0 && ((k > 0 && k + 1 < n) || closed)) continue;
+    if (beyondReach(a, reach, b.points[k], b.points[k])) continue;
     const int feature = n - 1 + k;
     if (auto t = timeToReach(a.center - b.points[k], motion, a.radius, maxTime, isResolved(feature, resolvedFeature)))
       keepEarlier(best, pointImpact(a.center, motion, b.points[k], 0.0, *t, feature));
@@ -414,8 +439,10 @@ std::optional<Impact> circlePolygonImpact(const Circle& a, const Motion& motion,
     const Vec2 here = b.points[i], next = b.points[(i + 1) % n];
     outside = cross(next - here, a.center - here) < 0;
   }
+  const double reach = reachWithin(motion, maxTime);
   for (int i = 0; i < n; ++i) {
     const Vec2 here = b.points[i], next = b.points[(i + 1) % n];
+    if (beyondReach(a, reach, here, next)) continue;
     Edge edge = edgeOf(here, next);
     edge.frameSlack = frameSlack;
     const bool front = !outside || cross(next - here, a.center - here) <= 0;
@@ -429,6 +456,7 @@ std::optional<Impact> circlePolygonImpact(const Circle& a, const Motion& motion,
   // (BodiesInCorners.PointsThrownIntoATiltedBoxFarOutStayIn).
   for (int k = 0; k < n && a.radius > 0; ++k) {
     const int feature = n + k;
+    if (beyondReach(a, reach, b.points[k], b.points[k])) continue;
     auto t = timeToReach(a.center - b.points[k], motion, a.radius, maxTime, isResolved(feature, resolvedFeature));
     if (!t) continue;
     // A corner is the contact only where it is the polygon's nearest point to the centre: past the end of
