@@ -682,18 +682,25 @@ TEST(TimeOfImpactReach, AFaceOrCornerJustWithinReachIsMetAndJustBeyondIsNot) {
   const Polyline open{{{-1.0, 1.0}, {1.0, 1.0}}};
   const rattle::Circle beside{{3.0, 1.0}, 0.5};
   const double endTime = 0.5;
+  // The same diagonal into the joint (1, 1) of a bent Polyline whose third segment lies far off: the
+  // joint is met, though one segment beyond it is out of reach.
+  const Polyline bend{{{-3.0, 1.0}, {1.0, 1.0}, {1.0, -3.0}, {100.0, -3.0}}};
   for (const double share : {1 - 1e-3, 1 - 1e-9, 1 + 1e-9, 1 + 1e-3}) {
     SCOPED_TRACE(share);
     const auto floor = rattle::timeOfImpactCirclePolyline(disk, fall, box, fallTime * share);
     const auto corner = rattle::timeOfImpactCirclePolygon(outside, diagonal, square(), cornerTime * share);
     const auto end = rattle::timeOfImpactCirclePolyline(beside, Vec2{-3.0, 0.0}, open, endTime * share);
+    const auto joint = rattle::timeOfImpactCirclePolyline(outside, diagonal, bend, cornerTime * share);
     if (share < 1) {
       expectNone(floor);
       expectNone(corner);
       expectNone(end);
+      expectNone(joint);
       continue;
     }
-    ASSERT_TRUE(floor && corner && end);
+    ASSERT_TRUE(floor && corner && end && joint);
+    EXPECT_NEAR(joint->time, cornerTime, 1e-14);
+    EXPECT_EQ(joint->feature, 3 + 1);  // the Polyline's corner 1
     EXPECT_NEAR(floor->time, fallTime, 1e-14);
     EXPECT_EQ(floor->feature, 0);
     EXPECT_NEAR(corner->time, cornerTime, 1e-14);

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include "collision/closest_point.h"
@@ -234,27 +235,50 @@ std::optional<Impact> faceImpact(const Circle& circle, const Motion& m, const Ed
   return Impact{*t, edge.a + edge.u * tau, edge.n, feature};
 }
 
-// How far a centre moves at most over [0, maxTime]: |v| T + |a| T^2 / 2.
-double reachWithin(const Motion& m, double maxTime) {
-  return length(m.velocity) * maxTime + 0.5 * length(m.acceleration) * maxTime * maxTime;
+// What beyondReach needs of a circle and its motion over [0, maxTime]: its centre moves at most
+// |v| T + |a| T^2 / 2 (`travel`), and `scale` is the part of the margin's scale every piece shares.
+struct Reach {
+  Vec2 centre;
+  double radius, travel, scale;
+};
+
+Reach reachOf(const Circle& a, const Motion& m, double maxTime) {
+  const double travel = length(m.velocity) * maxTime + 0.5 * length(m.acceleration) * maxTime * maxTime;
+  return {a.center, a.radius, travel, std::fabs(a.center.x) + std::fabs(a.center.y) + a.radius + travel};
 }
 
-// Whether a circle of radius > 0 whose centre moves at most `reach` (reachWithin) stays farther than its
-// radius from the segment p0-p1 (a point when p0 = p1), by more than round-off. A face is met only where
-// the centre lies the radius from the face's line over the segment itself (faceImpact takes no slack
-// along the face but a point's), and a corner where it lies the radius from the corner, so such a
-// segment's faces and ends have no impact to find; most segments of a wall around a scene are that far
-// from most bodies. The margin, 1e-9 of the coordinates at play, is far above the rounding of the gap,
-// of tau and of the times of impact. A non-finite reach or coordinate answers false.
-inline bool beyondReach(const Circle& a, double reach, Vec2 p0, Vec2 p1) {
-  const Vec2 d = p1 - p0, r = a.center - p0;
-  const double dd = dot(d, d);
-  const double along = dd > 0 ? std::clamp(dot(r, d) / dd, 0.0, 1.0) : 0.0;
-  const double distance = length(r - d * along);
-  const double scale = std::fabs(a.center.x) + std::fabs(a.center.y) + std::fabs(p0.x) + std::fabs(p0.y) +
-                       std::fabs(p1.x) + std::fabs(p1.y) + a.radius + reach;
-  return a.radius > 0 && distance - reach - a.radius > 1e-9 * scale;
+// Whether a circle of radius > 0 stays farther than its radius plus its travel (Reach) from the segment
+// p0-p1 (a point when p0 = p1), by more than round-off. A face is met only where the centre lies the
+// radius from the face's line over the segment itself (faceImpact takes no slack along the face but a
+// point's), and a corner where it lies the radius from the corner, so such a segment's faces and ends have
+// no impact to find; most segments of a wall around a scene are that far from most bodies. The margin,
+// 1e-9 of the coordinates at play, is far above the rounding of the gap, of tau and of the times of
+// impact. A non-finite travel or coordinate answers false.
+inline bool beyondReach(const Reach& r, Vec2 p0, Vec2 p1) {
+  const Vec2 d = p1 - p0, q = r.centre - p0;
+  const double along = dot(q, d), dd = dot(d, d);
+  const Vec2 off = along <= 0 || !(dd > 0) ? q : along >= dd ? q - d : q - d * (along / dd);
+  const double scale = r.scale + std::fabs(p0.x) + std::fabs(p0.y) + std::fabs(p1.x) + std::fabs(p1.y);
+  const double out = r.radius + r.travel + 1e-9 * scale;
+  return r.radius > 0 && dot(off, off) > out * out;
 }
+
+// Which of up to 64 segments beyondReach found out of reach, so that their ends need no test of their own
+// (an end is no nearer than its segment); past 64 the ends are tested one by one.
+class FarSegments {
+ public:
+  explicit FarSegments(int segments) : tracked_(segments <= 64) {}
+  void mark(int i) {
+    if (tracked_) bits_ |= uint64_t{1} << i;
+  }
+  // Whether segment i is out of reach as far as marked (false for an index outside [0, segments)).
+  bool far(int i) const { return tracked_ && i >= 0 && i < 64 && ((bits_ >> i) & 1) != 0; }
+  bool tracked() const { return tracked_; }
+
+ private:
+  bool tracked_;
+  uint64_t bits_ = 0;
+};
 
 void keepEarlier(std::optional<Impact>& best, const std::optional<Impact>& candidate) {
   if (candidate && (!best || candidate->time < best->time)) best = candidate;
@@ -371,7 +395,8 @@ std::optional<Impact> circlePolylineImpact(const Circle& a, const Motion& motion
   // corner, met through the faces beside it. As two ends, a point that slid into it took a normal from
   // its own motion and was bounced back into the face it came along, out of the closed box.
   const bool closed = n > 3 && b.points.front() == b.points.back();
-  const double reach = reachWithin(motion, maxTime);
+  const Reach reach = reachOf(a, motion, maxTime);
+  FarSegments far(n - 1);
   std::optional<Impact> best;
   for (int i = 0; i + 1 < n; ++i) {
     // The round-off of the neighbouring segments' lines (Edge::jointSlackStart, jointSlackEnd), for a
@@ -392,7 +417,10 @@ std::optional<Impact> circlePolylineImpact(const Circle& a, const Motion& motion
         afterEnd = &b.points[after + 1];
       }
     }
-    if (beyondReach(a, reach, b.points[i], b.points[i + 1])) continue;
+    if (beyondReach(reach, b.points[i], b.points[i + 1])) {
+      far.mark(i);
+      continue;
+    }
     bool resolved = isResolved(i, resolvedFeature);
     if (known != nullptr) {
       const detail::KnownFaces::Reading reading = known->readingOf(i);
@@ -408,7 +436,8 @@ std::optional<Impact> circlePolylineImpact(const Circle& a, const Motion& motion
     // its own motion, was taken to leave both faces, and went on through the next one. The two faces
     // reach past the joint by the round-off (Edge::jointSlackStart, jointSlackEnd) and meet it instead.
     if (a.radius == 0 && ((k > 0 && k + 1 < n) || closed)) continue;
-    if (beyondReach(a, reach, b.points[k], b.points[k])) continue;
+    // Corner k ends segment k - 1 and begins segment k.
+    if (far.tracked() ? far.far(k - 1) || far.far(k) : beyondReach(reach, b.points[k], b.points[k])) continue;
     const int feature = n - 1 + k;
     if (auto t = timeToReach(a.center - b.points[k], motion, a.radius, maxTime, isResolved(feature, resolvedFeature)))
       keepEarlier(best, pointImpact(a.center, motion, b.points[k], 0.0, *t, feature));
@@ -439,10 +468,14 @@ std::optional<Impact> circlePolygonImpact(const Circle& a, const Motion& motion,
     const Vec2 here = b.points[i], next = b.points[(i + 1) % n];
     outside = cross(next - here, a.center - here) < 0;
   }
-  const double reach = reachWithin(motion, maxTime);
+  const Reach reach = reachOf(a, motion, maxTime);
+  FarSegments far(n);
   for (int i = 0; i < n; ++i) {
     const Vec2 here = b.points[i], next = b.points[(i + 1) % n];
-    if (beyondReach(a, reach, here, next)) continue;
+    if (beyondReach(reach, here, next)) {
+      far.mark(i);
+      continue;
+    }
     Edge edge = edgeOf(here, next);
     edge.frameSlack = frameSlack;
     const bool front = !outside || cross(next - here, a.center - here) <= 0;
@@ -456,7 +489,8 @@ std::optional<Impact> circlePolygonImpact(const Circle& a, const Motion& motion,
   // (BodiesInCorners.PointsThrownIntoATiltedBoxFarOutStayIn).
   for (int k = 0; k < n && a.radius > 0; ++k) {
     const int feature = n + k;
-    if (beyondReach(a, reach, b.points[k], b.points[k])) continue;
+    // Corner k ends edge k - 1 (mod n) and begins edge k.
+    if (far.tracked() ? far.far((k + n - 1) % n) || far.far(k) : beyondReach(reach, b.points[k], b.points[k])) continue;
     auto t = timeToReach(a.center - b.points[k], motion, a.radius, maxTime, isResolved(feature, resolvedFeature));
     if (!t) continue;
     // A corner is the contact only where it is the polygon's nearest point to the centre: past the end of
