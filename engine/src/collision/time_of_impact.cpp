@@ -235,49 +235,49 @@ std::optional<Impact> faceImpact(const Circle& circle, const Motion& m, const Ed
   return Impact{*t, edge.a + edge.u * tau, edge.n, feature};
 }
 
-// What beyondReach needs of a circle and its motion over [0, maxTime]: its centre moves at most
-// |v| T + |a| T^2 / 2 (`travel`), and `scale` is the part of the margin's scale every piece shares.
-struct Reach {
-  Vec2 centre;
-  double radius, travel, scale;
-};
-
-Reach reachOf(const Circle& a, const Motion& m, double maxTime) {
-  const double travel = length(m.velocity) * maxTime + 0.5 * length(m.acceleration) * maxTime * maxTime;
-  return {a.center, a.radius, travel, std::fabs(a.center.x) + std::fabs(a.center.y) + a.radius + travel};
-}
-
-// Whether a circle of radius > 0 stays farther than its radius plus its travel (Reach) from the segment
-// p0-p1 (a point when p0 = p1), by more than round-off. A face is met only where the centre lies the
-// radius from the face's line over the segment itself (faceImpact takes no slack along the face but a
-// point's), and a corner where it lies the radius from the corner, so such a segment's faces and ends have
-// no impact to find; most segments of a wall around a scene are that far from most bodies. The margin,
-// 1e-9 of the coordinates at play, is far above the rounding of the gap, of tau and of the times of
-// impact. A non-finite travel or coordinate answers false.
-inline bool beyondReach(const Reach& r, Vec2 p0, Vec2 p1) {
-  const Vec2 d = p1 - p0, q = r.centre - p0;
-  const double along = dot(q, d), dd = dot(d, d);
-  const Vec2 off = along <= 0 || !(dd > 0) ? q : along >= dd ? q - d : q - d * (along / dd);
-  const double scale = r.scale + std::fabs(p0.x) + std::fabs(p0.y) + std::fabs(p1.x) + std::fabs(p1.y);
-  const double out = r.radius + r.travel + 1e-9 * scale;
-  return r.radius > 0 && dot(off, off) > out * out;
-}
-
-// Which of up to 64 segments beyondReach found out of reach, so that their ends need no test of their own
-// (an end is no nearer than its segment); past 64 the ends are tested one by one.
-class FarSegments {
+// Which pieces of a wall a circle of radius > 0 cannot reach over [0, maxTime]: its centre moves at most
+// |v| T + |a| T^2 / 2, and a piece farther than the radius plus that, by more than round-off, is out of
+// reach. A face is met only where the centre lies the radius from the face's line over the segment itself
+// (faceImpact takes no slack along the face but a point's), and a corner where it lies the radius from the
+// corner, so such a segment's faces and ends have no impact to find; most segments of a wall around a
+// scene are that far from most bodies. The margin, 1e-9 of the coordinates at play, is far above the
+// rounding of the gap, of tau and of the times of impact; a non-finite travel or coordinate reaches all.
+// A corner is out of reach with a segment it ends or begins (an end is no nearer than its segment): the
+// segments found out of reach are marked, up to 64; past that each corner is tested on its own.
+class OutOfReach {
  public:
-  explicit FarSegments(int segments) : tracked_(segments <= 64) {}
-  void mark(int i) {
-    if (tracked_) bits_ |= uint64_t{1} << i;
+  OutOfReach(const Circle& a, const Motion& m, double maxTime, int segments)
+      : centre_(a.center),
+        radius_(a.radius),
+        travel_(length(m.velocity) * maxTime + 0.5 * length(m.acceleration) * maxTime * maxTime),
+        scale_(norm1(a.center) + a.radius + travel_),
+        marking_(segments <= 64) {}
+
+  // Segment i, from p0 to p1.
+  bool segment(int i, Vec2 p0, Vec2 p1) {
+    const bool far = beyond(detail::closestOnSegment(p0, p1, centre_, true).point, norm1(p0) + norm1(p1));
+    if (far && marking_) marked_ |= uint64_t{1} << i;
+    return far;
   }
-  // Whether segment i is out of reach as far as marked (false for an index outside [0, segments)).
-  bool far(int i) const { return tracked_ && i >= 0 && i < 64 && ((bits_ >> i) & 1) != 0; }
-  bool tracked() const { return tracked_; }
+  // The corner at p that ends segment `before` and begins segment `after` (-1 or the segment count: none).
+  bool corner(int before, int after, Vec2 p) const {
+    if (!marking_) return beyond(p, 2 * norm1(p));
+    return isMarked(before) || isMarked(after);
+  }
 
  private:
-  bool tracked_;
-  uint64_t bits_ = 0;
+  static double norm1(Vec2 p) { return std::fabs(p.x) + std::fabs(p.y); }
+  bool beyond(Vec2 nearest, double pieceScale) const {
+    const Vec2 off = centre_ - nearest;
+    const double out = radius_ + travel_ + 1e-9 * (scale_ + pieceScale);
+    return radius_ > 0 && dot(off, off) > out * out;
+  }
+  bool isMarked(int i) const { return i >= 0 && i < 64 && ((marked_ >> i) & 1) != 0; }
+
+  Vec2 centre_;
+  double radius_, travel_, scale_;
+  bool marking_;
+  uint64_t marked_ = 0;
 };
 
 void keepEarlier(std::optional<Impact>& best, const std::optional<Impact>& candidate) {
@@ -395,10 +395,10 @@ std::optional<Impact> circlePolylineImpact(const Circle& a, const Motion& motion
   // corner, met through the faces beside it. As two ends, a point that slid into it took a normal from
   // its own motion and was bounced back into the face it came along, out of the closed box.
   const bool closed = n > 3 && b.points.front() == b.points.back();
-  const Reach reach = reachOf(a, motion, maxTime);
-  FarSegments far(n - 1);
+  OutOfReach reach(a, motion, maxTime, n - 1);
   std::optional<Impact> best;
   for (int i = 0; i + 1 < n; ++i) {
+    if (reach.segment(i, b.points[i], b.points[i + 1])) continue;
     // The round-off of the neighbouring segments' lines (Edge::jointSlackStart, jointSlackEnd), for a
     // point.
     double start = 0, end = 0;
@@ -417,10 +417,6 @@ std::optional<Impact> circlePolylineImpact(const Circle& a, const Motion& motion
         afterEnd = &b.points[after + 1];
       }
     }
-    if (beyondReach(reach, b.points[i], b.points[i + 1])) {
-      far.mark(i);
-      continue;
-    }
     bool resolved = isResolved(i, resolvedFeature);
     if (known != nullptr) {
       const detail::KnownFaces::Reading reading = known->readingOf(i);
@@ -436,8 +432,7 @@ std::optional<Impact> circlePolylineImpact(const Circle& a, const Motion& motion
     // its own motion, was taken to leave both faces, and went on through the next one. The two faces
     // reach past the joint by the round-off (Edge::jointSlackStart, jointSlackEnd) and meet it instead.
     if (a.radius == 0 && ((k > 0 && k + 1 < n) || closed)) continue;
-    // Corner k ends segment k - 1 and begins segment k.
-    if (far.tracked() ? far.far(k - 1) || far.far(k) : beyondReach(reach, b.points[k], b.points[k])) continue;
+    if (reach.corner(k - 1, k, b.points[k])) continue;
     const int feature = n - 1 + k;
     if (auto t = timeToReach(a.center - b.points[k], motion, a.radius, maxTime, isResolved(feature, resolvedFeature)))
       keepEarlier(best, pointImpact(a.center, motion, b.points[k], 0.0, *t, feature));
@@ -468,14 +463,10 @@ std::optional<Impact> circlePolygonImpact(const Circle& a, const Motion& motion,
     const Vec2 here = b.points[i], next = b.points[(i + 1) % n];
     outside = cross(next - here, a.center - here) < 0;
   }
-  const Reach reach = reachOf(a, motion, maxTime);
-  FarSegments far(n);
+  OutOfReach reach(a, motion, maxTime, n);
   for (int i = 0; i < n; ++i) {
     const Vec2 here = b.points[i], next = b.points[(i + 1) % n];
-    if (beyondReach(reach, here, next)) {
-      far.mark(i);
-      continue;
-    }
+    if (reach.segment(i, here, next)) continue;
     Edge edge = edgeOf(here, next);
     edge.frameSlack = frameSlack;
     const bool front = !outside || cross(next - here, a.center - here) <= 0;
@@ -489,8 +480,7 @@ std::optional<Impact> circlePolygonImpact(const Circle& a, const Motion& motion,
   // (BodiesInCorners.PointsThrownIntoATiltedBoxFarOutStayIn).
   for (int k = 0; k < n && a.radius > 0; ++k) {
     const int feature = n + k;
-    // Corner k ends edge k - 1 (mod n) and begins edge k.
-    if (far.tracked() ? far.far((k + n - 1) % n) || far.far(k) : beyondReach(reach, b.points[k], b.points[k])) continue;
+    if (reach.corner((k + n - 1) % n, k, b.points[k])) continue;  // it ends edge k - 1 and begins edge k
     auto t = timeToReach(a.center - b.points[k], motion, a.radius, maxTime, isResolved(feature, resolvedFeature));
     if (!t) continue;
     // A corner is the contact only where it is the polygon's nearest point to the centre: past the end of
